@@ -1,1 +1,32 @@
-//! particles
+//! Frictional soft-sphere DEM of a horizontally shaken submonolayer (SPEC section 2,
+//! thesis sections 3.2 and 3.5) and the two-body collision laboratory of thesis chapter 4.
+//!
+//! Layout, one concept per module:
+//! - [`material`]: material constants and their mixing (eq 3.9-3.10);
+//! - [`contact`]: contact geometry and the force-law slots (normal, tangential, rolling),
+//!   each a pure function of a precomputed [`contact::ContactGeometry`];
+//! - [`wall`]: flat walls of infinite mass and their prescribed motion (eq 3.17-3.18);
+//! - [`state`]: the particle state as a struct of arrays;
+//! - [`boundary`]: periodic images;
+//! - [`integrate`]: time integrators (velocity Verlet, and the thesis' scheme);
+//! - [`sim`]: the only module that knows the order of the stages of a time step;
+//! - [`observe`]: energy, momentum and angular momentum of a state;
+//! - [`experiment`]: the collision lab, the single sphere on the shaken plate, contact-time
+//!   and eccentricity studies.
+
+pub mod boundary;
+pub mod contact;
+pub mod error;
+pub mod experiment;
+pub mod integrate;
+pub mod material;
+pub mod neighbor;
+pub mod observe;
+pub mod sim;
+pub mod state;
+pub mod wall;
+
+pub use error::SimError;
+
+/// Three-vector used throughout (metres, m/s, rad/s, newtons, ...).
+pub type Vec3 = nalgebra::Vector3<f64>;

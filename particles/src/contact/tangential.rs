@@ -1,0 +1,99 @@
+//! Tangential (friction) force laws.
+
+use super::ContactGeometry;
+use crate::Vec3;
+
+/// Tangential law of one kind of contact.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum TangentialLaw {
+    /// Frictionless (smooth) contact.
+    None,
+    /// Haff-Werner (eq 3.12): `F_t = -min(gamma_t |v_t|, mu |F_n|) v_t/|v_t|`; `gamma_t` in
+    /// N s/m, `mu` dimensionless. No static friction: `F_t = 0` at `v_t = 0`.
+    HaffWerner { gamma_t: f64, mu: f64 },
+    /// Cundall-Strack (eq 4.32-4.34): a tangential spring of stiffness `k_t` (N/m) stretched
+    /// by the integrated tangential contact-point velocity `zeta` (history),
+    /// `F_t = -min(k_t |zeta|, mu |F_n|) zeta/|zeta|`. Each step `zeta` is first rotated into
+    /// the current tangent plane (keeping its length), then advanced by `v_t dt`, then
+    /// truncated to the Coulomb limit `|zeta| <= mu F_n / k_t` while sliding.
+    CundallStrack { kt: f64, mu: f64 },
+}
+
+/// Result of a tangential kernel.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TangentialForce {
+    /// Force on particle i (N).
+    pub force: Vec3,
+    /// Elastic energy held in the tangential spring (J).
+    pub stored_energy: f64,
+    /// Dissipated power (W): `-F_t . v_t` minus the spring's storage rate.
+    pub dissipation_rate: f64,
+}
+
+impl TangentialLaw {
+    /// Friction coefficient of the Coulomb limit (0 for smooth contacts).
+    pub fn mu(&self) -> f64 {
+        match *self {
+            TangentialLaw::None => 0.0,
+            TangentialLaw::HaffWerner { mu, .. } | TangentialLaw::CundallStrack { mu, .. } => mu,
+        }
+    }
+
+    /// Tangential force for the normal force magnitude `fn_` (already clamped, N).
+    #[inline]
+    pub fn force(
+        &self,
+        g: &ContactGeometry,
+        fn_: f64,
+        zeta: &mut Vec3,
+        dt: f64,
+    ) -> TangentialForce {
+        match *self {
+            TangentialLaw::None => TangentialForce {
+                force: Vec3::zeros(),
+                stored_energy: 0.0,
+                dissipation_rate: 0.0,
+            },
+            TangentialLaw::HaffWerner { gamma_t, mu } => {
+                let speed = g.v_t.norm();
+                let magnitude = (gamma_t * speed).min(mu * fn_);
+                let force = if speed > 0.0 {
+                    g.v_t * (-magnitude / speed)
+                } else {
+                    Vec3::zeros()
+                };
+                TangentialForce {
+                    force,
+                    stored_energy: 0.0,
+                    dissipation_rate: magnitude * speed,
+                }
+            }
+            TangentialLaw::CundallStrack { kt, mu } => {
+                // Rotate the old spring into the current tangent plane, keeping its length.
+                let old_len = zeta.norm();
+                let mut z = *zeta - g.n * zeta.dot(&g.n);
+                let proj_len = z.norm();
+                if proj_len > 0.0 {
+                    z *= old_len / proj_len;
+                }
+                let before = 0.5 * kt * z.norm_squared();
+                z += g.v_t * dt;
+                let limit = mu * fn_;
+                let len = z.norm();
+                let mut force = z * -kt;
+                if kt * len > limit {
+                    // Sliding: truncate the spring to the Coulomb limit.
+                    z *= limit / (kt * len);
+                    force = z * -kt;
+                }
+                *zeta = z;
+                let stored = 0.5 * kt * z.norm_squared();
+                TangentialForce {
+                    force,
+                    stored_energy: stored,
+                    dissipation_rate: -force.dot(&g.v_t) - (stored - before) / dt,
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,5 @@
+//! Experiments built on [`crate::sim`]: they set up a scene, run it and return numbers.
+//! Output files and plots are the caller's business.
+
+pub mod closed_form;
+pub mod collide;
