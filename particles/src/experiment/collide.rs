@@ -102,8 +102,9 @@ pub struct CollisionResult {
     pub momentum_error: f64,
     /// `|L' - L| / (m_eff v l)`, orbital plus spin about the origin.
     pub angular_momentum_error: f64,
-    /// Largest `|F_t| - mu |F_n|` over all steps (N); `<= 0` up to round-off.
-    pub max_friction_excess: f64,
+    /// Largest `|F_t| / (mu |F_n|)` over all steps: `<= 1` up to round-off (0 when smooth;
+    /// infinite if a tangential force ever acted without a normal force).
+    pub max_friction_ratio: f64,
     /// Smallest clamped normal force over the contact (N).
     pub min_normal_force: f64,
     /// Final velocities and spins (m/s, rad/s); the second body is absent for a wall.
@@ -278,12 +279,14 @@ impl Collision {
         let max_steps = (1000.0 * t_est / dt) as u64 + 1_000_000;
         let mut prev_margin = 0.0;
         let mut max_overlap: f64 = 0.0;
-        let mut max_friction_excess = f64::NEG_INFINITY;
+        let mut max_friction_ratio: f64 = 0.0;
         let mut min_normal_force = f64::INFINITY;
         let t_c = loop {
             sim.step()?;
             for c in sim.contacts() {
-                max_friction_excess = max_friction_excess.max(c.tangential - c.mu * c.normal);
+                if c.tangential > 0.0 {
+                    max_friction_ratio = max_friction_ratio.max(c.tangential / (c.mu * c.normal));
+                }
                 min_normal_force = min_normal_force.min(c.normal);
             }
             let (overlap, rate) = self.overlap(&sim.state);
@@ -322,7 +325,7 @@ impl Collision {
             energy_after: energy(s),
             momentum_error: (observe::momentum(s) - p0).norm() / m_scale,
             angular_momentum_error: (observe::angular_momentum(s) - l0).norm() / l_scale,
-            max_friction_excess,
+            max_friction_ratio,
             min_normal_force,
             v1: s.vel[0].into(),
             omega1: s.omega[0].into(),
