@@ -17,8 +17,9 @@ pub enum RollingLaw {
     ///   Against a wall it is `R |omega_i x n|`, the thesis' `|omega_i x R_i|`. For a pair it
     ///   is the objective rolling velocity; counter-rotating equal spheres give `R omega`.
     ///
-    /// Equal and opposite torques keep the total angular momentum conserved. Its angular
-    /// deceleration for a grain on the floor is `(5/2) mu_r g omega / R`: size dependent.
+    /// Equal and opposite torques keep the total angular momentum conserved. A grain rolling
+    /// without slip on the floor slows down as `dv/dt = -(5/7) (mu_r g / R) v`: a rate that
+    /// depends on size, unlike sliding friction.
     BrilliantovPoschel { mu_r: f64 },
 }
 

@@ -3,4 +3,6 @@
 
 pub mod closed_form;
 pub mod collide;
+pub mod contact_time;
 pub mod eccentricity;
+pub mod single;
