@@ -15,24 +15,11 @@ pub enum SimError {
         minimum: f64,
     },
     /// A position, velocity or spin became NaN or infinite.
-    NonFinite {
-        step: u64,
-        particle: usize,
-        field: &'static str,
-    },
+    NonFinite { step: u64, particle: usize, field: &'static str },
     /// Two particles overlap by more than allowed at the start.
-    InitialOverlap {
-        i: usize,
-        j: usize,
-        overlap: f64,
-        radius: f64,
-    },
+    InitialOverlap { i: usize, j: usize, overlap: f64, radius: f64 },
     /// A particle left the box.
-    Escaped {
-        step: u64,
-        particle: usize,
-        position: [f64; 3],
-    },
+    Escaped { step: u64, particle: usize, position: [f64; 3] },
     /// A contact did not end within the allowed number of steps.
     ContactDidNotEnd { steps: u64 },
 }

@@ -5,23 +5,17 @@ use crate::Vec3;
 
 /// Translational kinetic energy `sum m v^2 / 2` (J).
 pub fn kinetic_energy(s: &State) -> f64 {
-    (0..s.len())
-        .map(|i| 0.5 * s.mass(i) * s.vel[i].norm_squared())
-        .sum()
+    (0..s.len()).map(|i| 0.5 * s.mass(i) * s.vel[i].norm_squared()).sum()
 }
 
 /// Rotational kinetic energy `sum I omega^2 / 2` (J).
 pub fn rotational_energy(s: &State) -> f64 {
-    (0..s.len())
-        .map(|i| 0.5 * s.inertia(i) * s.omega[i].norm_squared())
-        .sum()
+    (0..s.len()).map(|i| 0.5 * s.inertia(i) * s.omega[i].norm_squared()).sum()
 }
 
 /// Potential energy in the uniform field `gravity` (m/s^2): `-sum m g . r` (J).
 pub fn potential_energy(s: &State, gravity: Vec3) -> f64 {
-    (0..s.len())
-        .map(|i| -s.mass(i) * gravity.dot(&s.pos[i]))
-        .sum()
+    (0..s.len()).map(|i| -s.mass(i) * gravity.dot(&s.pos[i])).sum()
 }
 
 /// Total linear momentum (kg m/s).

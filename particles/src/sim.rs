@@ -39,8 +39,7 @@ pub struct Setup {
 impl Setup {
     /// True if some contact law produces torques, so spins must be integrated.
     pub fn needs_rotation(&self) -> bool {
-        self.pair_law.produces_torque()
-            || (!self.walls.is_empty() && self.wall_law.produces_torque())
+        self.pair_law.produces_torque() || (!self.walls.is_empty() && self.wall_law.produces_torque())
     }
 }
 
@@ -151,17 +150,13 @@ impl Simulation {
     /// Advances one time step.
     pub fn step(&mut self) -> Result<(), SimError> {
         let dt = self.setup.dt;
-        self.setup
-            .integrator
-            .before_forces(&mut self.state, dt, self.rotate);
+        self.setup.integrator.before_forces(&mut self.state, dt, self.rotate);
         self.time += dt;
         for x in self.state.pos.iter_mut() {
             *x = self.setup.boundary.wrap(*x);
         }
         self.compute_forces(dt);
-        self.setup
-            .integrator
-            .after_forces(&mut self.state, dt, self.rotate);
+        self.setup.integrator.after_forces(&mut self.state, dt, self.rotate);
         self.steps += 1;
         self.check_finite()
     }
@@ -177,11 +172,7 @@ impl Simulation {
     fn check_finite(&self) -> Result<(), SimError> {
         let s = &self.state;
         for i in 0..s.len() {
-            for (field, v) in [
-                ("position", &s.pos[i]),
-                ("velocity", &s.vel[i]),
-                ("spin", &s.omega[i]),
-            ] {
+            for (field, v) in [("position", &s.pos[i]), ("velocity", &s.vel[i]), ("spin", &s.omega[i])] {
                 if !v.iter().all(|c| c.is_finite()) {
                     return Err(SimError::NonFinite {
                         step: self.steps,
@@ -219,16 +210,7 @@ impl Simulation {
         setup.neighbors.for_each_pair(&s.pos, |i, j| {
             let d = setup.boundary.min_image(s.pos[i] - s.pos[j]);
             let xj = s.pos[i] - d;
-            let Some(g) = ContactGeometry::pair(
-                s.pos[i],
-                xj,
-                s.vel[i],
-                s.vel[j],
-                s.omega[i],
-                s.omega[j],
-                s.radius[i],
-                s.radius[j],
-            ) else {
+            let Some(g) = ContactGeometry::pair(s.pos[i], xj, s.vel[i], s.vel[j], s.omega[i], s.omega[j], s.radius[i], s.radius[j]) else {
                 return;
             };
             let mut zeta = if keep_history {
@@ -269,22 +251,11 @@ impl Simulation {
             let origin = wall.origin_at(self.time);
             let v_wall = wall.motion.velocity(self.time);
             for i in 0..s.len() {
-                let Some(g) = ContactGeometry::wall(
-                    s.pos[i],
-                    s.vel[i],
-                    s.omega[i],
-                    s.radius[i],
-                    origin,
-                    wall.normal,
-                    v_wall,
-                ) else {
+                let Some(g) = ContactGeometry::wall(s.pos[i], s.vel[i], s.omega[i], s.radius[i], origin, wall.normal, v_wall) else {
                     continue;
                 };
                 let mut zeta = if keep_history {
-                    self.wall_history
-                        .get(&(i, k))
-                        .copied()
-                        .unwrap_or_else(Vec3::zeros)
+                    self.wall_history.get(&(i, k)).copied().unwrap_or_else(Vec3::zeros)
                 } else {
                     Vec3::zeros()
                 };

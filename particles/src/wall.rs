@@ -10,11 +10,7 @@ pub enum Motion {
     Fixed,
     /// Harmonic shaking `u(t) = amplitude sin(2 pi frequency t) direction` (SPEC section 1);
     /// `amplitude` in m, `frequency` in Hz, `direction` a unit vector.
-    Harmonic {
-        amplitude: f64,
-        frequency: f64,
-        direction: Vec3,
-    },
+    Harmonic { amplitude: f64, frequency: f64, direction: Vec3 },
 }
 
 impl Motion {
@@ -49,11 +45,7 @@ impl Motion {
     pub fn peak_acceleration(&self) -> f64 {
         match *self {
             Motion::Fixed => 0.0,
-            Motion::Harmonic {
-                amplitude,
-                frequency,
-                ..
-            } => amplitude * (2.0 * PI * frequency).powi(2),
+            Motion::Harmonic { amplitude, frequency, .. } => amplitude * (2.0 * PI * frequency).powi(2),
         }
     }
 }

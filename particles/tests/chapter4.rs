@@ -5,10 +5,7 @@ use particles::experiment::eccentricity::{thesis_studies, EccentricPoint};
 const ES: [f64; 8] = [0.0, 0.2, 0.4, 0.6, 0.7, 0.8, 0.9, 0.95];
 
 fn sweep(name: &str) -> Vec<EccentricPoint> {
-    let study = thesis_studies()
-        .into_iter()
-        .find(|s| s.name == name)
-        .unwrap();
+    let study = thesis_studies().into_iter().find(|s| s.name == name).unwrap();
     study.sweep(&ES, 2000.0).unwrap()
 }
 
@@ -48,11 +45,7 @@ fn friction_reduces_reorientation_and_shifts_eps_hs_up() {
             // Thesis 4.5: the dumbbell spins slower with friction, phi_frict ~ 0.71 phi_smooth,
             // so eps_hs is closer to 1 and its zero crossing moves to larger e.
             assert!(r.phi < s.phi, "friction must reduce phi at e = {}", s.e);
-            assert!(
-                r.eps_n_hs > s.eps_n_hs,
-                "friction must raise eps_hs at e = {}",
-                s.e
-            );
+            assert!(r.eps_n_hs > s.eps_n_hs, "friction must raise eps_hs at e = {}", s.e);
         }
     }
 }

@@ -37,10 +37,7 @@ fn linear_dashpot_matches_damped_oscillator_for_damping_ratios_0_05_to_2() {
     let m_eff = m / 2.0;
     for ratio in [0.05, 0.2, 0.5, 0.9, 1.0, 1.3, 2.0] {
         let gamma = gamma_for_damping_ratio(m_eff, k, ratio);
-        let law = smooth(NormalLaw::Linear {
-            kn: k,
-            gamma_n: gamma,
-        });
+        let law = smooth(NormalLaw::Linear { kn: k, gamma_n: gamma });
         let got = head_on(law, r, m, v, 4000.0).run().unwrap();
         let (tc, eps) = linear_dashpot(m_eff, k, gamma, v);
         let (et, ee) = ((got.t_c - tc).abs() / tc, (got.eps_n - eps).abs() / eps);
@@ -48,10 +45,7 @@ fn linear_dashpot_matches_damped_oscillator_for_damping_ratios_0_05_to_2() {
             "ratio {ratio}: t_c {:.6e} vs {tc:.6e} ({et:.1e}), eps {:.6} vs {eps:.6} ({ee:.1e})",
             got.t_c, got.eps_n
         );
-        assert!(
-            et < 1e-3 && ee < 1e-3,
-            "ratio {ratio}: t_c err {et:e}, eps err {ee:e}"
-        );
+        assert!(et < 1e-3 && ee < 1e-3, "ratio {ratio}: t_c err {et:e}, eps err {ee:e}");
     }
 }
 
@@ -118,10 +112,7 @@ fn viscoelastic_restitution_falls_with_speed_and_converges_at_order_one_and_a_ha
     // Observed order from three step sizes halving each time (Richardson). The damping
     // force k A sqrt(xi) dxi/dt grows like sqrt(t) at the onset of contact, so any
     // fixed-step scheme converges at order 3/2 here (smooth forces give 2).
-    let e: Vec<f64> = [800.0, 1600.0, 3200.0]
-        .iter()
-        .map(|&n| viscoelastic_eps(0.5, n))
-        .collect();
+    let e: Vec<f64> = [800.0, 1600.0, 3200.0].iter().map(|&n| viscoelastic_eps(0.5, n)).collect();
     let order = ((e[0] - e[1]) / (e[1] - e[2])).abs().log2();
     println!("eps at 800/1600/3200 steps: {e:?}; observed order {order:.2}");
     assert!(order > 1.3 && order < 1.8, "observed order {order}");
@@ -131,14 +122,8 @@ fn viscoelastic_restitution_falls_with_speed_and_converges_at_order_one_and_a_ha
 fn thesis_integrator_is_first_order_and_converges_to_the_same_value() {
     let r = 5e-4;
     let law = ContactLaw {
-        normal: NormalLaw::Linear {
-            kn: 300.0,
-            gamma_n: 1e-3,
-        },
-        tangential: TangentialLaw::HaffWerner {
-            gamma_t: 0.007,
-            mu: 0.7,
-        },
+        normal: NormalLaw::Linear { kn: 300.0, gamma_n: 1e-3 },
+        tangential: TangentialLaw::HaffWerner { gamma_t: 0.007, mu: 0.7 },
         rolling: RollingLaw::None,
     };
     let run = |steps: f64, integrator| {

@@ -30,27 +30,17 @@ fn oblique(tangential: TangentialLaw, rolling: RollingLaw) -> Collision {
 #[test]
 fn oblique_frictional_impacts_conserve_momentum_and_respect_coulomb() {
     for tangential in [
-        TangentialLaw::HaffWerner {
-            gamma_t: 0.007,
-            mu: 0.7,
-        },
+        TangentialLaw::HaffWerner { gamma_t: 0.007, mu: 0.7 },
         TangentialLaw::CundallStrack { kt: 300.0, mu: 0.3 },
     ] {
-        for rolling in [
-            RollingLaw::None,
-            RollingLaw::BrilliantovPoschel { mu_r: 8.5e-6 },
-        ] {
+        for rolling in [RollingLaw::None, RollingLaw::BrilliantovPoschel { mu_r: 8.5e-6 }] {
             let r = oblique(tangential, rolling).run().unwrap();
             println!(
                 "{tangential:?} {rolling:?}: dP {:.1e} dL {:.1e} max |Ft|/(mu Fn) {:.15} min Fn {:e} eps_t {:?}",
                 r.momentum_error, r.angular_momentum_error, r.max_friction_ratio, r.min_normal_force, r.eps_t
             );
             assert!(r.momentum_error < 1e-13, "momentum {:e}", r.momentum_error);
-            assert!(
-                r.angular_momentum_error < 1e-12,
-                "angular momentum {:e}",
-                r.angular_momentum_error
-            );
+            assert!(r.angular_momentum_error < 1e-12, "angular momentum {:e}", r.angular_momentum_error);
             assert!(
                 r.max_friction_ratio <= 1.0 + 1e-12,
                 "|F_t| / mu |F_n| reached {}",
@@ -76,10 +66,7 @@ fn central_impact_without_tangential_speed_gives_no_nan() {
     };
     c.impact = Impact::Components { vn: 0.3, vt: 0.0 };
     let r = c.run().unwrap();
-    assert!(
-        r.eps_n.is_finite() && r.eps_t.is_none() && r.phi == 0.0,
-        "{r:?}"
-    );
+    assert!(r.eps_n.is_finite() && r.eps_t.is_none() && r.phi == 0.0, "{r:?}");
 }
 
 fn law_strategy() -> impl Strategy<Value = (ContactLaw, f64)> {
@@ -90,8 +77,7 @@ fn law_strategy() -> impl Strategy<Value = (ContactLaw, f64)> {
     ];
     let tangential = prop_oneof![
         Just(TangentialLaw::None),
-        (1e-4f64..1e-1, 0.05f64..1.0)
-            .prop_map(|(gamma_t, mu)| TangentialLaw::HaffWerner { gamma_t, mu }),
+        (1e-4f64..1e-1, 0.05f64..1.0).prop_map(|(gamma_t, mu)| TangentialLaw::HaffWerner { gamma_t, mu }),
         (10f64..1e3, 0.05f64..1.0).prop_map(|(kt, mu)| TangentialLaw::CundallStrack { kt, mu }),
     ];
     let rolling = prop_oneof![
@@ -148,9 +134,7 @@ prop_compose! {
 }
 
 fn swapped(c: &Collision) -> Collision {
-    let Target::Sphere { r, m, omega } = c.target else {
-        unreachable!()
-    };
+    let Target::Sphere { r, m, omega } = c.target else { unreachable!() };
     Collision {
         r1: r,
         m1: m,

@@ -34,16 +34,7 @@ impl ContactGeometry {
     /// `xj` must already be the periodic image nearest to `xi`.
     #[allow(clippy::too_many_arguments)]
     #[inline]
-    pub fn pair(
-        xi: Vec3,
-        xj: Vec3,
-        vi: Vec3,
-        vj: Vec3,
-        wi: Vec3,
-        wj: Vec3,
-        ri: f64,
-        rj: f64,
-    ) -> Option<Self> {
+    pub fn pair(xi: Vec3, xj: Vec3, vi: Vec3, vj: Vec3, wi: Vec3, wj: Vec3, ri: f64, rj: f64) -> Option<Self> {
         let d = xi - xj;
         let dist2 = d.norm_squared();
         let sum = ri + rj;
@@ -70,15 +61,7 @@ impl ContactGeometry {
     /// Geometry of a sphere against a flat wall with unit normal `normal` (pointing into the
     /// domain) through `origin`, moving with `v_wall`; `None` when apart (touching counts).
     #[inline]
-    pub fn wall(
-        xi: Vec3,
-        vi: Vec3,
-        wi: Vec3,
-        ri: f64,
-        origin: Vec3,
-        normal: Vec3,
-        v_wall: Vec3,
-    ) -> Option<Self> {
+    pub fn wall(xi: Vec3, vi: Vec3, wi: Vec3, ri: f64, origin: Vec3, normal: Vec3, v_wall: Vec3) -> Option<Self> {
         let overlap = ri - (xi - origin).dot(&normal);
         if overlap < 0.0 {
             return None;
@@ -98,16 +81,7 @@ impl ContactGeometry {
 
     #[allow(clippy::too_many_arguments)]
     #[inline]
-    fn from_parts(
-        n: Vec3,
-        overlap: f64,
-        v_rel: Vec3,
-        spin_sum: Vec3,
-        omega_rel: Vec3,
-        arm_i: f64,
-        arm_j: f64,
-        r_eff: f64,
-    ) -> Self {
+    fn from_parts(n: Vec3, overlap: f64, v_rel: Vec3, spin_sum: Vec3, omega_rel: Vec3, arm_i: f64, arm_j: f64, r_eff: f64) -> Self {
         let v_t = tangential_velocity(n, v_rel, spin_sum);
         Self {
             n,
@@ -140,28 +114,10 @@ mod tests {
         // Sphere of radius R rolling along +x on a floor: v = omega x (-a n) => omega_y = v / a.
         let r = 1e-3;
         let xi = Vec3::new(0.0, 0.0, r - 1e-6);
-        let g0 = ContactGeometry::wall(
-            xi,
-            Vec3::zeros(),
-            Vec3::zeros(),
-            r,
-            Vec3::zeros(),
-            Vec3::z(),
-            Vec3::zeros(),
-        )
-        .unwrap();
+        let g0 = ContactGeometry::wall(xi, Vec3::zeros(), Vec3::zeros(), r, Vec3::zeros(), Vec3::z(), Vec3::zeros()).unwrap();
         let v = 0.1;
         let w = Vec3::new(0.0, v / g0.arm_i, 0.0);
-        let g = ContactGeometry::wall(
-            xi,
-            Vec3::new(v, 0.0, 0.0),
-            w,
-            r,
-            Vec3::zeros(),
-            Vec3::z(),
-            Vec3::zeros(),
-        )
-        .unwrap();
+        let g = ContactGeometry::wall(xi, Vec3::new(v, 0.0, 0.0), w, r, Vec3::zeros(), Vec3::z(), Vec3::zeros()).unwrap();
         assert!(g.v_t.norm() < 1e-15, "{}", g.v_t);
         assert!((g.overlap - 1e-6).abs() < 1e-18);
     }
@@ -188,10 +144,7 @@ mod tests {
     #[test]
     fn separated_and_coincident_pairs_have_no_contact() {
         let z = Vec3::zeros();
-        assert!(
-            ContactGeometry::pair(Vec3::new(2.0 + 1e-12, 0.0, 0.0), z, z, z, z, z, 1.0, 1.0)
-                .is_none()
-        );
+        assert!(ContactGeometry::pair(Vec3::new(2.0 + 1e-12, 0.0, 0.0), z, z, z, z, z, 1.0, 1.0).is_none());
         assert!(ContactGeometry::pair(Vec3::new(2.0, 0.0, 0.0), z, z, z, z, z, 1.0, 1.0).is_some());
         assert!(ContactGeometry::pair(z, z, z, z, z, z, 1.0, 1.0).is_none());
     }

@@ -72,12 +72,7 @@ pub struct ContactForce {
 /// Dissipation rate: the power the contact takes from the particles' kinetic energy,
 /// `F_n dxi/dt - F_t . v_t - M_roll . omega_rel`, minus the rate of change of the stored
 /// elastic energy `F_el dxi/dt` (and, for Cundall-Strack, `k_t zeta . dzeta/dt`).
-pub fn evaluate(
-    law: &ContactLaw,
-    g: &ContactGeometry,
-    history: &mut Vec3,
-    dt: f64,
-) -> ContactForce {
+pub fn evaluate(law: &ContactLaw, g: &ContactGeometry, history: &mut Vec3, dt: f64) -> ContactForce {
     let normal_raw = law.normal.force(g.overlap, g.overlap_rate, g.r_eff);
     let normal = normal_raw.max(0.0);
     let elastic = law.normal.elastic_force(g.overlap, g.r_eff);
@@ -90,8 +85,7 @@ pub fn evaluate(
     let torque_i = -g.arm_i * lever + roll;
     let torque_j = -g.arm_j * lever - roll;
 
-    let dissipation_rate =
-        (normal - elastic) * g.overlap_rate + tang.dissipation_rate - roll.dot(&g.omega_rel);
+    let dissipation_rate = (normal - elastic) * g.overlap_rate + tang.dissipation_rate - roll.dot(&g.omega_rel);
     ContactForce {
         force,
         torque_i,

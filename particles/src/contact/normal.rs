@@ -7,10 +7,7 @@ pub enum NormalLaw {
     /// Viscoelastic Hertz law (eq 3.8, 3.20):
     /// `F_n = (2/3) Y* sqrt(R_eff) (xi^{3/2} + A sqrt(xi) dxi/dt)`, `Y* = Y/(1-nu^2)` (Pa),
     /// already mixed for unlike materials (see [`crate::material::mix`]); `A` in s.
-    Hertz {
-        reduced_modulus: f64,
-        dissipation: f64,
-    },
+    Hertz { reduced_modulus: f64, dissipation: f64 },
     /// Linear spring-dashpot (eq 4.21): `F_n = k_n xi + gamma_n dxi/dt`; `k_n` in N/m,
     /// `gamma_n` in kg/s.
     Linear { kn: f64, gamma_n: f64 },
@@ -39,11 +36,7 @@ impl NormalLaw {
             NormalLaw::Hertz {
                 reduced_modulus,
                 dissipation,
-            } => {
-                Self::hertz_stiffness(reduced_modulus, r_eff)
-                    * xi.sqrt()
-                    * (xi + dissipation * xi_dot)
-            }
+            } => Self::hertz_stiffness(reduced_modulus, r_eff) * xi.sqrt() * (xi + dissipation * xi_dot),
             NormalLaw::Linear { kn, gamma_n } => kn * xi + gamma_n * xi_dot,
         }
     }
@@ -70,9 +63,7 @@ impl NormalLaw {
     #[inline]
     pub fn elastic_energy(&self, xi: f64, r_eff: f64) -> f64 {
         match *self {
-            NormalLaw::Hertz {
-                reduced_modulus, ..
-            } => 0.4 * Self::hertz_stiffness(reduced_modulus, r_eff) * xi * xi * xi.sqrt(),
+            NormalLaw::Hertz { reduced_modulus, .. } => 0.4 * Self::hertz_stiffness(reduced_modulus, r_eff) * xi * xi * xi.sqrt(),
             NormalLaw::Linear { kn, .. } => 0.5 * kn * xi * xi,
         }
     }
@@ -93,9 +84,7 @@ impl NormalLaw {
     ///   the full period).
     pub fn undamped_contact_time(&self, m_eff: f64, r_eff: f64, v: f64) -> f64 {
         match *self {
-            NormalLaw::Hertz {
-                reduced_modulus, ..
-            } => {
+            NormalLaw::Hertz { reduced_modulus, .. } => {
                 let zeta = Self::hertz_stiffness(reduced_modulus, r_eff);
                 HERTZ_TAU_C0 * (m_eff / zeta).powf(0.4) * v.abs().powf(-0.2)
             }
@@ -106,9 +95,7 @@ impl NormalLaw {
     /// Equilibrium overlap (m) under a static load `f` (N), e.g. a grain's weight on the floor.
     pub fn static_overlap(&self, f: f64, r_eff: f64) -> f64 {
         match *self {
-            NormalLaw::Hertz {
-                reduced_modulus, ..
-            } => (f / Self::hertz_stiffness(reduced_modulus, r_eff)).powf(2.0 / 3.0),
+            NormalLaw::Hertz { reduced_modulus, .. } => (f / Self::hertz_stiffness(reduced_modulus, r_eff)).powf(2.0 / 3.0),
             NormalLaw::Linear { kn, .. } => f / kn,
         }
     }
@@ -163,13 +150,7 @@ mod tests {
 
     #[test]
     fn static_overlap_balances_load() {
-        for law in [
-            NormalLaw::hertz(1.1e6, 0.0),
-            NormalLaw::Linear {
-                kn: 100.0,
-                gamma_n: 1.0,
-            },
-        ] {
+        for law in [NormalLaw::hertz(1.1e6, 0.0), NormalLaw::Linear { kn: 100.0, gamma_n: 1.0 }] {
             let xi = law.static_overlap(1.3e-5, 5e-4);
             assert!((law.elastic_force(xi, 5e-4) - 1.3e-5).abs() < 1e-15);
         }

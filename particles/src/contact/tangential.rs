@@ -41,13 +41,7 @@ impl TangentialLaw {
 
     /// Tangential force for the normal force magnitude `fn_` (already clamped, N).
     #[inline]
-    pub fn force(
-        &self,
-        g: &ContactGeometry,
-        fn_: f64,
-        zeta: &mut Vec3,
-        dt: f64,
-    ) -> TangentialForce {
+    pub fn force(&self, g: &ContactGeometry, fn_: f64, zeta: &mut Vec3, dt: f64) -> TangentialForce {
         match *self {
             TangentialLaw::None => TangentialForce {
                 force: Vec3::zeros(),
@@ -57,11 +51,7 @@ impl TangentialLaw {
             TangentialLaw::HaffWerner { gamma_t, mu } => {
                 let speed = g.v_t.norm();
                 let magnitude = (gamma_t * speed).min(mu * fn_);
-                let force = if speed > 0.0 {
-                    g.v_t * (-magnitude / speed)
-                } else {
-                    Vec3::zeros()
-                };
+                let force = if speed > 0.0 { g.v_t * (-magnitude / speed) } else { Vec3::zeros() };
                 TangentialForce {
                     force,
                     stored_energy: 0.0,

@@ -143,9 +143,7 @@ impl Collision {
         let (m_eff, r_eff) = self.effective();
         let (vn, v) = self.speeds();
         // For grazing impacts keep the speed from vanishing (Hertz t_c ~ v^{-1/5}).
-        self.law
-            .normal
-            .undamped_contact_time(m_eff, r_eff, vn.max(1e-3 * v))
+        self.law.normal.undamped_contact_time(m_eff, r_eff, vn.max(1e-3 * v))
     }
 
     fn validate(&self) -> Result<(), SimError> {
@@ -187,10 +185,7 @@ impl Collision {
                     return bad("eccentricity", "must lie in [0, 1)");
                 }
                 if self.target == Target::Wall {
-                    return bad(
-                        "eccentricity",
-                        "needs two spheres; use --v and --vt against a wall",
-                    );
+                    return bad("eccentricity", "needs two spheres; use --v and --vt against a wall");
                 }
             }
         }
@@ -226,13 +221,8 @@ impl Collision {
             Some((r2, m2, w2)) => {
                 let l = self.r1 + r2;
                 let (r0, g0) = match self.impact {
-                    Impact::Components { vn, vt } => {
-                        (Vec3::new(l, 0.0, 0.0), Vec3::new(-vn, vt, 0.0))
-                    }
-                    Impact::Eccentric { v, e } => (
-                        Vec3::new(l * (1.0 - e * e).sqrt(), l * e, 0.0),
-                        Vec3::new(-v, 0.0, 0.0),
-                    ),
+                    Impact::Components { vn, vt } => (Vec3::new(l, 0.0, 0.0), Vec3::new(-vn, vt, 0.0)),
+                    Impact::Eccentric { v, e } => (Vec3::new(l * (1.0 - e * e).sqrt(), l * e, 0.0), Vec3::new(-v, 0.0, 0.0)),
                 };
                 state.push(Vec3::zeros(), Vec3::zeros(), self.omega1, self.r1, self.m1);
                 state.push(r0, g0, w2, r2, m2);
@@ -243,13 +233,7 @@ impl Collision {
                     unreachable!("validated")
                 };
                 let g0 = -Vec3::new(vt, 0.0, -vn); // wall velocity minus sphere velocity
-                state.push(
-                    Vec3::new(0.0, 0.0, self.r1),
-                    -g0,
-                    self.omega1,
-                    self.r1,
-                    self.m1,
-                );
+                state.push(Vec3::new(0.0, 0.0, self.r1), -g0, self.omega1, self.r1, self.m1);
                 let floor = Wall::new("wall z=0", Vec3::zeros(), Vec3::z(), Motion::Fixed);
                 (vec![floor], Vec3::new(0.0, 0.0, -self.r1), g0)
             }
@@ -258,11 +242,7 @@ impl Collision {
         let c0 = self.contact_velocity(&state, e0);
 
         let energy = |s: &State| observe::kinetic_energy(s) + observe::rotational_energy(s);
-        let (energy_before, p0, l0) = (
-            energy(&state),
-            observe::momentum(&state),
-            observe::angular_momentum(&state),
-        );
+        let (energy_before, p0, l0) = (energy(&state), observe::momentum(&state), observe::angular_momentum(&state));
         let setup = Setup {
             pair_law: self.law,
             wall_law: self.law,
@@ -369,11 +349,7 @@ impl Collision {
         // Geometry's convention: n from j to i, velocity of i relative to j; c is its negative.
         let n = -e;
         match self.target_sphere() {
-            Some((r2, _, _)) => -tangential_velocity(
-                n,
-                s.vel[0] - s.vel[1],
-                s.omega[0] * self.r1 + s.omega[1] * r2,
-            ),
+            Some((r2, _, _)) => -tangential_velocity(n, s.vel[0] - s.vel[1], s.omega[0] * self.r1 + s.omega[1] * r2),
             None => -tangential_velocity(n, s.vel[0], s.omega[0] * self.r1),
         }
     }

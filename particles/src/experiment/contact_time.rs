@@ -52,10 +52,7 @@ impl ContactTimeCase {
         let m = self.density * 4.0 / 3.0 * std::f64::consts::PI * self.radius.powi(3);
         Collision {
             law: ContactLaw {
-                normal: NormalLaw::hertz(
-                    self.young / (1.0 - self.poisson * self.poisson),
-                    self.dissipation,
-                ),
+                normal: NormalLaw::hertz(self.young / (1.0 - self.poisson * self.poisson), self.dissipation),
                 tangential: TangentialLaw::None,
                 rolling: RollingLaw::None,
             },
@@ -67,21 +64,13 @@ impl ContactTimeCase {
                 m,
                 omega: Vec3::zeros(),
             },
-            impact: Impact::Components {
-                vn: self.speed,
-                vt: 0.0,
-            },
+            impact: Impact::Components { vn: self.speed, vt: 0.0 },
             step: StepSize::PerContact(steps),
             integrator: Integrator::VelocityVerlet,
         }
     }
 
-    fn row(
-        &self,
-        parameter: &'static str,
-        value: f64,
-        steps: f64,
-    ) -> Result<ContactTimeRow, SimError> {
+    fn row(&self, parameter: &'static str, value: f64, steps: f64) -> Result<ContactTimeRow, SimError> {
         let c = self.collision(steps);
         let r = c.run()?;
         Ok(ContactTimeRow {
@@ -96,24 +85,13 @@ impl ContactTimeCase {
 
 /// The four sweeps of Fig 3.5 around `base`, `points` values each (log-spaced except A,
 /// which is linear from 0), with `steps` steps per contact.
-pub fn study(
-    base: ContactTimeCase,
-    points: usize,
-    steps: f64,
-) -> Result<Vec<ContactTimeRow>, SimError> {
+pub fn study(base: ContactTimeCase, points: usize, steps: f64) -> Result<Vec<ContactTimeRow>, SimError> {
     let points = points.max(2);
-    let lin =
-        |a: f64, b: f64| (0..points).map(move |k| a + (b - a) * k as f64 / (points - 1) as f64);
+    let lin = |a: f64, b: f64| (0..points).map(move |k| a + (b - a) * k as f64 / (points - 1) as f64);
     let log = |a: f64, b: f64| lin(a.ln(), b.ln()).map(f64::exp);
     let mut rows = Vec::new();
     for a in lin(0.0, 1e-4) {
-        rows.push(
-            ContactTimeCase {
-                dissipation: a,
-                ..base
-            }
-            .row("dissipation", a, steps)?,
-        );
+        rows.push(ContactTimeCase { dissipation: a, ..base }.row("dissipation", a, steps)?);
     }
     for r in log(1e-4, 5e-3) {
         rows.push(ContactTimeCase { radius: r, ..base }.row("radius", r, steps)?);

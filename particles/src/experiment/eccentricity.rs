@@ -77,10 +77,7 @@ impl EccentricStudy {
 /// nu = 0.5, rho = 2000 kg/m^3, A = 0), each smooth and with Cundall-Strack friction
 /// (k_t = 1e5 N/m, mu = 1e8); R = 0.1 m, v = 10 m/s.
 pub fn thesis_studies() -> Vec<EccentricStudy> {
-    let linear = NormalLaw::Linear {
-        kn: 1.5e5,
-        gamma_n: 0.0,
-    };
+    let linear = NormalLaw::Linear { kn: 1.5e5, gamma_n: 0.0 };
     let rubber = NormalLaw::hertz(1e7 / (1.0 - 0.25), 0.0);
     let friction = TangentialLaw::CundallStrack { kt: 1e5, mu: 1e8 };
     let law = |normal, tangential| ContactLaw {

@@ -62,18 +62,9 @@ impl SphereOnFloor {
     /// with `motion`, with initial velocity `v0` and no spin.
     fn simulation(&self, motion: Motion, v0: Vec3) -> Result<Simulation, SimError> {
         let m = self.mass();
-        let sink = self
-            .law
-            .normal
-            .static_overlap(m * self.gravity, self.radius);
+        let sink = self.law.normal.static_overlap(m * self.gravity, self.radius);
         let mut state = State::default();
-        state.push(
-            Vec3::new(0.0, 0.0, self.radius - sink),
-            v0,
-            Vec3::zeros(),
-            self.radius,
-            m,
-        );
+        state.push(Vec3::new(0.0, 0.0, self.radius - sink), v0, Vec3::zeros(), self.radius, m);
         let setup = Setup {
             pair_law: self.law,
             wall_law: self.law,
@@ -103,13 +94,7 @@ impl SphereOnFloor {
 
     /// Shakes the floor with `x_tray = amplitude sin(2 pi frequency t)` for `duration` s,
     /// sampling every `every` steps.
-    pub fn shake(
-        &self,
-        amplitude: f64,
-        frequency: f64,
-        duration: f64,
-        every: u64,
-    ) -> Result<Vec<Sample>, SimError> {
+    pub fn shake(&self, amplitude: f64, frequency: f64, duration: f64, every: u64) -> Result<Vec<Sample>, SimError> {
         let motion = Motion::Harmonic {
             amplitude,
             frequency,
@@ -123,13 +108,7 @@ impl SphereOnFloor {
         self.run(Motion::Fixed, Vec3::new(v0, 0.0, 0.0), duration, every)
     }
 
-    fn run(
-        &self,
-        motion: Motion,
-        v0: Vec3,
-        duration: f64,
-        every: u64,
-    ) -> Result<Vec<Sample>, SimError> {
+    fn run(&self, motion: Motion, v0: Vec3, duration: f64, every: u64) -> Result<Vec<Sample>, SimError> {
         let mut sim = self.simulation(motion, v0)?;
         let steps = (duration / self.dt).round() as u64;
         let every = every.max(1);
@@ -152,10 +131,7 @@ mod tests {
     fn law(mu_r: f64) -> ContactLaw {
         ContactLaw {
             normal: NormalLaw::hertz(1e6 / 0.91, 8.5e-6),
-            tangential: TangentialLaw::HaffWerner {
-                gamma_t: 0.007,
-                mu: 0.7,
-            },
+            tangential: TangentialLaw::HaffWerner { gamma_t: 0.007, mu: 0.7 },
             rolling: if mu_r > 0.0 {
                 RollingLaw::BrilliantovPoschel { mu_r }
             } else {
@@ -169,35 +145,22 @@ mod tests {
         let s = SphereOnFloor::thesis(law(8.5e-6));
         let traj = s.launch(0.0, 0.05, 100).unwrap();
         let last = traj.last().unwrap();
-        assert!(
-            last.x.abs() < 1e-12 && (last.z - traj[0].z).abs() < 1e-12,
-            "{last:?}"
-        );
+        assert!(last.x.abs() < 1e-12 && (last.z - traj[0].z).abs() < 1e-12, "{last:?}");
     }
 
     #[test]
     fn sliding_sphere_rolls_at_five_sevenths_then_rolling_friction_stops_it() {
         // Sliding friction turns v0 into rolling at (5/7) v0 (solid sphere, angular momentum
         // about the contact point conserved); without rolling friction it then rolls forever.
-        let free = SphereOnFloor::thesis(law(0.0))
-            .launch(0.05, 0.3, 1000)
-            .unwrap();
+        let free = SphereOnFloor::thesis(law(0.0)).launch(0.05, 0.3, 1000).unwrap();
         let v_roll = free.last().unwrap().vx;
-        assert!(
-            (v_roll / 0.05 - 5.0 / 7.0).abs() < 1e-3,
-            "rolling speed {v_roll}"
-        );
+        assert!((v_roll / 0.05 - 5.0 / 7.0).abs() < 1e-3, "rolling speed {v_roll}");
         // With rolling friction and no slip, the energy balance (7/5) m v dv/dt = -M omega =
         // -mu_r (R omega) m g omega gives dv/dt = -(5/7) (mu_r g / R) v: after 1 s the speed
         // is exp(-(5/7) 8.5e-6 * 10 / 5e-4) = 0.886 of the rolling speed.
-        let braked = SphereOnFloor::thesis(law(8.5e-6))
-            .launch(0.05, 1.0, 1000)
-            .unwrap();
+        let braked = SphereOnFloor::thesis(law(8.5e-6)).launch(0.05, 1.0, 1000).unwrap();
         let ratio = braked.last().unwrap().vx / v_roll;
         let expect = (-5.0 / 7.0 * 8.5e-6 * 10.0 / 5e-4f64).exp();
-        assert!(
-            (ratio - expect).abs() < 2e-3,
-            "speed ratio {ratio}, expected about {expect}"
-        );
+        assert!((ratio - expect).abs() < 2e-3, "speed ratio {ratio}, expected about {expect}");
     }
 }
