@@ -3,18 +3,21 @@
 //! One step of [`Simulation::step`]:
 //! 1. integrator stage before the forces (positions to `t + dt`);
 //! 2. `t += dt`, periodic wrap of positions;
-//! 3. force evaluation: gravity, particle pairs from the neighbour search, walls at their
-//!    position and velocity at the new time; contact history kept for live contacts only;
-//!    energy ledger (work of moving walls, dissipation) advanced by `power * dt`;
-//! 4. integrator stage after the forces (velocities to `t + dt`);
-//! 5. checks: every position, velocity and spin finite.
+//! 3. neighbour list rebuilt if some particle moved more than half the skin;
+//! 4. force evaluation, gathered per particle in fixed blocks on the rayon pool: gravity,
+//!    particle pairs from the neighbour list, walls at their position and velocity at the new
+//!    time; contact history kept for live contacts only; energy ledger (work of moving walls,
+//!    dissipation) advanced by `power * dt`, summed in block order so that results are
+//!    bit-identical for any number of threads;
+//! 5. integrator stage after the forces (velocities to `t + dt`);
+//! 6. checks: every position, velocity and spin finite.
 
-use std::collections::HashMap;
+use rayon::prelude::*;
 
 use crate::boundary::Boundary;
 use crate::contact::{self, ContactGeometry, ContactLaw};
 use crate::integrate::Integrator;
-use crate::neighbor::NeighborSearch;
+use crate::neighbor::{NeighborList, NeighborSearch};
 use crate::state::State;
 use crate::wall::Wall;
 use crate::{SimError, Vec3};
@@ -76,6 +79,10 @@ pub struct Ledger {
     pub dissipated: f64,
 }
 
+/// Particles per block of the parallel force loop. Fixed, so that the block partial sums, and
+/// therefore every result, do not depend on the number of threads.
+const BLOCK: usize = 128;
+
 /// A running simulation.
 #[derive(Clone, Debug)]
 pub struct Simulation {
@@ -89,10 +96,23 @@ pub struct Simulation {
     /// Elastic energy stored in contacts at the last force evaluation (J).
     pub stored_energy: f64,
     rotate: bool,
-    pair_history: HashMap<(usize, usize), Vec3>,
-    wall_history: HashMap<(usize, usize), Vec3>,
-    spare_history: HashMap<(usize, usize), Vec3>,
+    neighbors: NeighborList,
+    /// Tangential spring of each neighbour-list slot (pair history), aligned with
+    /// `neighbors.partners`; zero for pairs not in contact.
+    pair_history: Vec<Vec3>,
+    /// Tangential spring of each particle-wall contact, `i * max(walls, 1) + k` (one unused
+    /// slot per particle without walls, so the per-block chunks always line up).
+    wall_history: Vec<Vec3>,
     record: bool,
+    records: Vec<ContactRecord>,
+}
+
+/// Per-block partial results of a force evaluation.
+#[derive(Default)]
+struct BlockSums {
+    stored: f64,
+    dissipated: f64,
+    injected: f64,
     records: Vec<ContactRecord>,
 }
 
@@ -106,6 +126,8 @@ impl Simulation {
             });
         }
         let rotate = setup.needs_rotation();
+        let n_walls = setup.walls.len();
+        let n = state.len();
         let mut sim = Self {
             setup,
             state,
@@ -114,13 +136,14 @@ impl Simulation {
             ledger: Ledger::default(),
             stored_energy: 0.0,
             rotate,
-            pair_history: HashMap::new(),
-            wall_history: HashMap::new(),
-            spare_history: HashMap::new(),
+            neighbors: NeighborList::default(),
+            pair_history: Vec::new(),
+            wall_history: vec![Vec3::zeros(); n * n_walls.max(1)],
             record: false,
             records: Vec::new(),
         };
         sim.check_finite()?;
+        sim.refresh_neighbors();
         sim.compute_forces(0.0);
         let dt = sim.setup.dt;
         sim.setup.integrator.start(&mut sim.state, dt);
@@ -128,16 +151,17 @@ impl Simulation {
     }
 
     /// Records per-contact diagnostics at every force evaluation (see [`Self::contacts`]).
+    /// The forces are re-evaluated at once so that the records describe the current state;
+    /// the ledger is not advanced.
     pub fn record_contacts(&mut self, on: bool) {
         self.record = on;
         self.records.clear();
         if on {
-            let dt = self.setup.dt;
-            self.compute_forces(0.0 * dt);
+            self.compute_forces(0.0);
         }
     }
 
-    /// Contacts of the last force evaluation (empty unless recording).
+    /// Contacts of the last force evaluation (empty unless recording); each pair once.
     pub fn contacts(&self) -> &[ContactRecord] {
         &self.records
     }
@@ -145,6 +169,11 @@ impl Simulation {
     /// True if spins are integrated.
     pub fn rotates(&self) -> bool {
         self.rotate
+    }
+
+    /// Number of neighbour-list builds so far.
+    pub fn neighbor_builds(&self) -> u64 {
+        self.neighbors.builds
     }
 
     /// Advances one time step.
@@ -155,6 +184,7 @@ impl Simulation {
         for x in self.state.pos.iter_mut() {
             *x = self.setup.boundary.wrap(*x);
         }
+        self.refresh_neighbors();
         self.compute_forces(dt);
         self.setup.integrator.after_forces(&mut self.state, dt, self.rotate);
         self.steps += 1;
@@ -185,107 +215,156 @@ impl Simulation {
         Ok(())
     }
 
+    /// Rebuilds the neighbour list if needed, carrying the pair history over to the new slots.
+    fn refresh_neighbors(&mut self) {
+        let s = &self.state;
+        let search = self.setup.neighbors;
+        if !self.neighbors.needs_rebuild(&search, &s.pos, &self.setup.boundary) {
+            return;
+        }
+        let old = std::mem::take(&mut self.neighbors);
+        let mut list = old.clone();
+        list.build(&search, &s.pos, &s.radius, &self.setup.boundary);
+        let mut history = vec![Vec3::zeros(); list.partners.len()];
+        if self.setup.pair_law.has_history() && !old.offsets.is_empty() {
+            for i in 0..s.len() {
+                let (old_j, old_h) = (old.of(i), &self.pair_history[old.offsets[i]..old.offsets[i + 1]]);
+                let mut k = 0;
+                for (slot, &j) in list.of(i).iter().enumerate() {
+                    while k < old_j.len() && old_j[k] < j {
+                        k += 1;
+                    }
+                    if k < old_j.len() && old_j[k] == j {
+                        history[list.offsets[i] + slot] = old_h[k];
+                    }
+                }
+            }
+        }
+        self.neighbors = list;
+        self.pair_history = history;
+    }
+
     /// Evaluates all forces and torques at the current positions; `ledger_dt` is the time
-    /// over which the resulting powers are booked (0 for the initial evaluation).
+    /// over which the resulting powers are booked (0 for a re-evaluation).
     fn compute_forces(&mut self, ledger_dt: f64) {
         let setup = &self.setup;
-        let s = &mut self.state;
-        let dt = setup.dt;
-        for i in 0..s.len() {
-            s.force[i] = setup.gravity / s.inv_mass[i];
-            s.torque[i] = Vec3::zeros();
+        let n = self.state.len();
+        let n_walls = setup.walls.len();
+        let wall_stride = n_walls.max(1);
+        let walls: Vec<(Vec3, Vec3, Vec3)> = setup
+            .walls
+            .iter()
+            .map(|w| (w.origin_at(self.time), w.normal, w.motion.velocity(self.time)))
+            .collect();
+        let (record, dt) = (self.record, setup.dt);
+        let list = &self.neighbors;
+        let State {
+            pos,
+            vel,
+            omega,
+            force,
+            torque,
+            radius,
+            inv_mass,
+            ..
+        } = &mut self.state;
+        let (pos, vel, omega, radius, inv_mass) = (&*pos, &*vel, &*omega, &*radius, &*inv_mass);
+
+        // Split the per-slot histories into the ranges owned by each block.
+        let mut pair_blocks: Vec<&mut [Vec3]> = Vec::with_capacity(n / BLOCK + 1);
+        let mut rest = self.pair_history.as_mut_slice();
+        for b in 0..n.div_ceil(BLOCK) {
+            let (lo, hi) = (list.offsets[b * BLOCK], list.offsets[((b + 1) * BLOCK).min(n)]);
+            let (head, tail) = rest.split_at_mut(hi - lo);
+            pair_blocks.push(head);
+            rest = tail;
         }
+
+        debug_assert_eq!(self.wall_history.len(), n * wall_stride);
+        let sums: Vec<BlockSums> = force
+            .par_chunks_mut(BLOCK)
+            .zip(torque.par_chunks_mut(BLOCK))
+            .zip(pair_blocks.into_par_iter())
+            .zip(self.wall_history.par_chunks_mut(BLOCK * wall_stride))
+            .enumerate()
+            .map(|(b, (((f_blk, t_blk), ph_blk), wh_blk))| {
+                let mut sums = BlockSums::default();
+                let base_slot = list.offsets[b * BLOCK];
+                for (k, (f_out, t_out)) in f_blk.iter_mut().zip(t_blk.iter_mut()).enumerate() {
+                    let i = b * BLOCK + k;
+                    let mut f = setup.gravity / inv_mass[i];
+                    let mut t = Vec3::zeros();
+                    // Particle pairs (each evaluated from both sides; half the energies each).
+                    let slots = list.offsets[i] - base_slot..list.offsets[i + 1] - base_slot;
+                    for (&j, zeta) in list.of(i).iter().zip(&mut ph_blk[slots]) {
+                        let j = j as usize;
+                        let d = setup.boundary.min_image(pos[i] - pos[j]);
+                        let Some(g) = ContactGeometry::pair(pos[i], pos[i] - d, vel[i], vel[j], omega[i], omega[j], radius[i], radius[j])
+                        else {
+                            *zeta = Vec3::zeros();
+                            continue;
+                        };
+                        let c = contact::evaluate(&setup.pair_law, &g, zeta, dt);
+                        f += c.force;
+                        t += c.torque_i;
+                        sums.stored += 0.5 * c.stored_energy;
+                        sums.dissipated += 0.5 * c.dissipation_rate;
+                        if record && i < j {
+                            sums.records
+                                .push(ContactRecord::new(i, Partner::Particle(j), &g, &c, setup.pair_law.tangential.mu()));
+                        }
+                    }
+                    // Walls.
+                    for (w, &(origin, normal, v_wall)) in walls.iter().enumerate() {
+                        let zeta = &mut wh_blk[k * wall_stride + w];
+                        let Some(g) = ContactGeometry::wall(pos[i], vel[i], omega[i], radius[i], origin, normal, v_wall) else {
+                            *zeta = Vec3::zeros();
+                            continue;
+                        };
+                        let c = contact::evaluate(&setup.wall_law, &g, zeta, dt);
+                        f += c.force;
+                        t += c.torque_i;
+                        sums.stored += c.stored_energy;
+                        sums.dissipated += c.dissipation_rate;
+                        sums.injected += c.force.dot(&v_wall);
+                        if record {
+                            sums.records
+                                .push(ContactRecord::new(i, Partner::Wall(w), &g, &c, setup.wall_law.tangential.mu()));
+                        }
+                    }
+                    *f_out = f;
+                    *t_out = t;
+                }
+                sums
+            })
+            .collect();
+        assert_eq!(sums.len(), n.div_ceil(BLOCK), "every block of particles must be evaluated");
+
+        let (mut stored, mut dissipated, mut injected) = (0.0, 0.0, 0.0);
         self.records.clear();
-        let mut stored = 0.0;
-        let mut dissipated = 0.0;
-        let mut injected = 0.0;
-
-        // Particle pairs.
-        let keep_history = setup.pair_law.has_history();
-        let mut next = std::mem::take(&mut self.spare_history);
-        next.clear();
-        let old = &self.pair_history;
-        let records = &mut self.records;
-        let record = self.record;
-        setup.neighbors.for_each_pair(&s.pos, |i, j| {
-            let d = setup.boundary.min_image(s.pos[i] - s.pos[j]);
-            let xj = s.pos[i] - d;
-            let Some(g) = ContactGeometry::pair(s.pos[i], xj, s.vel[i], s.vel[j], s.omega[i], s.omega[j], s.radius[i], s.radius[j]) else {
-                return;
-            };
-            let mut zeta = if keep_history {
-                old.get(&(i, j)).copied().unwrap_or_else(Vec3::zeros)
-            } else {
-                Vec3::zeros()
-            };
-            let f = contact::evaluate(&setup.pair_law, &g, &mut zeta, dt);
-            if keep_history {
-                next.insert((i, j), zeta);
-            }
-            s.force[i] += f.force;
-            s.force[j] -= f.force;
-            s.torque[i] += f.torque_i;
-            s.torque[j] += f.torque_j;
-            stored += f.stored_energy;
-            dissipated += f.dissipation_rate;
-            if record {
-                records.push(ContactRecord {
-                    i,
-                    partner: Partner::Particle(j),
-                    overlap: g.overlap,
-                    overlap_rate: g.overlap_rate,
-                    normal_raw: f.normal_raw,
-                    normal: f.normal,
-                    tangential: f.tangential.norm(),
-                    mu: setup.pair_law.tangential.mu(),
-                });
-            }
-        });
-        self.spare_history = std::mem::replace(&mut self.pair_history, next);
-
-        // Walls.
-        let keep_history = setup.wall_law.has_history();
-        let mut next = std::mem::take(&mut self.spare_history);
-        next.clear();
-        for (k, wall) in setup.walls.iter().enumerate() {
-            let origin = wall.origin_at(self.time);
-            let v_wall = wall.motion.velocity(self.time);
-            for i in 0..s.len() {
-                let Some(g) = ContactGeometry::wall(s.pos[i], s.vel[i], s.omega[i], s.radius[i], origin, wall.normal, v_wall) else {
-                    continue;
-                };
-                let mut zeta = if keep_history {
-                    self.wall_history.get(&(i, k)).copied().unwrap_or_else(Vec3::zeros)
-                } else {
-                    Vec3::zeros()
-                };
-                let f = contact::evaluate(&setup.wall_law, &g, &mut zeta, dt);
-                if keep_history {
-                    next.insert((i, k), zeta);
-                }
-                s.force[i] += f.force;
-                s.torque[i] += f.torque_i;
-                stored += f.stored_energy;
-                dissipated += f.dissipation_rate;
-                injected += f.force.dot(&v_wall);
-                if self.record {
-                    self.records.push(ContactRecord {
-                        i,
-                        partner: Partner::Wall(k),
-                        overlap: g.overlap,
-                        overlap_rate: g.overlap_rate,
-                        normal_raw: f.normal_raw,
-                        normal: f.normal,
-                        tangential: f.tangential.norm(),
-                        mu: setup.wall_law.tangential.mu(),
-                    });
-                }
-            }
+        for s in sums {
+            stored += s.stored;
+            dissipated += s.dissipated;
+            injected += s.injected;
+            self.records.extend(s.records);
         }
-        self.spare_history = std::mem::replace(&mut self.wall_history, next);
-
         self.stored_energy = stored;
         self.ledger.injected += injected * ledger_dt;
         self.ledger.dissipated += dissipated * ledger_dt;
+    }
+}
+
+impl ContactRecord {
+    fn new(i: usize, partner: Partner, g: &ContactGeometry, c: &contact::ContactForce, mu: f64) -> Self {
+        Self {
+            i,
+            partner,
+            overlap: g.overlap,
+            overlap_rate: g.overlap_rate,
+            normal_raw: c.normal_raw,
+            normal: c.normal,
+            tangential: c.tangential.norm(),
+            mu,
+        }
     }
 }
