@@ -22,6 +22,7 @@ pub mod integrate;
 pub mod material;
 pub mod neighbor;
 pub mod observe;
+pub mod scene;
 pub mod sim;
 pub mod state;
 pub mod wall;
