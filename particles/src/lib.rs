@@ -22,9 +22,11 @@ pub mod integrate;
 pub mod material;
 pub mod neighbor;
 pub mod observe;
+pub mod prepare;
 pub mod scene;
 pub mod sim;
 pub mod state;
+pub mod tray;
 pub mod wall;
 
 pub use error::SimError;

@@ -29,3 +29,27 @@ pub fn angular_momentum(s: &State) -> Vec3 {
         l + s.pos[i].cross(&s.vel[i]) * s.mass(i) + s.omega[i] * s.inertia(i)
     })
 }
+
+/// FNV-1a, 64 bit: a stable, dependency-free hash for cache keys and state fingerprints.
+pub fn fnv1a(bytes: &[u8]) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    for &b in bytes {
+        h ^= b as u64;
+        h = h.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    h
+}
+
+/// Bit-exact fingerprint of all positions and velocities (FNV-1a of their IEEE bytes in
+/// particle order). Equal hashes mean identical trajectories, whatever the thread count.
+pub fn state_hash(s: &State) -> u64 {
+    let mut bytes = Vec::with_capacity(s.len() * 48);
+    for i in 0..s.len() {
+        for v in [&s.pos[i], &s.vel[i]] {
+            for c in v.iter() {
+                bytes.extend_from_slice(&c.to_bits().to_le_bytes());
+            }
+        }
+    }
+    fnv1a(&bytes)
+}

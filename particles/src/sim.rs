@@ -37,6 +37,21 @@ pub struct Setup {
     pub integrator: Integrator,
     pub boundary: Boundary,
     pub neighbors: NeighborSearch,
+    /// Vertical freedom of the particles.
+    pub vertical: Vertical,
+    /// Box `[lo, hi]` (m) on the non-periodic axes: a particle outside it has escaped.
+    pub container: Option<(Vec3, Vec3)>,
+}
+
+/// Vertical freedom of the particles.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Vertical {
+    /// Full 3D translation.
+    Free,
+    /// Pinned to the floor at `z = R` (jumping off, eq 3.28): a 2D model. The floor (the wall
+    /// whose normal is +z) carries each grain's weight as a constant normal load `m g`, which
+    /// its friction and rolling resistance feel; vertical forces are dropped.
+    Pinned,
 }
 
 impl Setup {
@@ -199,6 +214,7 @@ impl Simulation {
             + self.stored_energy
     }
 
+    /// Every position, velocity and spin finite, and every particle inside the container.
     fn check_finite(&self) -> Result<(), SimError> {
         let s = &self.state;
         for i in 0..s.len() {
@@ -208,6 +224,17 @@ impl Simulation {
                         step: self.steps,
                         particle: i,
                         field,
+                    });
+                }
+            }
+            if let Some((lo, hi)) = &self.setup.container {
+                let x = &s.pos[i];
+                let outside = (0..3).any(|k| self.setup.boundary.periodic[k].is_none() && (x[k] < lo[k] || x[k] > hi[k]));
+                if outside {
+                    return Err(SimError::Escaped {
+                        step: self.steps,
+                        particle: i,
+                        position: [x.x, x.y, x.z],
                     });
                 }
             }
@@ -257,6 +284,9 @@ impl Simulation {
             .map(|w| (w.origin_at(self.time), w.normal, w.motion.velocity(self.time)))
             .collect();
         let (record, dt) = (self.record, setup.dt);
+        let pinned = setup.vertical == Vertical::Pinned;
+        let support: Vec<bool> = setup.walls.iter().map(|w| pinned && w.normal == Vec3::z()).collect();
+        let weight = -setup.gravity.z;
         let list = &self.neighbors;
         let State {
             pos,
@@ -321,7 +351,11 @@ impl Simulation {
                             *zeta = Vec3::zeros();
                             continue;
                         };
-                        let c = contact::evaluate(&setup.wall_law, &g, zeta, dt);
+                        let c = if support[w] {
+                            contact::evaluate_with_normal(&setup.wall_law, &g, weight / inv_mass[i], zeta, dt)
+                        } else {
+                            contact::evaluate(&setup.wall_law, &g, zeta, dt)
+                        };
                         f += c.force;
                         t += c.torque_i;
                         sums.stored += c.stored_energy;
@@ -331,6 +365,9 @@ impl Simulation {
                             sums.records
                                 .push(ContactRecord::new(i, Partner::Wall(w), &g, &c, setup.wall_law.tangential.mu()));
                         }
+                    }
+                    if pinned {
+                        f.z = 0.0;
                     }
                     *f_out = f;
                     *t_out = t;

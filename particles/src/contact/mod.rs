@@ -72,8 +72,16 @@ pub struct ContactForce {
 /// Dissipation rate: the power the contact takes from the particles' kinetic energy,
 /// `F_n dxi/dt - F_t . v_t - M_roll . omega_rel`, minus the rate of change of the stored
 /// elastic energy `F_el dxi/dt` (and, for Cundall-Strack, `k_t zeta . dzeta/dt`).
+#[inline]
 pub fn evaluate(law: &ContactLaw, g: &ContactGeometry, history: &mut Vec3, dt: f64) -> ContactForce {
-    let normal_raw = law.normal.force(g.overlap, g.overlap_rate, g.r_eff);
+    evaluate_with_normal(law, g, law.normal.force(g.overlap, g.overlap_rate, g.r_eff), history, dt)
+}
+
+/// [`evaluate`] with the unclamped normal force `normal_raw` (N) given instead of computed
+/// from the normal law: a grain pinned to the floor (jumping off, eq 3.28) carries its
+/// weight there, and its friction and rolling resistance feel that load.
+#[inline]
+pub fn evaluate_with_normal(law: &ContactLaw, g: &ContactGeometry, normal_raw: f64, history: &mut Vec3, dt: f64) -> ContactForce {
     let normal = normal_raw.max(0.0);
     let elastic = law.normal.elastic_force(g.overlap, g.r_eff);
 

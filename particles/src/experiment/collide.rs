@@ -28,7 +28,7 @@ use crate::contact::{geometry::tangential_velocity, ContactLaw};
 use crate::integrate::Integrator;
 use crate::neighbor::NeighborSearch;
 use crate::observe;
-use crate::sim::{Setup, Simulation};
+use crate::sim::{Setup, Simulation, Vertical};
 use crate::state::State;
 use crate::wall::{Motion, Wall};
 use crate::{SimError, Vec3};
@@ -252,6 +252,8 @@ impl Collision {
             integrator: self.integrator,
             boundary: Boundary::open(),
             neighbors: NeighborSearch::AllPairs,
+            vertical: Vertical::Free,
+            container: None,
         };
         let mut sim = Simulation::new(setup, state)?;
         sim.record_contacts(true);

@@ -7,7 +7,7 @@ use crate::boundary::Boundary;
 use crate::contact::ContactLaw;
 use crate::integrate::Integrator;
 use crate::neighbor::NeighborSearch;
-use crate::sim::{Setup, Simulation};
+use crate::sim::{Setup, Simulation, Vertical};
 use crate::state::State;
 use crate::wall::{Motion, Wall};
 use crate::{SimError, Vec3};
@@ -74,6 +74,8 @@ impl SphereOnFloor {
             integrator: Integrator::VelocityVerlet,
             boundary: Boundary::open(),
             neighbors: NeighborSearch::AllPairs,
+            vertical: Vertical::Free,
+            container: None,
         };
         Simulation::new(setup, state)
     }

@@ -1,0 +1,119 @@
+//! Sample preparation (thesis 3.5.3): radii uniform in `[r_min, r_max]`, grains on a lattice
+//! in one or more layers, random horizontal velocities uniform in `[-v, v]`, a relaxation of
+//! `prepare.duration` seconds on the tray at rest, then all velocities and spins zeroed.
+//!
+//! A sample depends only on the box, the population, the material, the preparation
+//! parameters and the seed, never on the toggles or the drive: the relaxation always uses the
+//! reference physics (3D, side walls, all friction on), so every ablation and every point of
+//! a sweep starts from the same samples. [`sample_key`] names that dependency.
+
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+use crate::scene::{Scene, Toggles};
+use crate::sim::Simulation;
+use crate::state::State;
+use crate::tray::{self, GRAVITY};
+use crate::wall::Motion;
+use crate::{SimError, Vec3};
+
+/// The scene with everything that does not define a sample reset: reference toggles and a
+/// tray at rest.
+pub fn reference(scene: &Scene) -> Scene {
+    let mut s = scene.clone();
+    s.toggles = Toggles::default();
+    s.drive.amplitude = 0.0;
+    s.run.duration = s.prepare.duration;
+    s.run.threads = 0;
+    s.run.checkpoint_interval = 0.0;
+    s.run.snapshots_per_period = 1;
+    s
+}
+
+/// A stable 64-bit name of the sample a scene starts from (FNV-1a of the canonical TOML of
+/// [`reference`], which holds the seed).
+pub fn sample_key(scene: &Scene) -> u64 {
+    let text = toml::to_string(&reference(scene)).expect("a scene serialises");
+    crate::observe::fnv1a(text.as_bytes())
+}
+
+/// The grains on their lattice, before relaxation.
+pub fn initial_state(scene: &Scene) -> State {
+    let mut rng = ChaCha8Rng::seed_from_u64(scene.run.seed);
+    let p = &scene.particles;
+    let n = p.count;
+    let radii: Vec<f64> = (0..n).map(|_| rng.gen_range(p.radius_min..=p.radius_max)).collect();
+    // Lattice of spacing 2.1 r_max, fully inside the side walls; as many layers as needed.
+    let spacing = 2.1 * p.radius_max;
+    let nx = ((scene.tray.length / spacing).floor() as usize).max(1);
+    let ny = (((scene.tray.width - 2.0 * p.radius_max) / spacing).floor() as usize + 1).max(1);
+    let per_layer = nx * ny;
+    let layers = n.div_ceil(per_layer);
+    // Fill the lower layers completely and a random subset of the top one.
+    let full = (layers - 1) * per_layer;
+    let mut top: Vec<usize> = (0..per_layer).collect();
+    for k in (1..top.len()).rev() {
+        top.swap(k, rng.gen_range(0..=k));
+    }
+    let mut sites: Vec<usize> = (0..full).collect();
+    sites.extend(top.iter().take(n - full).map(|&k| full + k));
+    sites.sort_unstable();
+    let material = scene.material();
+    let (_, wall_law) = reference(scene).laws();
+    let dy = if ny > 1 {
+        (scene.tray.width - 2.0 * p.radius_max * 1.05) / (ny - 1) as f64
+    } else {
+        0.0
+    };
+    let mut state = State::default();
+    for (i, &site) in sites.iter().enumerate() {
+        let (layer, cell) = (site / per_layer, site % per_layer);
+        let (ix, iy) = (cell % nx, cell / nx);
+        let r = radii[i];
+        let m = material.sphere_mass(r);
+        let z = if layer == 0 {
+            r - wall_law.normal.static_overlap(m * GRAVITY, r)
+        } else {
+            p.radius_max + layer as f64 * spacing
+        };
+        let y = if ny > 1 {
+            1.05 * p.radius_max + iy as f64 * dy
+        } else {
+            0.5 * scene.tray.width
+        };
+        let x = (ix as f64 + 0.5) * scene.tray.length / nx as f64;
+        let v = Vec3::new(
+            rng.gen_range(-1.0..=1.0) * scene.prepare.speed,
+            rng.gen_range(-1.0..=1.0) * scene.prepare.speed,
+            0.0,
+        );
+        state.push(Vec3::new(x, y, z), v, Vec3::zeros(), r, m);
+    }
+    state
+}
+
+/// Prepares the sample of `scene`: lattice, random velocities, relaxation, zeroed velocities.
+/// `progress` is called with the fraction done.
+pub fn prepare(scene: &Scene, mut progress: impl FnMut(f64)) -> Result<State, SimError> {
+    let reference = reference(scene);
+    let setup = tray::setup(&reference, Motion::Fixed)?;
+    let steps = (reference.prepare.duration / setup.dt).round() as u64;
+    let mut sim = Simulation::new(setup, initial_state(scene))?;
+    for k in 0..steps {
+        sim.step()?;
+        if k % 1000 == 0 {
+            progress(k as f64 / steps as f64);
+        }
+    }
+    progress(1.0);
+    let mut state = sim.state;
+    for i in 0..state.len() {
+        state.vel[i] = Vec3::zeros();
+        state.omega[i] = Vec3::zeros();
+        state.vel_half[i] = Vec3::zeros();
+        state.omega_half[i] = Vec3::zeros();
+        state.force[i] = Vec3::zeros();
+        state.torque[i] = Vec3::zeros();
+    }
+    Ok(state)
+}
