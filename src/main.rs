@@ -1,1 +1,57 @@
-fn main() {}
+//! `stripes`: the command-line front end. It parses arguments, calls the library crates and
+//! writes outputs; physics lives in `particles` and `automaton`, analysis and plots in
+//! `analysis`.
+//!
+//! Every subcommand that computes numbers writes a directory with the resolved configuration
+//! (`config.json`) and `summary.json`, and prints that summary as the last line of stdout.
+
+mod commands;
+mod output;
+
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+#[derive(Parser)]
+#[command(
+    name = "stripes",
+    version,
+    about = "Stripe formation in a horizontally shaken submonolayer: DEM, cellular automaton, analysis"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Two-sphere or sphere-wall collision experiment (thesis 3.2.5, chapter 4).
+    Collide(commands::collide::Args),
+    /// eps_n^HS, eps_n and phi against impact eccentricity (thesis chapter 4, Fig 4.4-4.10).
+    Eccentricity(commands::eccentricity::Args),
+    /// Contact duration against A, R, Y and v next to eq 3.19 (thesis Fig 3.5).
+    ContactTime(commands::contact_time::Args),
+    /// One sphere on the shaken plate, with and without rolling friction, and the
+    /// rolling-friction stopping test (thesis 3.3, 3.5.2).
+    Single(commands::single::Args),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Collide(a) => commands::collide::run(a),
+        Command::Eccentricity(a) => commands::eccentricity::run(a),
+        Command::ContactTime(a) => commands::contact_time::run(a),
+        Command::Single(a) => commands::single::run(a),
+    };
+    match result {
+        Ok(summary) => {
+            println!("{summary}");
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}

@@ -9,6 +9,8 @@ pub enum SimError {
     InvalidParameter { field: String, message: String },
     /// The time step is too large for the contact time.
     TimeStepTooLarge {
+        /// The option or key that set the step.
+        field: String,
         dt: f64,
         contact_time: f64,
         steps_per_contact: f64,
@@ -28,9 +30,15 @@ impl fmt::Display for SimError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             SimError::InvalidParameter { field, message } => write!(f, "invalid `{field}`: {message}"),
-            SimError::TimeStepTooLarge { dt, contact_time, steps_per_contact, minimum } => write!(
+            SimError::TimeStepTooLarge {
+                field,
+                dt,
+                contact_time,
+                steps_per_contact,
+                minimum,
+            } => write!(
                 f,
-                "time step dt = {dt:e} s is too large: the contact time is {contact_time:e} s, giving {steps_per_contact:.2} steps per contact; at least {minimum} are needed (reduce `run.dt`)"
+                "time step `{field}` = {dt:e} s is too large: the shortest contact lasts {contact_time:e} s, giving {steps_per_contact:.2} steps per contact; at least {minimum} are needed"
             ),
             SimError::NonFinite { step, particle, field } => {
                 write!(f, "step {step}: particle {particle} has a non-finite {field}")

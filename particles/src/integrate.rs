@@ -1,7 +1,7 @@
 //! Time integrators. Each splits a step into the part before the force evaluation and the
-//! part after it; [`crate::sim`] calls them in that order.
+//! part after it, as per-particle kernels; [`crate::sim`] calls them in that order.
 
-use crate::state::State;
+use crate::state::{State, StateBlock};
 
 /// Integration scheme.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -34,52 +34,42 @@ impl Integrator {
         }
     }
 
-    /// Stage before the force evaluation: positions to `t + dt`, and velocities to where the
-    /// force evaluation needs them.
-    pub fn before_forces(&self, s: &mut State, dt: f64, rotate: bool) {
+    /// Stage before the force evaluation for particle `k` of block `b`: position to `t + dt`,
+    /// and velocity and spin to where the force evaluation needs them.
+    #[inline]
+    pub fn before_forces(&self, b: &mut StateBlock, k: usize, dt: f64, rotate: bool) {
         match self {
             Integrator::VelocityVerlet => {
-                for i in 0..s.len() {
-                    let half_kick = s.force[i] * (0.5 * dt * s.inv_mass[i]);
-                    s.vel_half[i] = s.vel[i] + half_kick;
-                    s.pos[i] += s.vel_half[i] * dt;
-                    s.vel[i] = s.vel_half[i] + half_kick; // predictor for the forces
-                }
+                let half_kick = b.force[k] * (0.5 * dt * b.inv_mass[k]);
+                b.vel_half[k] = b.vel[k] + half_kick;
+                b.pos[k] += b.vel_half[k] * dt;
+                b.vel[k] = b.vel_half[k] + half_kick; // predictor for the forces
                 if rotate {
-                    for i in 0..s.len() {
-                        let half_kick = s.torque[i] * (0.5 * dt * s.inv_inertia[i]);
-                        s.omega_half[i] = s.omega[i] + half_kick;
-                        s.omega[i] = s.omega_half[i] + half_kick;
-                    }
+                    let half_kick = b.torque[k] * (0.5 * dt * b.inv_inertia[k]);
+                    b.omega_half[k] = b.omega[k] + half_kick;
+                    b.omega[k] = b.omega_half[k] + half_kick;
                 }
             }
             Integrator::Thesis => {
-                for i in 0..s.len() {
-                    let a = s.force[i] * s.inv_mass[i];
-                    s.vel_half[i] += a * dt; // u_{n+1/2} = u_{n-1/2} + dt a_n
-                    s.pos[i] += s.vel_half[i] * dt; // eq 3.26
-                    s.vel[i] = s.vel_half[i] + a * (0.5 * dt); // eq 3.27
-                }
+                let a = b.force[k] * b.inv_mass[k];
+                b.vel_half[k] += a * dt; // u_{n+1/2} = u_{n-1/2} + dt a_n
+                b.pos[k] += b.vel_half[k] * dt; // eq 3.26
+                b.vel[k] = b.vel_half[k] + a * (0.5 * dt); // eq 3.27
                 if rotate {
-                    for i in 0..s.len() {
-                        s.omega[i] += s.torque[i] * (dt * s.inv_inertia[i]); // eq 3.23
-                    }
+                    b.omega[k] += b.torque[k] * (dt * b.inv_inertia[k]); // eq 3.23
                 }
             }
         }
     }
 
-    /// Stage after the force evaluation.
-    pub fn after_forces(&self, s: &mut State, dt: f64, rotate: bool) {
+    /// Stage after the force evaluation for particle `k` of block `b`.
+    #[inline]
+    pub fn after_forces(&self, b: &mut StateBlock, k: usize, dt: f64, rotate: bool) {
         match self {
             Integrator::VelocityVerlet => {
-                for i in 0..s.len() {
-                    s.vel[i] = s.vel_half[i] + s.force[i] * (0.5 * dt * s.inv_mass[i]);
-                }
+                b.vel[k] = b.vel_half[k] + b.force[k] * (0.5 * dt * b.inv_mass[k]);
                 if rotate {
-                    for i in 0..s.len() {
-                        s.omega[i] = s.omega_half[i] + s.torque[i] * (0.5 * dt * s.inv_inertia[i]);
-                    }
+                    b.omega[k] = b.omega_half[k] + b.torque[k] * (0.5 * dt * b.inv_inertia[k]);
                 }
             }
             Integrator::Thesis => {}

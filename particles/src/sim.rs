@@ -193,15 +193,22 @@ impl Simulation {
 
     /// Advances one time step.
     pub fn step(&mut self) -> Result<(), SimError> {
-        let dt = self.setup.dt;
-        self.setup.integrator.before_forces(&mut self.state, dt, self.rotate);
+        let (dt, rotate, integrator) = (self.setup.dt, self.rotate, self.setup.integrator);
+        let boundary = self.setup.boundary;
+        self.state.blocks_mut(BLOCK).into_par_iter().for_each(|mut b| {
+            for k in 0..b.pos.len() {
+                integrator.before_forces(&mut b, k, dt, rotate);
+                b.pos[k] = boundary.wrap(b.pos[k]);
+            }
+        });
         self.time += dt;
-        for x in self.state.pos.iter_mut() {
-            *x = self.setup.boundary.wrap(*x);
-        }
         self.refresh_neighbors();
         self.compute_forces(dt);
-        self.setup.integrator.after_forces(&mut self.state, dt, self.rotate);
+        self.state.blocks_mut(BLOCK).into_par_iter().for_each(|mut b| {
+            for k in 0..b.pos.len() {
+                integrator.after_forces(&mut b, k, dt, rotate);
+            }
+        });
         self.steps += 1;
         self.check_finite()
     }
@@ -214,32 +221,34 @@ impl Simulation {
             + self.stored_energy
     }
 
-    /// Every position, velocity and spin finite, and every particle inside the container.
+    /// Every position, velocity and spin finite, and every particle inside the container;
+    /// the error names the lowest-numbered offending particle.
     fn check_finite(&self) -> Result<(), SimError> {
         let s = &self.state;
-        for i in 0..s.len() {
-            for (field, v) in [("position", &s.pos[i]), ("velocity", &s.vel[i]), ("spin", &s.omega[i])] {
-                if !v.iter().all(|c| c.is_finite()) {
-                    return Err(SimError::NonFinite {
-                        step: self.steps,
-                        particle: i,
-                        field,
-                    });
-                }
-            }
-            if let Some((lo, hi)) = &self.setup.container {
-                let x = &s.pos[i];
-                let outside = (0..3).any(|k| self.setup.boundary.periodic[k].is_none() && (x[k] < lo[k] || x[k] > hi[k]));
-                if outside {
-                    return Err(SimError::Escaped {
-                        step: self.steps,
-                        particle: i,
-                        position: [x.x, x.y, x.z],
-                    });
-                }
+        let (boundary, container, step) = (&self.setup.boundary, &self.setup.container, self.steps);
+        let first_bad = (0..s.len()).into_par_iter().with_min_len(BLOCK).find_first(|&i| {
+            let finite = s.pos[i]
+                .iter()
+                .chain(s.vel[i].iter())
+                .chain(s.omega[i].iter())
+                .all(|c| c.is_finite());
+            let inside = container
+                .as_ref()
+                .is_none_or(|(lo, hi)| (0..3).all(|k| boundary.periodic[k].is_some() || (s.pos[i][k] >= lo[k] && s.pos[i][k] <= hi[k])));
+            !(finite && inside)
+        });
+        let Some(i) = first_bad else { return Ok(()) };
+        for (field, v) in [("position", &s.pos[i]), ("velocity", &s.vel[i]), ("spin", &s.omega[i])] {
+            if !v.iter().all(|c| c.is_finite()) {
+                return Err(SimError::NonFinite { step, particle: i, field });
             }
         }
-        Ok(())
+        let x = &s.pos[i];
+        Err(SimError::Escaped {
+            step,
+            particle: i,
+            position: [x.x, x.y, x.z],
+        })
     }
 
     /// Rebuilds the neighbour list if needed, carrying the pair history over to the new slots.

@@ -63,3 +63,53 @@ impl State {
         1.0 / self.inv_inertia[i]
     }
 }
+
+/// Mutable view of a contiguous block of particles `start..start + len`, for the parallel
+/// per-particle stages of a step.
+pub struct StateBlock<'a> {
+    /// Index of the first particle of the block.
+    pub start: usize,
+    pub pos: &'a mut [Vec3],
+    pub vel: &'a mut [Vec3],
+    pub omega: &'a mut [Vec3],
+    pub vel_half: &'a mut [Vec3],
+    pub omega_half: &'a mut [Vec3],
+    pub force: &'a [Vec3],
+    pub torque: &'a [Vec3],
+    pub inv_mass: &'a [f64],
+    pub inv_inertia: &'a [f64],
+}
+
+impl State {
+    /// Splits the state into blocks of `size` particles (the last may be shorter).
+    pub fn blocks_mut(&mut self, size: usize) -> Vec<StateBlock<'_>> {
+        let mut out = Vec::with_capacity(self.len().div_ceil(size));
+        let mut start = 0;
+        let pos = self.pos.chunks_mut(size);
+        let mut vel = self.vel.chunks_mut(size);
+        let mut omega = self.omega.chunks_mut(size);
+        let mut vel_half = self.vel_half.chunks_mut(size);
+        let mut omega_half = self.omega_half.chunks_mut(size);
+        let mut force = self.force.chunks(size);
+        let mut torque = self.torque.chunks(size);
+        let mut inv_mass = self.inv_mass.chunks(size);
+        let mut inv_inertia = self.inv_inertia.chunks(size);
+        for p in pos {
+            let len = p.len();
+            out.push(StateBlock {
+                start,
+                pos: p,
+                vel: vel.next().expect("same length"),
+                omega: omega.next().expect("same length"),
+                vel_half: vel_half.next().expect("same length"),
+                omega_half: omega_half.next().expect("same length"),
+                force: force.next().expect("same length"),
+                torque: torque.next().expect("same length"),
+                inv_mass: inv_mass.next().expect("same length"),
+                inv_inertia: inv_inertia.next().expect("same length"),
+            });
+            start += len;
+        }
+        out
+    }
+}

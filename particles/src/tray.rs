@@ -38,6 +38,7 @@ pub fn time_step(scene: &Scene) -> Result<f64, SimError> {
             let steps = t_c / dt;
             if steps < MIN_STEPS_PER_CONTACT {
                 return Err(SimError::TimeStepTooLarge {
+                    field: "run.dt".into(),
                     dt,
                     contact_time: t_c,
                     steps_per_contact: steps,

@@ -98,10 +98,10 @@ pub struct CollisionResult {
     /// Kinetic + rotational energy before and after (J).
     pub energy_before: f64,
     pub energy_after: f64,
-    /// `|P' - P| / |m v|`, with `m v` the larger momentum scale.
-    pub momentum_error: f64,
-    /// `|L' - L| / (m_eff v l)`, orbital plus spin about the origin.
-    pub angular_momentum_error: f64,
+    /// `|P' - P| / (m_1 v)`; `null` against a wall (which takes momentum).
+    pub momentum_error: Option<f64>,
+    /// `|L' - L| / (m_eff v l)`, orbital plus spin about the origin; `null` against a wall.
+    pub angular_momentum_error: Option<f64>,
     /// Largest `|F_t| / (mu |F_n|)` over all steps: `<= 1` up to round-off (0 when smooth;
     /// infinite if a tangential force ever acted without a normal force).
     pub max_friction_ratio: f64,
@@ -208,6 +208,7 @@ impl Collision {
         }
         if t_est / dt < MIN_STEPS_PER_CONTACT {
             return Err(SimError::TimeStepTooLarge {
+                field: "dt".into(),
                 dt,
                 contact_time: t_est,
                 steps_per_contact: t_est / dt,
@@ -286,8 +287,11 @@ impl Collision {
 
         let s = &sim.state;
         let g1 = self.relative_velocity(s);
-        let r_end = self.separation(s) - g1 * (sim.time - t_c);
-        let e1 = r_end.normalize();
+        // Normal at the end of the contact; a wall's never turns.
+        let e1 = match self.target {
+            Target::Sphere { .. } => (self.separation(s) - g1 * (sim.time - t_c)).normalize(),
+            Target::Wall => e0,
+        };
         let c1 = self.contact_velocity(s, e1);
         let m_scale = self.m1 * v;
         let (m_eff, _) = self.effective();
@@ -305,8 +309,8 @@ impl Collision {
             contact_time_estimate: t_est,
             energy_before,
             energy_after: energy(s),
-            momentum_error: (observe::momentum(s) - p0).norm() / m_scale,
-            angular_momentum_error: (observe::angular_momentum(s) - l0).norm() / l_scale,
+            momentum_error: (s.len() > 1).then(|| (observe::momentum(s) - p0).norm() / m_scale),
+            angular_momentum_error: (s.len() > 1).then(|| (observe::angular_momentum(s) - l0).norm() / l_scale),
             max_friction_ratio,
             min_normal_force,
             v1: s.vel[0].into(),

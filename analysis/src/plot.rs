@@ -1,0 +1,504 @@
+//! Plots (PNG and SVG) with `plotters`. The only module of the suite that draws.
+//!
+//! Text is rendered by plotters' pure-Rust `ab_glyph` backend with DejaVu Sans, embedded from
+//! `analysis/assets/` (no system fontconfig needed). Files are written atomically: rendered
+//! to a temporary file in the target directory, then renamed.
+
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+use std::sync::Once;
+
+use plotters::coord::ranged1d::{AsRangedCoord, ValueFormatter};
+use plotters::coord::types::RangedCoordf64;
+use plotters::prelude::*;
+
+/// Font shipped with the suite (DejaVu Sans, see `assets/DejaVuSans-LICENSE.txt`).
+static FONT: &[u8] = include_bytes!("../assets/DejaVuSans.ttf");
+static REGISTER: Once = Once::new();
+const FAMILY: &str = "sans-serif";
+const SIZE: (u32, u32) = (1000, 700);
+
+fn register_font() {
+    REGISTER.call_once(|| {
+        plotters::style::register_font(FAMILY, FontStyle::Normal, FONT)
+            .unwrap_or_else(|_| panic!("the shipped font is a valid TrueType file"));
+    });
+}
+
+/// A failure to draw or write a plot.
+#[derive(Debug)]
+pub struct PlotError(pub String);
+
+impl std::fmt::Display for PlotError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for PlotError {}
+
+fn perr(e: impl std::fmt::Display) -> PlotError {
+    PlotError(e.to_string())
+}
+
+/// How a series is drawn.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Mark {
+    Line,
+    Points,
+    LinePoints,
+    Dashed,
+}
+
+/// One labelled series of `(x, y)` points.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Series {
+    pub label: String,
+    pub points: Vec<(f64, f64)>,
+    pub mark: Mark,
+}
+
+/// An x-y plot of one or more series. On a log axis, points with a non-positive coordinate
+/// are left out (they cannot be placed); non-finite points are always left out.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LinePlot {
+    pub title: String,
+    pub x_label: String,
+    pub y_label: String,
+    pub series: Vec<Series>,
+    pub log_x: bool,
+    pub log_y: bool,
+}
+
+/// Distinct, colour-blind-friendly colours (Okabe-Ito, then Tableau).
+const PALETTE: [RGBColor; 10] = [
+    RGBColor(0, 114, 178),
+    RGBColor(213, 94, 0),
+    RGBColor(0, 158, 115),
+    RGBColor(204, 121, 167),
+    RGBColor(230, 159, 0),
+    RGBColor(86, 180, 233),
+    RGBColor(0, 0, 0),
+    RGBColor(240, 228, 66),
+    RGBColor(148, 103, 189),
+    RGBColor(140, 86, 75),
+];
+
+/// Range of the values with a margin of 4% on each side; degenerate ranges are widened.
+fn padded(values: impl Iterator<Item = f64>, log: bool) -> Option<Range<f64>> {
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for v in values {
+        lo = lo.min(v);
+        hi = hi.max(v);
+    }
+    if !(lo.is_finite() && hi.is_finite()) {
+        return None;
+    }
+    if log {
+        let (a, b) = (lo.log10(), hi.log10());
+        let pad = if b > a { 0.04 * (b - a) } else { 0.5 };
+        return Some(10f64.powf(a - pad)..10f64.powf(b + pad));
+    }
+    let pad = if hi > lo {
+        0.04 * (hi - lo)
+    } else if lo != 0.0 {
+        0.1 * lo.abs()
+    } else {
+        1.0
+    };
+    Some(lo - pad..hi + pad)
+}
+
+/// Short tick labels: plain for moderate magnitudes, scientific otherwise.
+fn tick(v: f64) -> String {
+    let a = v.abs();
+    if v == 0.0 {
+        "0".into()
+    } else if (1e-3..1e4).contains(&a) {
+        let s = format!("{v:.4}");
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        let s = format!("{v:.2e}");
+        let (mantissa, exponent) = s.split_once('e').unwrap_or((&s, "0"));
+        format!("{}e{exponent}", mantissa.trim_end_matches('0').trim_end_matches('.'))
+    }
+}
+
+impl LinePlot {
+    /// A plot with a title and axis labels and no series.
+    pub fn new(title: &str, x_label: &str, y_label: &str) -> Self {
+        Self {
+            title: title.into(),
+            x_label: x_label.into(),
+            y_label: y_label.into(),
+            series: Vec::new(),
+            log_x: false,
+            log_y: false,
+        }
+    }
+
+    /// Adds a series.
+    pub fn series(mut self, label: &str, points: Vec<(f64, f64)>, mark: Mark) -> Self {
+        self.series.push(Series {
+            label: label.into(),
+            points,
+            mark,
+        });
+        self
+    }
+
+    /// Logarithmic x axis.
+    pub fn log_x(mut self) -> Self {
+        self.log_x = true;
+        self
+    }
+
+    /// Logarithmic y axis.
+    pub fn log_y(mut self) -> Self {
+        self.log_y = true;
+        self
+    }
+
+    /// The points of series `k` that can be drawn on these axes.
+    fn drawable(&self, k: usize) -> Vec<(f64, f64)> {
+        self.series[k]
+            .points
+            .iter()
+            .copied()
+            .filter(|&(x, y)| x.is_finite() && y.is_finite() && (!self.log_x || x > 0.0) && (!self.log_y || y > 0.0))
+            .collect()
+    }
+
+    /// Writes `<stem>.png` and `<stem>.svg`; returns the paths written.
+    pub fn save(&self, stem: &Path) -> Result<Vec<PathBuf>, PlotError> {
+        register_font();
+        let all: Vec<(f64, f64)> = (0..self.series.len()).flat_map(|k| self.drawable(k)).collect();
+        let x = padded(all.iter().map(|p| p.0), self.log_x).unwrap_or(if self.log_x { 0.1..10.0 } else { 0.0..1.0 });
+        let y = padded(all.iter().map(|p| p.1), self.log_y).unwrap_or(if self.log_y { 0.1..10.0 } else { 0.0..1.0 });
+        let png = with_extension(stem, "png");
+        let svg = with_extension(stem, "svg");
+        write_png(&png, |root| self.render_axes(root, x.clone(), y.clone()))?;
+        write_svg(&svg, |root| self.render_axes(root, x.clone(), y.clone()))?;
+        Ok(vec![png, svg])
+    }
+
+    fn render_axes<DB: DrawingBackend>(
+        &self,
+        root: DrawingArea<DB, plotters::coord::Shift>,
+        x: Range<f64>,
+        y: Range<f64>,
+    ) -> Result<(), PlotError>
+    where
+        DB::ErrorType: 'static,
+    {
+        match (self.log_x, self.log_y) {
+            (false, false) => self.render(root, x, y),
+            (true, false) => self.render(root, x.log_scale(), y),
+            (false, true) => self.render(root, x, y.log_scale()),
+            (true, true) => self.render(root, x.log_scale(), y.log_scale()),
+        }
+    }
+
+    fn render<DB, X, Y>(&self, root: DrawingArea<DB, plotters::coord::Shift>, x: X, y: Y) -> Result<(), PlotError>
+    where
+        DB: DrawingBackend,
+        DB::ErrorType: 'static,
+        X: AsRangedCoord<Value = f64>,
+        Y: AsRangedCoord<Value = f64>,
+        X::CoordDescType: ValueFormatter<f64>,
+        Y::CoordDescType: ValueFormatter<f64>,
+    {
+        root.fill(&WHITE).map_err(perr)?;
+        let mut chart = ChartBuilder::on(&root)
+            .caption(&self.title, (FAMILY, 26))
+            .margin(20)
+            .x_label_area_size(55)
+            .y_label_area_size(95)
+            .build_cartesian_2d(x, y)
+            .map_err(perr)?;
+        chart
+            .configure_mesh()
+            .x_desc(&self.x_label)
+            .y_desc(&self.y_label)
+            .x_labels(8)
+            .y_labels(10)
+            .label_style((FAMILY, 16))
+            .axis_desc_style((FAMILY, 19))
+            .x_label_formatter(&|v| tick(*v))
+            .y_label_formatter(&|v| tick(*v))
+            .light_line_style(RGBColor(235, 235, 235))
+            .draw()
+            .map_err(perr)?;
+        for (k, s) in self.series.iter().enumerate() {
+            let color = PALETTE[k % PALETTE.len()];
+            let pts = self.drawable(k);
+            let style = color.stroke_width(2);
+            let legend = |c: RGBColor| move |(x, y): (i32, i32)| PathElement::new(vec![(x, y), (x + 24, y)], c.stroke_width(3));
+            let anno = match s.mark {
+                Mark::Line | Mark::LinePoints => chart.draw_series(LineSeries::new(pts.clone(), style)).map_err(perr)?,
+                Mark::Dashed => chart.draw_series(DashedLineSeries::new(pts.clone(), 10, 6, style)).map_err(perr)?,
+                Mark::Points => chart
+                    .draw_series(pts.iter().map(|&p| Circle::new(p, 4, color.filled())))
+                    .map_err(perr)?,
+            };
+            anno.label(&s.label).legend(legend(color));
+            if s.mark == Mark::LinePoints {
+                chart
+                    .draw_series(pts.iter().map(|&p| Circle::new(p, 3, color.filled())))
+                    .map_err(perr)?;
+            }
+        }
+        if self.series.len() > 1 {
+            chart
+                .configure_series_labels()
+                .background_style(WHITE.mix(0.85))
+                .border_style(BLACK)
+                .label_font((FAMILY, 16))
+                .position(SeriesLabelPosition::UpperRight)
+                .draw()
+                .map_err(perr)?;
+        }
+        root.present().map_err(perr)
+    }
+}
+
+/// A colour map over a grid: `values[row][col]`, rows along y (first row at `y_range.0`),
+/// columns along x. Non-finite cells are drawn grey. A colour bar shows the scale.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Heatmap {
+    pub title: String,
+    pub x_label: String,
+    pub y_label: String,
+    pub x_range: (f64, f64),
+    pub y_range: (f64, f64),
+    pub values: Vec<Vec<f64>>,
+    pub colorbar_label: String,
+}
+
+/// Viridis colour map sampled at 9 points (matplotlib's values), linearly interpolated.
+const VIRIDIS: [(u8, u8, u8); 9] = [
+    (68, 1, 84),
+    (71, 44, 122),
+    (59, 81, 139),
+    (44, 113, 142),
+    (33, 144, 141),
+    (39, 173, 129),
+    (92, 200, 99),
+    (170, 220, 50),
+    (253, 231, 37),
+];
+
+/// Viridis colour of `t` in [0, 1] (clamped).
+pub fn viridis(t: f64) -> RGBColor {
+    let t = if t.is_finite() { t.clamp(0.0, 1.0) } else { 0.0 };
+    let s = t * (VIRIDIS.len() - 1) as f64;
+    let k = (s.floor() as usize).min(VIRIDIS.len() - 2);
+    let f = s - k as f64;
+    let mix = |a: u8, b: u8| (a as f64 + f * (b as f64 - a as f64)).round() as u8;
+    let (a, b) = (VIRIDIS[k], VIRIDIS[k + 1]);
+    RGBColor(mix(a.0, b.0), mix(a.1, b.1), mix(a.2, b.2))
+}
+
+impl Heatmap {
+    /// Writes `<stem>.png` and `<stem>.svg`; returns the paths written.
+    pub fn save(&self, stem: &Path) -> Result<Vec<PathBuf>, PlotError> {
+        register_font();
+        if self.values.is_empty() || self.values[0].is_empty() {
+            return Err(PlotError(format!("{}: heat map has no cells", self.title)));
+        }
+        let png = with_extension(stem, "png");
+        let svg = with_extension(stem, "svg");
+        write_png(&png, |root| self.render(root))?;
+        write_svg(&svg, |root| self.render(root))?;
+        Ok(vec![png, svg])
+    }
+
+    fn value_range(&self) -> (f64, f64) {
+        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+        for v in self.values.iter().flatten().filter(|v| v.is_finite()) {
+            lo = lo.min(*v);
+            hi = hi.max(*v);
+        }
+        if !lo.is_finite() {
+            return (0.0, 1.0);
+        }
+        if hi <= lo {
+            hi = lo + if lo == 0.0 { 1.0 } else { lo.abs() * 1e-3 };
+        }
+        (lo, hi)
+    }
+
+    fn render<DB: DrawingBackend>(&self, root: DrawingArea<DB, plotters::coord::Shift>) -> Result<(), PlotError>
+    where
+        DB::ErrorType: 'static,
+    {
+        root.fill(&WHITE).map_err(perr)?;
+        let (w, _) = root.dim_in_pixel();
+        let (main, bar) = root.split_horizontally(w.saturating_sub(150));
+        let (lo, hi) = self.value_range();
+        let (rows, cols) = (self.values.len(), self.values[0].len());
+        let (x0, x1) = self.x_range;
+        let (y0, y1) = self.y_range;
+        let mut chart = ChartBuilder::on(&main)
+            .caption(&self.title, (FAMILY, 26))
+            .margin(20)
+            .x_label_area_size(55)
+            .y_label_area_size(85)
+            .build_cartesian_2d(x0..x1, y0..y1)
+            .map_err(perr)?;
+        chart
+            .configure_mesh()
+            .disable_mesh()
+            .x_desc(&self.x_label)
+            .y_desc(&self.y_label)
+            .label_style((FAMILY, 16))
+            .axis_desc_style((FAMILY, 19))
+            .x_label_formatter(&|v| tick(*v))
+            .y_label_formatter(&|v| tick(*v))
+            .draw()
+            .map_err(perr)?;
+        let (dx, dy) = ((x1 - x0) / cols as f64, (y1 - y0) / rows as f64);
+        chart
+            .draw_series(self.values.iter().enumerate().flat_map(|(r, row)| {
+                row.iter().enumerate().map(move |(c, &v)| {
+                    let color = if v.is_finite() {
+                        viridis((v - lo) / (hi - lo))
+                    } else {
+                        RGBColor(160, 160, 160)
+                    };
+                    let (xa, ya) = (x0 + c as f64 * dx, y0 + r as f64 * dy);
+                    Rectangle::new([(xa, ya), (xa + dx, ya + dy)], color.filled())
+                })
+            }))
+            .map_err(perr)?;
+        // Colour bar.
+        let mut cb: ChartContext<DB, Cartesian2d<RangedCoordf64, RangedCoordf64>> = ChartBuilder::on(&bar)
+            .margin_top(60)
+            .margin_bottom(75)
+            .margin_right(10)
+            .y_label_area_size(80)
+            .build_cartesian_2d(0.0..1.0, lo..hi)
+            .map_err(perr)?;
+        cb.configure_mesh()
+            .disable_mesh()
+            .disable_x_axis()
+            .y_desc(&self.colorbar_label)
+            .label_style((FAMILY, 14))
+            .axis_desc_style((FAMILY, 16))
+            .y_label_formatter(&|v| tick(*v))
+            .draw()
+            .map_err(perr)?;
+        let steps = 200;
+        cb.draw_series((0..steps).map(|k| {
+            let (a, b) = (
+                lo + (hi - lo) * k as f64 / steps as f64,
+                lo + (hi - lo) * (k + 1) as f64 / steps as f64,
+            );
+            Rectangle::new([(0.0, a), (1.0, b)], viridis((k as f64 + 0.5) / steps as f64).filled())
+        }))
+        .map_err(perr)?;
+        root.present().map_err(perr)
+    }
+}
+
+fn with_extension(stem: &Path, ext: &str) -> PathBuf {
+    let mut name = stem.file_name().map(|n| n.to_os_string()).unwrap_or_default();
+    name.push(".");
+    name.push(ext);
+    stem.with_file_name(name)
+}
+
+fn temp_for(path: &Path) -> PathBuf {
+    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    path.with_file_name(format!(".{name}.{}.tmp", std::process::id()))
+}
+
+fn write_png(
+    path: &Path,
+    draw: impl FnOnce(DrawingArea<BitMapBackend, plotters::coord::Shift>) -> Result<(), PlotError>,
+) -> Result<(), PlotError> {
+    // The bitmap encoder infers the format from the extension, so the temporary keeps `.png`.
+    let tmp = temp_for(path).with_extension("tmp.png");
+    let result = (|| {
+        draw(BitMapBackend::new(&tmp, SIZE).into_drawing_area())?;
+        std::fs::rename(&tmp, path).map_err(|e| PlotError(format!("cannot write {}: {e}", path.display())))
+    })();
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    result
+}
+
+fn write_svg(
+    path: &Path,
+    draw: impl FnOnce(DrawingArea<SVGBackend, plotters::coord::Shift>) -> Result<(), PlotError>,
+) -> Result<(), PlotError> {
+    let mut text = String::new();
+    draw(SVGBackend::with_string(&mut text, SIZE).into_drawing_area())?;
+    crate::io::write_atomic(path, text.as_bytes()).map_err(|e| PlotError(format!("cannot write {}: {e}", path.display())))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn temp_dir(name: &str) -> PathBuf {
+        let d = std::env::temp_dir().join(format!("stripes-plot-{name}-{}", std::process::id()));
+        std::fs::create_dir_all(&d).unwrap();
+        d
+    }
+
+    #[test]
+    fn line_plot_writes_png_and_svg_even_with_unplottable_points() {
+        let d = temp_dir("line");
+        let plot = LinePlot::new("Test", "x", "y")
+            .series("a", vec![(0.0, 1.0), (1.0, 2.0), (2.0, 0.0), (3.0, f64::NAN)], Mark::Line)
+            .series("b", vec![(1.0, 1.0)], Mark::Points)
+            .log_y();
+        let files = plot.save(&d.join("p")).unwrap();
+        assert_eq!(files.len(), 2);
+        for f in &files {
+            assert!(std::fs::metadata(f).unwrap().len() > 1000, "{}", f.display());
+        }
+        assert!(std::fs::read_to_string(&files[1]).unwrap().contains("<svg"));
+        let leftovers = std::fs::read_dir(&d)
+            .unwrap()
+            .filter(|e| e.as_ref().unwrap().file_name().to_string_lossy().starts_with('.'))
+            .count();
+        assert_eq!(leftovers, 0, "temporary files left behind");
+        std::fs::remove_dir_all(d).unwrap();
+    }
+
+    #[test]
+    fn heatmap_writes_and_handles_constant_and_nan_cells() {
+        let d = temp_dir("heat");
+        let h = Heatmap {
+            title: "Density".into(),
+            x_label: "x (m)".into(),
+            y_label: "t (s)".into(),
+            x_range: (0.0, 0.4),
+            y_range: (0.0, 20.0),
+            values: vec![vec![0.2, 0.2, f64::NAN], vec![0.2, 0.2, 0.2]],
+            colorbar_label: "phi".into(),
+        };
+        let files = h.save(&d.join("h")).unwrap();
+        assert!(files.iter().all(|f| std::fs::metadata(f).unwrap().len() > 1000));
+        std::fs::remove_dir_all(d).unwrap();
+    }
+
+    #[test]
+    fn tick_labels_are_compact() {
+        assert_eq!(tick(5e-4), "5e-4");
+        assert_eq!(tick(2.5e-5), "2.5e-5");
+        assert_eq!(tick(0.25), "0.25");
+        assert_eq!(tick(0.0), "0");
+        assert_eq!(tick(1e5), "1e5");
+    }
+
+    #[test]
+    fn viridis_ends() {
+        assert_eq!(viridis(0.0), RGBColor(68, 1, 84));
+        assert_eq!(viridis(1.0), RGBColor(253, 231, 37));
+        assert_eq!(viridis(f64::NAN), RGBColor(68, 1, 84));
+    }
+}

@@ -1,0 +1,220 @@
+//! `stripes collide`: one binary impact (SPEC section 5).
+
+use std::path::PathBuf;
+
+use clap::ValueEnum;
+use particles::contact::{ContactLaw, NormalLaw, RollingLaw, TangentialLaw};
+use particles::experiment::collide::{Collision, Impact, StepSize, Target};
+use particles::integrate::Integrator;
+use particles::material::Material;
+use particles::Vec3;
+use serde::Serialize;
+
+use crate::output::{parse_vec3, CliError, RunDir};
+
+#[derive(Clone, Copy, Debug, ValueEnum, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Normal {
+    /// Viscoelastic Hertz, eq 3.8 (uses --young, --poisson, --dissipation).
+    Hertz,
+    /// Linear spring-dashpot, eq 4.21 (uses --kn, --gamma-n).
+    Linear,
+}
+
+#[derive(Clone, Copy, Debug, ValueEnum, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Tangential {
+    None,
+    /// eq 3.12 (uses --gamma-t, --mu).
+    HaffWerner,
+    /// eq 4.32-4.34 (uses --kt, --mu).
+    CundallStrack,
+}
+
+#[derive(Clone, Copy, Debug, ValueEnum, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Rolling {
+    None,
+    /// eq 3.15 (uses --mu-r).
+    BrilliantovPoschel,
+}
+
+#[derive(Clone, Copy, Debug, ValueEnum, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum IntegratorArg {
+    VelocityVerlet,
+    Thesis,
+}
+
+/// Options of `stripes collide`. SI units. Defaults: the thesis' glass beads (Table 3.1).
+#[derive(clap::Args, Debug, Serialize)]
+pub struct Args {
+    #[arg(long, value_enum, default_value = "hertz")]
+    pub normal: Normal,
+    #[arg(long, value_enum, default_value = "none")]
+    pub tangential: Tangential,
+    #[arg(long, value_enum, default_value = "none")]
+    pub rolling: Rolling,
+    /// Radius of sphere 1 (m).
+    #[arg(long, default_value_t = 5e-4)]
+    pub r1: f64,
+    /// Radius of sphere 2 (m); defaults to --r1.
+    #[arg(long)]
+    pub r2: Option<f64>,
+    /// Density (kg/m^3), used for masses not given by --m1/--m2.
+    #[arg(long, default_value_t = 2500.0)]
+    pub rho: f64,
+    /// Mass of sphere 1 (kg); defaults to rho 4/3 pi r1^3.
+    #[arg(long)]
+    pub m1: Option<f64>,
+    /// Mass of sphere 2 (kg); defaults to rho 4/3 pi r2^3.
+    #[arg(long)]
+    pub m2: Option<f64>,
+    /// Young's modulus Y (Pa), Hertz only.
+    #[arg(long, default_value_t = 1e6)]
+    pub young: f64,
+    /// Poisson ratio, Hertz only.
+    #[arg(long, default_value_t = 0.3)]
+    pub poisson: f64,
+    /// Dissipative constant A (s), Hertz only (eq 3.8).
+    #[arg(long, default_value_t = 8.5e-6)]
+    pub dissipation: f64,
+    /// Normal stiffness k_n (N/m), linear only.
+    #[arg(long)]
+    pub kn: Option<f64>,
+    /// Normal damping gamma_n (kg/s), linear only.
+    #[arg(long, default_value_t = 0.0)]
+    pub gamma_n: f64,
+    /// Tangential spring stiffness k_t (N/m), Cundall-Strack only.
+    #[arg(long)]
+    pub kt: Option<f64>,
+    /// Coulomb friction coefficient.
+    #[arg(long, default_value_t = 0.7)]
+    pub mu: f64,
+    /// Tangential damping gamma_t (N s/m), Haff-Werner only.
+    #[arg(long, default_value_t = 0.007)]
+    pub gamma_t: f64,
+    /// Rolling friction mu_r (s), Brilliantov-Pöschel only.
+    #[arg(long, default_value_t = 8.5e-6)]
+    pub mu_r: f64,
+    /// Normal approach speed (m/s); with --eccentricity, the relative speed.
+    #[arg(long, default_value_t = 0.1, allow_negative_numbers = true)]
+    pub v: f64,
+    /// Tangential speed at impact (m/s).
+    #[arg(long, default_value_t = 0.0, conflicts_with = "eccentricity", allow_negative_numbers = true)]
+    pub vt: f64,
+    /// Impact eccentricity e = d / (R1 + R2) in [0, 1) (Fig 4.2).
+    #[arg(long)]
+    pub eccentricity: Option<f64>,
+    /// Initial spin of sphere 1, "x,y,z" (rad/s).
+    #[arg(long, value_parser = parse_vec3, default_value = "0,0,0")]
+    pub omega1: [f64; 3],
+    /// Initial spin of sphere 2, "x,y,z" (rad/s).
+    #[arg(long, value_parser = parse_vec3, default_value = "0,0,0")]
+    pub omega2: [f64; 3],
+    /// Sphere 1 hits a fixed flat wall instead of sphere 2.
+    #[arg(long)]
+    pub wall: bool,
+    /// Time step (s); otherwise --steps-per-contact.
+    #[arg(long, conflicts_with = "steps_per_contact")]
+    pub dt: Option<f64>,
+    /// Steps per estimated (undamped) contact time.
+    #[arg(long, default_value_t = 1000.0)]
+    pub steps_per_contact: f64,
+    #[arg(long, value_enum, default_value = "velocity-verlet")]
+    pub integrator: IntegratorArg,
+    /// Output directory.
+    #[arg(long, default_value = "out/collide")]
+    pub out: PathBuf,
+}
+
+impl Args {
+    /// The contact law these options describe; missing parameters are errors.
+    pub fn law(&self) -> Result<ContactLaw, CliError> {
+        let normal = match self.normal {
+            Normal::Hertz => {
+                let m = Material {
+                    density: self.rho,
+                    young: self.young,
+                    poisson: self.poisson,
+                    dissipation: self.dissipation,
+                };
+                if !(m.young > 0.0 && m.poisson > -1.0 && m.poisson < 0.5 + 1e-12 && m.dissipation >= 0.0) {
+                    return Err("--young must be > 0, --poisson in (-1, 0.5], --dissipation >= 0".into());
+                }
+                NormalLaw::hertz(m.reduced_modulus(), m.dissipation)
+            }
+            Normal::Linear => {
+                let kn = self.kn.ok_or("--normal linear needs --kn (N/m)")?;
+                if !(kn > 0.0 && self.gamma_n >= 0.0) {
+                    return Err("--kn must be > 0 and --gamma-n >= 0".into());
+                }
+                NormalLaw::Linear { kn, gamma_n: self.gamma_n }
+            }
+        };
+        if self.mu < 0.0 {
+            return Err("--mu must be >= 0".into());
+        }
+        let tangential = match self.tangential {
+            Tangential::None => TangentialLaw::None,
+            Tangential::HaffWerner => TangentialLaw::HaffWerner {
+                gamma_t: self.gamma_t,
+                mu: self.mu,
+            },
+            Tangential::CundallStrack => {
+                let kt = self.kt.ok_or("--tangential cundall-strack needs --kt (N/m)")?;
+                TangentialLaw::CundallStrack { kt, mu: self.mu }
+            }
+        };
+        let rolling = match self.rolling {
+            Rolling::None => RollingLaw::None,
+            Rolling::BrilliantovPoschel => RollingLaw::BrilliantovPoschel { mu_r: self.mu_r },
+        };
+        Ok(ContactLaw {
+            normal,
+            tangential,
+            rolling,
+        })
+    }
+
+    /// The experiment these options describe.
+    pub fn collision(&self) -> Result<Collision, CliError> {
+        let mass = |r: f64| self.rho * 4.0 / 3.0 * std::f64::consts::PI * r.powi(3);
+        let r2 = self.r2.unwrap_or(self.r1);
+        let target = if self.wall {
+            Target::Wall
+        } else {
+            Target::Sphere {
+                r: r2,
+                m: self.m2.unwrap_or_else(|| mass(r2)),
+                omega: Vec3::from(self.omega2),
+            }
+        };
+        Ok(Collision {
+            law: self.law()?,
+            r1: self.r1,
+            m1: self.m1.unwrap_or_else(|| mass(self.r1)),
+            omega1: Vec3::from(self.omega1),
+            target,
+            impact: match self.eccentricity {
+                Some(e) => Impact::Eccentric { v: self.v, e },
+                None => Impact::Components { vn: self.v, vt: self.vt },
+            },
+            step: match self.dt {
+                Some(dt) => StepSize::Dt(dt),
+                None => StepSize::PerContact(self.steps_per_contact),
+            },
+            integrator: match self.integrator {
+                IntegratorArg::VelocityVerlet => Integrator::VelocityVerlet,
+                IntegratorArg::Thesis => Integrator::Thesis,
+            },
+        })
+    }
+}
+
+pub fn run(args: Args) -> Result<String, CliError> {
+    let collision = args.collision()?;
+    let result = collision.run()?;
+    let dir = RunDir::create(&args.out, &args)?;
+    dir.finish(serde_json::to_value(&result)?)
+}

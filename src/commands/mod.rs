@@ -1,0 +1,6 @@
+//! One module per subcommand.
+
+pub mod collide;
+pub mod contact_time;
+pub mod eccentricity;
+pub mod single;

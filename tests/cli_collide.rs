@@ -1,0 +1,94 @@
+//! The command-line contract of `stripes collide` and the study commands (SPEC section 5).
+
+use std::process::Command;
+
+fn stripes(args: &[&str]) -> (bool, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_stripes"))
+        .args(args)
+        .output()
+        .expect("run stripes");
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+fn temp_out(name: &str) -> String {
+    let d = std::env::temp_dir().join(format!("stripes-cli-{name}-{}", std::process::id()));
+    d.display().to_string()
+}
+
+#[test]
+fn collide_prints_the_spec_keys_as_its_last_line_and_writes_the_run_directory() {
+    let out = temp_out("collide");
+    let (ok, stdout, stderr) = stripes(&[
+        "collide",
+        "--normal",
+        "linear",
+        "--kn",
+        "1.5e5",
+        "--r1",
+        "0.1",
+        "--rho",
+        "1140",
+        "--v",
+        "10",
+        "--eccentricity",
+        "0.95",
+        "--out",
+        &out,
+    ]);
+    assert!(ok, "{stderr}");
+    let last = stdout.lines().last().unwrap();
+    let v: serde_json::Value = serde_json::from_str(last).unwrap();
+    for key in ["eps_n", "eps_n_hs", "eps_t", "t_c", "phi", "max_overlap", "steps"] {
+        assert!(v.get(key).is_some(), "missing {key} in {last}");
+    }
+    assert!(v["eps_n_hs"].as_f64().unwrap() < 0.0, "chapter 4: negative at e = 0.95");
+    assert!((v["eps_n"].as_f64().unwrap() - 1.0).abs() < 1e-5);
+    let summary: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(format!("{out}/summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["eps_n"], v["eps_n"]);
+    let config: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(format!("{out}/config.json")).unwrap()).unwrap();
+    assert_eq!(config["eccentricity"], 0.95);
+    std::fs::remove_dir_all(out).unwrap();
+}
+
+#[test]
+fn bad_collide_input_gives_a_clear_error_naming_the_option() {
+    let out = temp_out("bad");
+    for (args, expect) in [
+        (vec!["collide", "--tangential", "cundall-strack"], "--kt"),
+        (vec!["collide", "--normal", "linear"], "--kn"),
+        (vec!["collide", "--dt", "1e-3"], "`dt`"),
+        (vec!["collide", "--eccentricity", "1.2"], "eccentricity"),
+        (vec!["collide", "--wall", "--eccentricity", "0.5"], "eccentricity"),
+        (vec!["collide", "--v", "-1"], "`v`"),
+    ] {
+        let mut a = args.clone();
+        a.extend(["--out", &out]);
+        let (ok, _, stderr) = stripes(&a);
+        assert!(!ok, "{args:?} should fail");
+        assert!(stderr.contains(expect), "{args:?}: {stderr}");
+    }
+}
+
+#[test]
+fn eccentricity_study_writes_table_and_plots() {
+    let out = temp_out("ecc");
+    let (ok, stdout, stderr) = stripes(&["eccentricity", "--points", "6", "--steps-per-contact", "300", "--out", &out]);
+    assert!(ok, "{stderr}");
+    let v: serde_json::Value = serde_json::from_str(stdout.lines().last().unwrap()).unwrap();
+    assert_eq!(v["studies"].as_array().unwrap().len(), 4);
+    for f in [
+        "eccentricity.csv",
+        "eps_n_hs.png",
+        "eps_n_hs.svg",
+        "phi.png",
+        "summary.json",
+        "config.json",
+    ] {
+        assert!(std::path::Path::new(&format!("{out}/{f}")).exists(), "{f}");
+    }
+    std::fs::remove_dir_all(out).unwrap();
+}
