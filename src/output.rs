@@ -7,7 +7,7 @@ use analysis::plot::LinePlot;
 use serde::Serialize;
 
 /// Error type of the CLI: a message for the user.
-pub type CliError = Box<dyn std::error::Error>;
+pub type CliError = Box<dyn std::error::Error + Send + Sync>;
 
 /// An output directory of one run.
 pub struct RunDir {

@@ -15,6 +15,7 @@
 //!   and eccentricity studies.
 
 pub mod boundary;
+pub mod checkpoint;
 pub mod contact;
 pub mod error;
 pub mod experiment;

@@ -110,6 +110,8 @@ pub struct Simulation {
     pub ledger: Ledger,
     /// Elastic energy stored in contacts at the last force evaluation (J).
     pub stored_energy: f64,
+    /// Live contacts at the last force evaluation: `(particle pairs, particle-wall)`.
+    pub contacts: (u64, u64),
     rotate: bool,
     neighbors: NeighborList,
     /// Tangential spring of each neighbour-list slot (pair history), aligned with
@@ -125,6 +127,8 @@ pub struct Simulation {
 /// Per-block partial results of a force evaluation.
 #[derive(Default)]
 struct BlockSums {
+    pair_contacts: u64,
+    wall_contacts: u64,
     stored: f64,
     dissipated: f64,
     injected: f64,
@@ -150,6 +154,7 @@ impl Simulation {
             steps: 0,
             ledger: Ledger::default(),
             stored_energy: 0.0,
+            contacts: (0, 0),
             rotate,
             neighbors: NeighborList::default(),
             pair_history: Vec::new(),
@@ -251,6 +256,46 @@ impl Simulation {
         })
     }
 
+    /// Non-zero pair histories as `(i, j, zeta)`.
+    pub(crate) fn pair_histories(&self) -> Vec<(usize, usize, Vec3)> {
+        let mut out = Vec::new();
+        for i in 0..self.state.len() {
+            for (slot, &j) in self.neighbors.of(i).iter().enumerate() {
+                let h = self.pair_history[self.neighbors.offsets[i] + slot];
+                if h != Vec3::zeros() {
+                    out.push((i, j as usize, h));
+                }
+            }
+        }
+        out
+    }
+
+    /// Wall histories, `i * max(walls, 1) + k`.
+    pub(crate) fn wall_histories(&self) -> &[Vec3] {
+        &self.wall_history
+    }
+
+    /// Rebuilds the neighbour list for the current positions and installs histories.
+    pub(crate) fn set_histories(&mut self, pairs: &[(usize, usize, Vec3)], walls: Vec<Vec3>) -> Result<(), String> {
+        if walls.len() != self.wall_history.len() {
+            return Err(format!("{} wall histories for {} slots", walls.len(), self.wall_history.len()));
+        }
+        self.wall_history = walls;
+        self.neighbors = NeighborList::default();
+        self.neighbors
+            .build(&self.setup.neighbors, &self.state.pos, &self.state.radius, &self.setup.boundary);
+        self.pair_history = vec![Vec3::zeros(); self.neighbors.partners.len()];
+        for &(i, j, h) in pairs {
+            let slot = self
+                .neighbors
+                .of(i)
+                .binary_search(&(j as u32))
+                .map_err(|_| format!("pair ({i}, {j}) of the checkpoint is not a neighbour pair"))?;
+            self.pair_history[self.neighbors.offsets[i] + slot] = h;
+        }
+        Ok(())
+    }
+
     /// Rebuilds the neighbour list if needed, carrying the pair history over to the new slots.
     fn refresh_neighbors(&mut self) {
         let s = &self.state;
@@ -346,6 +391,7 @@ impl Simulation {
                         let c = contact::evaluate(&setup.pair_law, &g, zeta, dt);
                         f += c.force;
                         t += c.torque_i;
+                        sums.pair_contacts += (i < j) as u64;
                         sums.stored += 0.5 * c.stored_energy;
                         sums.dissipated += 0.5 * c.dissipation_rate;
                         if record && i < j {
@@ -367,6 +413,7 @@ impl Simulation {
                         };
                         f += c.force;
                         t += c.torque_i;
+                        sums.wall_contacts += 1;
                         sums.stored += c.stored_energy;
                         sums.dissipated += c.dissipation_rate;
                         sums.injected += c.force.dot(&v_wall);
@@ -388,7 +435,10 @@ impl Simulation {
 
         let (mut stored, mut dissipated, mut injected) = (0.0, 0.0, 0.0);
         self.records.clear();
+        self.contacts = (0, 0);
         for s in sums {
+            self.contacts.0 += s.pair_contacts;
+            self.contacts.1 += s.wall_contacts;
             stored += s.stored;
             dissipated += s.dissipated;
             injected += s.injected;

@@ -3,4 +3,5 @@
 pub mod collide;
 pub mod contact_time;
 pub mod eccentricity;
+pub mod run;
 pub mod single;

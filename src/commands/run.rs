@@ -1,0 +1,206 @@
+//! `stripes run SCENE.toml`: the tray-driven DEM.
+//!
+//! Writes into the run directory: `scene.toml` (the resolved scene), `config.json`,
+//! `snapshots.bin` (see `analysis::snapshot`; a frame at t = 0 and then at the chosen phase of
+//! every period), `checkpoint.bin` (at `run.checkpoint_interval`), optional `vtk/` frames,
+//! and `summary.json`. `--resume` continues from `checkpoint.bin`, bit for bit.
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use analysis::snapshot::{Header, SnapshotWriter};
+use indicatif::{ProgressBar, ProgressStyle};
+use particles::observe;
+use particles::prepare;
+use particles::scene::Scene;
+use particles::sim::Simulation;
+use particles::tray;
+use serde::Serialize;
+use serde_json::json;
+
+use crate::output::{CliError, RunDir};
+
+#[derive(clap::Args, Debug, Serialize)]
+pub struct Args {
+    /// Scene file (TOML), e.g. scenes/thesis-reference.toml.
+    pub scene: PathBuf,
+    /// Output directory (default: out/run-<scene name>).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Override a scene key, e.g. --set toggles.friction=false (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub overrides: Vec<String>,
+    /// Continue from the run directory's checkpoint.
+    #[arg(long)]
+    pub resume: bool,
+    /// Also write every snapshot as a legacy VTK file (vtk/frame_NNNNN.vtk) for ParaView.
+    #[arg(long)]
+    pub vtk: bool,
+    /// Directory of prepared samples, shared by all runs.
+    #[arg(long, default_value = "out/samples")]
+    pub samples: PathBuf,
+    /// Stop after this many steps (a test hook: simulates a killed run; the checkpoint holds).
+    #[arg(long, hide = true)]
+    pub stop_after: Option<u64>,
+    /// No progress bar.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+fn progress_bar(len: u64, quiet: bool, what: &str) -> ProgressBar {
+    if quiet {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::new(len);
+    bar.set_style(
+        ProgressStyle::with_template("{msg:>12} [{bar:40}] {percent:>3}% {elapsed_precise} eta {eta_precise}")
+            .expect("valid template")
+            .progress_chars("=> "),
+    );
+    bar.set_message(what.to_string());
+    bar
+}
+
+pub fn run(args: Args) -> Result<String, CliError> {
+    let scene = Scene::load(&args.scene, &args.overrides)?;
+    scene.validate()?;
+    let threads = scene.run.threads;
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build()?;
+    pool.install(|| run_in_pool(args, scene))
+}
+
+fn run_in_pool(args: Args, scene: Scene) -> Result<String, CliError> {
+    let name = args
+        .scene
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "scene".into());
+    let out = args.out.clone().unwrap_or_else(|| PathBuf::from(format!("out/run-{name}")));
+    let scene_toml = toml::to_string(&scene)?;
+    let mut dir = RunDir::create(&out, &json!({ "args": &args, "scene": &scene }))?;
+    analysis::io::write_atomic(&out.join("scene.toml"), scene_toml.as_bytes())?;
+
+    // Sample: prepared once per (population, box, material, seed), shared by every run.
+    let bar = progress_bar(1000, args.quiet, "prepare");
+    let (state, cached) = prepare::load_or_prepare(&scene, &args.samples, |f| bar.set_position((f * 1000.0) as u64))?;
+    bar.finish_and_clear();
+
+    let setup = tray::setup(&scene, tray::drive(&scene))?;
+    let dt = setup.dt;
+    let mut sim = Simulation::new(setup, state)?;
+    let fingerprint = observe::fnv1a(scene_toml.as_bytes()) ^ prepare::sample_key(&scene);
+    let header = Header {
+        length: scene.tray.length,
+        width: scene.tray.width,
+        radii: sim.state.radius.clone(),
+    };
+    let snap_path = out.join("snapshots.bin");
+    let ckpt_path = out.join("checkpoint.bin");
+    let (mut writer, mut frames) = if args.resume {
+        let bytes = std::fs::read(&ckpt_path).map_err(|e| format!("--resume: cannot read {}: {e}", ckpt_path.display()))?;
+        let frames = sim
+            .restore(&bytes, fingerprint)
+            .map_err(|e| format!("--resume: {}: {e}", ckpt_path.display()))?;
+        (SnapshotWriter::open_append(&snap_path, header.clone(), frames)?, frames)
+    } else {
+        (SnapshotWriter::create(&snap_path, header.clone())?, 0)
+    };
+    let vtk_dir = out.join("vtk");
+    if args.vtk {
+        std::fs::create_dir_all(&vtk_dir)?;
+    }
+    let snapshot = |sim: &Simulation, writer: &mut SnapshotWriter, frames: &mut u64| -> Result<(), CliError> {
+        let s = &sim.state;
+        writer.push(
+            sim.time,
+            s.pos.iter().map(|p| [p.x, p.y, p.z]),
+            s.vel.iter().map(|v| [v.x, v.y, v.z]),
+        )?;
+        if args.vtk {
+            let frame = analysis::snapshot::Frame {
+                time: sim.time,
+                pos: s.pos.iter().map(|p| [p.x, p.y, p.z]).collect(),
+                vel: s.vel.iter().map(|v| [v.x, v.y, v.z]).collect(),
+            };
+            analysis::vtk::write_vtk(&vtk_dir.join(format!("frame_{:05}.vtk", *frames)), &header, &frame)?;
+        }
+        *frames += 1;
+        Ok(())
+    };
+    if frames == 0 {
+        snapshot(&sim, &mut writer, &mut frames)?;
+    }
+
+    // Snapshot k >= 1 at the turning point x_tray = +A of each period (sin = 1):
+    // t_k = 1/(4 nu) + (k - 1) / (s nu), taken at the nearest step.
+    let (nu, per) = (scene.drive.frequency, scene.run.snapshots_per_period as f64);
+    let snap_time = |k: u64| 0.25 / nu + (k - 1) as f64 / (per * nu);
+    let total = (scene.run.duration / dt).round() as u64;
+    let ckpt_every = if scene.run.checkpoint_interval > 0.0 {
+        ((scene.run.checkpoint_interval / dt).round() as u64).max(1)
+    } else {
+        u64::MAX
+    };
+    let bar = progress_bar(total, args.quiet, "run");
+    bar.set_position(sim.steps);
+    let (mut stepping, mut pair_sum, mut wall_sum, mut counted) = (0.0, 0.0, 0.0, 0u64);
+    let start_steps = sim.steps;
+    let wall_clock = Instant::now();
+    while sim.steps < total {
+        let t0 = Instant::now();
+        sim.step()?;
+        stepping += t0.elapsed().as_secs_f64();
+        pair_sum += sim.contacts.0 as f64;
+        wall_sum += sim.contacts.1 as f64;
+        counted += 1;
+        if sim.time >= snap_time(frames) - 0.5 * dt {
+            snapshot(&sim, &mut writer, &mut frames)?;
+        }
+        if sim.steps % ckpt_every == 0 || sim.steps == total {
+            writer.sync()?;
+            analysis::io::write_atomic(&ckpt_path, &sim.checkpoint(fingerprint, frames))?;
+        }
+        if sim.steps % 1000 == 0 {
+            bar.set_position(sim.steps);
+        }
+        if args.stop_after.is_some_and(|n| sim.steps >= n) {
+            writer.sync()?;
+            analysis::io::write_atomic(&ckpt_path, &sim.checkpoint(fingerprint, frames))?;
+            bar.abandon();
+            return Err(format!("stopped after {} steps as asked (--stop-after); continue with --resume", sim.steps).into());
+        }
+    }
+    writer.sync()?;
+    bar.finish_and_clear();
+    let s = &sim.state;
+    let stepped = sim.steps - start_steps;
+    let energy = json!({
+        "kinetic": observe::kinetic_energy(s),
+        "rotational": observe::rotational_energy(s),
+        "potential": observe::potential_energy(s, sim.setup.gravity),
+        "stored": sim.stored_energy,
+        "injected": sim.ledger.injected,
+        "dissipated": sim.ledger.dissipated,
+    });
+    let summary = json!({
+        "scene": args.scene.display().to_string(),
+        "particles": s.len(),
+        "steps": sim.steps,
+        "dt": dt,
+        "simulated_s": sim.time,
+        "wall_s": wall_clock.elapsed().as_secs_f64(),
+        "stepping_s": stepping,
+        "particle_steps_per_s": (stepped as f64 * s.len() as f64) / stepping.max(1e-12),
+        "threads": rayon::current_num_threads(),
+        "steps_per_contact": tray::shortest_contact_time(&scene) / dt,
+        "snapshots": frames,
+        "sample_cached": cached,
+        "sample_key": format!("{:016x}", prepare::sample_key(&scene)),
+        "energy": energy,
+        "contacts": { "pair_mean": pair_sum / counted.max(1) as f64, "wall_mean": wall_sum / counted.max(1) as f64 },
+        "neighbor_builds": sim.neighbor_builds(),
+        "state_hash": format!("{:016x}", observe::state_hash(s)),
+    });
+    dir.json("scene.json", &scene)?;
+    dir.finish(summary)
+}
