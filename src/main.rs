@@ -27,6 +27,8 @@ struct Cli {
 enum Command {
     /// The shaken tray: DEM run of a scene file (thesis 3.5).
     Run(commands::run::Args),
+    /// Density map and stripes of a run (binning-free density, thesis Appendix A).
+    Analyze(commands::analyze::Args),
     /// Two-sphere or sphere-wall collision experiment (thesis 3.2.5, chapter 4).
     Collide(commands::collide::Args),
     /// eps_n^HS, eps_n and phi against impact eccentricity (thesis chapter 4, Fig 4.4-4.10).
@@ -42,6 +44,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Run(a) => commands::run::run(a),
+        Command::Analyze(a) => commands::analyze::run(a),
         Command::Collide(a) => commands::collide::run(a),
         Command::Eccentricity(a) => commands::eccentricity::run(a),
         Command::ContactTime(a) => commands::contact_time::run(a),

@@ -50,6 +50,11 @@ impl RunDir {
         Ok(())
     }
 
+    /// Records files written by other means, for the summary's file list.
+    pub fn note_files(&mut self, files: impl IntoIterator<Item = PathBuf>) {
+        self.written.extend(files);
+    }
+
     /// Writes `summary.json` (with the list of files written) and returns it as one line of
     /// JSON for stdout.
     pub fn finish(mut self, summary: serde_json::Value) -> Result<String, CliError> {

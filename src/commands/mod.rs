@@ -1,5 +1,6 @@
 //! One module per subcommand.
 
+pub mod analyze;
 pub mod collide;
 pub mod contact_time;
 pub mod eccentricity;
