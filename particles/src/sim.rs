@@ -94,6 +94,10 @@ pub struct Ledger {
     pub dissipated: f64,
 }
 
+/// Largest overlap between two grains accepted at the start, as a fraction of the smaller
+/// radius (a prepared sample at rest overlaps by about 1e-3).
+pub const MAX_INITIAL_OVERLAP: f64 = 0.05;
+
 /// Particles per block of the parallel force loop. Fixed, so that the block partial sums, and
 /// therefore every result, do not depend on the number of threads.
 const BLOCK: usize = 128;
@@ -147,6 +151,14 @@ impl Simulation {
         let rotate = setup.needs_rotation();
         let n_walls = setup.walls.len();
         let n = state.len();
+        let mut state = state;
+        if setup.vertical == Vertical::Pinned {
+            // eq 3.28: pinned grains sit at z = R and do not move vertically.
+            for i in 0..n {
+                state.pos[i].z = state.radius[i];
+                state.vel[i].z = 0.0;
+            }
+        }
         let mut sim = Self {
             setup,
             state,
@@ -164,6 +176,7 @@ impl Simulation {
         };
         sim.check_finite()?;
         sim.refresh_neighbors();
+        sim.check_overlaps()?;
         sim.compute_forces(0.0);
         let dt = sim.setup.dt;
         sim.setup.integrator.start(&mut sim.state, dt);
@@ -254,6 +267,27 @@ impl Simulation {
             particle: i,
             position: [x.x, x.y, x.z],
         })
+    }
+
+    /// Refuses a start with grains overlapping by more than [`MAX_INITIAL_OVERLAP`] of the
+    /// smaller radius: such a state would explode on the first step.
+    fn check_overlaps(&self) -> Result<(), SimError> {
+        let s = &self.state;
+        for i in 0..s.len() {
+            for &j in self.neighbors.of(i) {
+                let j = j as usize;
+                if j < i {
+                    continue;
+                }
+                let d = self.setup.boundary.min_image(s.pos[i] - s.pos[j]).norm();
+                let overlap = s.radius[i] + s.radius[j] - d;
+                let r = s.radius[i].min(s.radius[j]);
+                if overlap > MAX_INITIAL_OVERLAP * r {
+                    return Err(SimError::InitialOverlap { i, j, overlap, radius: r });
+                }
+            }
+        }
+        Ok(())
     }
 
     /// Non-zero pair histories as `(i, j, zeta)`.

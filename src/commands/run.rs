@@ -80,13 +80,14 @@ fn run_in_pool(args: Args, scene: Scene) -> Result<String, CliError> {
     let mut dir = RunDir::create(&out, &json!({ "args": &args, "scene": &scene }))?;
     analysis::io::write_atomic(&out.join("scene.toml"), scene_toml.as_bytes())?;
 
+    // Everything that can be checked is checked before the (possibly long) preparation.
+    let setup = tray::setup(&scene, tray::drive(&scene))?;
+    let dt = setup.dt;
+
     // Sample: prepared once per (population, box, material, seed), shared by every run.
     let bar = progress_bar(1000, args.quiet, "prepare");
     let (state, cached) = prepare::load_or_prepare(&scene, &args.samples, |f| bar.set_position((f * 1000.0) as u64))?;
     bar.finish_and_clear();
-
-    let setup = tray::setup(&scene, tray::drive(&scene))?;
-    let dt = setup.dt;
     let mut sim = Simulation::new(setup, state)?;
     let fingerprint = observe::fnv1a(scene_toml.as_bytes()) ^ prepare::sample_key(&scene);
     let header = Header {

@@ -1,0 +1,24 @@
+use particles::prepare::initial_state;
+use particles::scene::Scene;
+use particles::sim::Simulation;
+use particles::tray;
+use std::time::Instant;
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let scene = Scene::load(std::path::Path::new("scenes/thesis-reference.toml"), &args).unwrap();
+    scene.validate().unwrap();
+    let setup = tray::setup(&scene, tray::drive(&scene)).unwrap();
+    println!("dt {:e}, t_c {:e}", setup.dt, tray::shortest_contact_time(&scene));
+    let mut sim = Simulation::new(setup, initial_state(&scene)).unwrap();
+    let steps = 5000;
+    let t0 = Instant::now();
+    for _ in 0..steps {
+        sim.step().unwrap();
+    }
+    let wall = t0.elapsed().as_secs_f64();
+    println!(
+        "{} particle-steps/s, builds {}",
+        (steps * scene.particles.count) as f64 / wall,
+        sim.neighbor_builds()
+    );
+}
