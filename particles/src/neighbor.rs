@@ -43,6 +43,20 @@ impl NeighborList {
         &self.partners[self.offsets[i]..self.offsets[i + 1]]
     }
 
+    /// Positions at the last build.
+    pub fn anchor(&self) -> &[Vec3] {
+        &self.anchor
+    }
+
+    /// Square of the displacement since the last build beyond which a rebuild is due, or
+    /// `None` when displacements do not matter (all pairs).
+    pub fn rebuild_distance2(search: &NeighborSearch) -> Option<f64> {
+        match *search {
+            NeighborSearch::AllPairs => None,
+            NeighborSearch::VerletList { skin } => Some(0.25 * skin * skin),
+        }
+    }
+
     /// True if the list must be rebuilt before it can be trusted for `pos`.
     pub fn needs_rebuild(&self, search: &NeighborSearch, pos: &[Vec3], boundary: &Boundary) -> bool {
         match *search {

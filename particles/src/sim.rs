@@ -213,22 +213,64 @@ impl Simulation {
     pub fn step(&mut self) -> Result<(), SimError> {
         let (dt, rotate, integrator) = (self.setup.dt, self.rotate, self.setup.integrator);
         let boundary = self.setup.boundary;
-        self.state.blocks_mut(BLOCK).into_par_iter().for_each(|mut b| {
-            for k in 0..b.pos.len() {
-                integrator.before_forces(&mut b, k, dt, rotate);
-                b.pos[k] = boundary.wrap(b.pos[k]);
-            }
-        });
+        // Stage 1, fused per particle: integrator before the forces, periodic wrap, and the
+        // largest displacement since the neighbour list was built.
+        let limit = NeighborList::rebuild_distance2(&self.setup.neighbors);
+        let anchor = self.neighbors.anchor();
+        let anchored = limit.is_some() && anchor.len() == self.state.len();
+        let moved_too_far = self
+            .state
+            .blocks_mut(BLOCK)
+            .into_par_iter()
+            .map(|mut b| {
+                let mut far = false;
+                for k in 0..b.pos.len() {
+                    integrator.before_forces(&mut b, k, dt, rotate);
+                    b.pos[k] = boundary.wrap(b.pos[k]);
+                    if anchored {
+                        far |= boundary.min_image(b.pos[k] - anchor[b.start + k]).norm_squared() > limit.unwrap_or(0.0);
+                    }
+                }
+                far
+            })
+            .reduce(|| false, |a, b| a || b);
         self.time += dt;
-        self.refresh_neighbors();
+        // Stage 2: neighbour list, if due.
+        if moved_too_far || (!anchored && self.neighbors.needs_rebuild(&self.setup.neighbors, &self.state.pos, &boundary)) {
+            self.rebuild_neighbors();
+        }
+        // Stage 3: forces.
         self.compute_forces(dt);
-        self.state.blocks_mut(BLOCK).into_par_iter().for_each(|mut b| {
-            for k in 0..b.pos.len() {
-                integrator.after_forces(&mut b, k, dt, rotate);
-            }
-        });
-        self.steps += 1;
-        self.check_finite()
+        // Stage 4, fused per particle: integrator after the forces, and the checks.
+        let (container, steps) = (self.setup.container, self.steps + 1);
+        let first_bad = self
+            .state
+            .blocks_mut(BLOCK)
+            .into_par_iter()
+            .map(|mut b| {
+                let mut bad = None;
+                for k in 0..b.pos.len() {
+                    integrator.after_forces(&mut b, k, dt, rotate);
+                    // A NaN or an infinity in any component survives the sum.
+                    let finite = (b.pos[k].sum() + b.vel[k].sum() + b.omega[k].sum()).is_finite();
+                    let x = &b.pos[k];
+                    let inside = container.as_ref().is_none_or(|(lo, hi)| {
+                        (boundary.periodic[0].is_some() || (x.x >= lo.x && x.x <= hi.x))
+                            && (boundary.periodic[1].is_some() || (x.y >= lo.y && x.y <= hi.y))
+                            && (boundary.periodic[2].is_some() || (x.z >= lo.z && x.z <= hi.z))
+                    });
+                    if bad.is_none() && !(finite && inside) {
+                        bad = Some(b.start + k);
+                    }
+                }
+                bad
+            })
+            .reduce(|| None, |a, b| a.or(b));
+        self.steps = steps;
+        match first_bad {
+            None => Ok(()),
+            Some(i) => Err(self.describe_bad(i)),
+        }
     }
 
     /// Total mechanical energy: kinetic, rotational, gravitational and stored in contacts (J).
@@ -239,34 +281,41 @@ impl Simulation {
             + self.stored_energy
     }
 
-    /// Every position, velocity and spin finite, and every particle inside the container;
-    /// the error names the lowest-numbered offending particle.
+    /// Every position, velocity and spin finite, and every particle inside the container.
     fn check_finite(&self) -> Result<(), SimError> {
         let s = &self.state;
-        let (boundary, container, step) = (&self.setup.boundary, &self.setup.container, self.steps);
-        let first_bad = (0..s.len()).into_par_iter().with_min_len(BLOCK).find_first(|&i| {
+        let bad = (0..s.len()).find(|&i| {
             let finite = s.pos[i]
                 .iter()
                 .chain(s.vel[i].iter())
                 .chain(s.omega[i].iter())
                 .all(|c| c.is_finite());
-            let inside = container
-                .as_ref()
-                .is_none_or(|(lo, hi)| (0..3).all(|k| boundary.periodic[k].is_some() || (s.pos[i][k] >= lo[k] && s.pos[i][k] <= hi[k])));
+            let inside = self.setup.container.as_ref().is_none_or(|(lo, hi)| {
+                (0..3).all(|k| self.setup.boundary.periodic[k].is_some() || (s.pos[i][k] >= lo[k] && s.pos[i][k] <= hi[k]))
+            });
             !(finite && inside)
         });
-        let Some(i) = first_bad else { return Ok(()) };
+        bad.map_or(Ok(()), |i| Err(self.describe_bad(i)))
+    }
+
+    /// The error for particle `i`, which is non-finite or outside the container.
+    fn describe_bad(&self, i: usize) -> SimError {
+        let s = &self.state;
         for (field, v) in [("position", &s.pos[i]), ("velocity", &s.vel[i]), ("spin", &s.omega[i])] {
             if !v.iter().all(|c| c.is_finite()) {
-                return Err(SimError::NonFinite { step, particle: i, field });
+                return SimError::NonFinite {
+                    step: self.steps,
+                    particle: i,
+                    field,
+                };
             }
         }
         let x = &s.pos[i];
-        Err(SimError::Escaped {
-            step,
+        SimError::Escaped {
+            step: self.steps,
             particle: i,
             position: [x.x, x.y, x.z],
-        })
+        }
     }
 
     /// Refuses a start with grains overlapping by more than [`MAX_INITIAL_OVERLAP`] of the
@@ -330,13 +379,20 @@ impl Simulation {
         Ok(())
     }
 
-    /// Rebuilds the neighbour list if needed, carrying the pair history over to the new slots.
+    /// Rebuilds the neighbour list if needed.
     fn refresh_neighbors(&mut self) {
+        if self
+            .neighbors
+            .needs_rebuild(&self.setup.neighbors, &self.state.pos, &self.setup.boundary)
+        {
+            self.rebuild_neighbors();
+        }
+    }
+
+    /// Rebuilds the neighbour list, carrying the pair history over to the new slots.
+    fn rebuild_neighbors(&mut self) {
         let s = &self.state;
         let search = self.setup.neighbors;
-        if !self.neighbors.needs_rebuild(&search, &s.pos, &self.setup.boundary) {
-            return;
-        }
         let old = std::mem::take(&mut self.neighbors);
         let mut list = old.clone();
         list.build(&search, &s.pos, &s.radius, &self.setup.boundary);

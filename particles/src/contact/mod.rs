@@ -74,7 +74,8 @@ pub struct ContactForce {
 /// elastic energy `F_el dxi/dt` (and, for Cundall-Strack, `k_t zeta . dzeta/dt`).
 #[inline]
 pub fn evaluate(law: &ContactLaw, g: &ContactGeometry, history: &mut Vec3, dt: f64) -> ContactForce {
-    evaluate_with_normal(law, g, law.normal.force(g.overlap, g.overlap_rate, g.r_eff), history, dt)
+    let n = law.normal.evaluate(g.overlap, g.overlap_rate, g.r_eff);
+    evaluate_loaded(law, g, n.raw, n.elastic, n.energy, history, dt)
 }
 
 /// [`evaluate`] with the unclamped normal force `normal_raw` (N) given instead of computed
@@ -82,8 +83,22 @@ pub fn evaluate(law: &ContactLaw, g: &ContactGeometry, history: &mut Vec3, dt: f
 /// weight there, and its friction and rolling resistance feel that load.
 #[inline]
 pub fn evaluate_with_normal(law: &ContactLaw, g: &ContactGeometry, normal_raw: f64, history: &mut Vec3, dt: f64) -> ContactForce {
+    evaluate_loaded(law, g, normal_raw, 0.0, 0.0, history, dt)
+}
+
+/// The shared tail of [`evaluate`] and [`evaluate_with_normal`]: tangential and rolling laws
+/// under the normal force `normal_raw`, whose elastic part is `elastic` (storing `stored` J).
+#[inline]
+fn evaluate_loaded(
+    law: &ContactLaw,
+    g: &ContactGeometry,
+    normal_raw: f64,
+    elastic: f64,
+    stored: f64,
+    history: &mut Vec3,
+    dt: f64,
+) -> ContactForce {
     let normal = normal_raw.max(0.0);
-    let elastic = law.normal.elastic_force(g.overlap, g.r_eff);
 
     let tang = law.tangential.force(g, normal, history, dt);
     let roll = law.rolling.torque(g, normal);
@@ -101,7 +116,7 @@ pub fn evaluate_with_normal(law: &ContactLaw, g: &ContactGeometry, normal_raw: f
         normal_raw,
         normal,
         tangential: tang.force,
-        stored_energy: law.normal.elastic_energy(g.overlap, g.r_eff) + tang.stored_energy,
+        stored_energy: stored + tang.stored_energy,
         dissipation_rate,
     }
 }

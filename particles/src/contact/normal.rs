@@ -29,6 +29,31 @@ impl NormalLaw {
         2.0 / 3.0 * reduced_modulus * r_eff.sqrt()
     }
 
+    /// Everything a contact needs from the normal law in one evaluation (one square root of
+    /// `xi` and one of `R_eff`): unclamped force, its elastic part, and the stored energy.
+    #[inline]
+    pub fn evaluate(&self, xi: f64, xi_dot: f64, r_eff: f64) -> NormalForce {
+        match *self {
+            NormalLaw::Hertz {
+                reduced_modulus,
+                dissipation,
+            } => {
+                let k_sqrt_xi = Self::hertz_stiffness(reduced_modulus, r_eff) * xi.sqrt();
+                let elastic = k_sqrt_xi * xi;
+                NormalForce {
+                    raw: elastic + k_sqrt_xi * dissipation * xi_dot,
+                    elastic,
+                    energy: 0.4 * elastic * xi,
+                }
+            }
+            NormalLaw::Linear { kn, gamma_n } => NormalForce {
+                raw: kn * xi + gamma_n * xi_dot,
+                elastic: kn * xi,
+                energy: 0.5 * kn * xi * xi,
+            },
+        }
+    }
+
     /// Unclamped normal force (N) at overlap `xi > 0` (m) and overlap rate (m/s).
     #[inline]
     pub fn force(&self, xi: f64, xi_dot: f64, r_eff: f64) -> f64 {
@@ -101,6 +126,17 @@ impl NormalLaw {
     }
 }
 
+/// One evaluation of a normal law (N, N, J).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NormalForce {
+    /// Force before the no-attraction clamp.
+    pub raw: f64,
+    /// Conservative part.
+    pub elastic: f64,
+    /// Elastic energy stored.
+    pub energy: f64,
+}
+
 /// Reduced undamped Hertz contact duration `tau_c0 = 2 tau'_max`:
 /// `tau_c0 = 2 (5/4)^{2/5} * integral_0^1 dx / sqrt(1 - x^{5/2})
 ///        = 2 (5/4)^{2/5} sqrt(pi) Gamma(7/5) / Gamma(9/10) = 3.218...` (thesis 3.2.5 quotes
@@ -146,6 +182,12 @@ mod tests {
         let h = 1e-10;
         let de = (law.elastic_energy(xi + h, r) - law.elastic_energy(xi - h, r)) / (2.0 * h);
         assert!((de - law.elastic_force(xi, r)).abs() < 1e-6 * de);
+        for law in [law, NormalLaw::Linear { kn: 300.0, gamma_n: 0.1 }] {
+            let e = law.evaluate(xi, 0.1, r);
+            assert!((e.raw - law.force(xi, 0.1, r)).abs() <= 1e-15 * e.raw.abs());
+            assert!((e.elastic - law.elastic_force(xi, r)).abs() <= 1e-15 * e.elastic.abs());
+            assert!((e.energy - law.elastic_energy(xi, r)).abs() <= 1e-15 * e.energy.abs());
+        }
     }
 
     #[test]
