@@ -39,7 +39,7 @@ pub struct Args {
     /// Directory of prepared samples, shared by all runs.
     #[arg(long, default_value = "out/samples")]
     pub samples: PathBuf,
-    /// Stop after this many steps (a test hook: simulates a killed run; the checkpoint holds).
+    /// Die after this many steps as `kill -9` would (a test hook for checkpoints and --resume).
     #[arg(long, hide = true)]
     pub stop_after: Option<u64>,
     /// No progress bar.
@@ -59,6 +59,17 @@ fn progress_bar(len: u64, quiet: bool, what: &str) -> ProgressBar {
     );
     bar.set_message(what.to_string());
     bar
+}
+
+/// What a checkpoint must match to be resumed: the scene and its sample, except the keys that
+/// do not change the trajectory (`run.threads`, `run.checkpoint_interval`) or only say where
+/// it stops (`run.duration`, so a finished run can be extended with `--resume`).
+fn checkpoint_fingerprint(scene: &Scene) -> Result<u64, CliError> {
+    let mut s = scene.clone();
+    s.run.threads = 0;
+    s.run.checkpoint_interval = 0.0;
+    s.run.duration = 1.0;
+    Ok(observe::fnv1a(toml::to_string(&s)?.as_bytes()) ^ prepare::sample_key(scene))
 }
 
 pub fn run(args: Args) -> Result<String, CliError> {
@@ -89,7 +100,7 @@ fn run_in_pool(args: Args, scene: Scene) -> Result<String, CliError> {
     let (state, cached) = prepare::load_or_prepare(&scene, &args.samples, |f| bar.set_position((f * 1000.0) as u64))?;
     bar.finish_and_clear();
     let mut sim = Simulation::new(setup, state)?;
-    let fingerprint = observe::fnv1a(scene_toml.as_bytes()) ^ prepare::sample_key(&scene);
+    let fingerprint = checkpoint_fingerprint(&scene)?;
     let header = Header {
         length: scene.tray.length,
         width: scene.tray.width,
@@ -149,7 +160,17 @@ fn run_in_pool(args: Args, scene: Scene) -> Result<String, CliError> {
     let wall_clock = Instant::now();
     while sim.steps < total {
         let t0 = Instant::now();
-        sim.step()?;
+        if let Err(e) = sim.step() {
+            // Keep everything written so far: the snapshots up to now and the last checkpoint.
+            writer.sync()?;
+            bar.abandon();
+            let kept = if ckpt_path.exists() {
+                format!("the last checkpoint is {}", ckpt_path.display())
+            } else {
+                "no checkpoint was due yet".to_string()
+            };
+            return Err(format!("{e}; the {frames} snapshots so far are in {} and {kept}", snap_path.display()).into());
+        }
         stepping += t0.elapsed().as_secs_f64();
         pair_sum += sim.contacts.0 as f64;
         wall_sum += sim.contacts.1 as f64;
@@ -165,10 +186,11 @@ fn run_in_pool(args: Args, scene: Scene) -> Result<String, CliError> {
             bar.set_position(sim.steps);
         }
         if args.stop_after.is_some_and(|n| sim.steps >= n) {
-            writer.sync()?;
-            analysis::io::write_atomic(&ckpt_path, &sim.checkpoint(fingerprint, frames))?;
+            // As `kill -9` would: no final checkpoint, and buffered snapshot bytes are lost
+            // (`exit` runs no destructors), so a resume starts from the last due checkpoint.
             bar.abandon();
-            return Err(format!("stopped after {} steps as asked (--stop-after); continue with --resume", sim.steps).into());
+            eprintln!("killed after {} steps as asked (--stop-after); continue with --resume", sim.steps);
+            std::process::exit(137);
         }
     }
     writer.sync()?;
