@@ -7,6 +7,7 @@
 
 mod commands;
 mod output;
+mod sweep;
 
 use std::process::ExitCode;
 
@@ -35,6 +36,12 @@ enum Command {
     Eccentricity(commands::eccentricity::Args),
     /// Contact duration against A, R, Y and v next to eq 3.19 (thesis Fig 3.5).
     ContactTime(commands::contact_time::Args),
+    /// Ablation study over prepared samples: reference and five toggles (thesis 3.5.4).
+    Ablate(commands::ablate::Args),
+    /// (nu, A) phase diagram of one or both models (thesis Figs 3.30-3.31).
+    PhaseMap(commands::phase_map::Args),
+    /// Merge the results of a sweep's shards into its tables, plots and report.
+    Collect(commands::collect::Args),
     /// One sphere on the shaken plate, with and without rolling friction, and the
     /// rolling-friction stopping test (thesis 3.3, 3.5.2).
     Single(commands::single::Args),
@@ -49,6 +56,9 @@ fn main() -> ExitCode {
         Command::Eccentricity(a) => commands::eccentricity::run(a),
         Command::ContactTime(a) => commands::contact_time::run(a),
         Command::Single(a) => commands::single::run(a),
+        Command::Ablate(a) => commands::ablate::run(a),
+        Command::PhaseMap(a) => commands::phase_map::run(a),
+        Command::Collect(a) => commands::collect::run(a),
     };
     match result {
         Ok(summary) => {

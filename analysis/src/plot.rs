@@ -308,8 +308,25 @@ impl Heatmap {
         }
         let png = with_extension(stem, "png");
         let svg = with_extension(stem, "svg");
-        write_png(&png, |root| self.render(root))?;
-        write_svg(&svg, |root| self.render(root))?;
+        write_png(&png, |root| self.render(root, None))?;
+        write_svg(&svg, |root| self.render(root, None))?;
+        Ok(vec![png, svg])
+    }
+
+    /// Like [`Heatmap::save`], with a class per cell (`classes[row][col]`, an index into
+    /// `names`): a black line is drawn wherever neighbouring cells differ in class, and each
+    /// cell is labelled with its class name (a phase diagram over a continuous metric).
+    pub fn save_with_classes(&self, stem: &Path, classes: &[Vec<usize>], names: &[&str]) -> Result<Vec<PathBuf>, PlotError> {
+        register_font();
+        let shape_ok = classes.len() == self.values.len() && classes.iter().zip(&self.values).all(|(c, v)| c.len() == v.len());
+        if !shape_ok || self.values.is_empty() || self.values[0].is_empty() {
+            return Err(PlotError(format!("{}: classes must have the shape of the values", self.title)));
+        }
+        let overlay = Overlay { classes, names };
+        let png = with_extension(stem, "png");
+        let svg = with_extension(stem, "svg");
+        write_png(&png, |root| self.render(root, Some(&overlay)))?;
+        write_svg(&svg, |root| self.render(root, Some(&overlay)))?;
         Ok(vec![png, svg])
     }
 
@@ -328,7 +345,7 @@ impl Heatmap {
         (lo, hi)
     }
 
-    fn render<DB: DrawingBackend>(&self, root: DrawingArea<DB, plotters::coord::Shift>) -> Result<(), PlotError>
+    fn render<DB: DrawingBackend>(&self, root: DrawingArea<DB, plotters::coord::Shift>, overlay: Option<&Overlay>) -> Result<(), PlotError>
     where
         DB::ErrorType: 'static,
     {
@@ -371,6 +388,35 @@ impl Heatmap {
                 })
             }))
             .map_err(perr)?;
+        if let Some(o) = overlay {
+            let cell = |r: usize, c: usize| (x0 + c as f64 * dx, y0 + r as f64 * dy);
+            let mut lines = Vec::new();
+            for r in 0..rows {
+                for c in 0..cols {
+                    let (xa, ya) = cell(r, c);
+                    if c + 1 < cols && o.classes[r][c] != o.classes[r][c + 1] {
+                        lines.push(vec![(xa + dx, ya), (xa + dx, ya + dy)]);
+                    }
+                    if r + 1 < rows && o.classes[r][c] != o.classes[r + 1][c] {
+                        lines.push(vec![(xa, ya + dy), (xa + dx, ya + dy)]);
+                    }
+                }
+            }
+            chart
+                .draw_series(lines.into_iter().map(|l| PathElement::new(l, BLACK.stroke_width(3))))
+                .map_err(perr)?;
+            let font = (FAMILY, 16).into_font().color(&WHITE);
+            chart
+                .draw_series((0..rows).flat_map(|r| {
+                    let font = font.clone();
+                    (0..cols).map(move |c| {
+                        let (xa, ya) = cell(r, c);
+                        let name = o.names.get(o.classes[r][c]).copied().unwrap_or("?");
+                        Text::new(name.to_string(), (xa + 0.1 * dx, ya + 0.6 * dy), font.clone())
+                    })
+                }))
+                .map_err(perr)?;
+        }
         // Colour bar.
         let mut cb: ChartContext<DB, Cartesian2d<RangedCoordf64, RangedCoordf64>> = ChartBuilder::on(&bar)
             .margin_top(60)
@@ -399,6 +445,12 @@ impl Heatmap {
         .map_err(perr)?;
         root.present().map_err(perr)
     }
+}
+
+/// Class labels drawn over a heat map (see [`Heatmap::save_with_classes`]).
+struct Overlay<'a> {
+    classes: &'a [Vec<usize>],
+    names: &'a [&'a str],
 }
 
 fn with_extension(stem: &Path, ext: &str) -> PathBuf {

@@ -121,7 +121,23 @@ pub fn prepare(scene: &Scene, mut progress: impl FnMut(f64)) -> Result<State, Si
 /// Loads the sample of `scene` from `dir` (file `sample-<key>.bin`, see [`sample_key`]) or
 /// prepares and stores it. Returns the state and whether it came from the cache.
 pub fn load_or_prepare(scene: &Scene, dir: &std::path::Path, progress: impl FnMut(f64)) -> Result<(State, bool), String> {
-    let path = dir.join(format!("sample-{:016x}.bin", sample_key(scene)));
+    let key = sample_key(scene);
+    let path = dir.join(format!("sample-{key:016x}.bin"));
+    // Jobs of a sweep running in parallel threads often need the same sample: one prepares
+    // it while the others wait for it, then load it from the cache.
+    static BUSY: std::sync::Mutex<Vec<(u64, std::sync::Arc<std::sync::Mutex<()>>)>> = std::sync::Mutex::new(Vec::new());
+    let lock = {
+        let mut busy = BUSY.lock().unwrap_or_else(|e| e.into_inner());
+        match busy.iter().find(|(k, _)| *k == key) {
+            Some((_, l)) => l.clone(),
+            None => {
+                let l = std::sync::Arc::new(std::sync::Mutex::new(()));
+                busy.push((key, l.clone()));
+                l
+            }
+        }
+    };
+    let _guard = lock.lock().unwrap_or_else(|e| e.into_inner());
     if let Ok(bytes) = std::fs::read(&path) {
         let state = decode_sample(&bytes).map_err(|e| format!("{}: {e}", path.display()))?;
         return Ok((state, true));

@@ -1,0 +1,23 @@
+//! `stripes collect DIR`: merges the results of a sweep's shards (`--shard I/N`, run anywhere
+//! that shares `DIR`) into the sweep's tables, plots and report, exactly as a single run would.
+
+use std::path::PathBuf;
+
+use crate::output::CliError;
+use crate::sweep;
+
+#[derive(clap::Args, Debug, serde::Serialize)]
+pub struct Args {
+    /// A sweep directory written by `stripes phase-map` or `stripes ablate`.
+    pub dir: PathBuf,
+}
+
+pub fn run(args: Args) -> Result<String, CliError> {
+    let sweep = sweep::load(&args.dir)?;
+    let summary = match sweep.kind.as_str() {
+        "phase-map" => crate::commands::phase_map::report(&args.dir, &sweep)?,
+        "ablate" => crate::commands::ablate::report(&args.dir, &sweep)?,
+        other => return Err(format!("{}: unknown sweep kind `{other}`", args.dir.display()).into()),
+    };
+    Ok(serde_json::to_string(&summary)?)
+}

@@ -1,0 +1,299 @@
+//! Sweeps as sets of independent jobs (ablations, phase maps, packing sweeps).
+//!
+//! A sweep directory holds `sweep.json` (what the sweep is: its kind, scene, and every job) and
+//! one directory per job, `jobs/<id>/`, with the model's run, its analysis, and `result.json`.
+//! `result.json` is written atomically and last, so it exists only for a finished job:
+//! - a re-run skips every job that has it, so a sweep killed half-way loses nothing and redoes
+//!   nothing that finished;
+//! - `--shard I/N` runs the jobs whose index is `I mod N` (a deterministic subset), so shards
+//!   can run on different machines or as the tasks of a Slurm job array or GNU parallel;
+//! - [`collect`] reads whatever results exist, in job order, so two shards collected equal a
+//!   single run.
+//!
+//! Jobs run in parallel on one machine (`--jobs`, default: all cores), each on one thread;
+//! results do not depend on the thread count (see `stripes run`).
+
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use indicatif::{ProgressBar, ProgressStyle};
+use serde::{Deserialize, Serialize};
+use serde_json::{json, Value};
+
+use crate::output::CliError;
+
+/// Which model a job runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "lowercase")]
+pub enum Model {
+    Dem,
+    Automaton,
+}
+
+impl Model {
+    pub fn name(self) -> &'static str {
+        match self {
+            Model::Dem => "dem",
+            Model::Automaton => "automaton",
+        }
+    }
+}
+
+/// One independent job: a model run on the sweep's scene with some overrides, then analysed.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Job {
+    /// Unique within the sweep; the job's directory name.
+    pub id: String,
+    pub model: Model,
+    /// `--set` overrides on top of the sweep's own.
+    pub overrides: Vec<String>,
+    /// What the job stands for (configuration, frequency, amplitude, sample, ...), copied into
+    /// its result.
+    pub labels: serde_json::Map<String, Value>,
+}
+
+/// The definition of a sweep, stored as `sweep.json`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Sweep {
+    /// `ablate` or `phase-map`: what `collect` draws.
+    pub kind: String,
+    pub scene: PathBuf,
+    /// Overrides applied to every job.
+    pub overrides: Vec<String>,
+    pub jobs: Vec<Job>,
+}
+
+/// `I/N`: this process runs the jobs whose index is `I mod N`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+pub struct Shard {
+    pub index: usize,
+    pub count: usize,
+}
+
+impl std::str::FromStr for Shard {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        let (i, n) = s.split_once('/').ok_or_else(|| format!("--shard wants I/N, e.g. 0/4, got `{s}`"))?;
+        let index: usize = i.trim().parse().map_err(|_| format!("--shard: `{i}` is not a whole number"))?;
+        let count: usize = n.trim().parse().map_err(|_| format!("--shard: `{n}` is not a whole number"))?;
+        if count == 0 || index >= count {
+            return Err(format!("--shard {s}: need 0 <= I < N"));
+        }
+        Ok(Self { index, count })
+    }
+}
+
+/// Parses `LO:HI:N` into N evenly spaced values (N = 1 gives LO).
+pub fn parse_range(s: &str, what: &str) -> Result<Vec<f64>, String> {
+    let parts: Vec<&str> = s.split(':').collect();
+    let bad = || format!("--{what} wants LO:HI:N, e.g. 5:29:7, got `{s}`");
+    if parts.len() != 3 {
+        return Err(bad());
+    }
+    let lo: f64 = parts[0].trim().parse().map_err(|_| bad())?;
+    let hi: f64 = parts[1].trim().parse().map_err(|_| bad())?;
+    let n: usize = parts[2].trim().parse().map_err(|_| bad())?;
+    if n == 0 || !lo.is_finite() || !hi.is_finite() || hi < lo {
+        return Err(bad());
+    }
+    Ok((0..n)
+        .map(|k| if n == 1 { lo } else { lo + (hi - lo) * k as f64 / (n - 1) as f64 })
+        .collect())
+}
+
+fn job_dir(root: &Path, job: &Job) -> PathBuf {
+    root.join("jobs").join(&job.id)
+}
+
+/// Writes `sweep.json`, refusing to mix two different sweeps in one directory.
+pub fn store(root: &Path, sweep: &Sweep) -> Result<(), CliError> {
+    std::fs::create_dir_all(root).map_err(|e| format!("cannot create {}: {e}", root.display()))?;
+    let path = root.join("sweep.json");
+    if let Ok(text) = std::fs::read_to_string(&path) {
+        let old: Sweep = serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+        if old != *sweep {
+            return Err(format!(
+                "{} holds a different sweep (other scene, ranges, samples or overrides); use another --out",
+                root.display()
+            )
+            .into());
+        }
+        return Ok(());
+    }
+    analysis::io::write_json_atomic(&path, sweep)?;
+    Ok(())
+}
+
+/// Reads `sweep.json`.
+pub fn load(root: &Path) -> Result<Sweep, CliError> {
+    let path = root.join("sweep.json");
+    let text = std::fs::read_to_string(&path).map_err(|e| format!("cannot read {}: {e} (is this a sweep directory?)", path.display()))?;
+    Ok(serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?)
+}
+
+/// What running a sweep did.
+#[derive(Debug, Default, Serialize)]
+pub struct Progress {
+    pub ran: usize,
+    pub skipped: usize,
+    pub failed: Vec<String>,
+    pub other_shards: usize,
+}
+
+/// Runs the jobs of this shard that have no result yet, `parallel` at a time.
+pub fn run(root: &Path, sweep: &Sweep, shard: Shard, parallel: usize, samples: &Path, quiet: bool) -> Result<Progress, CliError> {
+    let mine: Vec<&Job> = sweep
+        .jobs
+        .iter()
+        .enumerate()
+        .filter(|(k, _)| k % shard.count == shard.index)
+        .map(|(_, j)| j)
+        .collect();
+    let todo: Vec<&Job> = mine
+        .iter()
+        .copied()
+        .filter(|j| !job_dir(root, j).join("result.json").exists())
+        .collect();
+    let mut progress = Progress {
+        skipped: mine.len() - todo.len(),
+        other_shards: sweep.jobs.len() - mine.len(),
+        ..Progress::default()
+    };
+    let bar = if quiet {
+        ProgressBar::hidden()
+    } else {
+        let b = ProgressBar::new(todo.len() as u64);
+        b.set_style(
+            ProgressStyle::with_template("{msg:>12} [{bar:40}] {pos}/{len} jobs {elapsed_precise} eta {eta_precise}")
+                .expect("valid template")
+                .progress_chars("=> "),
+        );
+        b.set_message(sweep.kind.clone());
+        b
+    };
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(parallel.max(1)).build()?;
+    let next = AtomicUsize::new(0);
+    let outcomes: Vec<(String, Result<(), String>)> = pool.install(|| {
+        use rayon::prelude::*;
+        (0..parallel.max(1))
+            .into_par_iter()
+            .flat_map_iter(|_| {
+                let mut done = Vec::new();
+                loop {
+                    let k = next.fetch_add(1, Ordering::SeqCst);
+                    let Some(job) = todo.get(k) else { break };
+                    let r = run_job(root, sweep, job, samples).map_err(|e| e.to_string());
+                    bar.inc(1);
+                    done.push((job.id.clone(), r));
+                }
+                done
+            })
+            .collect()
+    });
+    bar.finish_and_clear();
+    for (id, r) in outcomes {
+        match r {
+            Ok(()) => progress.ran += 1,
+            Err(e) => progress.failed.push(format!("{id}: {e}")),
+        }
+    }
+    Ok(progress)
+}
+
+/// Runs one job: the model into `jobs/<id>/run`, the shared analysis into `jobs/<id>/analysis`,
+/// then `result.json` (labels + the analysis summary), atomically and last.
+fn run_job(root: &Path, sweep: &Sweep, job: &Job, samples: &Path) -> Result<(), CliError> {
+    let dir = job_dir(root, job);
+    let mut overrides = sweep.overrides.clone();
+    overrides.extend(job.overrides.iter().cloned());
+    // One thread per job: jobs are the parallel unit, and results do not depend on threads.
+    overrides.push("run.threads=1".into());
+    let run_dir = dir.join("run");
+    let model_summary = match job.model {
+        Model::Dem => {
+            let mut argv: Vec<String> = vec![sweep.scene.display().to_string(), "--quiet".into()];
+            argv.extend(["--out".into(), run_dir.display().to_string()]);
+            argv.extend(["--samples".into(), samples.display().to_string()]);
+            for o in &overrides {
+                argv.extend(["--set".into(), o.clone()]);
+            }
+            crate::commands::run::run(parse_args(&argv)?)?
+        }
+        Model::Automaton => return Err("automaton jobs need the automaton model".into()),
+    };
+    let analysis_argv = [
+        run_dir.display().to_string(),
+        "--out".into(),
+        dir.join("analysis").display().to_string(),
+    ];
+    let analysis = crate::commands::analyze::run(parse_args(&analysis_argv)?)?;
+    let model: Value = serde_json::from_str(&model_summary)?;
+    let analysis: Value = serde_json::from_str(&analysis)?;
+    let mut result = serde_json::Map::new();
+    result.insert("id".into(), job.id.clone().into());
+    result.insert("model".into(), job.model.name().into());
+    for (k, v) in &job.labels {
+        result.insert(k.clone(), v.clone());
+    }
+    result.insert("analysis".into(), analysis);
+    result.insert(
+        "speed".into(),
+        json!({ "wall_s": model.get("wall_s"), "particle_steps_per_s": model.get("particle_steps_per_s") }),
+    );
+    analysis::io::write_json_atomic(&dir.join("result.json"), &Value::Object(result))?;
+    Ok(())
+}
+
+/// Builds a subcommand's arguments from an argument list, exactly as the command line would.
+fn parse_args<A: clap::Args>(argv: &[String]) -> Result<A, CliError> {
+    #[derive(clap::Parser)]
+    struct Wrap<B: clap::Args> {
+        #[command(flatten)]
+        args: B,
+    }
+    let parsed = <Wrap<A> as clap::Parser>::try_parse_from(std::iter::once("stripes".to_string()).chain(argv.iter().cloned()))?;
+    Ok(parsed.args)
+}
+
+/// The results present, in job order, with the job each belongs to.
+pub fn results(root: &Path, sweep: &Sweep) -> Result<Vec<(Job, Value)>, CliError> {
+    let mut out = Vec::new();
+    for job in &sweep.jobs {
+        let path = job_dir(root, job).join("result.json");
+        if let Ok(text) = std::fs::read_to_string(&path) {
+            let v: Value = serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+            out.push((job.clone(), v));
+        }
+    }
+    Ok(out)
+}
+
+/// A number from a job's analysis summary (`NaN` when absent or null).
+pub fn metric(result: &Value, key: &str) -> f64 {
+    result["analysis"][key].as_f64().unwrap_or(f64::NAN)
+}
+
+/// A string from a job's analysis summary (`"?"` when absent).
+pub fn label(result: &Value, key: &str) -> String {
+    match &result["analysis"][key] {
+        Value::String(s) => s.clone(),
+        Value::Null => "?".into(),
+        v => v.to_string(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ranges_and_shards_parse_and_reject_nonsense() {
+        assert_eq!(parse_range("5:29:4", "frequency").unwrap(), vec![5.0, 13.0, 21.0, 29.0]);
+        assert_eq!(parse_range("0.01:0.01:1", "amplitude").unwrap(), vec![0.01]);
+        assert!(parse_range("5:29", "frequency").is_err());
+        assert!(parse_range("29:5:3", "frequency").is_err());
+        assert_eq!("1/4".parse::<Shard>().unwrap(), Shard { index: 1, count: 4 });
+        assert!("4/4".parse::<Shard>().is_err());
+        assert!("x/2".parse::<Shard>().is_err());
+    }
+}
