@@ -46,7 +46,8 @@ pub struct Options {
     pub tracer: usize,
     /// Fraction of the frames, at the end, that make the final state [0.1].
     pub tail_fraction: f64,
-    /// Window of the plateau `a1` of `D` (s) [None: before the stripe onset, or the first
+    /// Window of the plateau `a1` of `D` (s) [None: the first three quarters of the time
+    /// before the stripe onset (the rise of `D` ahead of the onset left out), or the first
     /// half of the run without onset].
     pub plateau_before: Option<(f64, f64)>,
     /// Window of the plateau `a2` (s) [None: from the onset plus a quarter of the time left
@@ -433,7 +434,7 @@ impl Analyzer {
         // Plateaus of D.
         let (before, after) = match onset_s {
             Some(on) => {
-                let before = self.times.iter().copied().rfind(|&t| t < on).map(|b| (t0, b));
+                let before = (on > t0).then_some((t0, on - 0.25 * (on - t0)));
                 (before, Some((on + 0.25 * (t_end - on), t_end)))
             }
             None => {

@@ -45,11 +45,12 @@ pub struct Args {
     /// The layer is periodic in y too (walls off): y displacements use the minimum image.
     #[arg(long)]
     pub periodic_y: bool,
-    /// Window FROM,TO (s) of the MSD plateau before stripes (default: up to the onset).
+    /// Window FROM,TO (s) of the MSD plateau a1 before stripes (default: the first three
+    /// quarters of the time before the onset; without onset, the first half of the run).
     #[arg(long)]
     pub plateau_before: Option<String>,
-    /// Window FROM,TO (s) of the MSD plateau after stripes (default: from the onset plus a
-    /// quarter of the remaining time).
+    /// Window FROM,TO (s) of the MSD plateau a2 after stripes (default: from the onset plus a
+    /// quarter of the remaining time; without onset, the second half of the run).
     #[arg(long)]
     pub plateau_after: Option<String>,
     /// Classifier: below this mobility (mean diameters per period) the phase is `nothing`.
@@ -58,6 +59,29 @@ pub struct Args {
     /// Classifier: at or above this contrast (x random layer), with stripes, the phase is `stripes`.
     #[arg(long, default_value_t = 2.0)]
     pub contrast_min: f64,
+}
+
+impl Default for Args {
+    /// The command-line defaults, with an empty input path: other commands build their
+    /// arguments as `Args { input, out, ..Args::default() }`.
+    fn default() -> Self {
+        Self {
+            input: PathBuf::new(),
+            out: None,
+            cell: 1e-3,
+            threshold: None,
+            min_width: None,
+            dt: analysis::lammps::DEFAULT_DT,
+            period: None,
+            tracer: 0,
+            tail: 0.1,
+            periodic_y: false,
+            plateau_before: None,
+            plateau_after: None,
+            mobility_min: analysis::classify::ClassifyParams::default().mobility_min,
+            contrast_min: analysis::classify::ClassifyParams::default().contrast_min,
+        }
+    }
 }
 
 fn window(s: &Option<String>, name: &str) -> Result<Option<(f64, f64)>, CliError> {
@@ -207,9 +231,18 @@ fn draw(dir: &mut RunDir, r: &Report) -> Result<(), CliError> {
     }
     dir.plot("stripe_count", &count)?;
 
-    let mut msd = LinePlot::new("Mean square displacement per period (eq 3.30)", "t (s)", "D (m^2)")
-        .series("D", r.msd.iter().map(|p| (p.time, p.d)).collect(), Mark::Line)
-        .log_y();
+    let mut msd = LinePlot::new("Mean square displacement per period (eq 3.30)", "t (s)", "D (m^2)").series(
+        "D",
+        r.msd.iter().map(|p| (p.time, p.d)).collect(),
+        Mark::Line,
+    );
+    // A log axis only when D spans more than a decade and a half (with less, plotters
+    // draws no tick labels on it).
+    let positive = r.msd.iter().map(|p| p.d).filter(|d| *d > 0.0);
+    let (lo, hi) = positive.fold((f64::INFINITY, 0.0f64), |(a, b), d| (a.min(d), b.max(d)));
+    if hi > 30.0 * lo {
+        msd = msd.log_y();
+    }
     for (name, p) in [("a1", r.plateau_before), ("a2", r.plateau_after)] {
         if let Some(p) = p {
             let label = format!("{name} = {:.3e} m^2 on [{:.2}, {:.2}] s", p.value, p.from, p.to);
@@ -263,4 +296,27 @@ fn draw(dir: &mut RunDir, r: &Report) -> Result<(), CliError> {
         Mark::Line,
     );
     dir.plot("autocorrelation", &ac)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::Parser;
+
+    #[derive(Parser)]
+    struct Cli {
+        #[command(flatten)]
+        args: Args,
+    }
+
+    #[test]
+    fn default_matches_the_command_line_defaults() {
+        let parsed = Cli::parse_from(["analyze", "run"]).args;
+        let default = Args {
+            input: "run".into(),
+            ..Args::default()
+        };
+        assert_eq!(serde_json::to_value(&parsed).unwrap(), serde_json::to_value(&default).unwrap());
+        assert_eq!(parsed.options().unwrap(), Options::default());
+    }
 }
