@@ -130,3 +130,81 @@ fn bad_input_is_refused_with_the_grain_or_frame_named() {
     };
     assert!(analyze(&header(&layer), &frames[..1], &opts).unwrap_err().contains("tracer = 100"));
 }
+
+mod invariance {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn run(x: &[Vec<f64>], r: &[f64]) -> analysis::report::Report {
+        let frames: Vec<Frame> = x
+            .iter()
+            .enumerate()
+            .map(|(k, xs)| Frame {
+                time: k as f64 * T,
+                pos: xs.iter().zip(r).map(|(&x, &r)| [x, 0.01, r]).collect(),
+                vel: vec![[0.0; 3]; r.len()],
+            })
+            .collect();
+        let h = Header {
+            length: L,
+            width: W,
+            radii: r.to_vec(),
+        };
+        analyze(&h, &frames, &Options::default()).unwrap()
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(32))]
+        /// Permuting the grains or shifting all of them by whole cells changes the map only
+        /// by that shift, and the stripes, D, contrast and phase not at all.
+        #[test]
+        fn permutation_and_periodic_shift_change_nothing_else(
+            grains in prop::collection::vec((0.0f64..L, 2.5e-4f64..5e-4, -2e-3f64..2e-3, -2e-3f64..2e-3), 20..300),
+            cells_shift in 0usize..400,
+            rotate in 0usize..300,
+        ) {
+            let r: Vec<f64> = grains.iter().map(|g| g.1).collect();
+            let x: Vec<Vec<f64>> = vec![
+                grains.iter().map(|g| g.0).collect(),
+                grains.iter().map(|g| (g.0 + g.2).rem_euclid(L)).collect(),
+                grains.iter().map(|g| (g.0 + g.2 + g.3).rem_euclid(L)).collect(),
+            ];
+            let base = run(&x, &r);
+            let n = r.len();
+            let k = rotate % n;
+            let perm = |v: &[f64]| -> Vec<f64> { (0..n).map(|i| v[(i + k) % n]).collect() };
+            let p = run(&x.iter().map(|v| perm(v)).collect::<Vec<_>>(), &perm(&r));
+            let s = cells_shift as f64 * L / 400.0;
+            let q = run(&x.iter().map(|v| v.iter().map(|x| x + s).collect()).collect::<Vec<_>>(), &r);
+            for other in [&p, &q] {
+                prop_assert_eq!(&other.coarsening.iter().map(|c| c.count).collect::<Vec<_>>(), &base.coarsening.iter().map(|c| c.count).collect::<Vec<_>>());
+                for (a, b) in other.msd.iter().zip(&base.msd) {
+                    prop_assert!((a.d - b.d).abs() <= 1e-9 * b.d + 1e-18);
+                }
+                prop_assert!((other.classification.contrast - base.classification.contrast).abs() < 1e-9);
+                prop_assert_eq!(other.classification.phase, base.classification.phase);
+                for (fa, fb) in other.stripes.iter().zip(&base.stripes) {
+                    // Same stripes, possibly listed from another starting point.
+                    let key = |v: &[analysis::stripes::Stripe]| {
+                        let mut k: Vec<(f64, f64)> = v.iter().map(|s| (s.width, s.mass)).collect();
+                        k.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
+                        k
+                    };
+                    for (a, b) in key(fa).iter().zip(&key(fb)) {
+                        prop_assert!((a.0 - b.0).abs() < 1e-12 && (a.1 - b.1).abs() < 1e-12, "{:?} vs {:?}", a, b);
+                    }
+                }
+            }
+            for (fa, fb) in p.density_map.iter().zip(&base.density_map) {
+                for (a, b) in fa.iter().zip(fb) {
+                    prop_assert!((a - b).abs() < 1e-12);
+                }
+            }
+            for (fa, fb) in q.density_map.iter().zip(&base.density_map) {
+                for c in 0..400 {
+                    prop_assert!((fa[(c + cells_shift) % 400] - fb[c]).abs() < 1e-9, "cell {}", c);
+                }
+            }
+        }
+    }
+}
