@@ -7,7 +7,7 @@
 //! space-time map, its stripes ([`crate::stripes`]), coarsening point and contrast. Over
 //! frames: the stripe onset, `D` per period with plateau fits ([`crate::msd`]), its
 //! autocorrelation ([`crate::autocorr`]), the tracer ([`crate::tracer`]), the radius
-//! distribution inside the final frame's stripes ([`crate::segregation`]) and the phase
+//! distribution inside the stripes of the final-state frames ([`crate::segregation`]) and the phase
 //! ([`crate::classify`]).
 //!
 //! Frames are analysed in parallel (rayon) within a batch; every per-frame quantity is
@@ -22,7 +22,7 @@ use crate::autocorr;
 use crate::classify::{cell_std, classify, random_layer_sigma, Classification, ClassifyParams, Phase};
 use crate::density::{add_area_fraction_cells, mean_area_fraction};
 use crate::msd::{fit_plateau, half_msd, median_spacing, MsdPoint, Plateau};
-use crate::segregation::{radius_distribution, RadiusDistribution};
+use crate::segregation::{RadiusBins, RadiusDistribution, RadiusTally};
 use crate::snapshot::{Frame, Header};
 use crate::stripes::{detect, onset, Coarsening, Stripe, StripeParams};
 use crate::tracer::Tracer;
@@ -130,7 +130,7 @@ pub struct Report {
     /// Autocorrelation of `D` (eq 3.32).
     pub autocorrelation: Vec<AutocorrPoint>,
     pub tracer: Tracer,
-    /// Radii inside the last frame's stripes against the whole layer.
+    /// Radii inside the stripes of the final-state (tail) frames against the whole layer.
     pub radii: RadiusDistribution,
     pub classification: Classification,
 }
@@ -217,6 +217,7 @@ struct FrameResult {
     phi: Vec<f64>,
     stripes: Vec<Stripe>,
     std: f64,
+    radii: RadiusTally,
 }
 
 /// Streaming analysis: feed frames in time order with [`Analyzer::push`], then
@@ -237,7 +238,8 @@ pub struct Analyzer {
     msd: Vec<MsdPoint>,
     recent: VecDeque<(f64, Vec<[f64; 3]>)>,
     tracer: Tracer,
-    last_x: Vec<f64>,
+    radius_bins: RadiusBins,
+    radius_tallies: Vec<RadiusTally>,
 }
 
 impl Analyzer {
@@ -315,7 +317,8 @@ impl Analyzer {
             msd: Vec::new(),
             recent: VecDeque::new(),
             tracer: Tracer::new(opts.tracer, header.radii[opts.tracer]),
-            last_x: Vec::new(),
+            radius_bins: RadiusBins::of(&header.radii, opts.radius_bins),
+            radius_tallies: Vec::new(),
         })
     }
 
@@ -350,6 +353,7 @@ impl Analyzer {
         let (l, w, cells) = (self.header.length, self.header.width, self.cells);
         let radii = &self.header.radii;
         let params = self.params;
+        let bins = self.radius_bins;
         let results: Vec<FrameResult> = frames
             .par_iter()
             .map(|f| {
@@ -358,7 +362,14 @@ impl Analyzer {
                 add_area_fraction_cells(&x, radii, l, w, &mut phi);
                 let stripes = detect(&phi, l, &params);
                 let std = cell_std(&phi);
-                FrameResult { phi, stripes, std }
+                let mut tally = RadiusTally::new(&bins);
+                tally.add_frame(&x, radii, &stripes, l, &bins);
+                FrameResult {
+                    phi,
+                    stripes,
+                    std,
+                    radii: tally,
+                }
             })
             .collect();
         for (f, r) in frames.iter().zip(results) {
@@ -370,6 +381,7 @@ impl Analyzer {
             });
             self.map.push(r.phi);
             self.stripes.push(r.stripes);
+            self.radius_tallies.push(r.radii);
             let t = self.opts.tracer;
             self.tracer.push(f.time, f.pos[t], f.vel[t], l);
             if let Some(period) = self.period {
@@ -388,9 +400,6 @@ impl Analyzer {
                 }
                 self.recent.push_back((f.time, f.pos.clone()));
             }
-        }
-        if let Some(f) = frames.last() {
-            self.last_x = f.pos.iter().map(|p| p[0]).collect();
         }
         Ok(())
     }
@@ -460,13 +469,11 @@ impl Analyzer {
                 normalised,
             })
             .collect();
-        let radii = radius_distribution(
-            &self.last_x,
-            &self.header.radii,
-            self.stripes.last().map_or(&[][..], |s| &s[..]),
-            l,
-            self.opts.radius_bins,
-        );
+        let mut tally = RadiusTally::new(&self.radius_bins);
+        for t in &self.radius_tallies[tail_from..] {
+            tally.merge(t);
+        }
+        let radii = RadiusDistribution::from_tally(&self.header.radii, &self.radius_bins, &tally, m - tail_from);
         Ok(Report {
             particles: self.header.radii.len(),
             frames: m,

@@ -283,7 +283,12 @@ fn draw(dir: &mut RunDir, r: &Report) -> Result<(), CliError> {
     );
     if d.in_stripes > 0 {
         radii = radii.series(
-            &format!("in stripes ({}), mean {:.4} mm", d.in_stripes, d.mean_stripes * 1e3),
+            &format!(
+                "in stripes ({} over the last {} frames), mean {:.4} mm",
+                d.in_stripes,
+                d.frames,
+                d.mean_stripes * 1e3
+            ),
             steps(&d.stripes),
             Mark::Dashed,
         );

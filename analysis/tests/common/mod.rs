@@ -18,9 +18,50 @@ pub struct Layer {
     pub r: Vec<f64>,
 }
 
+/// Buckets of 1 mm along x (>= 2 RMAX), so overlap checks look at three buckets only.
+const BUCKET: f64 = 1e-3;
+const BUCKETS: usize = (L / BUCKET) as usize;
+
+struct Grid(Vec<Vec<usize>>);
+
+impl Grid {
+    fn of(layer: &Layer) -> Self {
+        let mut g = Grid(vec![Vec::new(); BUCKETS]);
+        for (i, &x) in layer.x.iter().enumerate() {
+            g.0[Self::bucket(x)].push(i);
+        }
+        g
+    }
+
+    fn bucket(x: f64) -> usize {
+        ((x / BUCKET) as usize).min(BUCKETS - 1)
+    }
+
+    /// Whether a disk (x, y, r) overlaps no grain of `layer` (x periodic).
+    fn free(&self, layer: &Layer, x: f64, y: f64, r: f64) -> bool {
+        let b = Self::bucket(x);
+        [BUCKETS - 1, 0, 1].iter().all(|&o| {
+            self.0[(b + o) % BUCKETS].iter().all(|&j| {
+                let mut dx = (x - layer.x[j]).abs();
+                dx = dx.min(L - dx);
+                let rr = r + layer.r[j];
+                dx >= rr || dx * dx + (y - layer.y[j]).powi(2) >= rr * rr
+            })
+        })
+    }
+
+    fn push(&mut self, layer: &mut Layer, x: f64, y: f64, r: f64) {
+        self.0[Self::bucket(x)].push(layer.x.len());
+        layer.x.push(x);
+        layer.y.push(y);
+        layer.r.push(r);
+    }
+}
+
 /// Adds grains by random sequential addition until the region `[a, a + len)` (periodic)
 /// reaches the projected area fraction `phi`. Grains never overlap one another.
 pub fn fill(layer: &mut Layer, rng: &mut ChaCha8Rng, a: f64, len: f64, phi: f64) {
+    let mut grid = Grid::of(layer);
     let target = phi * len * W;
     let mut area = 0.0;
     let mut misses = 0;
@@ -28,15 +69,8 @@ pub fn fill(layer: &mut Layer, rng: &mut ChaCha8Rng, a: f64, len: f64, phi: f64)
         let r = rng.gen_range(RMIN..RMAX);
         let x = (a + rng.gen_range(0.0..len)).rem_euclid(L);
         let y = rng.gen_range(r..W - r);
-        let free = layer.x.iter().zip(&layer.y).zip(&layer.r).all(|((&xj, &yj), &rj)| {
-            let mut dx = (x - xj).abs();
-            dx = dx.min(L - dx);
-            dx >= r + rj || dx * dx + (y - yj).powi(2) >= (r + rj).powi(2)
-        });
-        if free {
-            layer.x.push(x);
-            layer.y.push(y);
-            layer.r.push(r);
+        if grid.free(layer, x, y, r) {
+            grid.push(layer, x, y, r);
             area += std::f64::consts::PI * r * r;
             misses = 0;
         } else {
@@ -54,27 +88,18 @@ pub fn random_layer(n: usize, seed: u64) -> Layer {
         y: Vec::new(),
         r: Vec::new(),
     };
+    let mut grid = Grid::of(&layer);
     let mut misses = 0;
     while layer.x.len() < n {
-        let before = layer.x.len();
-        fill(&mut layer, &mut rng, 0.0, L, 0.0);
         let r = rng.gen_range(RMIN..RMAX);
         let x = rng.gen_range(0.0..L);
         let y = rng.gen_range(r..W - r);
-        let free = layer.x.iter().zip(&layer.y).zip(&layer.r).all(|((&xj, &yj), &rj)| {
-            let mut dx = (x - xj).abs();
-            dx = dx.min(L - dx);
-            dx >= r + rj || dx * dx + (y - yj).powi(2) >= (r + rj).powi(2)
-        });
-        if free {
-            layer.x.push(x);
-            layer.y.push(y);
-            layer.r.push(r);
+        if grid.free(&layer, x, y, r) {
+            grid.push(&mut layer, x, y, r);
         } else {
             misses += 1;
             assert!(misses < 1_000_000, "cannot place {n} grains");
         }
-        debug_assert!(layer.x.len() >= before);
     }
     layer
 }
