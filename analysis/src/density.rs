@@ -84,17 +84,30 @@ impl CountProfile {
     }
 }
 
+/// Antiderivative of the chord length `2 sqrt(r^2 - u^2)` of a disk of radius `r` at
+/// offset `u` from its centre: `u sqrt(r^2 - u^2) + r^2 asin(u / r)`, constant outside
+/// `[-r, r]` (m^2).
+pub fn chord_primitive(u: f64, r: f64) -> f64 {
+    let u = u.clamp(-r, r);
+    u * (r * r - u * u).max(0.0).sqrt() + r * r * (u / r).clamp(-1.0, 1.0).asin()
+}
+
 /// Exact cell averages of the projected area fraction `phi(x)` on `cells` equal cells of
-/// `[0, length)`; `width` is the tray width W (m).
+/// `[0, length)`; `width` is the tray width W (m). Cell `c` covers `[c h, (c + 1) h)`,
+/// `h = length / cells`, and holds `(1 / (h W)) integral_cell sum_i 2 sqrt(r_i^2 - (x - x_i)^2) dx`,
+/// so `sum_c phi_c h W = sum_i pi r_i^2` exactly (up to round-off). O(N + cells).
 pub fn area_fraction_cells(x: &[f64], r: &[f64], length: f64, width: f64, cells: usize) -> Vec<f64> {
-    assert_eq!(x.len(), r.len(), "one radius per grain");
-    let h = length / cells as f64;
     let mut out = vec![0.0; cells];
-    // Antiderivative of 2 sqrt(r^2 - u^2) on [-r, r].
-    let prim = |u: f64, r: f64| {
-        let u = u.clamp(-r, r);
-        u * (r * r - u * u).max(0.0).sqrt() + r * r * (u / r).clamp(-1.0, 1.0).asin()
-    };
+    add_area_fraction_cells(x, r, length, width, &mut out);
+    out
+}
+
+/// [`area_fraction_cells`] into a caller's buffer (its length is the number of cells).
+pub fn add_area_fraction_cells(x: &[f64], r: &[f64], length: f64, width: f64, out: &mut [f64]) {
+    assert_eq!(x.len(), r.len(), "one radius per grain");
+    let cells = out.len();
+    out.iter_mut().for_each(|v| *v = 0.0);
+    let h = length / cells as f64;
     for (&xi, &ri) in x.iter().zip(r) {
         if ri <= 0.0 {
             continue;
@@ -102,18 +115,27 @@ pub fn area_fraction_cells(x: &[f64], r: &[f64], length: f64, width: f64, cells:
         let xi = wrap(xi, length);
         let (a, b) = (xi - ri, xi + ri);
         let (first, last) = ((a / h).floor() as i64, ((b / h).ceil() as i64) - 1);
+        // The primitive at each cell boundary is evaluated once and shared by the two
+        // cells that meet there.
+        let mut below = chord_primitive(first as f64 * h - xi, ri);
         for c in first..=last {
-            let (lo, hi) = (c as f64 * h, (c + 1) as f64 * h);
-            let part = prim(hi - xi, ri) - prim(lo - xi, ri);
+            let above = chord_primitive((c + 1) as f64 * h - xi, ri);
+            let part = above - below;
+            below = above;
             if part > 0.0 {
                 out[c.rem_euclid(cells as i64) as usize] += part;
             }
         }
     }
+    let scale = 1.0 / (h * width);
     for v in out.iter_mut() {
-        *v /= h * width;
+        *v *= scale;
     }
-    out
+}
+
+/// Mean projected area fraction of the layer, `sum_i pi r_i^2 / (L W)`.
+pub fn mean_area_fraction(r: &[f64], length: f64, width: f64) -> f64 {
+    r.iter().map(|r| std::f64::consts::PI * r * r).sum::<f64>() / (length * width)
 }
 
 #[cfg(test)]
@@ -165,6 +187,18 @@ mod tests {
             xr.reverse();
             rr.reverse();
             prop_assert_eq!(CountProfile::new(&xr, &rr, l), p.clone());
+            // The area fraction ignores order too (up to round-off of the sums).
+            let cells_r = area_fraction_cells(&xr, &rr, l, w, n);
+            for (a, b) in cells.iter().zip(&cells_r) {
+                prop_assert!((a - b).abs() < 1e-12);
+            }
+            // A shift by a whole number of cells rotates the cells and changes nothing else.
+            let k = (shift * n as f64).floor() as usize;
+            let xk: Vec<f64> = x.iter().map(|x| x + k as f64 * l / n as f64).collect();
+            let cells_k = area_fraction_cells(&xk, &r, l, w, n);
+            for c in 0..n {
+                prop_assert!((cells_k[(c + k) % n] - cells[c]).abs() < 1e-9, "cell {c}");
+            }
             // A periodic shift shifts the profile.
             let xs: Vec<f64> = x.iter().map(|x| (x + shift).rem_euclid(l)).collect();
             let q = CountProfile::new(&xs, &r, l);

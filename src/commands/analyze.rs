@@ -1,21 +1,24 @@
-//! `stripes analyze RUN_DIR`: density map and stripes of a run's snapshots.
+//! `stripes analyze RUN_DIR|SNAPSHOTS|DUMP`: the shared analysis of a DEM run, an automaton
+//! run or a LAMMPS dump (see `analysis::input`), written as CSV tables, PNG + SVG plots and
+//! `summary.json`. All numbers come from `analysis::report::analyze`; this module only
+//! writes and draws them.
 
 use std::path::PathBuf;
 
-use analysis::density::area_fraction_cells;
+use analysis::density::CountProfile;
+use analysis::input::load;
 use analysis::plot::{Heatmap, LinePlot, Mark};
-use analysis::snapshot::read_snapshots;
-use analysis::stripes::{detect, StripeParams};
+use analysis::report::{analyze, Options, Report};
 use serde::Serialize;
-use serde_json::json;
 
 use crate::output::{CliError, RunDir};
 
 #[derive(clap::Args, Debug, Serialize)]
 pub struct Args {
-    /// A run directory (holding snapshots.bin) or a snapshots.bin file.
+    /// A run directory (holding snapshots.bin), a snapshots.bin file (DEM or automaton) or a
+    /// LAMMPS text dump (`ITEM: ATOMS id radius x y z [vx vy vz]`).
     pub input: PathBuf,
-    /// Output directory (default: <RUN_DIR>/analysis).
+    /// Output directory (default: <RUN_DIR>/analysis, or <DUMP>.analysis beside a dump).
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// Cell width of the density map (m); the area fraction is averaged exactly per cell.
@@ -24,116 +27,301 @@ pub struct Args {
     /// Stripe threshold on the area fraction (default: 1.5 x the layer's mean).
     #[arg(long)]
     pub threshold: Option<f64>,
-    /// Minimum stripe width (m; default: two mean grain diameters).
+    /// Minimum stripe width (m; default: five mean grain diameters).
     #[arg(long)]
     pub min_width: Option<f64>,
+    /// Time step of a LAMMPS dump (s): time = timestep x dt. Ignored for snapshots.
+    #[arg(long, default_value_t = analysis::lammps::DEFAULT_DT)]
+    pub dt: f64,
+    /// Drive period for the MSD per period (s; default: the median snapshot spacing).
+    #[arg(long)]
+    pub period: Option<f64>,
+    /// Index of the tracer grain (0-based; LAMMPS: in order of atom id).
+    #[arg(long, default_value_t = 0)]
+    pub tracer: usize,
+    /// Fraction of the frames, at the end, taken as the final state for the phase.
+    #[arg(long, default_value_t = 0.1)]
+    pub tail: f64,
+    /// The layer is periodic in y too (walls off): y displacements use the minimum image.
+    #[arg(long)]
+    pub periodic_y: bool,
+    /// Window FROM,TO (s) of the MSD plateau a1 before stripes (default: the first three
+    /// quarters of the time before the onset; without onset, the first half of the run).
+    #[arg(long)]
+    pub plateau_before: Option<String>,
+    /// Window FROM,TO (s) of the MSD plateau a2 after stripes (default: from the onset plus a
+    /// quarter of the remaining time; without onset, the second half of the run).
+    #[arg(long)]
+    pub plateau_after: Option<String>,
+    /// Classifier: below this mobility (mean diameters per period) the phase is `nothing`.
+    #[arg(long, default_value_t = 0.005)]
+    pub mobility_min: f64,
+    /// Classifier: at or above this contrast (x random layer), with stripes, the phase is `stripes`.
+    #[arg(long, default_value_t = 2.0)]
+    pub contrast_min: f64,
 }
 
-/// First time from which a stripe is present in every later frame (`None` if never).
-fn onset(times: &[f64], counts: &[usize]) -> Option<f64> {
-    let last_empty = counts.iter().rposition(|&c| c == 0);
-    match last_empty {
-        None => times.first().copied(),
-        Some(k) if k + 1 < counts.len() => Some(times[k + 1]),
-        Some(_) => None,
+impl Default for Args {
+    /// The command-line defaults, with an empty input path: other commands build their
+    /// arguments as `Args { input, out, ..Args::default() }`.
+    fn default() -> Self {
+        Self {
+            input: PathBuf::new(),
+            out: None,
+            cell: 1e-3,
+            threshold: None,
+            min_width: None,
+            dt: analysis::lammps::DEFAULT_DT,
+            period: None,
+            tracer: 0,
+            tail: 0.1,
+            periodic_y: false,
+            plateau_before: None,
+            plateau_after: None,
+            mobility_min: analysis::classify::ClassifyParams::default().mobility_min,
+            contrast_min: analysis::classify::ClassifyParams::default().contrast_min,
+        }
+    }
+}
+
+fn window(s: &Option<String>, name: &str) -> Result<Option<(f64, f64)>, CliError> {
+    let Some(s) = s else { return Ok(None) };
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|p| p.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| format!("--{name}: expected FROM,TO in seconds, got `{s}`"))?;
+    match v[..] {
+        [a, b] if a <= b => Ok(Some((a, b))),
+        _ => Err(format!("--{name}: expected FROM,TO with FROM <= TO, got `{s}`").into()),
+    }
+}
+
+impl Args {
+    /// The library options these arguments select.
+    pub fn options(&self) -> Result<Options, CliError> {
+        let mut o = Options {
+            cell: self.cell,
+            threshold: self.threshold,
+            min_width: self.min_width,
+            period: self.period,
+            periodic_y: self.periodic_y,
+            tracer: self.tracer,
+            tail_fraction: self.tail,
+            plateau_before: window(&self.plateau_before, "plateau-before")?,
+            plateau_after: window(&self.plateau_after, "plateau-after")?,
+            ..Options::default()
+        };
+        o.classify.mobility_min = self.mobility_min;
+        o.classify.contrast_min = self.contrast_min;
+        Ok(o)
     }
 }
 
 pub fn run(args: Args) -> Result<String, CliError> {
-    let file = if args.input.is_dir() {
-        args.input.join("snapshots.bin")
-    } else {
-        args.input.clone()
-    };
-    let (header, frames) = read_snapshots(&file).map_err(|e| format!("cannot read {}: {e}", file.display()))?;
-    if frames.is_empty() {
-        return Err(format!("{} holds no complete frame", file.display()).into());
-    }
-    let out = args
-        .out
-        .clone()
-        .unwrap_or_else(|| file.parent().unwrap_or(std::path::Path::new(".")).join("analysis"));
-    let mut dir = RunDir::create(&out, &args)?;
-    let cells = ((header.length / args.cell).round() as usize).max(1);
-    let n = header.radii.len() as f64;
-    let mean_phi = header.radii.iter().map(|r| std::f64::consts::PI * r * r).sum::<f64>() / (header.length * header.width);
-    let mean_d = 2.0 * header.radii.iter().sum::<f64>() / n;
-    let mut params = StripeParams::default_for(mean_phi, mean_d);
-    if let Some(t) = args.threshold {
-        params.threshold = t;
-    }
-    if let Some(w) = args.min_width {
-        params.min_width = w;
-    }
-
-    let mut map = Vec::with_capacity(frames.len());
-    let (mut times, mut counts) = (Vec::new(), Vec::new());
-    let mut stripe_rows = Vec::new();
-    for f in &frames {
-        let x: Vec<f64> = f.pos.iter().map(|p| p[0]).collect();
-        let phi = area_fraction_cells(&x, &header.radii, header.length, header.width, cells);
-        let stripes = detect(&phi, header.length, &params);
-        for s in &stripes {
-            stripe_rows.push(vec![f.time, s.center, s.width, s.mass]);
+    let opts = args.options()?;
+    let run = load(&args.input, args.dt)?;
+    let report = analyze(&run.header, &run.frames, &opts).map_err(|e| format!("{}: {e}", run.file.display()))?;
+    let out = args.out.clone().unwrap_or_else(|| {
+        if args.input.is_dir() {
+            args.input.join("analysis")
+        } else if run.kind == analysis::input::InputKind::LammpsDump {
+            let mut name = run.file.file_name().unwrap_or_default().to_os_string();
+            name.push(".analysis");
+            run.file.with_file_name(name)
+        } else {
+            run.file.parent().unwrap_or(std::path::Path::new(".")).join("analysis")
         }
-        times.push(f.time);
-        counts.push(stripes.len());
-        map.push(phi);
+    });
+    let mut dir = RunDir::create(&out, &args)?;
+    write_tables(&mut dir, &report, &run)?;
+    draw(&mut dir, &report)?;
+    let mut summary = serde_json::to_value(report.summary())?;
+    if let serde_json::Value::Object(m) = &mut summary {
+        m.insert("input".into(), run.file.display().to_string().into());
+        m.insert("input_kind".into(), serde_json::to_value(run.kind)?);
     }
-    let onset_s = onset(&times, &counts);
-    let final_count = *counts.last().expect("at least one frame");
+    dir.finish(summary)
+}
 
-    let mut header_row = vec!["t".to_string()];
-    header_row.extend((0..cells).map(|c| format!("x{:.5}", (c as f64 + 0.5) * header.length / cells as f64)));
-    let rows: Vec<Vec<f64>> = times
+fn write_tables(dir: &mut RunDir, r: &Report, run: &analysis::input::Run) -> Result<(), CliError> {
+    let mut names = vec!["t".to_string()];
+    names.extend((0..r.cells).map(|c| format!("x{:.6}", (c as f64 + 0.5) * r.cell)));
+    let names: Vec<&str> = names.iter().map(String::as_str).collect();
+    let rows: Vec<Vec<f64>> = r
+        .times
         .iter()
-        .zip(&map)
+        .zip(&r.density_map)
         .map(|(t, phi)| std::iter::once(*t).chain(phi.iter().copied()).collect())
         .collect();
-    let hr: Vec<&str> = header_row.iter().map(String::as_str).collect();
-    dir.csv("density_map.csv", &hr, &rows)?;
-    let count_rows: Vec<Vec<f64>> = times.iter().zip(&counts).map(|(t, c)| vec![*t, *c as f64]).collect();
-    dir.csv("stripe_count.csv", &["t", "count"], &count_rows)?;
-    dir.csv("stripes.csv", &["t", "center", "width", "mass"], &stripe_rows)?;
+    dir.csv("density_map.csv", &names, &rows)?;
+    let rows: Vec<Vec<f64>> = r
+        .coarsening
+        .iter()
+        .zip(&r.contrast_series)
+        .map(|(c, k)| vec![c.time, c.count as f64, c.mean_width, c.mean_mass, c.mass_fraction, *k])
+        .collect();
+    dir.csv(
+        "coarsening.csv",
+        &["t", "count", "mean_width", "mean_mass", "mass_fraction", "contrast"],
+        &rows,
+    )?;
+    let rows: Vec<Vec<f64>> = r
+        .times
+        .iter()
+        .zip(&r.stripes)
+        .flat_map(|(t, s)| s.iter().map(move |s| vec![*t, s.start, s.center, s.width, s.mass]))
+        .collect();
+    dir.csv("stripes.csv", &["t", "start", "center", "width", "mass"], &rows)?;
+    let rows: Vec<Vec<f64>> = r.msd.iter().map(|p| vec![p.time, p.d]).collect();
+    dir.csv("msd.csv", &["t", "D"], &rows)?;
+    let rows: Vec<Vec<f64>> = r
+        .autocorrelation
+        .iter()
+        .map(|a| vec![a.lag as f64, a.lag_s, a.raw, a.normalised])
+        .collect();
+    dir.csv("autocorrelation.csv", &["lag", "lag_s", "C_raw", "C_normalised"], &rows)?;
+    let rows: Vec<Vec<f64>> = r
+        .tracer
+        .points
+        .iter()
+        .map(|p| vec![p.time, p.x, p.y, p.z, p.x_unwrapped, p.vx])
+        .collect();
+    dir.csv("tracer.csv", &["t", "x", "y", "z", "x_unwrapped", "vx"], &rows)?;
+    let d = &r.radii;
+    let rows: Vec<Vec<f64>> = (0..d.whole.len())
+        .map(|k| vec![d.edges[k], d.edges[k + 1], d.whole[k], d.stripes[k]])
+        .collect();
+    dir.csv("radii.csv", &["r_from", "r_to", "pdf_whole", "pdf_stripes"], &rows)?;
+    // The exact binning-free count density (Appendix A) of the last frame.
+    let last = run.frames.last().expect("analyze refuses empty runs");
+    let x: Vec<f64> = last.pos.iter().map(|p| p[0]).collect();
+    let p = CountProfile::new(&x, &run.header.radii, run.header.length);
+    let rows: Vec<Vec<f64>> = (0..p.breaks.len())
+        .map(|k| vec![p.breaks[k], p.breaks.get(k + 1).copied().unwrap_or(p.length), p.values[k] as f64])
+        .collect();
+    dir.csv("count_density_final.csv", &["x_from", "x_to", "grains"], &rows)
+}
 
-    let t_end = *times.last().expect("frames");
+fn draw(dir: &mut RunDir, r: &Report) -> Result<(), CliError> {
+    let t0 = r.times[0];
+    let t1 = r.times.last().copied().unwrap_or(t0).max(t0 + 1e-9);
     let heat = Heatmap {
         title: "Projected area fraction phi(x, t)".into(),
         x_label: "x (m)".into(),
         y_label: "t (s)".into(),
-        x_range: (0.0, header.length),
-        y_range: (times[0], t_end.max(times[0] + 1e-9)),
-        values: map,
+        x_range: (0.0, r.length),
+        y_range: (t0, t1),
+        values: r.density_map.clone(),
         colorbar_label: "area fraction".into(),
     };
-    let files = heat.save(&out.join("density_map")).map_err(|e| format!("density map: {e}"))?;
+    let files = heat
+        .save(&dir.path.join("density_map"))
+        .map_err(|e| format!("cannot draw density_map: {e}"))?;
     dir.note_files(files);
-    let count_plot = LinePlot::new("Stripes over time", "t (s)", "stripe count").series(
+
+    let mut count = LinePlot::new("Stripes over time", "t (s)", "stripe count").series(
         "stripes",
-        times.iter().zip(&counts).map(|(t, c)| (*t, *c as f64)).collect(),
-        Mark::LinePoints,
+        r.coarsening.iter().map(|c| (c.time, c.count as f64)).collect(),
+        Mark::Line,
     );
-    dir.plot("stripe_count", &count_plot)?;
-    dir.finish(json!({
-        "input": file.display().to_string(),
-        "frames": frames.len(),
-        "particles": header.radii.len(),
-        "mean_area_fraction": mean_phi,
-        "stripe_params": params,
-        "stripe_count_final": final_count,
-        "stripe_onset_s": onset_s,
-    }))
+    if let Some(on) = r.onset {
+        let max = r.coarsening.iter().map(|c| c.count).max().unwrap_or(0) as f64;
+        count = count.series(&format!("onset {on:.3} s"), vec![(on, 0.0), (on, max.max(1.0))], Mark::Dashed);
+    }
+    dir.plot("stripe_count", &count)?;
+
+    let mut msd = LinePlot::new("Mean square displacement per period (eq 3.30)", "t (s)", "D (m^2)").series(
+        "D",
+        r.msd.iter().map(|p| (p.time, p.d)).collect(),
+        Mark::Line,
+    );
+    // A log axis only when D spans more than a decade and a half (with less, plotters
+    // draws no tick labels on it).
+    let positive = r.msd.iter().map(|p| p.d).filter(|d| *d > 0.0);
+    let (lo, hi) = positive.fold((f64::INFINITY, 0.0f64), |(a, b), d| (a.min(d), b.max(d)));
+    if hi > 30.0 * lo {
+        msd = msd.log_y();
+    }
+    for (name, p) in [("a1", r.plateau_before), ("a2", r.plateau_after)] {
+        if let Some(p) = p {
+            let label = format!("{name} = {:.3e} m^2 on [{:.2}, {:.2}] s", p.value, p.from, p.to);
+            msd = msd.series(&label, vec![(p.from, p.value), (p.to, p.value)], Mark::Dashed);
+        }
+    }
+    dir.plot("msd", &msd)?;
+
+    let tr = &r.tracer;
+    let path: Vec<(f64, f64)> = tr.points.iter().map(|p| (p.x_unwrapped, p.y)).collect();
+    let mut traj = LinePlot::new(
+        &format!("Tracer {} (R = {:.3} mm): trajectory", tr.index, tr.radius * 1e3),
+        "x, followed across the periodic seam (m)",
+        "y (m)",
+    )
+    .series("path", path.clone(), Mark::Line);
+    if let (Some(a), Some(b)) = (path.first(), path.last()) {
+        traj = traj.series("start", vec![*a], Mark::Points).series("end", vec![*b], Mark::Points);
+    }
+    dir.plot("tracer_trajectory", &traj)?;
+    let phase = LinePlot::new(&format!("Tracer {}: phase space", tr.index), "x (m)", "v_x (m/s)").series(
+        "snapshots",
+        tr.points.iter().map(|p| (p.x, p.vx)).collect(),
+        Mark::Points,
+    );
+    dir.plot("tracer_phase_space", &phase)?;
+
+    let d = &r.radii;
+    let steps = |v: &[f64]| -> Vec<(f64, f64)> {
+        (0..v.len())
+            .flat_map(|k| [(d.edges[k] * 1e3, v[k] * 1e-3), (d.edges[k + 1] * 1e3, v[k] * 1e-3)])
+            .collect()
+    };
+    let mut radii = LinePlot::new("Radii: stripes against the whole layer", "R (mm)", "probability density (1/mm)").series(
+        &format!("whole layer, mean {:.4} mm", d.mean_whole * 1e3),
+        steps(&d.whole),
+        Mark::Line,
+    );
+    if d.in_stripes > 0 {
+        radii = radii.series(
+            &format!(
+                "in stripes ({} over the last {} frames), mean {:.4} mm",
+                d.in_stripes,
+                d.frames,
+                d.mean_stripes * 1e3
+            ),
+            steps(&d.stripes),
+            Mark::Dashed,
+        );
+    }
+    dir.plot("radii", &radii)?;
+
+    let ac = LinePlot::new("Autocorrelation of D (eq 3.32)", "lag (s)", "normalised C").series(
+        "C",
+        r.autocorrelation.iter().map(|a| (a.lag_s, a.normalised)).collect(),
+        Mark::Line,
+    );
+    dir.plot("autocorrelation", &ac)
 }
 
 #[cfg(test)]
 mod tests {
-    use super::onset;
+    use super::*;
+    use clap::Parser;
+
+    #[derive(Parser)]
+    struct Cli {
+        #[command(flatten)]
+        args: Args,
+    }
 
     #[test]
-    fn onset_is_the_start_of_the_final_run_of_stripes() {
-        let t = [0.0, 1.0, 2.0, 3.0, 4.0];
-        assert_eq!(onset(&t, &[0, 1, 0, 2, 3]), Some(3.0));
-        assert_eq!(onset(&t, &[1, 1, 1, 1, 1]), Some(0.0));
-        assert_eq!(onset(&t, &[1, 1, 1, 1, 0]), None);
+    fn default_matches_the_command_line_defaults() {
+        let parsed = Cli::parse_from(["analyze", "run"]).args;
+        let default = Args {
+            input: "run".into(),
+            ..Args::default()
+        };
+        assert_eq!(serde_json::to_value(&parsed).unwrap(), serde_json::to_value(&default).unwrap());
+        assert_eq!(parsed.options().unwrap(), Options::default());
     }
 }

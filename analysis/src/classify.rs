@@ -1,0 +1,179 @@
+//! Run classifier: `nothing | stripes | gas` (thesis Fig 3.30-3.31, regions a, b, c), from
+//! two continuous metrics that a phase map can also plot directly.
+//!
+//! Both metrics are taken over the *tail* of the run (by default its last 10 % of frames,
+//! at least one), i.e. its final state.
+//!
+//! - **`contrast`** (dimensionless): the standard deviation of the area fraction over the
+//!   analysis cells, divided by the standard deviation the same grains would give if placed
+//!   independently and uniformly along x ([`random_layer_sigma`]). A homogeneous random
+//!   layer gives about 1 (a bit less, since grains cannot overlap); an ordered lattice less;
+//!   stripes, which concentrate the area in a few dense bands, give several times more.
+//!   Normalising by the random layer makes the number independent of the packing and of the
+//!   cell width, which raw `std/mean` is not (it grows as cells shrink).
+//! - **`mobility`** (mean grain diameters per period): `sqrt(2 D) / d`, the root mean square
+//!   displacement per drive period relative to the tray (eq 3.30: `2 D = <r_i^2>`), divided
+//!   by the mean diameter `d`. Grains that stick to the floor (region a: the tray's
+//!   acceleration is below what friction can transmit) return to the same place every
+//!   period and give 0 up to numerical creep; sliding grains drift.
+//!
+//! Decision ([`ClassifyParams`], defaults in brackets):
+//! 1. `mobility < mobility_min` [0.005 diameters per period] -> **nothing**: the grains
+//!    do not move relative to the tray (whatever pattern the initial state had stays);
+//! 2. else, `contrast >= contrast_min` [2] and at least one stripe in the median tail
+//!    frame -> **stripes**;
+//! 3. else -> **gas**: mobile grains without a density contrast.
+//!
+//! A single DEM sphere on the thesis tray drifts about 16 um per period (0.02 diameters,
+//! SPEC section 2), above `mobility_min`; a grain locked to the floor drifts less than a
+//! micrometre per period.
+
+use crate::density::chord_primitive;
+
+/// The phase of a run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Phase {
+    /// Region (a): grains immobile relative to the tray.
+    Nothing,
+    /// Region (b): dense stripes across the tray.
+    Stripes,
+    /// Region (c): mobile grains, no density contrast.
+    Gas,
+}
+
+impl Phase {
+    /// Lower-case name, as written in `summary.json` and phase-map CSVs.
+    pub fn name(self) -> &'static str {
+        match self {
+            Phase::Nothing => "nothing",
+            Phase::Stripes => "stripes",
+            Phase::Gas => "gas",
+        }
+    }
+}
+
+/// Thresholds of the classifier.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct ClassifyParams {
+    /// Below this mobility (mean diameters per period) a run is `nothing`.
+    pub mobility_min: f64,
+    /// At or above this contrast (and with stripes detected) a mobile run is `stripes`.
+    pub contrast_min: f64,
+}
+
+impl Default for ClassifyParams {
+    fn default() -> Self {
+        Self {
+            mobility_min: 0.005,
+            contrast_min: 2.0,
+        }
+    }
+}
+
+/// Metrics and verdict.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct Classification {
+    pub phase: Phase,
+    /// See the module docs (dimensionless).
+    pub contrast: f64,
+    /// See the module docs (mean diameters per period; NaN when no two frames are a
+    /// period apart, in which case the run is classified without it).
+    pub mobility: f64,
+    /// Median stripe count over the tail frames.
+    pub tail_stripe_count: usize,
+    pub params: ClassifyParams,
+}
+
+/// Applies the decision rule of the module docs.
+pub fn classify(contrast: f64, mobility: f64, tail_stripe_count: usize, params: ClassifyParams) -> Classification {
+    let phase = if mobility < params.mobility_min {
+        Phase::Nothing
+    } else if contrast >= params.contrast_min && tail_stripe_count > 0 {
+        Phase::Stripes
+    } else {
+        Phase::Gas
+    };
+    Classification {
+        phase,
+        contrast,
+        mobility,
+        tail_stripe_count,
+        params,
+    }
+}
+
+/// Standard deviation over cells of the area fraction, `std_c(phi_c)`.
+pub fn cell_std(phi: &[f64]) -> f64 {
+    if phi.is_empty() {
+        return 0.0;
+    }
+    let n = phi.len() as f64;
+    let mean = phi.iter().sum::<f64>() / n;
+    (phi.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / n).sqrt()
+}
+
+/// The standard deviation of a cell's area fraction when every grain sits at an independent
+/// uniform position along x: `sigma^2 = sum_i Var(c_i)`, where `c_i(u)` is the cell average
+/// of grain i at offset u from the cell's centre (cell width `h = length / cells`). With
+/// `E[c_i] = pi r_i^2 / (L W)` and `E[c_i^2] = (1/L) integral c_i(u)^2 du`, the integral is
+/// taken by the midpoint rule on 64 points over `|u| < r_i + h/2`. The fixed total (the
+/// cells' mean is known) multiplies the variance by `1 - 1/cells`.
+pub fn random_layer_sigma(radii: &[f64], length: f64, width: f64, cells: usize) -> f64 {
+    let h = length / cells as f64;
+    const POINTS: usize = 64;
+    let var: f64 = radii
+        .iter()
+        .map(|&r| {
+            let half = r + 0.5 * h;
+            let du = 2.0 * half / POINTS as f64;
+            let sq: f64 = (0..POINTS)
+                .map(|k| {
+                    let u = -half + (k as f64 + 0.5) * du;
+                    let c = (chord_primitive(0.5 * h - u, r) - chord_primitive(-0.5 * h - u, r)) / (h * width);
+                    c * c
+                })
+                .sum::<f64>()
+                * du;
+            let mean = std::f64::consts::PI * r * r / (length * width);
+            (sq / length - mean * mean).max(0.0)
+        })
+        .sum();
+    (var * (1.0 - 1.0 / cells as f64)).sqrt()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::density::area_fraction_cells;
+    use rand::{Rng, SeedableRng};
+
+    #[test]
+    fn the_decision_rule() {
+        let p = ClassifyParams::default();
+        assert_eq!(classify(5.0, 0.001, 3, p).phase, Phase::Nothing);
+        assert_eq!(classify(5.0, 0.5, 3, p).phase, Phase::Stripes);
+        assert_eq!(classify(5.0, 0.5, 0, p).phase, Phase::Gas);
+        assert_eq!(classify(1.0, 0.5, 2, p).phase, Phase::Gas);
+        assert_eq!(classify(1.0, f64::NAN, 0, p).phase, Phase::Gas, "unknown mobility: not `nothing`");
+        assert_eq!(Phase::Stripes.name(), "stripes");
+    }
+
+    #[test]
+    fn independent_uniform_grains_have_the_reference_sigma() {
+        // Overlapping grains at independent uniform positions: the measured std over cells,
+        // averaged over layers, matches the closed form.
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
+        let (l, w, cells) = (0.4, 0.02, 400);
+        let r: Vec<f64> = (0..4000).map(|_| rng.gen_range(2.5e-4..5e-4)).collect();
+        let sigma = random_layer_sigma(&r, l, w, cells);
+        let mut var = 0.0;
+        let layers = 40;
+        for _ in 0..layers {
+            let x: Vec<f64> = (0..r.len()).map(|_| rng.gen_range(0.0..l)).collect();
+            var += cell_std(&area_fraction_cells(&x, &r, l, w, cells)).powi(2) / layers as f64;
+        }
+        let ratio = var.sqrt() / sigma;
+        assert!((ratio - 1.0).abs() < 0.02, "measured / closed form = {ratio}");
+    }
+}

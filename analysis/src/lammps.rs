@@ -1,0 +1,331 @@
+//! LAMMPS (and LIGGGHTS) text dumps of a granular layer, read into the suite's own
+//! [`Header`] and [`Frame`] types, so that a LAMMPS run of the tray goes through exactly the
+//! analysis of a `stripes run`.
+//!
+//! Each frame of the dump is
+//! ```text
+//! ITEM: TIMESTEP
+//! 12500
+//! ITEM: NUMBER OF ATOMS
+//! 1000
+//! ITEM: BOX BOUNDS pp ff ff
+//! 0 0.1
+//! 0 0.02
+//! -0.001 0.1
+//! ITEM: ATOMS id radius x y z vx vy vz
+//! 1 0.00031 0.0123 0.0051 0.00031 0.01 0 0
+//! ...
+//! ```
+//! as written by `dump ID all custom EVERY FILE id radius x y z vx vy vz`. Columns may come
+//! in any order; required are `id`, `radius` and a position per axis (`x`, or the unwrapped
+//! `xu`, or the scaled `xs`, likewise for y and z). `vx vy vz` are optional (zero when
+//! absent). Atoms are sorted by id, so grain `k` of every frame is the same atom.
+//!
+//! Conventions: the box length `L = xhi - xlo` (periodic x) and width `W = yhi - ylo` come
+//! from the first frame's `BOX BOUNDS`; positions are shifted to `x - xlo`, `y - ylo` so
+//! they live in `[0, L) x [0, W)` like the suite's own snapshots; time is
+//! `timestep * dt` (s) with the run's time step `dt`. Triclinic boxes are refused. Every
+//! frame must hold the same atoms with the same radii (an error names the first offending
+//! atom id and timestep).
+
+use std::io::BufRead;
+use std::path::Path;
+
+use crate::snapshot::{Frame, Header};
+
+/// The LAMMPS time step of the thesis tray (s), the default of `--dt`.
+pub const DEFAULT_DT: f64 = 8e-6;
+
+/// How one axis' position is given in the dump.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum PosCol {
+    /// `x` or `xu`: absolute coordinate.
+    Absolute(usize),
+    /// `xs`: fraction of the box.
+    Scaled(usize),
+}
+
+struct Columns {
+    id: usize,
+    radius: usize,
+    pos: [PosCol; 3],
+    vel: Option<[usize; 3]>,
+    count: usize,
+}
+
+fn columns(names: &[&str], ctx: &str) -> Result<Columns, String> {
+    let find = |n: &str| names.iter().position(|c| *c == n);
+    let need = |n: &str| find(n).ok_or_else(|| format!("{ctx}: `ITEM: ATOMS` has no `{n}` column (columns: {})", names.join(" ")));
+    let axis = |a: &str| -> Result<PosCol, String> {
+        if let Some(k) = find(a).or_else(|| find(&format!("{a}u"))) {
+            Ok(PosCol::Absolute(k))
+        } else if let Some(k) = find(&format!("{a}s")) {
+            Ok(PosCol::Scaled(k))
+        } else {
+            Err(format!(
+                "{ctx}: `ITEM: ATOMS` has no `{a}`, `{a}u` or `{a}s` column (columns: {})",
+                names.join(" ")
+            ))
+        }
+    };
+    let vel = match (find("vx"), find("vy"), find("vz")) {
+        (Some(a), Some(b), Some(c)) => Some([a, b, c]),
+        (None, None, None) => None,
+        _ => return Err(format!("{ctx}: `ITEM: ATOMS` has some but not all of vx, vy, vz")),
+    };
+    Ok(Columns {
+        id: need("id")?,
+        radius: need("radius")?,
+        pos: [axis("x")?, axis("y")?, axis("z")?],
+        vel,
+        count: names.len(),
+    })
+}
+
+/// One parsed dump frame: timestep, box bounds, and per-atom (id, radius, pos, vel).
+struct RawFrame {
+    step: u64,
+    bounds: [[f64; 2]; 3],
+    atoms: Vec<(u64, f64, [f64; 3], [f64; 3])>,
+}
+
+/// Reads every frame of a LAMMPS text dump (see the module docs); `dt` is the run's time
+/// step (s). Errors name the file, line and field.
+pub fn read_dump(path: &Path, dt: f64) -> Result<(Header, Vec<Frame>), String> {
+    if !(dt.is_finite() && dt > 0.0) {
+        return Err(format!("--dt must be a positive time step in s, got {dt}"));
+    }
+    let file = std::fs::File::open(path).map_err(|e| format!("cannot open {}: {e}", path.display()))?;
+    let mut lines = std::io::BufReader::new(file).lines().enumerate();
+    let name = path.display().to_string();
+    let mut next = |what: &str| -> Result<Option<(usize, String)>, String> {
+        match lines.next() {
+            None => Ok(None),
+            Some((k, Ok(l))) => Ok(Some((k + 1, l))),
+            Some((k, Err(e))) => Err(format!("{name} line {}: cannot read {what}: {e}", k + 1)),
+        }
+    };
+    let mut raw: Vec<RawFrame> = Vec::new();
+    while let Some((ln, l)) = next("ITEM: TIMESTEP")? {
+        if l.trim().is_empty() {
+            continue;
+        }
+        if !l.starts_with("ITEM: TIMESTEP") {
+            return Err(format!("{name} line {ln}: expected `ITEM: TIMESTEP`, found `{}`", l.trim()));
+        }
+        let eof = |what: &str| format!("{name}: file ends inside a frame, before {what}");
+        let (ln, l) = next("the timestep")?.ok_or_else(|| eof("the timestep"))?;
+        let step: u64 = l
+            .trim()
+            .parse()
+            .map_err(|_| format!("{name} line {ln}: timestep `{}` is not a non-negative integer", l.trim()))?;
+        let (ln, l) = next("ITEM: NUMBER OF ATOMS")?.ok_or_else(|| eof("ITEM: NUMBER OF ATOMS"))?;
+        if !l.starts_with("ITEM: NUMBER OF ATOMS") {
+            return Err(format!("{name} line {ln}: expected `ITEM: NUMBER OF ATOMS` (timestep {step})"));
+        }
+        let (ln, l) = next("the number of atoms")?.ok_or_else(|| eof("the number of atoms"))?;
+        let n: usize = l
+            .trim()
+            .parse()
+            .map_err(|_| format!("{name} line {ln}: number of atoms `{}` is not an integer", l.trim()))?;
+        let (ln, l) = next("ITEM: BOX BOUNDS")?.ok_or_else(|| eof("ITEM: BOX BOUNDS"))?;
+        if !l.starts_with("ITEM: BOX BOUNDS") {
+            return Err(format!("{name} line {ln}: expected `ITEM: BOX BOUNDS` (timestep {step})"));
+        }
+        if l.contains("xy") {
+            return Err(format!("{name} line {ln}: triclinic boxes are not supported (timestep {step})"));
+        }
+        let mut bounds = [[0.0; 2]; 3];
+        for (a, b) in bounds.iter_mut().enumerate() {
+            let (ln, l) = next("box bounds")?.ok_or_else(|| eof("the box bounds"))?;
+            let v: Vec<f64> = l.split_whitespace().filter_map(|s| s.parse().ok()).collect();
+            if v.len() != 2 || v[1].partial_cmp(&v[0]) != Some(std::cmp::Ordering::Greater) {
+                return Err(format!(
+                    "{name} line {ln}: box bounds of axis {} must be two numbers lo < hi, got `{}` (timestep {step})",
+                    ["x", "y", "z"][a],
+                    l.trim()
+                ));
+            }
+            *b = [v[0], v[1]];
+        }
+        let (ln, l) = next("ITEM: ATOMS")?.ok_or_else(|| eof("ITEM: ATOMS"))?;
+        let Some(cols) = l.strip_prefix("ITEM: ATOMS") else {
+            return Err(format!("{name} line {ln}: expected `ITEM: ATOMS` (timestep {step})"));
+        };
+        let names: Vec<&str> = cols.split_whitespace().collect();
+        let c = columns(&names, &format!("{name} line {ln}"))?;
+        let mut atoms = Vec::with_capacity(n);
+        for _ in 0..n {
+            let (ln, l) = next("an atom")?.ok_or_else(|| format!("{name}: timestep {step} ends after {} of {n} atoms", atoms.len()))?;
+            let f: Vec<&str> = l.split_whitespace().collect();
+            if f.len() != c.count {
+                return Err(format!(
+                    "{name} line {ln}: {} values for {} columns (timestep {step})",
+                    f.len(),
+                    c.count
+                ));
+            }
+            let num = |k: usize| -> Result<f64, String> {
+                let v: f64 = f[k].parse().map_err(|_| {
+                    format!(
+                        "{name} line {ln}: column `{}` = `{}` is not a number (timestep {step})",
+                        names[k], f[k]
+                    )
+                })?;
+                if v.is_finite() {
+                    Ok(v)
+                } else {
+                    Err(format!("{name} line {ln}: column `{}` is not finite (timestep {step})", names[k]))
+                }
+            };
+            let id: u64 = f[c.id]
+                .parse()
+                .map_err(|_| format!("{name} line {ln}: id `{}` is not an integer (timestep {step})", f[c.id]))?;
+            let radius = num(c.radius)?;
+            let mut pos = [0.0; 3];
+            for a in 0..3 {
+                pos[a] = match c.pos[a] {
+                    PosCol::Absolute(k) => num(k)?,
+                    PosCol::Scaled(k) => bounds[a][0] + num(k)? * (bounds[a][1] - bounds[a][0]),
+                };
+            }
+            let vel = match c.vel {
+                Some(k) => [num(k[0])?, num(k[1])?, num(k[2])?],
+                None => [0.0; 3],
+            };
+            atoms.push((id, radius, pos, vel));
+        }
+        atoms.sort_by_key(|a| a.0);
+        raw.push(RawFrame { step, bounds, atoms });
+    }
+    let first = raw
+        .first()
+        .ok_or_else(|| format!("{name}: no `ITEM: TIMESTEP` frame in the file"))?;
+    let [bx, by, _] = first.bounds;
+    let (length, width) = (bx[1] - bx[0], by[1] - by[0]);
+    for w in first.atoms.windows(2) {
+        if w[0].0 == w[1].0 {
+            return Err(format!("{name}: atom id {} appears twice at timestep {}", w[0].0, first.step));
+        }
+    }
+    let header = Header {
+        length,
+        width,
+        radii: first.atoms.iter().map(|a| a.1).collect(),
+    };
+    for (a, r) in first.atoms.iter().map(|a| (a.0, a.1)) {
+        if !(r > 0.0 && 2.0 * r < length) {
+            return Err(format!(
+                "{name}: atom {a} has radius {r} m, outside (0, L/2) (timestep {})",
+                first.step
+            ));
+        }
+    }
+    let mut frames = Vec::with_capacity(raw.len());
+    for f in &raw {
+        if f.atoms.len() != header.radii.len() {
+            return Err(format!(
+                "{name}: timestep {} holds {} atoms, the first frame {} (atoms lost or added)",
+                f.step,
+                f.atoms.len(),
+                header.radii.len()
+            ));
+        }
+        for (a, b) in f.atoms.iter().zip(&first.atoms) {
+            if a.0 != b.0 {
+                return Err(format!(
+                    "{name}: timestep {} has atom id {} where the first frame has {}",
+                    f.step, a.0, b.0
+                ));
+            }
+            if a.1 != b.1 {
+                return Err(format!(
+                    "{name}: atom {} changes radius from {} to {} m at timestep {}",
+                    a.0, b.1, a.1, f.step
+                ));
+            }
+        }
+        frames.push(Frame {
+            time: f.step as f64 * dt,
+            pos: f.atoms.iter().map(|a| [a.2[0] - bx[0], a.2[1] - by[0], a.2[2]]).collect(),
+            vel: f.atoms.iter().map(|a| a.3).collect(),
+        });
+    }
+    Ok((header, frames))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn dump(text: &str, name: &str) -> std::path::PathBuf {
+        let d = std::env::temp_dir().join(format!("stripes-lammps-{name}-{}", std::process::id()));
+        std::fs::create_dir_all(&d).unwrap();
+        let p = d.join("tray.dump");
+        std::fs::write(&p, text).unwrap();
+        p
+    }
+
+    const TWO_FRAMES: &str = "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n2\nITEM: BOX BOUNDS pp ff ff\n-0.2 0.2\n0 0.02\n-0.001 0.1\n\
+ITEM: ATOMS x radius id y z vx vy vz\n0.1 0.0004 2 0.01 0.0004 1 2 3\n-0.1 0.0003 1 0.005 0.0003 0 0 0\n\
+ITEM: TIMESTEP\n6250\nITEM: NUMBER OF ATOMS\n2\nITEM: BOX BOUNDS pp ff ff\n-0.2 0.2\n0 0.02\n-0.001 0.1\n\
+ITEM: ATOMS x radius id y z vx vy vz\n-0.05 0.0003 1 0.006 0.0003 0 0 0\n0.15 0.0004 2 0.011 0.0004 0 0 0\n";
+
+    #[test]
+    fn columns_in_any_order_sorted_by_id_and_shifted_into_the_box() {
+        let p = dump(TWO_FRAMES, "ok");
+        let (h, f) = read_dump(&p, 8e-6).unwrap();
+        assert_eq!(h.radii, vec![0.0003, 0.0004]);
+        assert!((h.length - 0.4).abs() < 1e-15 && (h.width - 0.02).abs() < 1e-15);
+        assert_eq!(f.len(), 2);
+        assert!((f[1].time - 0.05).abs() < 1e-15);
+        assert!((f[0].pos[0][0] - 0.1).abs() < 1e-15, "id 1 first, x - xlo");
+        assert!((f[0].pos[1][0] - 0.3).abs() < 1e-15);
+        assert_eq!(f[0].vel[1], [1.0, 2.0, 3.0]);
+        std::fs::remove_dir_all(p.parent().unwrap()).unwrap();
+    }
+
+    #[test]
+    fn errors_name_the_field_atom_and_timestep() {
+        let cases = [
+            (
+                TWO_FRAMES.replace("ITEM: ATOMS x radius id", "ITEM: ATOMS x rad id"),
+                "no `radius` column",
+            ),
+            (TWO_FRAMES.replacen("0.1 0.0004 2", "0.1 abc 2", 1), "`radius` = `abc`"),
+            (TWO_FRAMES.replacen("0.15 0.0004 2", "0.15 0.0005 2", 1), "atom 2 changes radius"),
+            (
+                TWO_FRAMES.replacen("-0.05 0.0003 1", "-0.05 0.0003 3", 1),
+                "timestep 6250 has atom id 2 where",
+            ),
+            (
+                TWO_FRAMES[..TWO_FRAMES.rfind("0.15").unwrap()].to_string(),
+                "timestep 6250 ends after 1 of 2 atoms",
+            ),
+            (
+                TWO_FRAMES[..TWO_FRAMES.len() - 30].to_string(),
+                "1 values for 8 columns (timestep 6250)",
+            ),
+            (TWO_FRAMES.replace(" vy", ""), "some but not all"),
+            (String::new(), "no `ITEM: TIMESTEP` frame"),
+        ];
+        for (k, (text, want)) in cases.iter().enumerate() {
+            let p = dump(text, &format!("bad{k}"));
+            let e = read_dump(&p, 8e-6).unwrap_err();
+            assert!(e.contains(want), "case {k}: `{e}` lacks `{want}`");
+            std::fs::remove_dir_all(p.parent().unwrap()).unwrap();
+        }
+    }
+
+    #[test]
+    fn scaled_positions_and_missing_velocities() {
+        let text = "ITEM: TIMESTEP\n10\nITEM: NUMBER OF ATOMS\n1\nITEM: BOX BOUNDS pp pp ff\n0 0.4\n0 0.02\n0 0.1\n\
+ITEM: ATOMS id radius xs ys zs\n1 0.0003 0.5 0.5 0.01\n";
+        let p = dump(text, "scaled");
+        let (_, f) = read_dump(&p, 1e-3).unwrap();
+        assert!((f[0].pos[0][0] - 0.2).abs() < 1e-15 && (f[0].pos[0][1] - 0.01).abs() < 1e-15);
+        assert_eq!(f[0].vel[0], [0.0; 3]);
+        assert!((f[0].time - 0.01).abs() < 1e-15);
+        std::fs::remove_dir_all(p.parent().unwrap()).unwrap();
+    }
+}

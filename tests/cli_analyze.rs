@@ -1,0 +1,185 @@
+//! The command-line contract of `stripes analyze` (SPEC sections 4-5): the same layer read
+//! from a `snapshots.bin` and from a LAMMPS dump gives the same stripes and phase, the
+//! summary is the last stdout line and the plots and tables are written.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use analysis::snapshot::{Header, SnapshotWriter};
+
+const L: f64 = 0.4;
+const W: f64 = 0.02;
+const T: f64 = 0.05;
+
+fn stripes(args: &[&str]) -> (bool, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_stripes"))
+        .args(args)
+        .output()
+        .expect("run stripes");
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+fn temp_dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("stripes-cli-analyze-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// Deterministic pseudo-random numbers in [0, 1) (SplitMix64).
+fn unit(k: u64) -> f64 {
+    let mut z = k.wrapping_add(0x9E37_79B9_7F4A_7C15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D1_049B_1331_11EB);
+    ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+}
+
+/// Three 2 cm bands (one across the seam) of 600 grains each on 300 background grains;
+/// frame `f` shifts every grain by up to +-0.5 mm.
+fn layer() -> (Vec<f64>, Vec<[f64; 3]>) {
+    let (mut r, mut base) = (Vec::new(), Vec::new());
+    for i in 0..2100u64 {
+        let ri = 2.5e-4 + 2.5e-4 * unit(3 * i);
+        let x = if i < 1800 {
+            [0.0, 0.13, 0.27][(i % 3) as usize] + 0.02 * (unit(3 * i + 1) - 0.5)
+        } else {
+            L * unit(3 * i + 1)
+        };
+        r.push(ri);
+        base.push([x.rem_euclid(L), ri + (W - 2.0 * ri) * unit(3 * i + 2), ri]);
+    }
+    (r, base)
+}
+
+fn frame(base: &[[f64; 3]], f: u64) -> Vec<[f64; 3]> {
+    base.iter()
+        .enumerate()
+        .map(|(i, p)| [(p[0] + 1e-3 * (unit(1_000_000 * f + i as u64) - 0.5)).rem_euclid(L), p[1], p[2]])
+        .collect()
+}
+
+fn summary_of(stdout: &str, out: &Path) -> serde_json::Value {
+    let last = stdout.lines().last().expect("stdout has a last line");
+    let s: serde_json::Value = serde_json::from_str(last).expect("last line is JSON");
+    let file: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(s, file, "stdout's last line is summary.json");
+    s
+}
+
+#[test]
+fn snapshots_and_a_lammps_dump_of_the_same_layer_give_the_same_analysis() {
+    let (r, base) = layer();
+    let dir = temp_dir("same");
+    // As a stripes run directory.
+    let run = dir.join("run");
+    std::fs::create_dir_all(&run).unwrap();
+    let mut w = SnapshotWriter::create(
+        &run.join("snapshots.bin"),
+        Header {
+            length: L,
+            width: W,
+            radii: r.clone(),
+        },
+    )
+    .unwrap();
+    // As a LAMMPS dump with xlo = -0.2, columns shuffled, atoms in reverse id order.
+    let mut dump = String::new();
+    for f in 0..25u64 {
+        let pos = frame(&base, f);
+        w.push(f as f64 * T, pos.iter().copied(), std::iter::repeat([0.0; 3])).unwrap();
+        let _ = write!(
+            dump,
+            "ITEM: TIMESTEP\n{}\nITEM: NUMBER OF ATOMS\n{}\nITEM: BOX BOUNDS pp ff ff\n-0.2 0.2\n0 {W}\n-0.001 0.1\nITEM: ATOMS x y z id radius vx vy vz\n",
+            f * 6250,
+            r.len()
+        );
+        for i in (0..r.len()).rev() {
+            let p = pos[i];
+            let _ = writeln!(dump, "{} {} {} {} {} 0 0 0", p[0] - 0.2, p[1], p[2], i + 1, r[i]);
+        }
+    }
+    w.sync().unwrap();
+    drop(w);
+    std::fs::write(dir.join("tray.dump"), dump).unwrap();
+
+    let (ok, stdout, stderr) = stripes(&["analyze", run.to_str().unwrap()]);
+    assert!(ok, "{stderr}");
+    let out = run.join("analysis");
+    let s = summary_of(&stdout, &out);
+    assert_eq!(s["stripe_count_final"], 3, "{s}");
+    assert_eq!(s["stripe_onset_s"], 0.0);
+    assert_eq!(s["phase"], "stripes");
+    assert_eq!(s["input_kind"], "snapshots");
+    assert!(s["contrast"].as_f64().unwrap() > 2.0);
+    assert!(s["mobility"].as_f64().unwrap() > 0.1);
+    assert!(s["msd_plateau_before"].is_null(), "stripes from the first frame: no `before`");
+    // Uniform steps of +-0.5 mm in x, independent each frame: D = (1e-3)^2 / 12.
+    let after = s["msd_plateau_after"].as_f64().unwrap();
+    assert!((after / (1e-6 / 12.0) - 1.0).abs() < 0.05, "{after}");
+    for f in [
+        "density_map.png",
+        "density_map.svg",
+        "stripe_count.png",
+        "msd.png",
+        "tracer_trajectory.png",
+        "tracer_phase_space.svg",
+        "radii.png",
+        "density_map.csv",
+        "coarsening.csv",
+        "stripes.csv",
+        "msd.csv",
+        "tracer.csv",
+        "radii.csv",
+        "autocorrelation.csv",
+        "count_density_final.csv",
+        "config.json",
+    ] {
+        assert!(std::fs::metadata(out.join(f)).map(|m| m.len() > 0).unwrap_or(false), "{f} missing");
+    }
+
+    let dump_out = dir.join("lammps-analysis");
+    let (ok, stdout, stderr) = stripes(&[
+        "analyze",
+        dir.join("tray.dump").to_str().unwrap(),
+        "--out",
+        dump_out.to_str().unwrap(),
+    ]);
+    assert!(ok, "{stderr}");
+    let d = summary_of(&stdout, &dump_out);
+    assert_eq!(d["input_kind"], "lammps-dump");
+    for key in [
+        "stripe_count_final",
+        "stripe_onset_s",
+        "phase",
+        "particles",
+        "frames",
+        "tail_stripe_count",
+    ] {
+        assert_eq!(d[key], s[key], "{key}");
+    }
+    // The snapshot stores positions in single precision: equal to about 1e-7 relative.
+    for key in ["contrast", "mobility", "msd_plateau_after", "mean_area_fraction", "period_s"] {
+        let (a, b) = (d[key].as_f64().unwrap(), s[key].as_f64().unwrap());
+        assert!((a - b).abs() <= 1e-4 * b.abs(), "{key}: dump {a}, snapshots {b}");
+    }
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+#[test]
+fn unreadable_inputs_and_bad_options_are_named() {
+    let dir = temp_dir("bad");
+    let junk = dir.join("junk.txt");
+    std::fs::write(&junk, "hello").unwrap();
+    let (ok, _, stderr) = stripes(&["analyze", junk.to_str().unwrap()]);
+    assert!(!ok && stderr.contains("neither a stripes snapshot file"), "{stderr}");
+    let (ok, _, stderr) = stripes(&["analyze", dir.to_str().unwrap()]);
+    assert!(!ok && stderr.contains("snapshots.bin"), "{stderr}");
+    let (ok, _, stderr) = stripes(&["analyze", junk.to_str().unwrap(), "--plateau-before", "3"]);
+    assert!(!ok && stderr.contains("--plateau-before"), "{stderr}");
+    std::fs::remove_dir_all(dir).unwrap();
+}
