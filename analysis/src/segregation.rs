@@ -218,7 +218,7 @@ mod tests {
         // Stripes from a detected profile; grain centres at cell middles.
         let cells = 200;
         let phi: Vec<f64> = (0..cells)
-            .map(|c| if (c / 13) % 3 == 0 || c > 190 || c < 4 { 0.8 } else { 0.1 })
+            .map(|c| if (c / 13) % 3 == 0 || !(4..=190).contains(&c) { 0.8 } else { 0.1 })
             .collect();
         let stripes = crate::stripes::detect(
             &phi,
