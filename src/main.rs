@@ -28,7 +28,8 @@ struct Cli {
 enum Command {
     /// The shaken tray: DEM run of a scene file (thesis 3.5).
     Run(commands::run::Args),
-    /// Density map and stripes of a run (binning-free density, thesis Appendix A).
+    /// Density map, stripes, MSD, tracer and phase of a run, automaton run or LAMMPS dump
+    /// (thesis 3.5.4, Appendix A).
     Analyze(commands::analyze::Args),
     /// Two-sphere or sphere-wall collision experiment (thesis 3.2.5, chapter 4).
     Collide(commands::collide::Args),

@@ -363,7 +363,7 @@ impl Analyzer {
                 let stripes = detect(&phi, l, &params);
                 let std = cell_std(&phi);
                 let mut tally = RadiusTally::new(&bins);
-                tally.add_frame(&x, radii, &stripes, l, &bins);
+                tally.add_frame_on_cells(&x, radii, &stripes, l, cells, &bins);
                 FrameResult {
                     phi,
                     stripes,

@@ -54,7 +54,7 @@ pub struct Args {
     #[arg(long)]
     pub plateau_after: Option<String>,
     /// Classifier: below this mobility (mean diameters per period) the phase is `nothing`.
-    #[arg(long, default_value_t = 0.005)]
+    #[arg(long, default_value_t = 0.1)]
     pub mobility_min: f64,
     /// Classifier: at or above this contrast (x random layer), with stripes, the phase is `stripes`.
     #[arg(long, default_value_t = 2.0)]
