@@ -22,6 +22,8 @@ use crate::{SimError, Vec3};
 pub fn reference(scene: &Scene) -> Scene {
     let mut s = scene.clone();
     s.toggles = Toggles::default();
+    // A ceiling changes nothing for grains relaxing at rest on the floor.
+    s.tray.height = None;
     s.drive.amplitude = 0.0;
     s.run.duration = s.prepare.duration;
     s.run.threads = 0;

@@ -36,9 +36,12 @@ pub struct TrayBox {
     pub length: f64,
     /// Width across, y (m).
     pub width: f64,
-    /// Height (m): a particle above it has escaped (the top is open).
-    #[serde(default = "default_height")]
-    pub height: f64,
+    /// Optional ceiling (m) for the escape check: a grain above it stops the run. Absent by
+    /// default: the thesis' box is 0.1 m high but "open in positive direction" (sec 3.5.3),
+    /// so a grain thrown higher simply falls back. The floor and the side walls always
+    /// confine: a grain below the floor or outside the walls has escaped.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub height: Option<f64>,
 }
 
 /// `[drive]`: tray motion `x_tray(t) = amplitude sin(2 pi frequency t)`.
@@ -217,9 +220,6 @@ pub struct Run {
 /// Fewest steps per contact time an explicit dt may give (the thesis uses 15-20, sec 3.5.1).
 pub const MIN_STEPS_PER_CONTACT: f64 = 8.0;
 
-fn default_height() -> f64 {
-    0.1
-}
 fn d_density() -> f64 {
     2500.0
 }
@@ -407,7 +407,9 @@ impl Scene {
         };
         positive("box.length", self.tray.length)?;
         positive("box.width", self.tray.width)?;
-        positive("box.height", self.tray.height)?;
+        if let Some(h) = self.tray.height {
+            positive("box.height", h)?;
+        }
         positive("drive.frequency", self.drive.frequency)?;
         non_negative("drive.amplitude", self.drive.amplitude)?;
         if self.particles.count == 0 {

@@ -64,7 +64,7 @@ pub fn drive(scene: &Scene) -> Motion {
 /// [`Motion::Fixed`] for sample preparation).
 pub fn setup(scene: &Scene, motion: Motion) -> Result<Setup, SimError> {
     let (pair_law, wall_law) = scene.laws();
-    let (l, w, h) = (scene.tray.length, scene.tray.width, scene.tray.height);
+    let (l, w, h) = (scene.tray.length, scene.tray.width, scene.tray.height.unwrap_or(f64::INFINITY));
     let mut walls = vec![Wall::new("floor", Vec3::zeros(), Vec3::z(), motion)];
     if scene.toggles.walls {
         walls.push(Wall::new("side y=0", Vec3::zeros(), Vec3::y(), motion));
@@ -85,8 +85,9 @@ pub fn setup(scene: &Scene, motion: Motion) -> Result<Setup, SimError> {
             skin: 0.4 * scene.particles.radius_max,
         },
         vertical: if scene.toggles.jumping { Vertical::Free } else { Vertical::Pinned },
-        // Grains may sink into the floor by their overlap; anything below -R_max or above
-        // the box height has escaped.
+        // Grains may sink into the floor by their overlap; anything below -R_max, outside the
+        // side walls, or above the optional ceiling `box.height` has escaped (open top by
+        // default, thesis 3.5.3).
         container: Some((Vec3::new(0.0, 0.0, -scene.particles.radius_max), Vec3::new(l, w, h))),
     })
 }

@@ -129,10 +129,20 @@ fn bad_runtime_input_names_the_particle_and_the_step() {
     let e = sim.step().unwrap_err();
     assert!(matches!(e, SimError::NonFinite { step: 2, particle: 42, .. }), "{e:?}");
     assert!(e.to_string().contains("step 2: particle 42"), "{e}");
-    // A grain shot out of the open top.
+    // A grain shot through the side wall at y = 0 (it crosses the wall within one step).
     let mut sim = base.clone();
-    sim.state.vel[5] = Vec3::new(0.0, 0.0, 200.0);
+    sim.state.vel[5] = Vec3::new(0.0, -2000.0, 0.0);
     let e = (0..1000).find_map(|_| sim.step().err()).expect("the grain escapes");
     assert!(matches!(e, SimError::Escaped { particle: 5, .. }), "{e:?}");
     assert!(e.to_string().contains("particle 5 left the box"), "{e}");
+    // The top is open (thesis 3.5.3): a grain thrown up falls back, unless a ceiling is set.
+    let mut sim = base.clone();
+    sim.state.vel[5] = Vec3::new(0.0, 0.0, 2.0);
+    for _ in 0..12_500 {
+        sim.step().unwrap();
+    }
+    let mut sim = tray_sim(&["box.height=0.1"]);
+    sim.state.vel[5] = Vec3::new(0.0, 0.0, 2.0);
+    let e = (0..12_500).find_map(|_| sim.step().err()).expect("the grain passes the ceiling");
+    assert!(matches!(e, SimError::Escaped { particle: 5, .. }), "{e:?}");
 }
