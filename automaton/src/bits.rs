@@ -1,0 +1,242 @@
+//! Operations on bit rows: a row of `nx` cells is `ceil(nx / 64)` words, cell `i` at bit
+//! `i % 64` of word `i / 64`; bits at or above `nx` in the last word are always zero. Rows
+//! are periodic: all shifts are rotations modulo `nx`.
+
+// Word loops index several rows at once; explicit indices read clearer than zipped iterators.
+#![allow(clippy::needless_range_loop)]
+
+/// Geometry of a bit row.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct RowShape {
+    /// Cells.
+    pub nx: usize,
+    /// Words per row.
+    pub words: usize,
+    /// Mask of the valid bits of the last word.
+    pub last: u64,
+}
+
+impl RowShape {
+    pub fn new(nx: usize) -> Self {
+        assert!(nx > 0, "a row has at least one cell");
+        let words = nx.div_ceil(64);
+        let r = nx % 64;
+        Self {
+            nx,
+            words,
+            last: if r == 0 { u64::MAX } else { (1u64 << r) - 1 },
+        }
+    }
+
+    /// Clears the bits beyond `nx`.
+    #[inline]
+    pub fn clean(&self, row: &mut [u64]) {
+        row[self.words - 1] &= self.last;
+    }
+
+    /// `dst = !src` on the valid cells.
+    #[inline]
+    pub fn not(&self, src: &[u64], dst: &mut [u64]) {
+        for (d, s) in dst.iter_mut().zip(src) {
+            *d = !*s;
+        }
+        self.clean(dst);
+    }
+
+    /// Logical shift towards higher cells by `k < nx` without wrap: `dst[i + k] = src[i]`,
+    /// cells beyond `nx` dropped.
+    fn shl_into(&self, src: &[u64], k: usize, dst: &mut [u64], or: bool) {
+        let (wq, b) = (k / 64, (k % 64) as u32);
+        for d in (0..self.words).rev() {
+            let v = if d < wq {
+                0
+            } else {
+                let hi = src[d - wq] << b;
+                let lo = if b > 0 && d > wq { src[d - wq - 1] >> (64 - b) } else { 0 };
+                hi | lo
+            };
+            if or {
+                dst[d] |= v;
+            } else {
+                dst[d] = v;
+            }
+        }
+        self.clean(dst);
+    }
+
+    /// Logical shift towards lower cells by `k < nx` without wrap: `dst[i] = src[i + k]`.
+    fn shr_or(&self, src: &[u64], k: usize, dst: &mut [u64]) {
+        let (wq, b) = (k / 64, (k % 64) as u32);
+        for d in 0..self.words {
+            let s = d + wq;
+            if s >= self.words {
+                break;
+            }
+            let lo = src[s] >> b;
+            let hi = if b > 0 && s + 1 < self.words { src[s + 1] << (64 - b) } else { 0 };
+            dst[d] |= lo | hi;
+        }
+    }
+
+    /// Periodic rotation towards higher cells: `dst[(i + k) mod nx] = src[i]`.
+    pub fn rotate_up(&self, src: &[u64], k: usize, dst: &mut [u64]) {
+        let k = k % self.nx;
+        self.shl_into(src, k, dst, false);
+        if k > 0 {
+            // Cells nx-k..nx move to 0..k.
+            self.shr_or(src, self.nx - k, dst);
+        }
+    }
+
+    /// Periodic rotation towards lower cells: `dst[i] = src[(i + k) mod nx]`.
+    pub fn rotate_down(&self, src: &[u64], k: usize, dst: &mut [u64]) {
+        let k = k % self.nx;
+        self.rotate_up(src, (self.nx - k) % self.nx, dst);
+    }
+
+    /// Mirror: `dst[nx - 1 - i] = src[i]`.
+    pub fn reverse(&self, src: &[u64], dst: &mut [u64]) {
+        let pad = self.words * 64 - self.nx; // reversed bits land `pad` too high
+        let n = self.words;
+        if pad == 0 {
+            for d in 0..n {
+                dst[d] = src[n - 1 - d].reverse_bits();
+            }
+            return;
+        }
+        let p = pad as u32;
+        for d in 0..n {
+            // Word d of the result takes reversed bits 64 d + pad .. 64 d + pad + 64.
+            let a = src[n - 1 - d].reverse_bits() >> p;
+            let b = if d + 1 < n { src[n - 2 - d].reverse_bits() << (64 - p) } else { 0 };
+            dst[d] = a | b;
+        }
+        self.clean(dst);
+    }
+
+    /// Periodic addition with end-around carry: `dst = a + b` as `nx`-bit numbers where a
+    /// carry out of cell `nx - 1` re-enters at cell 0 (one's-complement addition). With `a`
+    /// the free cells and `b` single bits at the starts of free runs, the carries run along
+    /// each run, across the seam if need be, and stop on the first occupied cell.
+    pub fn cyclic_add(&self, a: &[u64], b: &[u64], dst: &mut [u64]) {
+        let mut carry = 0u64;
+        for d in 0..self.words {
+            let (s1, c1) = a[d].overflowing_add(b[d]);
+            let (s2, c2) = s1.overflowing_add(carry);
+            dst[d] = s2;
+            carry = (c1 | c2) as u64;
+        }
+        let mut out = self.carry_out(dst, carry);
+        // At most two more rounds: the sum of two nx-bit numbers is below 2^(nx+1).
+        while out {
+            let mut c = 1u64;
+            for w in dst.iter_mut().take(self.words) {
+                let (s, o) = w.overflowing_add(c);
+                *w = s;
+                c = o as u64;
+                if c == 0 {
+                    break;
+                }
+            }
+            out = self.carry_out(dst, c);
+        }
+    }
+
+    /// Removes and returns the carry past cell `nx - 1`.
+    fn carry_out(&self, dst: &mut [u64], word_carry: u64) -> bool {
+        if self.last == u64::MAX {
+            word_carry == 1
+        } else {
+            let top = &mut dst[self.words - 1];
+            let out = *top & !self.last != 0;
+            *top &= self.last;
+            out
+        }
+    }
+
+    /// Whether cell `i` is set.
+    #[inline]
+    pub fn get(row: &[u64], i: usize) -> bool {
+        (row[i / 64] >> (i % 64)) & 1 == 1
+    }
+
+    /// Sets cell `i` to `v`.
+    #[inline]
+    pub fn set(row: &mut [u64], i: usize, v: bool) {
+        if v {
+            row[i / 64] |= 1 << (i % 64);
+        } else {
+            row[i / 64] &= !(1 << (i % 64));
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn to_bits(shape: &RowShape, cells: &[bool]) -> Vec<u64> {
+        let mut r = vec![0; shape.words];
+        for (i, &c) in cells.iter().enumerate() {
+            RowShape::set(&mut r, i, c);
+        }
+        r
+    }
+
+    fn from_bits(shape: &RowShape, r: &[u64]) -> Vec<bool> {
+        (0..shape.nx).map(|i| RowShape::get(r, i)).collect()
+    }
+
+    proptest! {
+        #[test]
+        fn rotations_and_reverse_match_the_index_formulas(cells in prop::collection::vec(any::<bool>(), 1..200), k in 0usize..400) {
+            let s = RowShape::new(cells.len());
+            let n = cells.len();
+            let src = to_bits(&s, &cells);
+            let mut dst = vec![0; s.words];
+            s.rotate_up(&src, k, &mut dst);
+            let up = from_bits(&s, &dst);
+            for i in 0..n {
+                prop_assert_eq!(up[(i + k) % n], cells[i]);
+            }
+            s.rotate_down(&src, k, &mut dst);
+            let down = from_bits(&s, &dst);
+            for i in 0..n {
+                prop_assert_eq!(down[i], cells[(i + k) % n]);
+            }
+            s.reverse(&src, &mut dst);
+            let rev = from_bits(&s, &dst);
+            for i in 0..n {
+                prop_assert_eq!(rev[n - 1 - i], cells[i]);
+            }
+            prop_assert_eq!(dst[s.words - 1] & !s.last, 0);
+        }
+
+        #[test]
+        fn cyclic_add_fills_runs_across_the_seam(cells in prop::collection::vec(any::<bool>(), 2..200), start in 0usize..200) {
+            // One run start at a free cell after an occupied cell; the carry must stop on the
+            // next occupied cell (cyclically).
+            let s = RowShape::new(cells.len());
+            let n = cells.len();
+            let mut free = cells.clone();
+            let a = start % n;
+            free[a] = false;
+            let b0 = (a + 1) % n;
+            prop_assume!(free[b0]);
+            let fb = to_bits(&s, &free);
+            let mut sb = vec![0; s.words];
+            RowShape::set(&mut sb, b0, true);
+            let mut sum = vec![0; s.words];
+            s.cyclic_add(&fb, &sb, &mut sum);
+            let mut end = b0;
+            while free[end] {
+                end = (end + 1) % n;
+            }
+            for i in 0..n {
+                let hit = RowShape::get(&sum, i) && !free[i];
+                prop_assert_eq!(hit, i == end, "cell {} end {}", i, end);
+            }
+        }
+    }
+}

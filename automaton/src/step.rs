@@ -1,0 +1,280 @@
+//! The bit-parallel half step of a submonolayer (every height 0 or 1), both rule sets.
+//!
+//! Work happens in the *flight frame*: rows are mirrored when grains fly towards -x, so the
+//! flight always goes to higher cell indices. For row `j`, with `L` the unchanged copy:
+//! - obstacles `O = L_j` (or `L_{j-1} | L_j | L_{j+1}` with lateral contacts), free `F = !O`;
+//! - flying grains `A = L_j & activation bits`;
+//! - a grain at `a` with `F` set on all of `a+1 ..= a+l` (mask `FL`, built from `F` by
+//!   doubling in O(log l) rotations) flies the full cap: it lands at `a + l`;
+//! - every other flying grain lands just before the first obstacle `p` ahead of it:
+//!   adding the run starts `S = rot_up(A & !FL, 1) & F` to `F` with end-around carry
+//!   ([`RowShape::cyclic_add`]) carries along each free run and sets exactly its end `p`,
+//!   `E = (F + S) & !F`, and the landing cells are `rot_down(E, 1)`;
+//! - a flying grain whose cell ahead is an obstacle stays.
+//!
+//! The new row is `(L_j & !A) | rot_up(A & FL, l) | rot_down(E, 1) | stay`. Landing cells are
+//! distinct (each lies in its grain's own free run), so the row stays 0/1 and the number of
+//! grains is conserved exactly. Knock-through (a few impacts per row) and sideways moves are
+//! applied afterwards in the same frame; [`crate::scalar`] is the byte-per-cell reference of
+//! exactly these rules. Every buffer is allocated once, in [`BitScratch::new`].
+
+// Word loops index several rows at once; explicit indices read clearer than zipped iterators.
+#![allow(clippy::needless_range_loop)]
+
+use crate::bits::RowShape;
+use crate::params::Resolved;
+use crate::rng::{self, Stream};
+
+/// Buffers of the bit-parallel step (no allocation per step).
+pub(crate) struct BitScratch {
+    lf: Vec<u64>,
+    new: Vec<u64>,
+    active: Vec<u64>,
+    impacts: Vec<u64>,
+    cand: Vec<u64>,
+    o: Vec<u64>,
+    free: Vec<u64>,
+    f1: Vec<u64>,
+    fl: Vec<u64>,
+    pow: Vec<u64>,
+    tmp: Vec<u64>,
+    s2: Vec<u64>,
+    sum: Vec<u64>,
+}
+
+impl BitScratch {
+    pub fn new(shape: RowShape, ny: usize) -> Self {
+        let w = shape.words;
+        let row = || vec![0u64; w];
+        Self {
+            lf: vec![0; w * ny],
+            new: vec![0; w * ny],
+            active: vec![0; w * ny],
+            impacts: vec![0; w * ny],
+            cand: vec![0; w * ny],
+            o: row(),
+            free: row(),
+            f1: row(),
+            fl: row(),
+            pow: row(),
+            tmp: row(),
+            s2: row(),
+            sum: row(),
+        }
+    }
+}
+
+/// Row `jn = j + d` or `None` beyond a wall.
+#[inline]
+pub(crate) fn neighbour_row(j: usize, up: bool, ny: usize, periodic: bool) -> Option<usize> {
+    if up {
+        if j + 1 < ny {
+            Some(j + 1)
+        } else if periodic {
+            Some(0)
+        } else {
+            None
+        }
+    } else if j > 0 {
+        Some(j - 1)
+    } else if periodic {
+        Some(ny - 1)
+    } else {
+        None
+    }
+}
+
+/// Obstacles of row `j` in the flight-frame copy `lf`.
+fn obstacles(shape: &RowShape, lf: &[u64], ny: usize, j: usize, r: &Resolved, o: &mut [u64]) {
+    let w = shape.words;
+    o.copy_from_slice(&lf[j * w..(j + 1) * w]);
+    if r.lateral {
+        for up in [false, true] {
+            if let Some(jn) = neighbour_row(j, up, ny, r.periodic_y) {
+                for (a, b) in o.iter_mut().zip(&lf[jn * w..(jn + 1) * w]) {
+                    *a |= *b;
+                }
+            }
+        }
+    }
+}
+
+/// `FL[a] = F[a+1] & ... & F[a+cap]`, by binary composition of doubled runs.
+fn full_flight_mask(shape: &RowShape, f1: &[u64], cap: usize, fl: &mut [u64], pow: &mut [u64], tmp: &mut [u64]) {
+    if cap >= shape.nx {
+        // A run of nx free cells would include the grain itself: nobody flies the full cap.
+        fl.iter_mut().for_each(|x| *x = 0);
+        return;
+    }
+    pow.copy_from_slice(f1);
+    let (mut len_res, mut len_pow, mut c) = (0usize, 1usize, cap);
+    while c > 0 {
+        if c & 1 == 1 {
+            if len_res == 0 {
+                fl.copy_from_slice(pow);
+            } else {
+                shape.rotate_down(pow, len_res, tmp);
+                fl.iter_mut().zip(tmp.iter()).for_each(|(a, b)| *a &= *b);
+            }
+            len_res += len_pow;
+        }
+        c >>= 1;
+        if c > 0 {
+            shape.rotate_down(pow, len_pow, tmp);
+            pow.iter_mut().zip(tmp.iter()).for_each(|(a, b)| *a &= *b);
+            len_pow *= 2;
+        }
+    }
+}
+
+/// One half step of a bit-packed submonolayer `rows` (`ny` rows of `shape.words` words).
+/// `left`: grains fly towards -x in this half step; `t` numbers the half step (random bits).
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn half_step(shape: &RowShape, ny: usize, rows: &mut [u64], r: &Resolved, seed: u64, t: u64, left: bool, sc: &mut BitScratch) {
+    if r.frozen {
+        return;
+    }
+    let w = shape.words;
+    // Flight frame.
+    for j in 0..ny {
+        let (src, dst) = (&rows[j * w..(j + 1) * w], &mut sc.lf[j * w..(j + 1) * w]);
+        if left {
+            shape.reverse(src, dst);
+        } else {
+            dst.copy_from_slice(src);
+        }
+    }
+    let cap = r.cap.min(shape.nx);
+    for j in 0..ny {
+        let key = rng::row_key(seed, t, j);
+        obstacles(shape, &sc.lf, ny, j, r, &mut sc.o);
+        shape.not(&sc.o, &mut sc.free);
+        let lrow = &sc.lf[j * w..(j + 1) * w];
+        let act = &mut sc.active[j * w..(j + 1) * w];
+        for (k, (a, l)) in act.iter_mut().zip(lrow).enumerate() {
+            *a = *l & rng::bernoulli(key, Stream::Activation, k, r.activation);
+        }
+        shape.rotate_down(&sc.free, 1, &mut sc.f1);
+        full_flight_mask(shape, &sc.f1, cap, &mut sc.fl, &mut sc.pow, &mut sc.tmp);
+        // Run starts of the grains that stop on an obstacle: s2 = rot_up(A & !FL, 1) & F.
+        for k in 0..w {
+            sc.tmp[k] = act[k] & !sc.fl[k];
+        }
+        shape.rotate_up(&sc.tmp, 1, &mut sc.s2);
+        for k in 0..w {
+            sc.s2[k] &= sc.free[k];
+        }
+        shape.cyclic_add(&sc.free, &sc.s2, &mut sc.sum);
+        let new = &mut sc.new[j * w..(j + 1) * w];
+        // E (ends of the runs) in sum; landing just before them.
+        for k in 0..w {
+            sc.sum[k] &= !sc.free[k];
+        }
+        if r.knock > 0 {
+            let imp = &mut sc.impacts[j * w..(j + 1) * w];
+            for k in 0..w {
+                imp[k] = sc.sum[k] & lrow[k] & rng::bernoulli(key, Stream::Knock, k, r.knock);
+            }
+        }
+        shape.rotate_down(&sc.sum, 1, new);
+        for k in 0..w {
+            let stopped = act[k] & !sc.fl[k];
+            new[k] |= (lrow[k] & !act[k]) | (stopped & !sc.f1[k]);
+            sc.tmp[k] = act[k] & sc.fl[k];
+        }
+        if cap < shape.nx {
+            shape.rotate_up(&sc.tmp, cap, &mut sc.pow);
+            for k in 0..w {
+                new[k] |= sc.pow[k];
+            }
+        }
+    }
+    if r.knock > 0 {
+        knock_through(shape, ny, r, cap, sc);
+    }
+    if r.sideways > 0 {
+        for up in [true, false] {
+            sideways(shape, ny, r, seed, t, up, sc);
+        }
+    }
+    for j in 0..ny {
+        let (src, dst) = (&sc.new[j * w..(j + 1) * w], &mut rows[j * w..(j + 1) * w]);
+        if left {
+            shape.reverse(src, dst);
+        } else {
+            dst.copy_from_slice(src);
+        }
+    }
+}
+
+/// The far grain of each line that was hit flies, if it was resting, against the obstacles
+/// of `L` and the grains already moved.
+fn knock_through(shape: &RowShape, ny: usize, r: &Resolved, cap: usize, sc: &mut BitScratch) {
+    let w = shape.words;
+    let nx = shape.nx;
+    for j in 0..ny {
+        obstacles(shape, &sc.lf, ny, j, r, &mut sc.o);
+        for k in 0..w {
+            let mut bits = sc.impacts[j * w + k];
+            while bits != 0 {
+                let p = 64 * k + bits.trailing_zeros() as usize;
+                bits &= bits - 1;
+                let lrow = &sc.lf[j * w..(j + 1) * w];
+                let mut f = p;
+                for _ in 0..nx {
+                    let next = (f + 1) % nx;
+                    if !RowShape::get(lrow, next) || next == p {
+                        break;
+                    }
+                    f = next;
+                }
+                if RowShape::get(&sc.active[j * w..(j + 1) * w], f) {
+                    continue;
+                }
+                let new = &mut sc.new[j * w..(j + 1) * w];
+                let mut land = f;
+                for step in 1..=cap {
+                    let c = (f + step) % nx;
+                    if RowShape::get(&sc.o, c) || RowShape::get(new, c) {
+                        break;
+                    }
+                    land = c;
+                }
+                if land != f {
+                    RowShape::set(new, f, false);
+                    RowShape::set(new, land, true);
+                }
+            }
+        }
+    }
+}
+
+/// Simultaneous sideways moves towards +y (`up`) or -y into empty cells.
+fn sideways(shape: &RowShape, ny: usize, r: &Resolved, seed: u64, t: u64, up: bool, sc: &mut BitScratch) {
+    let w = shape.words;
+    let stream = if up { Stream::Up } else { Stream::Down };
+    for j in 0..ny {
+        let key = rng::row_key(seed, t, j);
+        let cand = &mut sc.cand[j * w..(j + 1) * w];
+        match neighbour_row(j, up, ny, r.periodic_y) {
+            Some(jn) if jn != j => {
+                for k in 0..w {
+                    cand[k] = sc.new[j * w + k] & !sc.new[jn * w + k] & rng::bernoulli(key, stream, k, r.sideways);
+                }
+            }
+            _ => cand.iter_mut().for_each(|x| *x = 0),
+        }
+    }
+    for j in 0..ny {
+        if let Some(jn) = neighbour_row(j, up, ny, r.periodic_y) {
+            if jn == j {
+                continue;
+            }
+            for k in 0..w {
+                let c = sc.cand[j * w + k];
+                sc.new[j * w + k] &= !c;
+                sc.new[jn * w + k] |= c;
+            }
+        }
+    }
+}
