@@ -78,9 +78,67 @@ impl RowShape {
         }
     }
 
-    /// Periodic rotation towards higher cells: `dst[(i + k) mod nx] = src[i]`.
+    /// Periodic rotation towards higher cells: `dst[(i + k) mod nx] = src[i]`. One pass:
+    /// word `d` of the result is the 64-cell window of `src` starting at `64 d - k`.
     pub fn rotate_up(&self, src: &[u64], k: usize, dst: &mut [u64]) {
         let k = k % self.nx;
+        if k == 0 {
+            dst.copy_from_slice(src);
+            return;
+        }
+        if self.nx < 128 {
+            return self.rotate_up_short(src, k, dst);
+        }
+        if k < 64 {
+            // Straight word loop; only word 0 takes cells across the seam.
+            let b = k as u32;
+            for d in 1..self.words {
+                dst[d] = (src[d] << b) | (src[d - 1] >> (64 - b));
+            }
+            dst[0] = self.window(src, self.nx - k);
+            return self.clean(dst);
+        }
+        if self.nx - k < 64 {
+            // A small rotation down: only the last two words see the seam.
+            let b = (self.nx - k) as u32;
+            let n = self.words;
+            for d in 0..n - 2 {
+                dst[d] = (src[d] >> b) | (src[d + 1] << (64 - b));
+            }
+            for d in n - 2..n {
+                dst[d] = self.window(src, (64 * d + b as usize) % self.nx);
+            }
+            return self.clean(dst);
+        }
+        let mut start = self.nx - k;
+        for d in dst.iter_mut().take(self.words) {
+            *d = self.window(src, start);
+            start += 64;
+            if start >= self.nx {
+                start -= self.nx;
+            }
+        }
+        self.clean(dst);
+    }
+
+    /// The 64 cells from `start < nx` on, cyclically (rows of at least 64 cells).
+    #[inline(always)]
+    fn window(&self, src: &[u64], start: usize) -> u64 {
+        let w = start >> 6;
+        let b = (start & 63) as u32;
+        let lo = src[w] >> b;
+        let hi = if b > 0 && w + 1 < self.words { src[w + 1] << (64 - b) } else { 0 };
+        let v = lo | hi;
+        let avail = self.nx - start;
+        if avail >= 64 {
+            v
+        } else {
+            (v & ((1u64 << avail) - 1)) | (src[0] << avail)
+        }
+    }
+
+    /// [`Self::rotate_up`] for rows shorter than 128 cells, by two shifts.
+    fn rotate_up_short(&self, src: &[u64], k: usize, dst: &mut [u64]) {
         self.shl_into(src, k, dst, false);
         if k > 0 {
             // Cells nx-k..nx move to 0..k.
@@ -154,6 +212,36 @@ impl RowShape {
         }
     }
 
+    /// Whether the row holds a periodic run of at least `len >= 64` set cells. Such a run
+    /// crosses a word boundary, so one pass over the words, tracking the run that reaches
+    /// each boundary (`leading_ones` / `trailing_ones`), decides it.
+    pub fn has_run(&self, row: &[u64], len: usize) -> bool {
+        debug_assert!(len >= 64);
+        let n = self.words;
+        let r = self.nx - 64 * (n - 1); // valid cells of the last word
+        let full = |d: usize| if d + 1 == n { self.last } else { u64::MAX };
+        if (0..n).all(|d| row[d] == full(d)) {
+            return self.nx >= len;
+        }
+        // Start just after a word that is not all set, so every run is seen whole.
+        let first = (0..n).find(|&d| row[d] != full(d)).expect("some word is not full");
+        let mut run = 0usize;
+        for step in 1..=n {
+            let d = (first + step) % n;
+            let (w, bits) = (row[d], if d + 1 == n { r } else { 64 });
+            if w == full(d) {
+                run += bits;
+                continue;
+            }
+            if run + w.trailing_ones() as usize >= len {
+                return true;
+            }
+            // Ones at the top of the valid cells start the next run.
+            run = (w << (64 - bits)).leading_ones() as usize;
+        }
+        false
+    }
+
     /// Whether cell `i` is set.
     #[inline]
     pub fn get(row: &[u64], i: usize) -> bool {
@@ -211,6 +299,26 @@ mod tests {
                 prop_assert_eq!(rev[n - 1 - i], cells[i]);
             }
             prop_assert_eq!(dst[s.words - 1] & !s.last, 0);
+        }
+
+        #[test]
+        fn has_run_finds_the_longest_periodic_run(cells in prop::collection::vec(prop::bool::weighted(0.9), 1..400), len in 64usize..200) {
+            let s = RowShape::new(cells.len());
+            let n = cells.len();
+            let longest = if cells.iter().all(|&c| c) {
+                n
+            } else {
+                let mut best = 0;
+                for start in 0..n {
+                    let mut l = 0;
+                    while l < n && cells[(start + l) % n] {
+                        l += 1;
+                    }
+                    best = best.max(l);
+                }
+                best
+            };
+            prop_assert_eq!(s.has_run(&to_bits(&s, &cells), len), longest >= len);
         }
 
         #[test]

@@ -155,7 +155,12 @@ pub(crate) fn half_step(shape: &RowShape, ny: usize, rows: &mut [u64], r: &Resol
             *a = *l & rng::bernoulli(key, Stream::Activation, k, r.activation);
         }
         shape.rotate_down(&sc.free, 1, &mut sc.f1);
-        full_flight_mask(shape, &sc.f1, cap, &mut sc.fl, &mut sc.pow, &mut sc.tmp);
+        // Nobody flies the full cap unless some free run is that long: skip the doubling.
+        if cap >= 64 && cap < shape.nx && !shape.has_run(&sc.free, cap) {
+            sc.fl.iter_mut().for_each(|x| *x = 0);
+        } else {
+            full_flight_mask(shape, &sc.f1, cap, &mut sc.fl, &mut sc.pow, &mut sc.tmp);
+        }
         // Run starts of the grains that stop on an obstacle: s2 = rot_up(A & !FL, 1) & F.
         for k in 0..w {
             sc.tmp[k] = act[k] & !sc.fl[k];
@@ -173,7 +178,13 @@ pub(crate) fn half_step(shape: &RowShape, ny: usize, rows: &mut [u64], r: &Resol
         if r.knock > 0 {
             let imp = &mut sc.impacts[j * w..(j + 1) * w];
             for k in 0..w {
-                imp[k] = sc.sum[k] & lrow[k] & rng::bernoulli(key, Stream::Knock, k, r.knock);
+                let hits = sc.sum[k] & lrow[k];
+                // Draw only where something was hit (the draw is the same either way).
+                imp[k] = if hits != 0 {
+                    hits & rng::bernoulli(key, Stream::Knock, k, r.knock)
+                } else {
+                    0
+                };
             }
         }
         shape.rotate_down(&sc.sum, 1, new);
@@ -182,7 +193,7 @@ pub(crate) fn half_step(shape: &RowShape, ny: usize, rows: &mut [u64], r: &Resol
             new[k] |= (lrow[k] & !act[k]) | (stopped & !sc.f1[k]);
             sc.tmp[k] = act[k] & sc.fl[k];
         }
-        if cap < shape.nx {
+        if cap < shape.nx && sc.tmp.iter().any(|&x| x != 0) {
             shape.rotate_up(&sc.tmp, cap, &mut sc.pow);
             for k in 0..w {
                 new[k] |= sc.pow[k];

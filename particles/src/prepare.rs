@@ -22,6 +22,7 @@ use crate::{SimError, Vec3};
 pub fn reference(scene: &Scene) -> Scene {
     let mut s = scene.clone();
     s.toggles = Toggles::default();
+    s.automaton = Default::default();
     s.drive.amplitude = 0.0;
     s.run.duration = s.prepare.duration;
     s.run.threads = 0;
