@@ -19,9 +19,9 @@
 
 use analysis::snapshot::{Header, SnapshotWriter};
 use automaton::mapping::{self, FreeParams, SlideMeasure, TrayDrive};
-use automaton::{Lattice, Params, RuleSet, YBoundary};
+use automaton::{Lateral, Lattice, Params, RuleSet, YBoundary};
 use particles::experiment::single::SphereOnFloor;
-use particles::scene::{AutomatonRule, Scene, TimeStep};
+use particles::scene::{AutomatonLateral, AutomatonRule, Scene, TimeStep};
 use particles::tray::GRAVITY;
 use serde::Serialize;
 
@@ -135,7 +135,11 @@ pub fn free_params(scene: &Scene) -> FreeParams {
         activation: a.stochastic.then_some(a.activation),
         knock_speed: a.knock.then_some(a.knock_speed),
         sideways: a.sideways.then_some(a.sideways_probability),
-        lateral: a.lateral,
+        lateral: match a.lateral {
+            AutomatonLateral::None => Lateral::None,
+            AutomatonLateral::Neighbours => Lateral::Neighbours,
+            AutomatonLateral::Clusters => Lateral::Clusters,
+        },
         threshold: a.threshold,
         flight_cap: a.flight_cap,
     }

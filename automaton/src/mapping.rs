@@ -129,8 +129,8 @@ pub struct FreeParams {
     pub knock_speed: Option<f64>,
     /// Sideways move probability per half period (`None`: no y moves).
     pub sideways: Option<f64>,
-    /// Lateral contacts between neighbouring rows.
-    pub lateral: bool,
+    /// Contacts with the neighbouring rows.
+    pub lateral: Lateral,
     /// Apply the sliding threshold.
     pub threshold: bool,
     /// Apply the flight cap.
@@ -160,7 +160,7 @@ pub fn physical(drive: &TrayDrive, slide: &SlideMeasure, cell_length: f64, free:
         knock: free.knock_speed.map_or(Knock::None, |v| Knock::Bernoulli {
             p: if v > 0.0 { 1.0 - (-slide.peak_speed / v).exp() } else { 1.0 },
         }),
-        lateral: if free.lateral { Lateral::Neighbours } else { Lateral::None },
+        lateral: free.lateral,
         sideways: free.sideways.map_or(Sideways::None, |p| Sideways::Bernoulli { p }),
     }
 }

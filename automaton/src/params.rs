@@ -65,14 +65,18 @@ pub enum Knock {
 }
 
 /// Contacts with the neighbouring rows.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case", tag = "kind")]
 pub enum Lateral {
     /// A grain is stopped only by grains in its own row.
     None,
     /// Grains in rows `j - 1` and `j + 1` also stop a flight (disks one cell wide overlap
-    /// their neighbouring rows in y): this couples the rows into stripes across the tray.
+    /// their neighbouring rows in y). At the thesis packing this jams almost everything.
     Neighbours,
+    /// Only grains of the neighbouring rows that touch an x-neighbour of their own row (part
+    /// of a cluster, locked by friction) stop a flight; lone grains are passed. A cluster in
+    /// one row so catches grains of the next: this couples rows into stripes across the tray.
+    Clusters,
 }
 
 /// Sideways (y) moves after each flight.
@@ -144,7 +148,7 @@ pub(crate) struct Resolved {
     pub activation: u32,
     pub knock: u32,
     pub sideways: u32,
-    pub lateral: bool,
+    pub lateral: Lateral,
     pub periodic_y: bool,
 }
 
@@ -191,7 +195,7 @@ impl Params {
                 activation: 256,
                 knock: 0,
                 sideways: 0,
-                lateral: false,
+                lateral: Lateral::None,
                 periodic_y,
             },
             RuleSet::Physical => {
@@ -222,7 +226,7 @@ impl Params {
                         Sideways::None => 0,
                         Sideways::Bernoulli { p } => crate::rng::quantise(0.5 * p),
                     },
-                    lateral: p.lateral == Lateral::Neighbours,
+                    lateral: p.lateral,
                     periodic_y,
                 }
             }

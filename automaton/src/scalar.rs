@@ -10,9 +10,10 @@
 //!    rows with lateral contacts), minus one, or `cap` columns, whichever is nearer
 //!    (thesis 3.1 rule 1, with the flight cap). A flight that ends on a grain of its own
 //!    row after moving at least one cell without reaching the cap is an impact.
-//! 2. *Knock-through.* For an impact drawn to transmit, the far grain of the line of
-//!    touching grains that was hit flies, if it was resting, against `L` and the grains
-//!    already moved.
+//! 2. *Knock-through.* For an impact drawn to transmit, the momentum runs through the line
+//!    of touching grains that was hit (in the hit grain's row, own row first, in the new
+//!    state, from the hit grain on), and the far grain of the line flies on, up to the cap,
+//!    until it touches a grain of its row.
 //! 3. *Sideways.* A top grain moves to the +y neighbour column if that is lower, with the
 //!    drawn probability; all at once; then the same towards -y.
 //! 4. *Resting (rule 2).* A top grain is at rest when both x-neighbours are at most one
@@ -20,7 +21,7 @@
 //!    Applied in sweeps of increasing `i` until every slope is at most 1; each move lowers
 //!    `sum h^2` by at least 2, so this ends.
 
-use crate::params::Resolved;
+use crate::params::{Lateral, Resolved};
 use crate::rng::{self, Stream};
 use crate::step::neighbour_row;
 
@@ -60,14 +61,21 @@ pub(crate) fn half_step(nx: usize, ny: usize, h: &mut [u8], r: &Resolved, seed: 
     sc.new.copy_from_slice(&sc.lf);
     let cap = r.cap.min(nx);
     let lf = &sc.lf;
+    // A grain at level z of row jn, column c, that touches an x-neighbour at its level.
+    let clustered = |jn: usize, c: usize, z: u8| -> bool {
+        lf[jn * nx + c] > z && (lf[jn * nx + (c + 1) % nx] > z || lf[jn * nx + (c + nx - 1) % nx] > z)
+    };
     let obstacle = |j: usize, c: usize, z: u8| -> bool {
         if lf[j * nx + c] > z {
             return true;
         }
-        r.lateral
-            && [false, true]
-                .iter()
-                .any(|&up| neighbour_row(j, up, ny, r.periodic_y).is_some_and(|jn| lf[jn * nx + c] > z))
+        [false, true].iter().any(|&up| {
+            neighbour_row(j, up, ny, r.periodic_y).is_some_and(|jn| match r.lateral {
+                Lateral::None => false,
+                Lateral::Neighbours => lf[jn * nx + c] > z,
+                Lateral::Clusters => clustered(jn, c, z),
+            })
+        })
     };
     sc.impacts.clear();
     if !r.frozen {
@@ -90,28 +98,45 @@ pub(crate) fn half_step(nx: usize, ny: usize, h: &mut [u8], r: &Resolved, seed: 
                     sc.new[j * nx + (i + dist) % nx] += 1;
                 }
                 let p = (i + k) % nx;
-                if gap < cap && gap >= 1 && lf[j * nx + p] > z && r.knock > 0 && bit(key, Stream::Knock, p, r.knock) {
+                if gap < cap && gap >= 1 && r.knock > 0 && bit(key, Stream::Knock, p, r.knock) {
                     sc.impacts.push((j, p, z));
                 }
             }
         }
-        for &(j, p, z) in &sc.impacts {
-            let key = rng::row_key(seed, t, j);
+        // The bit-parallel step visits impacts by row, then by hit cell.
+        sc.impacts.sort_unstable();
+        for &(j0, p, z) in &sc.impacts {
+            // The row of the grain that stopped the flight: own row first, then below, above.
+            let hit = if lf[j0 * nx + p] > z {
+                Some(j0)
+            } else {
+                [false, true]
+                    .into_iter()
+                    .filter_map(|up| neighbour_row(j0, up, ny, r.periodic_y))
+                    .find(|&jn| match r.lateral {
+                        Lateral::None => false,
+                        Lateral::Neighbours => lf[jn * nx + p] > z,
+                        Lateral::Clusters => clustered(jn, p, z),
+                    })
+            };
+            let Some(j) = hit else {
+                continue;
+            };
+            if sc.new[j * nx + p] <= z {
+                continue; // the hit grain has flown off itself
+            }
             let mut f = p;
             for _ in 0..nx {
                 let next = (f + 1) % nx;
-                if lf[j * nx + next] <= z || next == p {
+                if sc.new[j * nx + next] <= z || next == p {
                     break;
                 }
                 f = next;
             }
-            if lf[j * nx + f] != z + 1 || bit(key, Stream::Activation, f, r.activation) {
-                continue;
-            }
             let mut land = f;
             for step in 1..=cap {
                 let c = (f + step) % nx;
-                if obstacle(j, c, z) || sc.new[j * nx + c] > z {
+                if sc.new[j * nx + c] > z {
                     break;
                 }
                 land = c;

@@ -22,12 +22,13 @@
 #![allow(clippy::needless_range_loop)]
 
 use crate::bits::RowShape;
-use crate::params::Resolved;
+use crate::params::{Lateral, Resolved};
 use crate::rng::{self, Stream};
 
 /// Buffers of the bit-parallel step (no allocation per step).
 pub(crate) struct BitScratch {
     lf: Vec<u64>,
+    clusters: Vec<u64>,
     new: Vec<u64>,
     active: Vec<u64>,
     impacts: Vec<u64>,
@@ -48,6 +49,7 @@ impl BitScratch {
         let row = || vec![0u64; w];
         Self {
             lf: vec![0; w * ny],
+            clusters: vec![0; w * ny],
             new: vec![0; w * ny],
             active: vec![0; w * ny],
             impacts: vec![0; w * ny],
@@ -84,17 +86,34 @@ pub(crate) fn neighbour_row(j: usize, up: bool, ny: usize, periodic: bool) -> Op
     }
 }
 
-/// Obstacles of row `j` in the flight-frame copy `lf`.
-fn obstacles(shape: &RowShape, lf: &[u64], ny: usize, j: usize, r: &Resolved, o: &mut [u64]) {
+/// Obstacles of row `j` in the flight-frame copy `lf`; `clusters` holds the grains that
+/// touch an x-neighbour in their row (used by [`Lateral::Clusters`]).
+fn obstacles(shape: &RowShape, lf: &[u64], clusters: &[u64], ny: usize, j: usize, r: &Resolved, o: &mut [u64]) {
     let w = shape.words;
     o.copy_from_slice(&lf[j * w..(j + 1) * w]);
-    if r.lateral {
-        for up in [false, true] {
-            if let Some(jn) = neighbour_row(j, up, ny, r.periodic_y) {
-                for (a, b) in o.iter_mut().zip(&lf[jn * w..(jn + 1) * w]) {
-                    *a |= *b;
-                }
+    let side = match r.lateral {
+        Lateral::None => return,
+        Lateral::Neighbours => lf,
+        Lateral::Clusters => clusters,
+    };
+    for up in [false, true] {
+        if let Some(jn) = neighbour_row(j, up, ny, r.periodic_y) {
+            for (a, b) in o.iter_mut().zip(&side[jn * w..(jn + 1) * w]) {
+                *a |= *b;
             }
+        }
+    }
+}
+
+/// `clusters = L & (rot_up(L, 1) | rot_down(L, 1))` row by row.
+fn cluster_cells(shape: &RowShape, ny: usize, sc: &mut BitScratch) {
+    let w = shape.words;
+    for j in 0..ny {
+        let l = &sc.lf[j * w..(j + 1) * w];
+        shape.rotate_up(l, 1, &mut sc.tmp);
+        shape.rotate_down(l, 1, &mut sc.pow);
+        for k in 0..w {
+            sc.clusters[j * w + k] = l[k] & (sc.tmp[k] | sc.pow[k]);
         }
     }
 }
@@ -145,9 +164,12 @@ pub(crate) fn half_step(shape: &RowShape, ny: usize, rows: &mut [u64], r: &Resol
         }
     }
     let cap = r.cap.min(shape.nx);
+    if r.lateral == Lateral::Clusters {
+        cluster_cells(shape, ny, sc);
+    }
     for j in 0..ny {
         let key = rng::row_key(seed, t, j);
-        obstacles(shape, &sc.lf, ny, j, r, &mut sc.o);
+        obstacles(shape, &sc.lf, &sc.clusters, ny, j, r, &mut sc.o);
         shape.not(&sc.o, &mut sc.free);
         let lrow = &sc.lf[j * w..(j + 1) * w];
         let act = &mut sc.active[j * w..(j + 1) * w];
@@ -178,7 +200,7 @@ pub(crate) fn half_step(shape: &RowShape, ny: usize, rows: &mut [u64], r: &Resol
         if r.knock > 0 {
             let imp = &mut sc.impacts[j * w..(j + 1) * w];
             for k in 0..w {
-                let hits = sc.sum[k] & lrow[k];
+                let hits = sc.sum[k];
                 // Draw only where something was hit (the draw is the same either way).
                 imp[k] = if hits != 0 {
                     hits & rng::bernoulli(key, Stream::Knock, k, r.knock)
@@ -218,35 +240,55 @@ pub(crate) fn half_step(shape: &RowShape, ny: usize, rows: &mut [u64], r: &Resol
     }
 }
 
-/// The far grain of each line that was hit flies, if it was resting, against the obstacles
-/// of `L` and the grains already moved.
+/// The row of the grain that stopped a flight in row `j` at cell `p`: row `j` itself, else
+/// the lower, else the upper neighbour whose obstacle grain is there.
+fn hit_row(lf: &[u64], clusters: &[u64], w: usize, ny: usize, j: usize, p: usize, r: &Resolved) -> Option<usize> {
+    if RowShape::get(&lf[j * w..], p) {
+        return Some(j);
+    }
+    let side = match r.lateral {
+        Lateral::None => return None,
+        Lateral::Neighbours => lf,
+        Lateral::Clusters => clusters,
+    };
+    [false, true]
+        .into_iter()
+        .filter_map(|up| neighbour_row(j, up, ny, r.periodic_y))
+        .find(|&jn| RowShape::get(&side[jn * w..], p))
+}
+
+/// Knock-through: after the flights, the impact's momentum runs through the line of touching
+/// grains that was hit (in the hit grain's row, in the new state, from the hit grain on) and
+/// the far grain of that line flies on, up to the cap, until it touches a grain of its row.
+/// Impacts are handled in row order and, within a row, in flight-frame order.
 fn knock_through(shape: &RowShape, ny: usize, r: &Resolved, cap: usize, sc: &mut BitScratch) {
     let w = shape.words;
     let nx = shape.nx;
     for j in 0..ny {
-        obstacles(shape, &sc.lf, ny, j, r, &mut sc.o);
         for k in 0..w {
             let mut bits = sc.impacts[j * w + k];
             while bits != 0 {
                 let p = 64 * k + bits.trailing_zeros() as usize;
                 bits &= bits - 1;
-                let lrow = &sc.lf[j * w..(j + 1) * w];
+                let Some(h) = hit_row(&sc.lf, &sc.clusters, w, ny, j, p, r) else {
+                    continue;
+                };
+                let new = &mut sc.new[h * w..(h + 1) * w];
+                if !RowShape::get(new, p) {
+                    continue; // the hit grain has flown off itself
+                }
                 let mut f = p;
                 for _ in 0..nx {
                     let next = (f + 1) % nx;
-                    if !RowShape::get(lrow, next) || next == p {
+                    if !RowShape::get(new, next) || next == p {
                         break;
                     }
                     f = next;
                 }
-                if RowShape::get(&sc.active[j * w..(j + 1) * w], f) {
-                    continue;
-                }
-                let new = &mut sc.new[j * w..(j + 1) * w];
                 let mut land = f;
                 for step in 1..=cap {
                     let c = (f + step) % nx;
-                    if RowShape::get(&sc.o, c) || RowShape::get(new, c) {
+                    if RowShape::get(new, c) {
                         break;
                     }
                     land = c;

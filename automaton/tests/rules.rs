@@ -75,7 +75,9 @@ fn mass_is_conserved_exactly_and_heights_stay_non_negative() {
 fn bit_parallel_step_equals_the_byte_reference_on_submonolayers() {
     for (k, (nx, ny)) in [(533usize, 27usize), (64, 4), (65, 3), (200, 1), (129, 2)].into_iter().enumerate() {
         for y in [YBoundary::Walls, YBoundary::Periodic] {
-            for params in [all_on(nx / 7 + 1, y), strict(y), all_on(3, y), all_on(10 * nx, y)] {
+            let mut clusters = all_on(nx / 5 + 2, y);
+            clusters.physical.lateral = Lateral::Clusters;
+            for params in [all_on(nx / 7 + 1, y), strict(y), all_on(3, y), all_on(10 * nx, y), clusters] {
                 let h = random_heights(nx, ny, 0.25 + 0.1 * k as f64, 1, 3 + k as u64);
                 let bits = Lattice::from_heights(nx, ny, &h).unwrap();
                 assert!(bits.is_bit_packed());

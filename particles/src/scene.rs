@@ -228,6 +228,15 @@ pub enum AutomatonRule {
     Physical,
 }
 
+/// Lateral contacts of the automaton.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum AutomatonLateral {
+    None,
+    Neighbours,
+    Clusters,
+}
+
 /// `[automaton]`: the cellular automaton on this scene (`stripes automaton`, thesis 3.1). The
 /// flight cap and the sliding threshold follow from `[drive]`, the floor friction and the
 /// mean diameter; the keys here switch ingredients and hold the free parameters that
@@ -250,8 +259,9 @@ pub struct AutomatonSpec {
     /// Knock-through speed scale v_knock (m/s): the far grain is knocked loose with
     /// probability `1 - exp(-v / v_knock)`, v the peak sliding speed relative to the tray.
     pub knock_speed: f64,
-    /// Grains in the neighbouring rows (y) stop a flight too.
-    pub lateral: bool,
+    /// Which grains of the neighbouring rows (y) stop a flight: `none`, `neighbours` (all),
+    /// `clusters` (those touching an x-neighbour, default).
+    pub lateral: AutomatonLateral,
     /// Sideways (y) moves.
     pub sideways: bool,
     /// Probability per half period of a sideways move, in [0, 1].
@@ -268,11 +278,11 @@ impl Default for AutomatonSpec {
             threshold: true,
             flight_cap: true,
             stochastic: true,
-            activation: 0.5,
+            activation: 0.8,
             knock: true,
             knock_speed: 2.0,
-            lateral: true,
-            sideways: false,
+            lateral: AutomatonLateral::Clusters,
+            sideways: true,
             sideways_probability: 0.1,
             cell: None,
         }

@@ -8,6 +8,7 @@
 //! - stripe count per frame, compared frame by frame: RMS difference `e_count`;
 //! - density contrast `std(phi) / mean(phi)` averaged over the last quarter of the frames,
 //!   compared as the relative difference `e_contrast`.
+//!
 //! The loss is `sum over runs of e_count^2 + e_contrast^2`; the grid point of least loss
 //! wins (ties: first in grid order). Deterministic: same runs, same answer.
 
