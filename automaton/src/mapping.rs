@@ -15,7 +15,9 @@
 //!
 //! The impact speed used by knock-through is the grain's peak sliding speed relative to the
 //! tray, `v`; the far grain of a hit line is knocked loose with probability
-//! `1 - exp(-v / v_knock)`, with `v_knock` a free parameter fitted to DEM runs (calibration).
+//! `1 - exp(-(v / v_knock)^2)`: the impact's kinetic energy `m v^2 / 2` against an energy
+//! scale `m v_knock^2 / 2` of the frictional lock of the line, with `v_knock` a free
+//! parameter fitted to DEM runs (calibration).
 
 use serde::{Deserialize, Serialize};
 
@@ -138,7 +140,7 @@ pub struct FreeParams {
 }
 
 /// The `physical` ingredients of a tray: cap `l = round(D / cell_length)` cells, threshold
-/// `A (2 pi nu)^2 > mu g`, knock probability `1 - exp(-v / v_knock)`.
+/// `A (2 pi nu)^2 > mu g`, knock probability `1 - exp(-(v / v_knock)^2)`.
 pub fn physical(drive: &TrayDrive, slide: &SlideMeasure, cell_length: f64, free: &FreeParams) -> Physical {
     Physical {
         threshold: if free.threshold {
@@ -158,7 +160,11 @@ pub fn physical(drive: &TrayDrive, slide: &SlideMeasure, cell_length: f64, free:
         },
         activation: free.activation.map_or(Activation::None, |p| Activation::Bernoulli { p }),
         knock: free.knock_speed.map_or(Knock::None, |v| Knock::Bernoulli {
-            p: if v > 0.0 { 1.0 - (-slide.peak_speed / v).exp() } else { 1.0 },
+            p: if v > 0.0 {
+                1.0 - (-(slide.peak_speed / v).powi(2)).exp()
+            } else {
+                1.0
+            },
         }),
         lateral: free.lateral,
         sideways: free.sideways.map_or(Sideways::None, |p| Sideways::Bernoulli { p }),

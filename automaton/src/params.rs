@@ -60,7 +60,8 @@ pub enum Knock {
     None,
     /// A grain whose flight ends on a line of touching grains knocks the far grain of the
     /// line loose with probability `p` (it flies at once, up to the cap, if it was resting):
-    /// `p = 1 - exp(-v / v_knock)` with `v` the impact speed ([`crate::mapping`]).
+    /// `p = 1 - exp(-(v / v_knock)^2)` with `v` the impact speed ([`crate::mapping`]). A
+    /// lateral contact (see [`Lateral`]) holds only with probability `1 - p`.
     Bernoulli { p: f64 },
 }
 

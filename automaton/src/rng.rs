@@ -18,6 +18,8 @@ pub enum Stream {
     Up = 3,
     /// Sideways move towards -y.
     Down = 4,
+    /// Whether a lateral contact holds against an impact.
+    Hold = 5,
 }
 
 /// SplitMix64 finaliser (Steele, Lea, Flood 2014): a bijective 64-bit mixer.

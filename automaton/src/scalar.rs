@@ -69,13 +69,15 @@ pub(crate) fn half_step(nx: usize, ny: usize, h: &mut [u8], r: &Resolved, seed: 
         if lf[j * nx + c] > z {
             return true;
         }
-        [false, true].iter().any(|&up| {
+        let side = [false, true].iter().any(|&up| {
             neighbour_row(j, up, ny, r.periodic_y).is_some_and(|jn| match r.lateral {
                 Lateral::None => false,
                 Lateral::Neighbours => lf[jn * nx + c] > z,
                 Lateral::Clusters => clustered(jn, c, z),
             })
-        })
+        });
+        // With knock-through a lateral contact holds with probability 1 - p_knock.
+        side && (r.knock == 0 || bit(rng::row_key(seed, t, j), Stream::Hold, c, 256 - r.knock))
     };
     sc.impacts.clear();
     if !r.frozen {

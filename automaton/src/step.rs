@@ -87,8 +87,11 @@ pub(crate) fn neighbour_row(j: usize, up: bool, ny: usize, periodic: bool) -> Op
 }
 
 /// Obstacles of row `j` in the flight-frame copy `lf`; `clusters` holds the grains that
-/// touch an x-neighbour in their row (used by [`Lateral::Clusters`]).
-fn obstacles(shape: &RowShape, lf: &[u64], clusters: &[u64], ny: usize, j: usize, r: &Resolved, o: &mut [u64]) {
+/// touch an x-neighbour in their row (used by [`Lateral::Clusters`]). With knock-through, a
+/// lateral contact holds only with probability `1 - p_knock` (an impact that knocks loose
+/// also pushes past the neighbouring rows), drawn per cell of row `j`.
+#[allow(clippy::too_many_arguments)]
+fn obstacles(shape: &RowShape, lf: &[u64], clusters: &[u64], ny: usize, j: usize, r: &Resolved, key: u64, o: &mut [u64]) {
     let w = shape.words;
     o.copy_from_slice(&lf[j * w..(j + 1) * w]);
     let side = match r.lateral {
@@ -96,12 +99,16 @@ fn obstacles(shape: &RowShape, lf: &[u64], clusters: &[u64], ny: usize, j: usize
         Lateral::Neighbours => lf,
         Lateral::Clusters => clusters,
     };
-    for up in [false, true] {
-        if let Some(jn) = neighbour_row(j, up, ny, r.periodic_y) {
-            for (a, b) in o.iter_mut().zip(&side[jn * w..(jn + 1) * w]) {
-                *a |= *b;
-            }
+    let rows = [false, true].map(|up| neighbour_row(j, up, ny, r.periodic_y));
+    for k in 0..w {
+        let mut s = 0;
+        for jn in rows.iter().flatten() {
+            s |= side[jn * w + k];
         }
+        if s != 0 && r.knock > 0 {
+            s &= rng::bernoulli(key, Stream::Hold, k, 256 - r.knock);
+        }
+        o[k] |= s;
     }
 }
 
@@ -169,7 +176,7 @@ pub(crate) fn half_step(shape: &RowShape, ny: usize, rows: &mut [u64], r: &Resol
     }
     for j in 0..ny {
         let key = rng::row_key(seed, t, j);
-        obstacles(shape, &sc.lf, &sc.clusters, ny, j, r, &mut sc.o);
+        obstacles(shape, &sc.lf, &sc.clusters, ny, j, r, key, &mut sc.o);
         shape.not(&sc.o, &mut sc.free);
         let lrow = &sc.lf[j * w..(j + 1) * w];
         let act = &mut sc.active[j * w..(j + 1) * w];

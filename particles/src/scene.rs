@@ -256,8 +256,9 @@ pub struct AutomatonSpec {
     pub activation: f64,
     /// Knock-through along lines of touching grains.
     pub knock: bool,
-    /// Knock-through speed scale v_knock (m/s): the far grain is knocked loose with
-    /// probability `1 - exp(-v / v_knock)`, v the peak sliding speed relative to the tray.
+    /// Knock-through speed scale v_knock (m/s): the far grain is knocked loose (and a
+    /// lateral contact yields) with probability `1 - exp(-(v / v_knock)^2)`, v the peak
+    /// sliding speed relative to the tray.
     pub knock_speed: f64,
     /// Which grains of the neighbouring rows (y) stop a flight: `none`, `neighbours` (all),
     /// `clusters` (those touching an x-neighbour, default).
@@ -280,7 +281,7 @@ impl Default for AutomatonSpec {
             stochastic: true,
             activation: 0.8,
             knock: true,
-            knock_speed: 2.0,
+            knock_speed: 7.0,
             lateral: AutomatonLateral::Clusters,
             sideways: true,
             sideways_probability: 0.1,
