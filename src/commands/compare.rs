@@ -208,7 +208,11 @@ pub fn run(args: Args) -> Result<String, CliError> {
         speed(auto_wall),
         auto_speed.map_or("unknown".into(), |s| format!("{s:.3e}")),
     ));
-    md.push_str("Automaton wall time includes the single-sphere DEM of the mapping and the snapshot output.\n\n");
+    md.push_str(
+        "Wall times cover each model's time loop with its snapshot output; the shared sample preparation and the automaton's \
+         single-sphere mapping run are not included. The DEM speed is particle-steps per second of its stepping; the automaton's \
+         is lattice cells times half steps per second.\n\n",
+    );
     md.push_str("## Stripe count over time\n\n![stripe count](stripe_count.png)\n\n| t (s) | DEM | automaton |\n|---|---|---|\n");
     let every = (rows.len() / 25).max(1);
     for (k, r) in rows.iter().enumerate() {
