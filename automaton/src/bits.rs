@@ -242,6 +242,27 @@ impl RowShape {
         false
     }
 
+    /// First cell at or after `from` (cyclically) that is set (`clear = false`) or clear
+    /// (`clear = true`), by whole words; `None` if there is none.
+    pub fn next(&self, row: &[u64], from: usize, clear: bool) -> Option<usize> {
+        let n = self.words;
+        let (w0, b0) = (from / 64, from % 64);
+        for step in 0..=n {
+            let d = (w0 + step) % n;
+            let valid = if d + 1 == n { self.last } else { u64::MAX };
+            let mut x = if clear { !row[d] & valid } else { row[d] };
+            if step == 0 {
+                x &= u64::MAX << b0;
+            } else if step == n {
+                x &= (1u64 << b0).wrapping_sub(1);
+            }
+            if x != 0 {
+                return Some(64 * d + x.trailing_zeros() as usize);
+            }
+        }
+        None
+    }
+
     /// Whether cell `i` is set.
     #[inline]
     pub fn get(row: &[u64], i: usize) -> bool {

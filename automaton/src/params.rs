@@ -46,7 +46,7 @@ pub enum FlightCap {
 pub enum Activation {
     /// Every top-layer grain flies every half period.
     None,
-    /// Each grain flies in a given half period with probability `p` (quantised to 1/256):
+    /// Each grain flies in a given half period with probability `p` (quantised to 1/64, [`crate::rng::ONE`]):
     /// the size-dependent drift terms of the DEM (rolling friction, viscous friction branch,
     /// walls, bouncing) that decide whether a grain keeps up with its neighbours.
     Bernoulli { p: f64 },
@@ -145,7 +145,7 @@ pub(crate) struct Resolved {
     pub frozen: bool,
     /// Flight cap in cells (`usize::MAX`: none).
     pub cap: usize,
-    /// Probabilities in 1/256.
+    /// Probabilities in units of 1/64 ([`crate::rng::ONE`]).
     pub activation: u32,
     pub knock: u32,
     pub sideways: u32,
@@ -193,7 +193,7 @@ impl Params {
             RuleSet::Strict => Resolved {
                 frozen: false,
                 cap: usize::MAX,
-                activation: 256,
+                activation: crate::rng::ONE,
                 knock: 0,
                 sideways: 0,
                 lateral: Lateral::None,
@@ -216,7 +216,7 @@ impl Params {
                     frozen: below || cap == 0,
                     cap,
                     activation: match p.activation {
-                        Activation::None => 256,
+                        Activation::None => crate::rng::ONE,
                         Activation::Bernoulli { p } => crate::rng::quantise(p),
                     },
                     knock: match p.knock {

@@ -37,31 +37,39 @@ pub fn row_key(seed: u64, half_step: u64, row: usize) -> u64 {
     mix(mix(seed ^ mix(half_step)) ^ row as u64)
 }
 
-/// A uniformly random 64-bit word.
+/// Probability 1 in the units of [`bernoulli`]: probabilities are multiples of 1/64.
+pub const ONE: u32 = 64;
+
+/// A uniformly random 64-bit word: wyhash's multiply-fold of the key advanced by the
+/// counter (one 128-bit multiplication).
 #[inline]
 pub fn word(row_key: u64, stream: Stream, w: usize, k: u32) -> u64 {
-    mix(row_key ^ ((stream as u64) << 56) ^ ((w as u64) << 8) ^ k as u64)
+    let counter = ((stream as u64) << 48) ^ ((w as u64) << 8) ^ k as u64;
+    let s = row_key.wrapping_add(counter.wrapping_mul(0xa076_1d64_78bd_642f));
+    let t = (s as u128).wrapping_mul((s ^ 0xe703_7ed1_a0b4_28db) as u128);
+    (t >> 64) as u64 ^ t as u64
 }
 
-/// Probability quantised to 1/256, the resolution of [`bernoulli`].
+/// Probability quantised to 1/64, the resolution of [`bernoulli`].
 pub fn quantise(p: f64) -> u32 {
-    (p.clamp(0.0, 1.0) * 256.0).round() as u32
+    (p.clamp(0.0, 1.0) * ONE as f64).round() as u32
 }
 
-/// A word whose bits are independently 1 with probability `p256 / 256` (`p256` in 0..=256),
-/// built from the binary expansion of the probability: starting from the lowest set bit of
-/// `p256`, `m = m | r` for a 1 digit and `m = m & r` for a 0 digit, with fresh words `r`.
+/// A word whose bits are independently 1 with probability `p / 64` (`p` in 0..=64), built
+/// from the binary expansion of the probability: starting from the lowest set bit of `p`,
+/// `m = m | r` for a 1 digit and `m = m & r` for a 0 digit, with fresh words `r` (at most
+/// six random words).
 #[inline]
-pub fn bernoulli(row_key: u64, stream: Stream, w: usize, p256: u32) -> u64 {
-    match p256 {
+pub fn bernoulli(row_key: u64, stream: Stream, w: usize, p: u32) -> u64 {
+    match p {
         0 => 0,
-        256.. => u64::MAX,
+        ONE.. => u64::MAX,
         _ => {
-            let low = p256.trailing_zeros();
+            let low = p.trailing_zeros();
             let mut m = word(row_key, stream, w, low);
-            for b in low + 1..8 {
+            for b in low + 1..6 {
                 let r = word(row_key, stream, w, b);
-                m = if (p256 >> b) & 1 == 1 { m | r } else { m & r };
+                m = if (p >> b) & 1 == 1 { m | r } else { m & r };
             }
             m
         }
@@ -74,15 +82,15 @@ mod tests {
 
     #[test]
     fn bernoulli_words_have_the_asked_density() {
-        for p256 in [1u32, 37, 128, 200, 255] {
+        for q in [1u32, 9, 32, 50, 63] {
             let key = row_key(7, 3, 1);
-            let ones: u32 = (0..4000).map(|w| bernoulli(key, Stream::Activation, w, p256).count_ones()).sum();
-            let p = p256 as f64 / 256.0;
+            let ones: u32 = (0..4000).map(|w| bernoulli(key, Stream::Activation, w, q).count_ones()).sum();
+            let p = q as f64 / ONE as f64;
             let n = 4000.0 * 64.0;
             let sigma = (n * p * (1.0 - p)).sqrt();
-            assert!((ones as f64 - n * p).abs() < 5.0 * sigma, "p256 {p256}: {ones} of {n}");
+            assert!((ones as f64 - n * p).abs() < 5.0 * sigma, "p = {q}/64: {ones} of {n}");
         }
         assert_eq!(bernoulli(1, Stream::Knock, 0, 0), 0);
-        assert_eq!(bernoulli(1, Stream::Knock, 0, 256), u64::MAX);
+        assert_eq!(bernoulli(1, Stream::Knock, 0, ONE), u64::MAX);
     }
 }

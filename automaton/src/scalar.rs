@@ -45,8 +45,8 @@ impl ScalarScratch {
 }
 
 #[inline]
-fn bit(key: u64, stream: Stream, i: usize, p256: u32) -> bool {
-    (rng::bernoulli(key, stream, i / 64, p256) >> (i % 64)) & 1 == 1
+fn bit(key: u64, stream: Stream, i: usize, p: u32) -> bool {
+    (rng::bernoulli(key, stream, i / 64, p) >> (i % 64)) & 1 == 1
 }
 
 /// One half step on heights `h` (index `j * nx + i`).
@@ -77,7 +77,7 @@ pub(crate) fn half_step(nx: usize, ny: usize, h: &mut [u8], r: &Resolved, seed: 
             })
         });
         // With knock-through a lateral contact holds with probability 1 - p_knock.
-        side && (r.knock == 0 || bit(rng::row_key(seed, t, j), Stream::Hold, c, 256 - r.knock))
+        side && (r.knock == 0 || bit(rng::row_key(seed, t, j), Stream::Hold, c, rng::ONE - r.knock))
     };
     sc.impacts.clear();
     if !r.frozen {

@@ -106,7 +106,7 @@ fn obstacles(shape: &RowShape, lf: &[u64], clusters: &[u64], ny: usize, j: usize
             s |= side[jn * w + k];
         }
         if s != 0 && r.knock > 0 {
-            s &= rng::bernoulli(key, Stream::Hold, k, 256 - r.knock);
+            s &= rng::bernoulli(key, Stream::Hold, k, rng::ONE - r.knock);
         }
         o[k] |= s;
     }
@@ -284,22 +284,16 @@ fn knock_through(shape: &RowShape, ny: usize, r: &Resolved, cap: usize, sc: &mut
                 if !RowShape::get(new, p) {
                     continue; // the hit grain has flown off itself
                 }
-                let mut f = p;
-                for _ in 0..nx {
-                    let next = (f + 1) % nx;
-                    if !RowShape::get(new, next) || next == p {
-                        break;
-                    }
-                    f = next;
-                }
-                let mut land = f;
-                for step in 1..=cap {
-                    let c = (f + step) % nx;
-                    if RowShape::get(new, c) {
-                        break;
-                    }
-                    land = c;
-                }
+                // Far end of the line: the cell before the first empty one after p.
+                let f = match shape.next(new, p, true) {
+                    Some(e) => (e + nx - 1) % nx,
+                    None => (p + nx - 1) % nx,
+                };
+                // It flies until the cell before the next grain of its row, at most `cap`.
+                let ahead = shape.next(new, (f + 1) % nx, false).expect("the far grain itself is set");
+                let dist = (ahead + nx - f) % nx;
+                let dist = if dist == 0 { nx } else { dist };
+                let land = (f + (dist - 1).min(cap)) % nx;
                 if land != f {
                     RowShape::set(new, f, false);
                     RowShape::set(new, land, true);
