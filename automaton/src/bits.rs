@@ -220,11 +220,10 @@ impl RowShape {
         let n = self.words;
         let r = self.nx - 64 * (n - 1); // valid cells of the last word
         let full = |d: usize| if d + 1 == n { self.last } else { u64::MAX };
-        if (0..n).all(|d| row[d] == full(d)) {
-            return self.nx >= len;
-        }
         // Start just after a word that is not all set, so every run is seen whole.
-        let first = (0..n).find(|&d| row[d] != full(d)).expect("some word is not full");
+        let Some(first) = (0..n).find(|&d| row[d] != full(d)) else {
+            return self.nx >= len;
+        };
         let mut run = 0usize;
         for step in 1..=n {
             let d = (first + step) % n;

@@ -225,7 +225,7 @@ impl Params {
                     },
                     sideways: match p.sideways {
                         Sideways::None => 0,
-                        Sideways::Bernoulli { p } => crate::rng::quantise(0.5 * p),
+                        Sideways::Bernoulli { p } => crate::rng::quantise(p),
                     },
                     lateral: p.lateral,
                     periodic_y,

@@ -14,10 +14,10 @@ pub enum Stream {
     Activation = 1,
     /// Knock-through of the far grain of a line that was hit.
     Knock = 2,
-    /// Sideways move towards +y.
-    Up = 3,
-    /// Sideways move towards -y.
-    Down = 4,
+    /// Whether a grain moves sideways.
+    Side = 3,
+    /// Which way (+y or -y) a sideways move goes.
+    SideDirection = 4,
     /// Whether a lateral contact holds against an impact.
     Hold = 5,
 }
@@ -50,6 +50,14 @@ pub fn word(row_key: u64, stream: Stream, w: usize, k: u32) -> u64 {
     (t >> 64) as u64 ^ t as u64
 }
 
+/// Grains that try a sideways move towards +y (`up`) or -y: a move with probability `p / 64`,
+/// then an even coin for the direction, so each way has probability `p / 128`.
+#[inline]
+pub fn sideways(row_key: u64, w: usize, p: u32, up: bool) -> u64 {
+    let dir = word(row_key, Stream::SideDirection, w, 0);
+    bernoulli(row_key, Stream::Side, w, p) & if up { dir } else { !dir }
+}
+
 /// Probability quantised to 1/64, the resolution of [`bernoulli`].
 pub fn quantise(p: f64) -> u32 {
     (p.clamp(0.0, 1.0) * ONE as f64).round() as u32
@@ -69,7 +77,9 @@ pub fn bernoulli(row_key: u64, stream: Stream, w: usize, p: u32) -> u64 {
             let mut m = word(row_key, stream, w, low);
             for b in low + 1..6 {
                 let r = word(row_key, stream, w, b);
-                m = if (p >> b) & 1 == 1 { m | r } else { m & r };
+                // Branch-free: the digit selects `m | r` (1) or `m & r` (0).
+                let digit = (((p >> b) & 1) as u64).wrapping_neg();
+                m = (m & r) | (digit & (m | r));
             }
             m
         }

@@ -149,7 +149,7 @@ pub(crate) fn half_step(nx: usize, ny: usize, h: &mut [u8], r: &Resolved, seed: 
             }
         }
         if r.sideways > 0 {
-            for (up, stream) in [(true, Stream::Up), (false, Stream::Down)] {
+            for up in [true, false] {
                 sc.snap.copy_from_slice(&sc.new);
                 for j in 0..ny {
                     let Some(jn) = neighbour_row(j, up, ny, r.periodic_y).filter(|&jn| jn != j) else {
@@ -158,7 +158,7 @@ pub(crate) fn half_step(nx: usize, ny: usize, h: &mut [u8], r: &Resolved, seed: 
                     let key = rng::row_key(seed, t, j);
                     for i in 0..nx {
                         let (a, b) = (sc.snap[j * nx + i], sc.snap[jn * nx + i]);
-                        if a > 0 && b < a && bit(key, stream, i, r.sideways) {
+                        if a > 0 && b < a && (rng::sideways(key, i / 64, r.sideways, up) >> (i % 64)) & 1 == 1 {
                             sc.new[j * nx + i] -= 1;
                             sc.new[jn * nx + i] += 1;
                         }

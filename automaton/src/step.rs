@@ -306,14 +306,19 @@ fn knock_through(shape: &RowShape, ny: usize, r: &Resolved, cap: usize, sc: &mut
 /// Simultaneous sideways moves towards +y (`up`) or -y into empty cells.
 fn sideways(shape: &RowShape, ny: usize, r: &Resolved, seed: u64, t: u64, up: bool, sc: &mut BitScratch) {
     let w = shape.words;
-    let stream = if up { Stream::Up } else { Stream::Down };
     for j in 0..ny {
         let key = rng::row_key(seed, t, j);
         let cand = &mut sc.cand[j * w..(j + 1) * w];
         match neighbour_row(j, up, ny, r.periodic_y) {
             Some(jn) if jn != j => {
                 for k in 0..w {
-                    cand[k] = sc.new[j * w + k] & !sc.new[jn * w + k] & rng::bernoulli(key, stream, k, r.sideways);
+                    let room = sc.new[j * w + k] & !sc.new[jn * w + k];
+                    // Draw only where a move is possible (the draw is the same either way).
+                    cand[k] = if room != 0 {
+                        room & rng::sideways(key, k, r.sideways, up)
+                    } else {
+                        0
+                    };
                 }
             }
             _ => cand.iter_mut().for_each(|x| *x = 0),
