@@ -226,7 +226,7 @@ impl RowShape {
         };
         let mut run = 0usize;
         for step in 1..=n {
-            let d = (first + step) % n;
+            let d = if first + step >= n { first + step - n } else { first + step };
             let (w, bits) = (row[d], if d + 1 == n { r } else { 64 });
             if w == full(d) {
                 run += bits;
@@ -247,7 +247,7 @@ impl RowShape {
         let n = self.words;
         let (w0, b0) = (from / 64, from % 64);
         for step in 0..=n {
-            let d = (w0 + step) % n;
+            let d = if w0 + step >= n { w0 + step - n } else { w0 + step };
             let valid = if d + 1 == n { self.last } else { u64::MAX };
             let mut x = if clear { !row[d] & valid } else { row[d] };
             if step == 0 {
