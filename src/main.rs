@@ -5,6 +5,7 @@
 //! Every subcommand that computes numbers writes a directory with the resolved configuration
 //! (`config.json`) and `summary.json`, and prints that summary as the last line of stdout.
 
+mod cellular;
 mod commands;
 mod output;
 mod sweep;
@@ -46,6 +47,10 @@ enum Command {
     /// One sphere on the shaken plate, with and without rolling friction, and the
     /// rolling-friction stopping test (thesis 3.3, 3.5.2).
     Single(commands::single::Args),
+    /// The Strassburger cellular automaton on a scene (thesis 3.1); --bench, --calibrate.
+    Automaton(commands::automaton::Args),
+    /// DEM and automaton on the same scene and sample, analysed alike: report.md.
+    Compare(commands::compare::Args),
 }
 
 fn main() -> ExitCode {
@@ -60,6 +65,8 @@ fn main() -> ExitCode {
         Command::Ablate(a) => commands::ablate::run(a),
         Command::PhaseMap(a) => commands::phase_map::run(a),
         Command::Collect(a) => commands::collect::run(a),
+        Command::Automaton(a) => commands::automaton::run(a),
+        Command::Compare(a) => commands::compare::run(a),
     };
     match result {
         Ok(summary) => {

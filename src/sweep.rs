@@ -219,7 +219,15 @@ fn run_job(root: &Path, sweep: &Sweep, job: &Job, samples: &Path) -> Result<(), 
             }
             crate::commands::run::run(parse_args(&argv)?)?
         }
-        Model::Automaton => return Err("automaton jobs need the automaton model".into()),
+        Model::Automaton => {
+            let mut argv: Vec<String> = vec![sweep.scene.display().to_string(), "--quiet".into()];
+            argv.extend(["--out".into(), run_dir.display().to_string()]);
+            argv.extend(["--samples".into(), samples.display().to_string()]);
+            for o in &overrides {
+                argv.extend(["--set".into(), o.clone()]);
+            }
+            crate::commands::automaton::run(parse_args(&argv)?)?
+        }
     };
     let analysis_argv = [
         run_dir.display().to_string(),

@@ -405,14 +405,15 @@ impl Heatmap {
             chart
                 .draw_series(lines.into_iter().map(|l| PathElement::new(l, BLACK.stroke_width(3))))
                 .map_err(perr)?;
-            let font = (FAMILY, 16).into_font().color(&WHITE);
+            // Labels in white on the dark end of the colour map, in black on the light end.
             chart
                 .draw_series((0..rows).flat_map(|r| {
-                    let font = font.clone();
                     (0..cols).map(move |c| {
                         let (xa, ya) = cell(r, c);
                         let name = o.names.get(o.classes[r][c]).copied().unwrap_or("?");
-                        Text::new(name.to_string(), (xa + 0.1 * dx, ya + 0.6 * dy), font.clone())
+                        let light = (self.values[r][c] - lo) / (hi - lo) > 0.6;
+                        let font = (FAMILY, 18).into_font().color(if light { &BLACK } else { &WHITE });
+                        Text::new(name.to_string(), (xa + 0.1 * dx, ya + 0.6 * dy), font)
                     })
                 }))
                 .map_err(perr)?;

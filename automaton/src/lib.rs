@@ -1,1 +1,32 @@
-//! automaton
+//! The Strassburger jump-and-rest cellular automaton (thesis 3.1) as a coarse model of the
+//! horizontally shaken tray.
+//!
+//! A top view of the tray: cell `(i, j)`, `i` along the shaking direction x (periodic),
+//! `j` across (side walls or periodic), each holding an integer pile height. One drive period
+//! is two half steps; in each, top-layer grains fly one way (alternating), tested against an
+//! unchanged copy L of the lattice, and then fall until they rest (thesis rules 1 and 2).
+//!
+//! - [`RuleSet::Strict`]: the thesis' two rules exactly. In a submonolayer every grain stops
+//!   where the cell before the next grain's start is, so the pattern moves rigidly by one
+//!   cell per half step (against the flight) and nothing ever forms (SPEC section 3).
+//! - [`RuleSet::Physical`] (default): the same rules in the tray frame plus a flight cap, a
+//!   sliding threshold, stochastic flights, knock-through along lines of touching grains,
+//!   lateral contacts and optional sideways moves ([`Physical`]), each switchable.
+//!
+//! Modules: [`lattice`] (storage), [`params`] (rules and switches), [`mapping`] (tray to
+//! parameters), `step` (bit-parallel submonolayer step), `scalar` (byte step, any height,
+//! resting rule), [`automaton`] (the driver), `rng` (counter-based random bits), `bits`
+//! (periodic bit rows).
+
+pub mod automaton;
+mod bits;
+pub mod lattice;
+pub mod mapping;
+pub mod params;
+mod rng;
+mod scalar;
+mod step;
+
+pub use automaton::{Automaton, Direction};
+pub use lattice::Lattice;
+pub use params::{Activation, FlightCap, Knock, Lateral, Params, Physical, RuleSet, Sideways, Threshold, YBoundary};

@@ -24,6 +24,7 @@ pub fn reference(scene: &Scene) -> Scene {
     s.toggles = Toggles::default();
     // A ceiling changes nothing for grains relaxing at rest on the floor.
     s.tray.height = None;
+    s.automaton = Default::default();
     s.drive.amplitude = 0.0;
     s.run.duration = s.prepare.duration;
     s.run.threads = 0;

@@ -26,6 +26,10 @@ pub struct Scene {
     #[serde(default)]
     pub prepare: Prepare,
     pub run: Run,
+    /// `[automaton]`, read by `stripes automaton` only; omitted from the written scene (and
+    /// so from the sample key) while it holds the defaults.
+    #[serde(default, skip_serializing_if = "AutomatonSpec::is_default")]
+    pub automaton: AutomatonSpec,
 }
 
 /// `[box]`: the tray. x is periodic; y has side walls (or is periodic with `toggles.walls = false`).
@@ -215,6 +219,109 @@ pub struct Run {
     /// Simulated seconds between checkpoints (0: none).
     #[serde(default = "d_checkpoint")]
     pub checkpoint_interval: f64,
+}
+
+/// Rule set of the automaton.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum AutomatonRule {
+    /// Thesis 3.1 exactly (a rigid translation in a submonolayer).
+    Strict,
+    /// Thesis 3.1 plus the tray's ingredients (SPEC section 3).
+    Physical,
+}
+
+/// Lateral contacts of the automaton.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum AutomatonLateral {
+    None,
+    Neighbours,
+    Clusters,
+}
+
+/// `[automaton]`: the cellular automaton on this scene (`stripes automaton`, thesis 3.1). The
+/// flight cap and the sliding threshold follow from `[drive]`, the floor friction and the
+/// mean diameter; the keys here switch ingredients and hold the free parameters that
+/// `stripes automaton --calibrate` fits. The DEM ignores this table.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct AutomatonSpec {
+    /// `physical` (default) or `strict`.
+    pub rule: AutomatonRule,
+    /// Nothing moves unless `A (2 pi nu)^2 > mu g`.
+    pub threshold: bool,
+    /// Flights end after the free grain's sliding displacement per half period.
+    pub flight_cap: bool,
+    /// Stochastic flights: each grain flies in a half period with probability `activation`.
+    pub stochastic: bool,
+    /// Activation probability per half period, in [0, 1].
+    pub activation: f64,
+    /// Knock-through along lines of touching grains.
+    pub knock: bool,
+    /// Knock-through speed scale v_knock (m/s): the far grain is knocked loose (and a
+    /// lateral contact yields) with probability `1 - exp(-(v / v_knock)^2)`, v the peak
+    /// sliding speed relative to the tray.
+    pub knock_speed: f64,
+    /// Which grains of the neighbouring rows (y) stop a flight: `none`, `neighbours` (all),
+    /// `clusters` (those touching an x-neighbour, default).
+    pub lateral: AutomatonLateral,
+    /// Sideways (y) moves.
+    pub sideways: bool,
+    /// Probability per half period of a sideways move, in [0, 1].
+    pub sideways_probability: f64,
+    /// Cell length (m); absent: the mean grain diameter.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cell: Option<f64>,
+}
+
+impl Default for AutomatonSpec {
+    fn default() -> Self {
+        Self {
+            rule: AutomatonRule::Physical,
+            threshold: true,
+            flight_cap: true,
+            stochastic: true,
+            activation: 0.8,
+            knock: true,
+            knock_speed: 7.0,
+            lateral: AutomatonLateral::Clusters,
+            sideways: true,
+            sideways_probability: 0.1,
+            cell: None,
+        }
+    }
+}
+
+impl AutomatonSpec {
+    /// Whether every key holds its default.
+    pub fn is_default(&self) -> bool {
+        *self == Self::default()
+    }
+
+    /// Checks the values; errors name the key.
+    pub fn validate(&self) -> Result<(), SceneError> {
+        for (key, p) in [
+            ("automaton.activation", self.activation),
+            ("automaton.sideways_probability", self.sideways_probability),
+        ] {
+            if !(0.0..=1.0).contains(&p) {
+                return Err(err(key, format!("must lie in [0, 1], got {p}")));
+            }
+        }
+        if !(self.knock_speed.is_finite() && self.knock_speed > 0.0) {
+            return Err(err(
+                "automaton.knock_speed",
+                format!("must be a positive speed (m/s), got {}", self.knock_speed),
+            ));
+        }
+        if let Some(c) = self.cell {
+            if !(c.is_finite() && c > 0.0) {
+                return Err(err("automaton.cell", format!("must be a positive length (m), got {c}")));
+            }
+        }
+        Ok(())
+    }
 }
 
 /// Fewest steps per contact time an explicit dt may give (the thesis uses 15-20, sec 3.5.1).

@@ -129,6 +129,36 @@ pub fn dem_configs(packing: &[usize]) -> Vec<Config> {
     v
 }
 
+/// The automaton's own ablations: the reference and each ingredient of the `physical` rule
+/// switched off (SPEC section 3), plus the same packings as the DEM.
+pub fn automaton_configs(packing: &[usize]) -> Vec<Config> {
+    let c = |name: &str, o: &[&str]| Config {
+        name: name.into(),
+        overrides: o.iter().map(|s| s.to_string()).collect(),
+        thesis: Thesis::NotRun,
+    };
+    let mut v = vec![
+        c("reference", &[]),
+        c("threshold-off", &["automaton.threshold=false"]),
+        c("flight-cap-off", &["automaton.flight_cap=false"]),
+        c("stochastic-off", &["automaton.stochastic=false"]),
+        c("knock-off", &["automaton.knock=false"]),
+        c("lateral-none", &["automaton.lateral=none"]),
+        c("sideways-off", &["automaton.sideways=false"]),
+        c("strict", &["automaton.rule=strict"]),
+    ];
+    v.extend(dem_configs(packing).into_iter().filter(|c| c.name.starts_with("N=")));
+    v
+}
+
+/// The configurations of a model.
+fn configs(model: Model, packing: &[usize]) -> Vec<Config> {
+    match model {
+        Model::Dem => dem_configs(packing),
+        Model::Automaton => automaton_configs(packing),
+    }
+}
+
 fn jobs(configs: &[Config], model: Model, samples: usize, seed: u64) -> Vec<Job> {
     let mut jobs = Vec::new();
     for c in configs {
@@ -225,7 +255,6 @@ pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
         .iter()
         .filter_map(|j| j.labels.get("config")?.as_str()?.strip_prefix("N=")?.parse().ok())
         .collect();
-    let configs = dem_configs(&packing);
     let scene = particles::scene::Scene::load(&sweep.scene, &sweep.overrides)?;
     let mut md = String::new();
     let samples = sweep
@@ -261,7 +290,7 @@ pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
             "| configuration | samples | onset (s) | final stripes | MSD plateau before (m^2) | MSD plateau after (m^2) | phase | thesis | difference |\n|---|---|---|---|---|---|---|---|---|"
         )?;
         let mut grid = Vec::new();
-        for c in &configs {
+        for c in &configs(model, &packing) {
             let mine: Vec<&(Job, Value)> = results
                 .iter()
                 .filter(|(j, _)| j.model == model && j.labels.get("config").and_then(Value::as_str) == Some(&c.name))

@@ -2,8 +2,11 @@
 
 pub mod ablate;
 pub mod analyze;
+pub mod automaton;
+pub mod calibrate;
 pub mod collect;
 pub mod collide;
+pub mod compare;
 pub mod contact_time;
 pub mod eccentricity;
 pub mod phase_map;

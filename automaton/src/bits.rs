@@ -1,0 +1,370 @@
+//! Operations on bit rows: a row of `nx` cells is `ceil(nx / 64)` words, cell `i` at bit
+//! `i % 64` of word `i / 64`; bits at or above `nx` in the last word are always zero. Rows
+//! are periodic: all shifts are rotations modulo `nx`.
+
+// Word loops index several rows at once; explicit indices read clearer than zipped iterators.
+#![allow(clippy::needless_range_loop)]
+
+/// Geometry of a bit row.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct RowShape {
+    /// Cells.
+    pub nx: usize,
+    /// Words per row.
+    pub words: usize,
+    /// Mask of the valid bits of the last word.
+    pub last: u64,
+}
+
+impl RowShape {
+    pub fn new(nx: usize) -> Self {
+        assert!(nx > 0, "a row has at least one cell");
+        let words = nx.div_ceil(64);
+        let r = nx % 64;
+        Self {
+            nx,
+            words,
+            last: if r == 0 { u64::MAX } else { (1u64 << r) - 1 },
+        }
+    }
+
+    /// Clears the bits beyond `nx`.
+    #[inline]
+    pub fn clean(&self, row: &mut [u64]) {
+        row[self.words - 1] &= self.last;
+    }
+
+    /// `dst = !src` on the valid cells.
+    #[inline]
+    pub fn not(&self, src: &[u64], dst: &mut [u64]) {
+        for (d, s) in dst.iter_mut().zip(src) {
+            *d = !*s;
+        }
+        self.clean(dst);
+    }
+
+    /// Logical shift towards higher cells by `k < nx` without wrap: `dst[i + k] = src[i]`,
+    /// cells beyond `nx` dropped.
+    fn shl_into(&self, src: &[u64], k: usize, dst: &mut [u64], or: bool) {
+        let (wq, b) = (k / 64, (k % 64) as u32);
+        for d in (0..self.words).rev() {
+            let v = if d < wq {
+                0
+            } else {
+                let hi = src[d - wq] << b;
+                let lo = if b > 0 && d > wq { src[d - wq - 1] >> (64 - b) } else { 0 };
+                hi | lo
+            };
+            if or {
+                dst[d] |= v;
+            } else {
+                dst[d] = v;
+            }
+        }
+        self.clean(dst);
+    }
+
+    /// Logical shift towards lower cells by `k < nx` without wrap: `dst[i] = src[i + k]`.
+    fn shr_or(&self, src: &[u64], k: usize, dst: &mut [u64]) {
+        let (wq, b) = (k / 64, (k % 64) as u32);
+        for d in 0..self.words {
+            let s = d + wq;
+            if s >= self.words {
+                break;
+            }
+            let lo = src[s] >> b;
+            let hi = if b > 0 && s + 1 < self.words { src[s + 1] << (64 - b) } else { 0 };
+            dst[d] |= lo | hi;
+        }
+    }
+
+    /// Periodic rotation towards higher cells: `dst[(i + k) mod nx] = src[i]`. One pass:
+    /// word `d` of the result is the 64-cell window of `src` starting at `64 d - k`.
+    pub fn rotate_up(&self, src: &[u64], k: usize, dst: &mut [u64]) {
+        let k = k % self.nx;
+        if k == 0 {
+            dst.copy_from_slice(src);
+            return;
+        }
+        if self.nx < 128 {
+            return self.rotate_up_short(src, k, dst);
+        }
+        if k < 64 {
+            // Straight word loop; only word 0 takes cells across the seam.
+            let b = k as u32;
+            for d in 1..self.words {
+                dst[d] = (src[d] << b) | (src[d - 1] >> (64 - b));
+            }
+            dst[0] = self.window(src, self.nx - k);
+            return self.clean(dst);
+        }
+        if self.nx - k < 64 {
+            // A small rotation down: only the last two words see the seam.
+            let b = (self.nx - k) as u32;
+            let n = self.words;
+            for d in 0..n - 2 {
+                dst[d] = (src[d] >> b) | (src[d + 1] << (64 - b));
+            }
+            for d in n - 2..n {
+                dst[d] = self.window(src, (64 * d + b as usize) % self.nx);
+            }
+            return self.clean(dst);
+        }
+        let mut start = self.nx - k;
+        for d in dst.iter_mut().take(self.words) {
+            *d = self.window(src, start);
+            start += 64;
+            if start >= self.nx {
+                start -= self.nx;
+            }
+        }
+        self.clean(dst);
+    }
+
+    /// The 64 cells from `start < nx` on, cyclically (rows of at least 64 cells).
+    #[inline(always)]
+    fn window(&self, src: &[u64], start: usize) -> u64 {
+        let w = start >> 6;
+        let b = (start & 63) as u32;
+        let lo = src[w] >> b;
+        let hi = if b > 0 && w + 1 < self.words { src[w + 1] << (64 - b) } else { 0 };
+        let v = lo | hi;
+        let avail = self.nx - start;
+        if avail >= 64 {
+            v
+        } else {
+            (v & ((1u64 << avail) - 1)) | (src[0] << avail)
+        }
+    }
+
+    /// [`Self::rotate_up`] for rows shorter than 128 cells, by two shifts.
+    fn rotate_up_short(&self, src: &[u64], k: usize, dst: &mut [u64]) {
+        self.shl_into(src, k, dst, false);
+        if k > 0 {
+            // Cells nx-k..nx move to 0..k.
+            self.shr_or(src, self.nx - k, dst);
+        }
+    }
+
+    /// Periodic rotation towards lower cells: `dst[i] = src[(i + k) mod nx]`.
+    pub fn rotate_down(&self, src: &[u64], k: usize, dst: &mut [u64]) {
+        let k = k % self.nx;
+        self.rotate_up(src, (self.nx - k) % self.nx, dst);
+    }
+
+    /// Mirror: `dst[nx - 1 - i] = src[i]`.
+    pub fn reverse(&self, src: &[u64], dst: &mut [u64]) {
+        let pad = self.words * 64 - self.nx; // reversed bits land `pad` too high
+        let n = self.words;
+        if pad == 0 {
+            for d in 0..n {
+                dst[d] = src[n - 1 - d].reverse_bits();
+            }
+            return;
+        }
+        let p = pad as u32;
+        for d in 0..n {
+            // Word d of the result takes reversed bits 64 d + pad .. 64 d + pad + 64.
+            let a = src[n - 1 - d].reverse_bits() >> p;
+            let b = if d + 1 < n { src[n - 2 - d].reverse_bits() << (64 - p) } else { 0 };
+            dst[d] = a | b;
+        }
+        self.clean(dst);
+    }
+
+    /// Periodic addition with end-around carry: `dst = a + b` as `nx`-bit numbers where a
+    /// carry out of cell `nx - 1` re-enters at cell 0 (one's-complement addition). With `a`
+    /// the free cells and `b` single bits at the starts of free runs, the carries run along
+    /// each run, across the seam if need be, and stop on the first occupied cell.
+    pub fn cyclic_add(&self, a: &[u64], b: &[u64], dst: &mut [u64]) {
+        let mut carry = 0u64;
+        for d in 0..self.words {
+            let (s1, c1) = a[d].overflowing_add(b[d]);
+            let (s2, c2) = s1.overflowing_add(carry);
+            dst[d] = s2;
+            carry = (c1 | c2) as u64;
+        }
+        let mut out = self.carry_out(dst, carry);
+        // At most two more rounds: the sum of two nx-bit numbers is below 2^(nx+1).
+        while out {
+            let mut c = 1u64;
+            for w in dst.iter_mut().take(self.words) {
+                let (s, o) = w.overflowing_add(c);
+                *w = s;
+                c = o as u64;
+                if c == 0 {
+                    break;
+                }
+            }
+            out = self.carry_out(dst, c);
+        }
+    }
+
+    /// Removes and returns the carry past cell `nx - 1`.
+    fn carry_out(&self, dst: &mut [u64], word_carry: u64) -> bool {
+        if self.last == u64::MAX {
+            word_carry == 1
+        } else {
+            let top = &mut dst[self.words - 1];
+            let out = *top & !self.last != 0;
+            *top &= self.last;
+            out
+        }
+    }
+
+    /// Whether the row holds a periodic run of at least `len >= 64` set cells. Such a run
+    /// crosses a word boundary, so one pass over the words, tracking the run that reaches
+    /// each boundary (`leading_ones` / `trailing_ones`), decides it.
+    pub fn has_run(&self, row: &[u64], len: usize) -> bool {
+        debug_assert!(len >= 64);
+        let n = self.words;
+        let r = self.nx - 64 * (n - 1); // valid cells of the last word
+        let full = |d: usize| if d + 1 == n { self.last } else { u64::MAX };
+        // Start just after a word that is not all set, so every run is seen whole.
+        let Some(first) = (0..n).find(|&d| row[d] != full(d)) else {
+            return self.nx >= len;
+        };
+        let mut run = 0usize;
+        for step in 1..=n {
+            let d = if first + step >= n { first + step - n } else { first + step };
+            let (w, bits) = (row[d], if d + 1 == n { r } else { 64 });
+            if w == full(d) {
+                run += bits;
+                continue;
+            }
+            if run + w.trailing_ones() as usize >= len {
+                return true;
+            }
+            // Ones at the top of the valid cells start the next run.
+            run = (w << (64 - bits)).leading_ones() as usize;
+        }
+        false
+    }
+
+    /// First cell at or after `from` (cyclically) that is set (`clear = false`) or clear
+    /// (`clear = true`), by whole words; `None` if there is none.
+    pub fn next(&self, row: &[u64], from: usize, clear: bool) -> Option<usize> {
+        let n = self.words;
+        let (w0, b0) = (from / 64, from % 64);
+        for step in 0..=n {
+            let d = if w0 + step >= n { w0 + step - n } else { w0 + step };
+            let valid = if d + 1 == n { self.last } else { u64::MAX };
+            let mut x = if clear { !row[d] & valid } else { row[d] };
+            if step == 0 {
+                x &= u64::MAX << b0;
+            } else if step == n {
+                x &= (1u64 << b0).wrapping_sub(1);
+            }
+            if x != 0 {
+                return Some(64 * d + x.trailing_zeros() as usize);
+            }
+        }
+        None
+    }
+
+    /// Whether cell `i` is set.
+    #[inline]
+    pub fn get(row: &[u64], i: usize) -> bool {
+        (row[i / 64] >> (i % 64)) & 1 == 1
+    }
+
+    /// Sets cell `i` to `v`.
+    #[inline]
+    pub fn set(row: &mut [u64], i: usize, v: bool) {
+        if v {
+            row[i / 64] |= 1 << (i % 64);
+        } else {
+            row[i / 64] &= !(1 << (i % 64));
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn to_bits(shape: &RowShape, cells: &[bool]) -> Vec<u64> {
+        let mut r = vec![0; shape.words];
+        for (i, &c) in cells.iter().enumerate() {
+            RowShape::set(&mut r, i, c);
+        }
+        r
+    }
+
+    fn from_bits(shape: &RowShape, r: &[u64]) -> Vec<bool> {
+        (0..shape.nx).map(|i| RowShape::get(r, i)).collect()
+    }
+
+    proptest! {
+        #[test]
+        fn rotations_and_reverse_match_the_index_formulas(cells in prop::collection::vec(any::<bool>(), 1..200), k in 0usize..400) {
+            let s = RowShape::new(cells.len());
+            let n = cells.len();
+            let src = to_bits(&s, &cells);
+            let mut dst = vec![0; s.words];
+            s.rotate_up(&src, k, &mut dst);
+            let up = from_bits(&s, &dst);
+            for i in 0..n {
+                prop_assert_eq!(up[(i + k) % n], cells[i]);
+            }
+            s.rotate_down(&src, k, &mut dst);
+            let down = from_bits(&s, &dst);
+            for i in 0..n {
+                prop_assert_eq!(down[i], cells[(i + k) % n]);
+            }
+            s.reverse(&src, &mut dst);
+            let rev = from_bits(&s, &dst);
+            for i in 0..n {
+                prop_assert_eq!(rev[n - 1 - i], cells[i]);
+            }
+            prop_assert_eq!(dst[s.words - 1] & !s.last, 0);
+        }
+
+        #[test]
+        fn has_run_finds_the_longest_periodic_run(cells in prop::collection::vec(prop::bool::weighted(0.9), 1..400), len in 64usize..200) {
+            let s = RowShape::new(cells.len());
+            let n = cells.len();
+            let longest = if cells.iter().all(|&c| c) {
+                n
+            } else {
+                let mut best = 0;
+                for start in 0..n {
+                    let mut l = 0;
+                    while l < n && cells[(start + l) % n] {
+                        l += 1;
+                    }
+                    best = best.max(l);
+                }
+                best
+            };
+            prop_assert_eq!(s.has_run(&to_bits(&s, &cells), len), longest >= len);
+        }
+
+        #[test]
+        fn cyclic_add_fills_runs_across_the_seam(cells in prop::collection::vec(any::<bool>(), 2..200), start in 0usize..200) {
+            // One run start at a free cell after an occupied cell; the carry must stop on the
+            // next occupied cell (cyclically).
+            let s = RowShape::new(cells.len());
+            let n = cells.len();
+            let mut free = cells.clone();
+            let a = start % n;
+            free[a] = false;
+            let b0 = (a + 1) % n;
+            prop_assume!(free[b0]);
+            let fb = to_bits(&s, &free);
+            let mut sb = vec![0; s.words];
+            RowShape::set(&mut sb, b0, true);
+            let mut sum = vec![0; s.words];
+            s.cyclic_add(&fb, &sb, &mut sum);
+            let mut end = b0;
+            while free[end] {
+                end = (end + 1) % n;
+            }
+            for i in 0..n {
+                let hit = RowShape::get(&sum, i) && !free[i];
+                prop_assert_eq!(hit, i == end, "cell {} end {}", i, end);
+            }
+        }
+    }
+}

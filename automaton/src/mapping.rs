@@ -1,0 +1,199 @@
+//! From the tray to the automaton's parameters.
+//!
+//! The automaton lives in the tray frame; a cell is one mean grain diameter `d`. Over one
+//! half period a free grain slides relative to the tray by `D` (the peak-to-peak of its
+//! displacement relative to the tray); that is the flight cap, `l = round(D / d_x)` cells
+//! with `d_x` the cell length. `D` comes from the single-sphere DEM on the shaken plate
+//! (`particles::experiment::single`, run by the CLI, which passes the measured
+//! [`SlideMeasure`] here, so this crate does not depend on the DEM). [`coulomb_slide`] gives
+//! the same quantities for a sliding Coulomb block, a closed check of the DEM value:
+//! - sliding threshold: a grain at rest on the tray stays stuck while the tray's
+//!   acceleration `a(t) = A (2 pi nu)^2 sin(2 pi nu t)` is within `mu g`, so grains slide at
+//!   all only if `A (2 pi nu)^2 > mu g` (below: region (a) of Fig 3.30, nothing moves);
+//! - far above it (thesis: 40 g against `mu g` = 0.7 g) the grain barely follows the tray;
+//!   its velocity changes by at most `mu g / (2 nu)` per half period, so `D ~ 2 A`.
+//!
+//! The impact speed used by knock-through is the grain's peak sliding speed relative to the
+//! tray, `v`; the far grain of a hit line is knocked loose with probability
+//! `1 - exp(-(v / v_knock)^2)`: the impact's kinetic energy `m v^2 / 2` against an energy
+//! scale `m v_knock^2 / 2` of the frictional lock of the line, with `v_knock` a free
+//! parameter fitted to DEM runs (calibration).
+
+use serde::{Deserialize, Serialize};
+
+use crate::params::{Activation, FlightCap, Knock, Lateral, Physical, Sideways, Threshold};
+
+/// The tray and the grains, SI units.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TrayDrive {
+    /// nu (Hz).
+    pub frequency: f64,
+    /// A (m).
+    pub amplitude: f64,
+    /// Floor friction coefficient mu.
+    pub mu: f64,
+    /// g (m/s^2).
+    pub gravity: f64,
+}
+
+impl TrayDrive {
+    /// Peak tray acceleration `A (2 pi nu)^2` (m/s^2).
+    pub fn tray_acceleration(&self) -> f64 {
+        let w = 2.0 * std::f64::consts::PI * self.frequency;
+        self.amplitude * w * w
+    }
+
+    /// Largest acceleration floor friction can transmit, `mu g` (m/s^2).
+    pub fn friction_acceleration(&self) -> f64 {
+        self.mu * self.gravity
+    }
+}
+
+/// How a free grain slides on the tray, in its steady state.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SlideMeasure {
+    /// Peak-to-peak displacement relative to the tray over a period = sliding displacement per
+    /// half period (m).
+    pub displacement: f64,
+    /// Peak speed relative to the tray (m/s).
+    pub peak_speed: f64,
+}
+
+/// The slide of a grain from a sampled trajectory relative to the tray: `t` (s), relative
+/// displacement `x` (m) and relative velocity `u` (m/s). The displacement per half period is
+/// the mean `|x(t_k+1) - x(t_k)|` between the tray's turning points `t_k = (k/2 + 1/4) / nu`
+/// (linear interpolation) over the last full period; the speed is the peak `|u|` over it.
+pub fn slide_from_samples(frequency: f64, t: &[f64], x: &[f64], u: &[f64]) -> Option<SlideMeasure> {
+    let end = *t.last()?;
+    let half = 0.5 / frequency;
+    // Last turning point inside the record, and the two before it.
+    let k_last = ((end * frequency * 2.0 - 0.5).floor()) as i64;
+    if k_last < 2 {
+        return None;
+    }
+    let at = |tk: f64| -> f64 {
+        let i = t.partition_point(|&s| s < tk).clamp(1, t.len() - 1);
+        let (t0, t1) = (t[i - 1], t[i]);
+        let w = if t1 > t0 { (tk - t0) / (t1 - t0) } else { 0.0 };
+        x[i - 1] + w * (x[i] - x[i - 1])
+    };
+    let tk = |k: i64| (k as f64 + 0.5) * half;
+    let (a, b, c) = (at(tk(k_last - 2)), at(tk(k_last - 1)), at(tk(k_last)));
+    let peak = t
+        .iter()
+        .zip(u)
+        .filter(|(s, _)| **s >= tk(k_last - 2))
+        .map(|(_, v)| v.abs())
+        .fold(0.0, f64::max);
+    Some(SlideMeasure {
+        displacement: 0.5 * ((b - a).abs() + (c - b).abs()),
+        peak_speed: peak,
+    })
+}
+
+/// A Coulomb block on the sinusoidal tray `x_tray = A sin(2 pi nu t)`, at rest in the lab at
+/// `t = 0`: the relative velocity `u` obeys `du/dt = -a_tray(t) - mu g sgn(u)` while sliding
+/// and sticks (`u = 0`) while `|a_tray| <= mu g`. Integrated with `steps_per_period` steps
+/// for `periods` periods; measured by [`slide_from_samples`].
+pub fn coulomb_slide(drive: &TrayDrive, periods: usize, steps_per_period: usize) -> SlideMeasure {
+    let w = 2.0 * std::f64::consts::PI * drive.frequency;
+    let dt = 1.0 / (drive.frequency * steps_per_period as f64);
+    let f = drive.friction_acceleration();
+    let (mut u, mut x) = (-drive.amplitude * w, 0.0f64);
+    let n = periods.max(2) * steps_per_period;
+    let (mut ts, mut xs, mut us) = (Vec::with_capacity(n + 1), Vec::with_capacity(n + 1), Vec::with_capacity(n + 1));
+    ts.push(0.0);
+    xs.push(0.0);
+    us.push(u);
+    for k in 0..n {
+        let t = k as f64 * dt;
+        let a = -drive.amplitude * w * w * (w * t).sin(); // tray acceleration
+        if !(u == 0.0 && a.abs() <= f) {
+            let dir = if u != 0.0 { u.signum() } else { -a.signum() };
+            let un = u + (-a - f * dir) * dt;
+            // Friction cannot reverse the slip within a step: it stops at zero.
+            u = if un * dir < 0.0 { 0.0 } else { un };
+        }
+        x += u * dt;
+        ts.push((k + 1) as f64 * dt);
+        xs.push(x);
+        us.push(u);
+    }
+    slide_from_samples(drive.frequency, &ts, &xs, &us).expect("at least two periods")
+}
+
+/// The parameters left free by the mapping, fitted by calibration.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FreeParams {
+    /// Activation probability per half period (`None`: every grain flies).
+    pub activation: Option<f64>,
+    /// Knock-through speed scale `v_knock` (m/s) (`None`: no knock-through).
+    pub knock_speed: Option<f64>,
+    /// Sideways move probability per half period (`None`: no y moves).
+    pub sideways: Option<f64>,
+    /// Contacts with the neighbouring rows.
+    pub lateral: Lateral,
+    /// Apply the sliding threshold.
+    pub threshold: bool,
+    /// Apply the flight cap.
+    pub flight_cap: bool,
+}
+
+/// The `physical` ingredients of a tray: cap `l = round(D / cell_length)` cells, threshold
+/// `A (2 pi nu)^2 > mu g`, knock probability `1 - exp(-(v / v_knock)^2)`.
+pub fn physical(drive: &TrayDrive, slide: &SlideMeasure, cell_length: f64, free: &FreeParams) -> Physical {
+    Physical {
+        threshold: if free.threshold {
+            Threshold::Coulomb {
+                tray_acceleration: drive.tray_acceleration(),
+                friction_acceleration: drive.friction_acceleration(),
+            }
+        } else {
+            Threshold::None
+        },
+        cap: if free.flight_cap {
+            FlightCap::Cells {
+                cells: (slide.displacement / cell_length).round().max(0.0) as usize,
+            }
+        } else {
+            FlightCap::None
+        },
+        activation: free.activation.map_or(Activation::None, |p| Activation::Bernoulli { p }),
+        knock: free.knock_speed.map_or(Knock::None, |v| Knock::Bernoulli {
+            p: if v > 0.0 {
+                1.0 - (-(slide.peak_speed / v).powi(2)).exp()
+            } else {
+                1.0
+            },
+        }),
+        lateral: free.lateral,
+        sideways: free.sideways.map_or(Sideways::None, |p| Sideways::Bernoulli { p }),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn coulomb_block_sticks_below_the_threshold_and_slides_about_2a_far_above() {
+        let weak = TrayDrive {
+            frequency: 5.0,
+            amplitude: 0.005,
+            mu: 0.7,
+            gravity: 10.0,
+        };
+        assert!(weak.tray_acceleration() < weak.friction_acceleration());
+        let s = coulomb_slide(&weak, 4, 4000);
+        assert!(s.displacement < 1e-12, "D = {}", s.displacement);
+        let thesis = TrayDrive {
+            frequency: 20.0,
+            amplitude: 0.025,
+            ..weak
+        };
+        let s = coulomb_slide(&thesis, 6, 20000);
+        // |dv| <= mu g / (2 nu) = 0.175 m/s per half period against a tray at 3.14 m/s.
+        assert!((s.displacement - 0.05).abs() < 0.05 * 0.1, "D = {}", s.displacement);
+        assert!((s.peak_speed - std::f64::consts::PI).abs() < 0.3, "v = {}", s.peak_speed);
+    }
+}

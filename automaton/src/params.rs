@@ -1,0 +1,236 @@
+//! Rules and parameters of the automaton. Every ingredient of the `physical` rule set is a
+//! slot with an explicit `None` variant, so the automaton has its own ablations.
+
+use serde::{Deserialize, Serialize};
+
+/// Which rule set runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum RuleSet {
+    /// Thesis 3.1 exactly: every top-layer grain flies, alternately left and right, until it
+    /// touches a grain of the unchanged copy L; then grains fall until they rest. In a
+    /// submonolayer this is a rigid translation of the pattern by one cell per half step.
+    Strict,
+    /// The strict rules plus what a shaken tray supplies, in the tray frame ([`Physical`]).
+    Physical,
+}
+
+/// Sliding threshold: grains slide on the tray only when its peak acceleration
+/// `A (2 pi nu)^2` exceeds what floor friction can transmit, `mu g`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case", tag = "kind")]
+pub enum Threshold {
+    /// Grains always fly.
+    None,
+    /// Nothing moves unless `tray_acceleration > friction_acceleration` (both m/s^2).
+    Coulomb {
+        tray_acceleration: f64,
+        friction_acceleration: f64,
+    },
+}
+
+/// Flight cap: the farthest a grain flies in one half period.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case", tag = "kind")]
+pub enum FlightCap {
+    /// Fly until contact (thesis rule 1).
+    None,
+    /// At most `cells` cells: a free grain's sliding displacement relative to the tray over
+    /// one half period, in cells ([`crate::mapping`]).
+    Cells { cells: usize },
+}
+
+/// Stochastic flights.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case", tag = "kind")]
+pub enum Activation {
+    /// Every top-layer grain flies every half period.
+    None,
+    /// Each grain flies in a given half period with probability `p` (quantised to 1/64, [`crate::rng::ONE`]):
+    /// the size-dependent drift terms of the DEM (rolling friction, viscous friction branch,
+    /// walls, bouncing) that decide whether a grain keeps up with its neighbours.
+    Bernoulli { p: f64 },
+}
+
+/// Momentum transfer through a line of touching grains.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case", tag = "kind")]
+pub enum Knock {
+    /// Impacts stop the flying grain and nothing else.
+    None,
+    /// A grain whose flight ends on a line of touching grains knocks the far grain of the
+    /// line loose with probability `p` (it flies at once, up to the cap, if it was resting):
+    /// `p = 1 - exp(-(v / v_knock)^2)` with `v` the impact speed ([`crate::mapping`]). A
+    /// lateral contact (see [`Lateral`]) holds only with probability `1 - p`.
+    Bernoulli { p: f64 },
+}
+
+/// Contacts with the neighbouring rows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case", tag = "kind")]
+pub enum Lateral {
+    /// A grain is stopped only by grains in its own row.
+    None,
+    /// Grains in rows `j - 1` and `j + 1` also stop a flight (disks one cell wide overlap
+    /// their neighbouring rows in y). At the thesis packing this jams almost everything.
+    Neighbours,
+    /// Only grains of the neighbouring rows that touch an x-neighbour of their own row (part
+    /// of a cluster, locked by friction) stop a flight; lone grains are passed. A cluster in
+    /// one row so catches grains of the next: this couples rows into stripes across the tray.
+    Clusters,
+}
+
+/// Sideways (y) moves after each flight.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case", tag = "kind")]
+pub enum Sideways {
+    None,
+    /// A top grain moves to the +y (or the -y) neighbour, each with probability `p / 2`,
+    /// if that cell is lower.
+    Bernoulli {
+        p: f64,
+    },
+}
+
+/// The y boundary.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum YBoundary {
+    /// Side walls: no row beyond 0 and ny - 1.
+    Walls,
+    /// Periodic in y.
+    Periodic,
+}
+
+/// The `physical` ingredients.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Physical {
+    pub threshold: Threshold,
+    pub cap: FlightCap,
+    pub activation: Activation,
+    pub knock: Knock,
+    pub lateral: Lateral,
+    pub sideways: Sideways,
+}
+
+impl Physical {
+    /// Every ingredient off: the `physical` rules then equal the `strict` ones.
+    pub fn off() -> Self {
+        Self {
+            threshold: Threshold::None,
+            cap: FlightCap::None,
+            activation: Activation::None,
+            knock: Knock::None,
+            lateral: Lateral::None,
+            sideways: Sideways::None,
+        }
+    }
+}
+
+/// Everything an automaton run needs besides its lattice.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Params {
+    pub rule: RuleSet,
+    /// Used by `physical` only.
+    pub physical: Physical,
+    pub y: YBoundary,
+    /// Seed of the counter-based random bits.
+    pub seed: u64,
+}
+
+/// The resolved per-half-step numbers both update paths use.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Resolved {
+    /// Nothing moves (below the sliding threshold, or a zero flight cap).
+    pub frozen: bool,
+    /// Flight cap in cells (`usize::MAX`: none).
+    pub cap: usize,
+    /// Probabilities in units of 1/64 ([`crate::rng::ONE`]).
+    pub activation: u32,
+    pub knock: u32,
+    pub sideways: u32,
+    pub lateral: Lateral,
+    pub periodic_y: bool,
+}
+
+impl Params {
+    /// Checks the parameters; errors name the field.
+    pub fn validate(&self) -> Result<(), String> {
+        let prob = |name: &str, p: f64| {
+            if (0.0..=1.0).contains(&p) {
+                Ok(())
+            } else {
+                Err(format!("automaton.{name} must lie in [0, 1], got {p}"))
+            }
+        };
+        let ph = &self.physical;
+        if let Activation::Bernoulli { p } = ph.activation {
+            prob("activation", p)?;
+        }
+        if let Knock::Bernoulli { p } = ph.knock {
+            prob("knock probability", p)?;
+        }
+        if let Sideways::Bernoulli { p } = ph.sideways {
+            prob("sideways", p)?;
+        }
+        if let Threshold::Coulomb {
+            tray_acceleration: a,
+            friction_acceleration: f,
+        } = ph.threshold
+        {
+            if !(a.is_finite() && a >= 0.0 && f.is_finite() && f >= 0.0) {
+                return Err(format!(
+                    "automaton threshold: accelerations must be finite and >= 0, got {a} and {f}"
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    pub(crate) fn resolve(&self) -> Resolved {
+        let periodic_y = self.y == YBoundary::Periodic;
+        match self.rule {
+            RuleSet::Strict => Resolved {
+                frozen: false,
+                cap: usize::MAX,
+                activation: crate::rng::ONE,
+                knock: 0,
+                sideways: 0,
+                lateral: Lateral::None,
+                periodic_y,
+            },
+            RuleSet::Physical => {
+                let p = &self.physical;
+                let below = match p.threshold {
+                    Threshold::None => false,
+                    Threshold::Coulomb {
+                        tray_acceleration,
+                        friction_acceleration,
+                    } => tray_acceleration <= friction_acceleration,
+                };
+                let cap = match p.cap {
+                    FlightCap::None => usize::MAX,
+                    FlightCap::Cells { cells } => cells,
+                };
+                Resolved {
+                    frozen: below || cap == 0,
+                    cap,
+                    activation: match p.activation {
+                        Activation::None => crate::rng::ONE,
+                        Activation::Bernoulli { p } => crate::rng::quantise(p),
+                    },
+                    knock: match p.knock {
+                        Knock::None => 0,
+                        Knock::Bernoulli { p } => crate::rng::quantise(p),
+                    },
+                    sideways: match p.sideways {
+                        Sideways::None => 0,
+                        Sideways::Bernoulli { p } => crate::rng::quantise(p),
+                    },
+                    lateral: p.lateral,
+                    periodic_y,
+                }
+            }
+        }
+    }
+}

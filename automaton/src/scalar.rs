@@ -1,0 +1,211 @@
+//! The general half step on byte heights: any pile height, both rule sets, and the
+//! multilayer resting rule. It states the rules cell by cell; on a submonolayer it gives
+//! exactly what the bit-parallel [`crate::step`] gives (tested), which makes it the
+//! reference of the fast path as well.
+//!
+//! In the flight frame (rows mirrored when grains fly towards -x), with `L` the unchanged
+//! copy and `z = L[i] - 1` the level of the top grain of column `i`:
+//! 1. *Flight.* Each flying top grain (all of them, or those drawn active) moves to the
+//!    first column `c > i` whose `L` height exceeds `z` (in its row, or also the neighbouring
+//!    rows with lateral contacts), minus one, or `cap` columns, whichever is nearer
+//!    (thesis 3.1 rule 1, with the flight cap). A flight that ends on a grain of its own
+//!    row after moving at least one cell without reaching the cap is an impact.
+//! 2. *Knock-through.* For an impact drawn to transmit, the momentum runs through the line
+//!    of touching grains that was hit (in the hit grain's row, own row first, in the new
+//!    state, from the hit grain on), and the far grain of the line flies on, up to the cap,
+//!    until it touches a grain of its row.
+//! 3. *Sideways.* A top grain moves to the +y neighbour column if that is lower, with the
+//!    drawn probability; all at once; then the same towards -y.
+//! 4. *Resting (rule 2).* A top grain is at rest when both x-neighbours are at most one
+//!    grain lower; otherwise it moves to the lower side (the flight direction on a tie).
+//!    Applied in sweeps of increasing `i` until every slope is at most 1; each move lowers
+//!    `sum h^2` by at least 2, so this ends.
+
+use crate::params::{Lateral, Resolved};
+use crate::rng::{self, Stream};
+use crate::step::neighbour_row;
+
+/// Buffers of the byte step.
+pub(crate) struct ScalarScratch {
+    lf: Vec<u8>,
+    new: Vec<u8>,
+    snap: Vec<u8>,
+    impacts: Vec<(usize, usize, u8)>,
+}
+
+impl ScalarScratch {
+    pub fn new(nx: usize, ny: usize) -> Self {
+        Self {
+            lf: vec![0; nx * ny],
+            new: vec![0; nx * ny],
+            snap: vec![0; nx * ny],
+            impacts: Vec::with_capacity(nx * ny),
+        }
+    }
+}
+
+#[inline]
+fn bit(key: u64, stream: Stream, i: usize, p: u32) -> bool {
+    (rng::bernoulli(key, stream, i / 64, p) >> (i % 64)) & 1 == 1
+}
+
+/// One half step on heights `h` (index `j * nx + i`).
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn half_step(nx: usize, ny: usize, h: &mut [u8], r: &Resolved, seed: u64, t: u64, left: bool, sc: &mut ScalarScratch) {
+    let map = |i: usize| if left { nx - 1 - i } else { i };
+    for j in 0..ny {
+        for i in 0..nx {
+            sc.lf[j * nx + map(i)] = h[j * nx + i];
+        }
+    }
+    sc.new.copy_from_slice(&sc.lf);
+    let cap = r.cap.min(nx);
+    let lf = &sc.lf;
+    // A grain at level z of row jn, column c, that touches an x-neighbour at its level.
+    let clustered = |jn: usize, c: usize, z: u8| -> bool {
+        lf[jn * nx + c] > z && (lf[jn * nx + (c + 1) % nx] > z || lf[jn * nx + (c + nx - 1) % nx] > z)
+    };
+    let obstacle = |j: usize, c: usize, z: u8| -> bool {
+        if lf[j * nx + c] > z {
+            return true;
+        }
+        let side = [false, true].iter().any(|&up| {
+            neighbour_row(j, up, ny, r.periodic_y).is_some_and(|jn| match r.lateral {
+                Lateral::None => false,
+                Lateral::Neighbours => lf[jn * nx + c] > z,
+                Lateral::Clusters => clustered(jn, c, z),
+            })
+        });
+        // With knock-through a lateral contact holds with probability 1 - p_knock.
+        side && (r.knock == 0 || bit(rng::row_key(seed, t, j), Stream::Hold, c, rng::ONE - r.knock))
+    };
+    sc.impacts.clear();
+    if !r.frozen {
+        for j in 0..ny {
+            let key = rng::row_key(seed, t, j);
+            for i in 0..nx {
+                let hi = lf[j * nx + i];
+                if hi == 0 || !bit(key, Stream::Activation, i, r.activation) {
+                    continue;
+                }
+                let z = hi - 1;
+                let mut k = 1;
+                while k < nx && !obstacle(j, (i + k) % nx, z) {
+                    k += 1;
+                }
+                let gap = k - 1;
+                let dist = gap.min(cap);
+                if dist > 0 {
+                    sc.new[j * nx + i] -= 1;
+                    sc.new[j * nx + (i + dist) % nx] += 1;
+                }
+                let p = (i + k) % nx;
+                if gap < cap && gap >= 1 && r.knock > 0 && bit(key, Stream::Knock, p, r.knock) {
+                    sc.impacts.push((j, p, z));
+                }
+            }
+        }
+        // The bit-parallel step visits impacts by row, then by hit cell.
+        sc.impacts.sort_unstable();
+        for &(j0, p, z) in &sc.impacts {
+            // The row of the grain that stopped the flight: own row first, then below, above.
+            let hit = if lf[j0 * nx + p] > z {
+                Some(j0)
+            } else {
+                [false, true]
+                    .into_iter()
+                    .filter_map(|up| neighbour_row(j0, up, ny, r.periodic_y))
+                    .find(|&jn| match r.lateral {
+                        Lateral::None => false,
+                        Lateral::Neighbours => lf[jn * nx + p] > z,
+                        Lateral::Clusters => clustered(jn, p, z),
+                    })
+            };
+            let Some(j) = hit else {
+                continue;
+            };
+            if sc.new[j * nx + p] <= z {
+                continue; // the hit grain has flown off itself
+            }
+            let mut f = p;
+            for _ in 0..nx {
+                let next = (f + 1) % nx;
+                if sc.new[j * nx + next] <= z || next == p {
+                    break;
+                }
+                f = next;
+            }
+            let mut land = f;
+            for step in 1..=cap {
+                let c = (f + step) % nx;
+                if sc.new[j * nx + c] > z {
+                    break;
+                }
+                land = c;
+            }
+            if land != f {
+                sc.new[j * nx + f] -= 1;
+                sc.new[j * nx + land] += 1;
+            }
+        }
+        if r.sideways > 0 {
+            for up in [true, false] {
+                sc.snap.copy_from_slice(&sc.new);
+                for j in 0..ny {
+                    let Some(jn) = neighbour_row(j, up, ny, r.periodic_y).filter(|&jn| jn != j) else {
+                        continue;
+                    };
+                    let key = rng::row_key(seed, t, j);
+                    for i in 0..nx {
+                        let (a, b) = (sc.snap[j * nx + i], sc.snap[jn * nx + i]);
+                        if a > 0 && b < a && (rng::sideways(key, i / 64, r.sideways, up) >> (i % 64)) & 1 == 1 {
+                            sc.new[j * nx + i] -= 1;
+                            sc.new[jn * nx + i] += 1;
+                        }
+                    }
+                }
+            }
+        }
+    }
+    rest(nx, ny, &mut sc.new);
+    for j in 0..ny {
+        for i in 0..nx {
+            h[j * nx + i] = sc.new[j * nx + map(i)];
+        }
+    }
+}
+
+/// The resting rule (thesis 3.1 rule 2 for piles): until every x-slope is at most 1, a top
+/// grain with a neighbour two or more grains lower moves onto the lower neighbour (towards
+/// +i on a tie). Returns the number of grains moved.
+pub(crate) fn rest(nx: usize, ny: usize, h: &mut [u8]) -> u64 {
+    let mut moved = 0;
+    if nx < 2 {
+        return 0;
+    }
+    loop {
+        let mut changed = false;
+        for j in 0..ny {
+            let row = &mut h[j * nx..(j + 1) * nx];
+            for i in 0..nx {
+                let (l, c, rr) = ((i + nx - 1) % nx, i, (i + 1) % nx);
+                let hc = row[c];
+                let (hl, hr) = (row[l], row[rr]);
+                if hc >= hr.saturating_add(2) && hr <= hl {
+                    row[c] -= 1;
+                    row[rr] += 1;
+                } else if hc >= hl.saturating_add(2) {
+                    row[c] -= 1;
+                    row[l] += 1;
+                } else {
+                    continue;
+                }
+                changed = true;
+                moved += 1;
+            }
+        }
+        if !changed {
+            return moved;
+        }
+    }
+}

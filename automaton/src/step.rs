@@ -1,0 +1,339 @@
+//! The bit-parallel half step of a submonolayer (every height 0 or 1), both rule sets.
+//!
+//! Work happens in the *flight frame*: rows are mirrored when grains fly towards -x, so the
+//! flight always goes to higher cell indices. For row `j`, with `L` the unchanged copy:
+//! - obstacles `O = L_j` (or `L_{j-1} | L_j | L_{j+1}` with lateral contacts), free `F = !O`;
+//! - flying grains `A = L_j & activation bits`;
+//! - a grain at `a` with `F` set on all of `a+1 ..= a+l` (mask `FL`, built from `F` by
+//!   doubling in O(log l) rotations) flies the full cap: it lands at `a + l`;
+//! - every other flying grain lands just before the first obstacle `p` ahead of it:
+//!   adding the run starts `S = rot_up(A & !FL, 1) & F` to `F` with end-around carry
+//!   ([`RowShape::cyclic_add`]) carries along each free run and sets exactly its end `p`,
+//!   `E = (F + S) & !F`, and the landing cells are `rot_down(E, 1)`;
+//! - a flying grain whose cell ahead is an obstacle stays.
+//!
+//! The new row is `(L_j & !A) | rot_up(A & FL, l) | rot_down(E, 1) | stay`. Landing cells are
+//! distinct (each lies in its grain's own free run), so the row stays 0/1 and the number of
+//! grains is conserved exactly. Knock-through (a few impacts per row) and sideways moves are
+//! applied afterwards in the same frame; [`crate::scalar`] is the byte-per-cell reference of
+//! exactly these rules. Every buffer is allocated once, in [`BitScratch::new`].
+
+// Word loops index several rows at once; explicit indices read clearer than zipped iterators.
+#![allow(clippy::needless_range_loop)]
+
+use crate::bits::RowShape;
+use crate::params::{Lateral, Resolved};
+use crate::rng::{self, Stream};
+
+/// Buffers of the bit-parallel step (no allocation per step).
+pub(crate) struct BitScratch {
+    lf: Vec<u64>,
+    clusters: Vec<u64>,
+    new: Vec<u64>,
+    active: Vec<u64>,
+    impacts: Vec<u64>,
+    cand: Vec<u64>,
+    o: Vec<u64>,
+    free: Vec<u64>,
+    f1: Vec<u64>,
+    fl: Vec<u64>,
+    pow: Vec<u64>,
+    tmp: Vec<u64>,
+    s2: Vec<u64>,
+    sum: Vec<u64>,
+}
+
+impl BitScratch {
+    pub fn new(shape: RowShape, ny: usize) -> Self {
+        let w = shape.words;
+        let row = || vec![0u64; w];
+        Self {
+            lf: vec![0; w * ny],
+            clusters: vec![0; w * ny],
+            new: vec![0; w * ny],
+            active: vec![0; w * ny],
+            impacts: vec![0; w * ny],
+            cand: vec![0; w * ny],
+            o: row(),
+            free: row(),
+            f1: row(),
+            fl: row(),
+            pow: row(),
+            tmp: row(),
+            s2: row(),
+            sum: row(),
+        }
+    }
+}
+
+/// Row `jn = j + d` or `None` beyond a wall.
+#[inline]
+pub(crate) fn neighbour_row(j: usize, up: bool, ny: usize, periodic: bool) -> Option<usize> {
+    if up {
+        if j + 1 < ny {
+            Some(j + 1)
+        } else if periodic {
+            Some(0)
+        } else {
+            None
+        }
+    } else if j > 0 {
+        Some(j - 1)
+    } else if periodic {
+        Some(ny - 1)
+    } else {
+        None
+    }
+}
+
+/// Obstacles of row `j` in the flight-frame copy `lf`; `clusters` holds the grains that
+/// touch an x-neighbour in their row (used by [`Lateral::Clusters`]). With knock-through, a
+/// lateral contact holds only with probability `1 - p_knock` (an impact that knocks loose
+/// also pushes past the neighbouring rows), drawn per cell of row `j`.
+#[allow(clippy::too_many_arguments)]
+fn obstacles(shape: &RowShape, lf: &[u64], clusters: &[u64], ny: usize, j: usize, r: &Resolved, key: u64, o: &mut [u64]) {
+    let w = shape.words;
+    o.copy_from_slice(&lf[j * w..(j + 1) * w]);
+    let side = match r.lateral {
+        Lateral::None => return,
+        Lateral::Neighbours => lf,
+        Lateral::Clusters => clusters,
+    };
+    let rows = [false, true].map(|up| neighbour_row(j, up, ny, r.periodic_y));
+    for k in 0..w {
+        let mut s = 0;
+        for jn in rows.iter().flatten() {
+            s |= side[jn * w + k];
+        }
+        if s != 0 && r.knock > 0 {
+            s &= rng::bernoulli(key, Stream::Hold, k, rng::ONE - r.knock);
+        }
+        o[k] |= s;
+    }
+}
+
+/// `clusters = L & (rot_up(L, 1) | rot_down(L, 1))` row by row.
+fn cluster_cells(shape: &RowShape, ny: usize, sc: &mut BitScratch) {
+    let w = shape.words;
+    for j in 0..ny {
+        let l = &sc.lf[j * w..(j + 1) * w];
+        shape.rotate_up(l, 1, &mut sc.tmp);
+        shape.rotate_down(l, 1, &mut sc.pow);
+        for k in 0..w {
+            sc.clusters[j * w + k] = l[k] & (sc.tmp[k] | sc.pow[k]);
+        }
+    }
+}
+
+/// `FL[a] = F[a+1] & ... & F[a+cap]`, by binary composition of doubled runs.
+fn full_flight_mask(shape: &RowShape, f1: &[u64], cap: usize, fl: &mut [u64], pow: &mut [u64], tmp: &mut [u64]) {
+    if cap >= shape.nx {
+        // A run of nx free cells would include the grain itself: nobody flies the full cap.
+        fl.iter_mut().for_each(|x| *x = 0);
+        return;
+    }
+    pow.copy_from_slice(f1);
+    let (mut len_res, mut len_pow, mut c) = (0usize, 1usize, cap);
+    while c > 0 {
+        if c & 1 == 1 {
+            if len_res == 0 {
+                fl.copy_from_slice(pow);
+            } else {
+                shape.rotate_down(pow, len_res, tmp);
+                fl.iter_mut().zip(tmp.iter()).for_each(|(a, b)| *a &= *b);
+            }
+            len_res += len_pow;
+        }
+        c >>= 1;
+        if c > 0 {
+            shape.rotate_down(pow, len_pow, tmp);
+            pow.iter_mut().zip(tmp.iter()).for_each(|(a, b)| *a &= *b);
+            len_pow *= 2;
+        }
+    }
+}
+
+/// One half step of a bit-packed submonolayer `rows` (`ny` rows of `shape.words` words).
+/// `left`: grains fly towards -x in this half step; `t` numbers the half step (random bits).
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn half_step(shape: &RowShape, ny: usize, rows: &mut [u64], r: &Resolved, seed: u64, t: u64, left: bool, sc: &mut BitScratch) {
+    if r.frozen {
+        return;
+    }
+    let w = shape.words;
+    // Flight frame.
+    for j in 0..ny {
+        let (src, dst) = (&rows[j * w..(j + 1) * w], &mut sc.lf[j * w..(j + 1) * w]);
+        if left {
+            shape.reverse(src, dst);
+        } else {
+            dst.copy_from_slice(src);
+        }
+    }
+    let cap = r.cap.min(shape.nx);
+    if r.lateral == Lateral::Clusters {
+        cluster_cells(shape, ny, sc);
+    }
+    for j in 0..ny {
+        let key = rng::row_key(seed, t, j);
+        obstacles(shape, &sc.lf, &sc.clusters, ny, j, r, key, &mut sc.o);
+        shape.not(&sc.o, &mut sc.free);
+        let lrow = &sc.lf[j * w..(j + 1) * w];
+        let act = &mut sc.active[j * w..(j + 1) * w];
+        for (k, (a, l)) in act.iter_mut().zip(lrow).enumerate() {
+            *a = *l & rng::bernoulli(key, Stream::Activation, k, r.activation);
+        }
+        shape.rotate_down(&sc.free, 1, &mut sc.f1);
+        // Nobody flies the full cap unless some free run is that long: skip the doubling.
+        if cap >= 64 && cap < shape.nx && !shape.has_run(&sc.free, cap) {
+            sc.fl.iter_mut().for_each(|x| *x = 0);
+        } else {
+            full_flight_mask(shape, &sc.f1, cap, &mut sc.fl, &mut sc.pow, &mut sc.tmp);
+        }
+        // Run starts of the grains that stop on an obstacle: s2 = rot_up(A & !FL, 1) & F.
+        for k in 0..w {
+            sc.tmp[k] = act[k] & !sc.fl[k];
+        }
+        shape.rotate_up(&sc.tmp, 1, &mut sc.s2);
+        for k in 0..w {
+            sc.s2[k] &= sc.free[k];
+        }
+        shape.cyclic_add(&sc.free, &sc.s2, &mut sc.sum);
+        let new = &mut sc.new[j * w..(j + 1) * w];
+        // E (ends of the runs) in sum; landing just before them.
+        for k in 0..w {
+            sc.sum[k] &= !sc.free[k];
+        }
+        if r.knock > 0 {
+            let imp = &mut sc.impacts[j * w..(j + 1) * w];
+            for k in 0..w {
+                let hits = sc.sum[k];
+                // Draw only where something was hit (the draw is the same either way).
+                imp[k] = if hits != 0 {
+                    hits & rng::bernoulli(key, Stream::Knock, k, r.knock)
+                } else {
+                    0
+                };
+            }
+        }
+        shape.rotate_down(&sc.sum, 1, new);
+        for k in 0..w {
+            let stopped = act[k] & !sc.fl[k];
+            new[k] |= (lrow[k] & !act[k]) | (stopped & !sc.f1[k]);
+            sc.tmp[k] = act[k] & sc.fl[k];
+        }
+        if cap < shape.nx && sc.tmp.iter().any(|&x| x != 0) {
+            shape.rotate_up(&sc.tmp, cap, &mut sc.pow);
+            for k in 0..w {
+                new[k] |= sc.pow[k];
+            }
+        }
+    }
+    if r.knock > 0 {
+        knock_through(shape, ny, r, cap, sc);
+    }
+    if r.sideways > 0 {
+        for up in [true, false] {
+            sideways(shape, ny, r, seed, t, up, sc);
+        }
+    }
+    for j in 0..ny {
+        let (src, dst) = (&sc.new[j * w..(j + 1) * w], &mut rows[j * w..(j + 1) * w]);
+        if left {
+            shape.reverse(src, dst);
+        } else {
+            dst.copy_from_slice(src);
+        }
+    }
+}
+
+/// The row of the grain that stopped a flight in row `j` at cell `p`: row `j` itself, else
+/// the lower, else the upper neighbour whose obstacle grain is there.
+fn hit_row(lf: &[u64], clusters: &[u64], w: usize, ny: usize, j: usize, p: usize, r: &Resolved) -> Option<usize> {
+    if RowShape::get(&lf[j * w..], p) {
+        return Some(j);
+    }
+    let side = match r.lateral {
+        Lateral::None => return None,
+        Lateral::Neighbours => lf,
+        Lateral::Clusters => clusters,
+    };
+    [false, true]
+        .into_iter()
+        .filter_map(|up| neighbour_row(j, up, ny, r.periodic_y))
+        .find(|&jn| RowShape::get(&side[jn * w..], p))
+}
+
+/// Knock-through: after the flights, the impact's momentum runs through the line of touching
+/// grains that was hit (in the hit grain's row, in the new state, from the hit grain on) and
+/// the far grain of that line flies on, up to the cap, until it touches a grain of its row.
+/// Impacts are handled in row order and, within a row, in flight-frame order.
+fn knock_through(shape: &RowShape, ny: usize, r: &Resolved, cap: usize, sc: &mut BitScratch) {
+    let w = shape.words;
+    let nx = shape.nx;
+    for j in 0..ny {
+        for k in 0..w {
+            let mut bits = sc.impacts[j * w + k];
+            while bits != 0 {
+                let p = 64 * k + bits.trailing_zeros() as usize;
+                bits &= bits - 1;
+                let Some(h) = hit_row(&sc.lf, &sc.clusters, w, ny, j, p, r) else {
+                    continue;
+                };
+                let new = &mut sc.new[h * w..(h + 1) * w];
+                if !RowShape::get(new, p) {
+                    continue; // the hit grain has flown off itself
+                }
+                // Far end of the line: the cell before the first empty one after p.
+                let f = match shape.next(new, p, true) {
+                    Some(e) => (e + nx - 1) % nx,
+                    None => (p + nx - 1) % nx,
+                };
+                // It flies until the cell before the next grain of its row, at most `cap`.
+                let ahead = shape.next(new, (f + 1) % nx, false).expect("the far grain itself is set");
+                let dist = (ahead + nx - f) % nx;
+                let dist = if dist == 0 { nx } else { dist };
+                let land = (f + (dist - 1).min(cap)) % nx;
+                if land != f {
+                    RowShape::set(new, f, false);
+                    RowShape::set(new, land, true);
+                }
+            }
+        }
+    }
+}
+
+/// Simultaneous sideways moves towards +y (`up`) or -y into empty cells.
+fn sideways(shape: &RowShape, ny: usize, r: &Resolved, seed: u64, t: u64, up: bool, sc: &mut BitScratch) {
+    let w = shape.words;
+    for j in 0..ny {
+        let key = rng::row_key(seed, t, j);
+        let cand = &mut sc.cand[j * w..(j + 1) * w];
+        match neighbour_row(j, up, ny, r.periodic_y) {
+            Some(jn) if jn != j => {
+                for k in 0..w {
+                    let room = sc.new[j * w + k] & !sc.new[jn * w + k];
+                    // Draw only where a move is possible (the draw is the same either way).
+                    cand[k] = if room != 0 {
+                        room & rng::sideways(key, k, r.sideways, up)
+                    } else {
+                        0
+                    };
+                }
+            }
+            _ => cand.iter_mut().for_each(|x| *x = 0),
+        }
+    }
+    for j in 0..ny {
+        if let Some(jn) = neighbour_row(j, up, ny, r.periodic_y) {
+            if jn == j {
+                continue;
+            }
+            for k in 0..w {
+                let c = sc.cand[j * w + k];
+                sc.new[j * w + k] &= !c;
+                sc.new[jn * w + k] |= c;
+            }
+        }
+    }
+}

@@ -1,0 +1,192 @@
+//! Invariants of the automaton's rules (issue 5 acceptance tests).
+
+use automaton::{
+    Activation, Automaton, Direction, FlightCap, Knock, Lateral, Lattice, Params, Physical, RuleSet, Sideways, Threshold, YBoundary,
+};
+use proptest::prelude::*;
+
+fn all_on(cap: usize, y: YBoundary) -> Params {
+    Params {
+        rule: RuleSet::Physical,
+        physical: Physical {
+            threshold: Threshold::Coulomb {
+                tray_acceleration: 400.0,
+                friction_acceleration: 7.0,
+            },
+            cap: FlightCap::Cells { cells: cap },
+            activation: Activation::Bernoulli { p: 0.6 },
+            knock: Knock::Bernoulli { p: 0.5 },
+            lateral: Lateral::Neighbours,
+            sideways: Sideways::Bernoulli { p: 0.2 },
+        },
+        y,
+        seed: 11,
+    }
+}
+
+fn strict(y: YBoundary) -> Params {
+    Params {
+        rule: RuleSet::Strict,
+        physical: Physical::off(),
+        y,
+        seed: 1,
+    }
+}
+
+/// Deterministic pseudo-random heights in 0..=max with about `fill` of the cells occupied.
+fn random_heights(nx: usize, ny: usize, fill: f64, max: u8, seed: u64) -> Vec<u8> {
+    let mut s = seed.wrapping_mul(0x9e37_79b9_7f4a_7c15) | 1;
+    (0..nx * ny)
+        .map(|_| {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            let u = (s >> 11) as f64 / (1u64 << 53) as f64;
+            if u < fill {
+                1 + ((s % max as u64) as u8)
+            } else {
+                0
+            }
+        })
+        .collect()
+}
+
+#[test]
+fn mass_is_conserved_exactly_and_heights_stay_non_negative() {
+    for (nx, ny, max) in [(533, 27, 1u8), (100, 7, 1), (64, 5, 4), (37, 3, 6)] {
+        for y in [YBoundary::Walls, YBoundary::Periodic] {
+            let h = random_heights(nx, ny, 0.3, max, nx as u64);
+            let lattice = Lattice::from_heights(nx, ny, &h).unwrap();
+            let mass = lattice.mass();
+            let mut a = Automaton::new(lattice, all_on(nx / 8 + 1, y), Direction::Plus).unwrap();
+            for _ in 0..60 {
+                a.half_step();
+                // u8 heights cannot go negative; an underflow would wrap to 255 and change
+                // the mass, so a conserved mass with bounded heights proves both.
+                assert_eq!(a.lattice().mass(), mass, "{nx}x{ny} {y:?} after {} half steps", a.half_steps());
+                let top = *a.lattice().heights().iter().max().unwrap() as u64;
+                assert!(top <= mass.min(200), "height {top}");
+            }
+        }
+    }
+}
+
+#[test]
+fn bit_parallel_step_equals_the_byte_reference_on_submonolayers() {
+    for (k, (nx, ny)) in [(533usize, 27usize), (64, 4), (65, 3), (200, 1), (129, 2)].into_iter().enumerate() {
+        for y in [YBoundary::Walls, YBoundary::Periodic] {
+            let mut clusters = all_on(nx / 5 + 2, y);
+            clusters.physical.lateral = Lateral::Clusters;
+            for params in [all_on(nx / 7 + 1, y), strict(y), all_on(3, y), all_on(10 * nx, y), clusters] {
+                let h = random_heights(nx, ny, 0.25 + 0.1 * k as f64, 1, 3 + k as u64);
+                let bits = Lattice::from_heights(nx, ny, &h).unwrap();
+                assert!(bits.is_bit_packed());
+                let bytes = bits.clone().into_byte_storage();
+                let mut a = Automaton::new(bits, params, Direction::Minus).unwrap();
+                let mut b = Automaton::new(bytes, params, Direction::Minus).unwrap();
+                for _ in 0..40 {
+                    a.half_step();
+                    b.half_step();
+                    assert_eq!(
+                        a.lattice().heights(),
+                        b.lattice().heights(),
+                        "{nx}x{ny} {y:?} {:?} half step {}",
+                        params.rule,
+                        a.half_steps()
+                    );
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn mirror_image_with_reversed_drive_phase_gives_the_mirrored_pattern() {
+    for (nx, ny, max) in [(533, 27, 1u8), (90, 6, 3)] {
+        let h = random_heights(nx, ny, 0.3, max, 5);
+        let lattice = Lattice::from_heights(nx, ny, &h).unwrap();
+        let mirror = lattice.mirrored();
+        let params = all_on(17, YBoundary::Walls);
+        let mut a = Automaton::new(lattice, params, Direction::Plus).unwrap();
+        let mut b = Automaton::new(mirror, params, Direction::Minus).unwrap();
+        for _ in 0..50 {
+            a.half_step();
+            b.half_step();
+        }
+        assert_ne!(a.lattice().heights(), h, "something moved");
+        assert_eq!(a.lattice().mirrored(), *b.lattice());
+    }
+}
+
+#[test]
+fn below_the_sliding_threshold_nothing_moves() {
+    let h = random_heights(200, 10, 0.3, 1, 9);
+    let lattice = Lattice::from_heights(200, 10, &h).unwrap();
+    let mut params = all_on(20, YBoundary::Walls);
+    params.physical.threshold = Threshold::Coulomb {
+        tray_acceleration: 4.93, // 5 Hz, 5 mm: A (2 pi nu)^2
+        friction_acceleration: 7.0,
+    };
+    let mut a = Automaton::new(lattice.clone(), params, Direction::Plus).unwrap();
+    assert!(a.frozen());
+    for _ in 0..20 {
+        a.period();
+    }
+    assert_eq!(*a.lattice(), lattice);
+}
+
+#[test]
+fn multilayer_slopes_relax_to_at_most_one() {
+    for seed in 0..5 {
+        let (nx, ny) = (80, 4);
+        let h = random_heights(nx, ny, 0.5, 9, seed);
+        let lattice = Lattice::from_heights(nx, ny, &h).unwrap();
+        assert!(lattice.max_x_slope() >= 2, "the start must be steep");
+        let mass = lattice.mass();
+        for params in [strict(YBoundary::Walls), all_on(10, YBoundary::Periodic)] {
+            let mut a = Automaton::new(lattice.clone(), params, Direction::Plus).unwrap();
+            for _ in 0..10 {
+                a.half_step();
+                assert!(a.lattice().max_x_slope() <= 1, "slope {}", a.lattice().max_x_slope());
+                assert_eq!(a.lattice().mass(), mass);
+            }
+        }
+    }
+}
+
+fn rotated(h: &[u8], nx: usize, ny: usize, shift: isize) -> Vec<u8> {
+    let mut out = vec![0; h.len()];
+    for j in 0..ny {
+        for i in 0..nx {
+            let to = (i as isize + shift).rem_euclid(nx as isize) as usize;
+            out[j * nx + to] = h[j * nx + i];
+        }
+    }
+    out
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(64))]
+    /// Thesis rule 1 read literally: each grain stops just before where the next grain
+    /// started, so a submonolayer moves rigidly by one cell against the flight.
+    #[test]
+    fn strict_moves_any_submonolayer_rigidly_by_one_cell_per_half_step(
+        nx in 1usize..150,
+        ny in 1usize..5,
+        cells in prop::collection::vec(any::<bool>(), 600),
+        periodic in any::<bool>(),
+        bytes in any::<bool>(),
+    ) {
+        let h: Vec<u8> = cells.iter().take(nx * ny).map(|&c| c as u8).chain(std::iter::repeat(0)).take(nx * ny).collect();
+        let mut lattice = Lattice::from_heights(nx, ny, &h).unwrap();
+        if bytes {
+            lattice = lattice.into_byte_storage();
+        }
+        let y = if periodic { YBoundary::Periodic } else { YBoundary::Walls };
+        let mut a = Automaton::new(lattice, strict(y), Direction::Plus).unwrap();
+        a.half_step(); // flight towards +x: pattern moves by -1
+        prop_assert_eq!(a.lattice().heights(), rotated(&h, nx, ny, -1));
+        a.half_step(); // back
+        prop_assert_eq!(a.lattice().heights(), h);
+    }
+}

@@ -1,0 +1,218 @@
+//! The automaton on a scene: its lattice from the DEM's prepared sample and its parameters
+//! from the tray, through the single-sphere DEM (the CLI is the only place that knows both
+//! crates; `automaton` never depends on `particles`).
+//!
+//! - Cells: square-ish, one mean grain diameter `d = r_min + r_max`: `nx = round(L / d)`,
+//!   `ny = max(1, round(W / d))`, cell `(L / nx) x (W / ny)`.
+//! - Lattice: every grain of the sample goes to the cell holding its centre; if that is
+//!   taken, to the nearest free cell (searched in rings of growing distance, same row
+//!   first), and only if none is free within 3 cells it is stacked on its own cell. The
+//!   sample is a monolayer at packing 0.23, so a few percent of grains are displaced by at
+//!   most a cell and none is stacked (the run's summary reports both counts).
+//! - Flight cap: the single-sphere DEM (`particles::experiment::single`, radius = the mean
+//!   radius, the scene's material and floor law, at rest in the lab at t = 0) on the scene's
+//!   drive for `SLIDE_PERIODS` periods; its displacement relative to the tray between the
+//!   last turning points, in cells ([`automaton::mapping::slide_from_samples`]). The Coulomb
+//!   block ([`automaton::mapping::coulomb_slide`]) is reported next to it as a check.
+//! - Sliding threshold `A (2 pi nu)^2 > mu_wall g`; knock probability from the DEM's peak
+//!   sliding speed.
+
+use analysis::snapshot::{Header, SnapshotWriter};
+use automaton::mapping::{self, FreeParams, SlideMeasure, TrayDrive};
+use automaton::{Lateral, Lattice, Params, RuleSet, YBoundary};
+use particles::experiment::single::SphereOnFloor;
+use particles::scene::{AutomatonLateral, AutomatonRule, Scene, TimeStep};
+use particles::tray::GRAVITY;
+use serde::Serialize;
+
+use crate::output::CliError;
+
+/// Periods of the single-sphere run behind the flight cap.
+pub const SLIDE_PERIODS: f64 = 4.0;
+
+/// Lattice geometry of a scene.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct Cells {
+    pub nx: usize,
+    pub ny: usize,
+    /// Cell length along x and y (m).
+    pub dx: f64,
+    pub dy: f64,
+}
+
+impl Cells {
+    pub fn of(scene: &Scene) -> Self {
+        let d = scene
+            .automaton
+            .cell
+            .unwrap_or(scene.particles.radius_min + scene.particles.radius_max);
+        let nx = ((scene.tray.length / d).round() as usize).max(1);
+        let ny = ((scene.tray.width / d).round() as usize).max(1);
+        Self {
+            nx,
+            ny,
+            dx: scene.tray.length / nx as f64,
+            dy: scene.tray.width / ny as f64,
+        }
+    }
+}
+
+/// The tray seen by the automaton's mapping.
+pub fn tray_drive(scene: &Scene) -> TrayDrive {
+    TrayDrive {
+        frequency: scene.drive.frequency,
+        amplitude: scene.drive.amplitude,
+        mu: scene.contact.wall_friction,
+        gravity: GRAVITY,
+    }
+}
+
+/// A free grain's slide on the scene's tray, from the single-sphere DEM.
+pub fn slide_dem(scene: &Scene) -> Result<SlideMeasure, CliError> {
+    let (_, wall_law) = scene.laws();
+    let dt = match scene.run.dt {
+        TimeStep::Seconds(dt) => dt,
+        TimeStep::Auto(_) => particles::tray::shortest_contact_time(scene) / scene.run.steps_per_contact,
+    };
+    let sphere = SphereOnFloor {
+        radius: 0.5 * (scene.particles.radius_min + scene.particles.radius_max),
+        density: scene.material.density,
+        law: wall_law,
+        gravity: GRAVITY,
+        dt,
+    };
+    let duration = SLIDE_PERIODS / scene.drive.frequency;
+    let every = ((1.0 / scene.drive.frequency) / dt / 400.0).max(1.0) as u64;
+    let samples = sphere.shake(scene.drive.amplitude, scene.drive.frequency, duration, every)?;
+    let t: Vec<f64> = samples.iter().map(|s| s.t).collect();
+    let x: Vec<f64> = samples.iter().map(|s| s.x - s.floor_x).collect();
+    let u: Vec<f64> = samples.iter().map(|s| s.vx - s.floor_vx).collect();
+    mapping::slide_from_samples(scene.drive.frequency, &t, &x, &u).ok_or_else(|| "single-sphere run too short to measure the slide".into())
+}
+
+/// The lattice of grains at `(x, y)`, and how many were displaced to a neighbouring free cell
+/// or stacked.
+pub fn lattice_from_positions(cells: &Cells, length: f64, pos: &[[f64; 2]]) -> (Lattice, usize, usize) {
+    let (nx, ny) = (cells.nx, cells.ny);
+    let mut h = vec![0u8; nx * ny];
+    let (mut displaced, mut stacked) = (0, 0);
+    // Ring offsets by distance, same row first on ties.
+    let mut ring: Vec<(i64, i64)> = (-3i64..=3).flat_map(|dj| (-3i64..=3).map(move |di| (di, dj))).collect();
+    ring.sort_by_key(|&(di, dj)| (di * di + dj * dj, dj.abs(), dj, di));
+    for p in pos {
+        let i = ((p[0].rem_euclid(length) / cells.dx).floor() as i64).rem_euclid(nx as i64);
+        let j = ((p[1] / cells.dy).floor() as i64).clamp(0, ny as i64 - 1);
+        let free = ring.iter().find_map(|&(di, dj)| {
+            let jj = j + dj;
+            if !(0..ny as i64).contains(&jj) {
+                return None;
+            }
+            let ii = (i + di).rem_euclid(nx as i64);
+            let k = jj as usize * nx + ii as usize;
+            (h[k] == 0).then_some(k)
+        });
+        match free {
+            Some(k) => {
+                if k != j as usize * nx + i as usize {
+                    displaced += 1;
+                }
+                h[k] = 1;
+            }
+            None => {
+                let k = j as usize * nx + i as usize;
+                h[k] = h[k].saturating_add(1);
+                stacked += 1;
+            }
+        }
+    }
+    (Lattice::from_heights(nx, ny, &h).expect("sizes match"), displaced, stacked)
+}
+
+/// The free parameters of a scene's `[automaton]` table.
+pub fn free_params(scene: &Scene) -> FreeParams {
+    let a = &scene.automaton;
+    FreeParams {
+        activation: a.stochastic.then_some(a.activation),
+        knock_speed: a.knock.then_some(a.knock_speed),
+        sideways: a.sideways.then_some(a.sideways_probability),
+        lateral: match a.lateral {
+            AutomatonLateral::None => Lateral::None,
+            AutomatonLateral::Neighbours => Lateral::Neighbours,
+            AutomatonLateral::Clusters => Lateral::Clusters,
+        },
+        threshold: a.threshold,
+        flight_cap: a.flight_cap,
+    }
+}
+
+/// The automaton's parameters for a scene, given the measured slide.
+pub fn params(scene: &Scene, rule: AutomatonRule, slide: &SlideMeasure, free: &FreeParams) -> Params {
+    let cells = Cells::of(scene);
+    Params {
+        rule: match rule {
+            AutomatonRule::Strict => RuleSet::Strict,
+            AutomatonRule::Physical => RuleSet::Physical,
+        },
+        physical: mapping::physical(&tray_drive(scene), slide, cells.dx, free),
+        y: if scene.toggles.walls {
+            YBoundary::Walls
+        } else {
+            YBoundary::Periodic
+        },
+        seed: scene.run.seed,
+    }
+}
+
+/// Writes automaton states as DEM snapshots: one grain per occupied cell and level at the
+/// cell centre, shifted by the tray's displacement `offset` (the lattice is the tray frame),
+/// z from the level, all radii `radius`.
+pub struct StateWriter {
+    writer: SnapshotWriter,
+    cells: Cells,
+    length: f64,
+    radius: f64,
+    diameter: f64,
+}
+
+impl StateWriter {
+    pub fn create(
+        path: &std::path::Path,
+        cells: Cells,
+        length: f64,
+        width: f64,
+        grains: usize,
+        radius: f64,
+        diameter: f64,
+    ) -> Result<Self, CliError> {
+        let header = Header {
+            length,
+            width,
+            radii: vec![radius; grains],
+        };
+        Ok(Self {
+            writer: SnapshotWriter::create(path, header).map_err(|e| format!("cannot create {}: {e}", path.display()))?,
+            cells,
+            length,
+            radius,
+            diameter,
+        })
+    }
+
+    pub fn push(&mut self, time: f64, offset: f64, lattice: &Lattice) -> Result<(), CliError> {
+        let c = self.cells;
+        let (l, r, d) = (self.length, self.radius, self.diameter);
+        let pos = lattice.grains().map(move |(i, j, z)| {
+            [
+                ((i as f64 + 0.5) * c.dx + offset).rem_euclid(l),
+                (j as f64 + 0.5) * c.dy,
+                r + z as f64 * d,
+            ]
+        });
+        self.writer.push(time, pos, std::iter::repeat([0.0; 3]))?;
+        Ok(())
+    }
+
+    pub fn sync(&mut self) -> Result<(), CliError> {
+        Ok(self.writer.sync()?)
+    }
+}

@@ -1,0 +1,354 @@
+//! `stripes automaton SCENE.toml`: the Strassburger cellular automaton (thesis 3.1) on the
+//! same scene file and the same prepared sample as `stripes run`, written as snapshots that
+//! `stripes analyze` reads, and analysed by it. `--bench` measures its speed, `--calibrate`
+//! fits its free parameters to DEM runs (see [`super::calibrate`]).
+//!
+//! Time: one drive period is two half steps (a flight towards +x, then towards -x, the
+//! grains' slide relative to the tray between the turning points). Frame 0 is the sample at
+//! t = 0; frame k >= 1 follows k periods and carries the DEM's snapshot time
+//! `t_k = 1/(4 nu) + (k - 1)/nu`, so both models' curves share one time axis. The lattice is
+//! the tray frame: positions are written shifted by the tray's displacement at that phase.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use automaton::mapping::{self, FreeParams};
+use automaton::{Automaton, Direction};
+use indicatif::{ProgressBar, ProgressStyle};
+use particles::prepare;
+use particles::scene::{AutomatonRule, Scene};
+use serde::Serialize;
+use serde_json::{json, Value};
+
+use crate::cellular::{self, Cells, StateWriter};
+use crate::commands::analyze;
+use crate::output::{CliError, RunDir};
+
+/// Rule set chosen on the command line.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, Serialize, PartialEq, Eq)]
+pub enum Rule {
+    Strict,
+    Physical,
+}
+
+#[derive(clap::Args, Debug, Serialize)]
+pub struct Args {
+    /// Scene file (TOML), the same as for `stripes run` (optional table [automaton]).
+    #[arg(required_unless_present = "calibrate")]
+    pub scene: Option<PathBuf>,
+    /// Output directory (default: out/automaton-<scene name>).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Override a scene key, e.g. --set automaton.activation=0.3 (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub overrides: Vec<String>,
+    /// Rule set (default: the scene's automaton.rule, itself `physical` by default).
+    #[arg(long, value_enum)]
+    pub rule: Option<Rule>,
+    /// Directory of prepared samples, shared with `stripes run`.
+    #[arg(long, default_value = "out/samples")]
+    pub samples: PathBuf,
+    /// Measure the speed (cell updates per second, one core) on the scene's tray with a
+    /// random layer of its grain count instead of running it.
+    #[arg(long)]
+    pub bench: bool,
+    /// Wall-clock seconds per benchmark case.
+    #[arg(long, default_value_t = 3.0)]
+    pub bench_seconds: f64,
+    /// Fit the free parameters to these DEM run directories (each holding scene.toml and
+    /// snapshots.bin) and report the fit.
+    #[arg(long, num_args = 1.., value_name = "RUN_DIR")]
+    pub calibrate: Vec<PathBuf>,
+    /// No progress bar.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+pub(crate) fn bar(len: u64, quiet: bool, what: &str) -> ProgressBar {
+    if quiet {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::new(len);
+    bar.set_style(
+        ProgressStyle::with_template("{msg:>12} [{bar:40}] {percent:>3}% {elapsed_precise} eta {eta_precise}")
+            .expect("valid template")
+            .progress_chars("=> "),
+    );
+    bar.set_message(what.to_string());
+    bar
+}
+
+pub fn run(args: Args) -> Result<String, CliError> {
+    if !args.calibrate.is_empty() {
+        return super::calibrate::run(&args);
+    }
+    let path = args.scene.clone().ok_or("a scene file is needed")?;
+    let scene = load_scene(&path, &args.overrides)?;
+    if args.bench {
+        return bench(&args, &path, &scene);
+    }
+    simulate(&args, &path, scene)
+}
+
+/// Loads and checks a scene, including its [automaton] table.
+pub(crate) fn load_scene(path: &Path, overrides: &[String]) -> Result<Scene, CliError> {
+    let scene = Scene::load(path, overrides)?;
+    scene.validate()?;
+    scene.automaton.validate()?;
+    Ok(scene)
+}
+
+fn rule_of(args_rule: Option<Rule>, scene: &Scene) -> AutomatonRule {
+    match args_rule {
+        Some(Rule::Strict) => AutomatonRule::Strict,
+        Some(Rule::Physical) => AutomatonRule::Physical,
+        None => scene.automaton.rule,
+    }
+}
+
+/// The result of one automaton run on a scene (before analysis).
+pub(crate) struct Outcome {
+    pub periods: u64,
+    pub half_steps: u64,
+    pub stepping_s: f64,
+    pub cells: Cells,
+    pub mass: (u64, u64),
+}
+
+/// Runs the automaton from `lattice` for the scene's duration, writing `snapshots.bin` into
+/// `out` if given; calls `frame` with every state.
+pub(crate) fn evolve(
+    scene: &Scene,
+    lattice: automaton::Lattice,
+    params: automaton::Params,
+    snapshots: Option<&Path>,
+    radius: f64,
+    bar: &ProgressBar,
+    mut frame: impl FnMut(f64, &automaton::Lattice),
+) -> Result<Outcome, CliError> {
+    let cells = Cells::of(scene);
+    let nu = scene.drive.frequency;
+    let periods = (scene.run.duration * nu).round().max(1.0) as u64;
+    let m0 = lattice.mass();
+    let mut writer = match snapshots {
+        Some(p) => Some(StateWriter::create(
+            p,
+            cells,
+            scene.tray.length,
+            scene.tray.width,
+            m0 as usize,
+            radius,
+            scene.particles.radius_min + scene.particles.radius_max,
+        )?),
+        None => None,
+    };
+    let mut a = Automaton::new(lattice, params, Direction::Plus)?;
+    if let Some(w) = writer.as_mut() {
+        w.push(0.0, 0.0, a.lattice())?;
+    }
+    frame(0.0, a.lattice());
+    bar.set_length(periods);
+    let mut stepping = 0.0;
+    for k in 1..=periods {
+        let t0 = Instant::now();
+        a.period();
+        stepping += t0.elapsed().as_secs_f64();
+        let t = 0.25 / nu + (k - 1) as f64 / nu;
+        if let Some(w) = writer.as_mut() {
+            w.push(t, scene.drive.amplitude, a.lattice())?;
+        }
+        frame(t, a.lattice());
+        bar.set_position(k);
+    }
+    if let Some(w) = writer.as_mut() {
+        w.sync()?;
+    }
+    let m1 = a.lattice().mass();
+    if m1 != m0 {
+        return Err(format!("automaton lost grains: {m0} -> {m1}").into());
+    }
+    Ok(Outcome {
+        periods,
+        half_steps: a.half_steps(),
+        stepping_s: stepping,
+        cells,
+        mass: (m0, m1),
+    })
+}
+
+/// Everything the automaton takes from a scene and its sample.
+pub(crate) struct Setup {
+    pub lattice: automaton::Lattice,
+    pub slide_dem: mapping::SlideMeasure,
+    pub slide_coulomb: mapping::SlideMeasure,
+    pub displaced: usize,
+    pub stacked: usize,
+    /// Radius written for every grain: sqrt(<r^2>) of the sample (same projected area).
+    pub radius: f64,
+}
+
+pub(crate) fn setup(scene: &Scene, samples: &Path, quiet: bool) -> Result<Setup, CliError> {
+    let b = bar(1000, quiet, "prepare");
+    let (state, _) = prepare::load_or_prepare(scene, samples, |f| b.set_position((f * 1000.0) as u64))?;
+    b.finish_and_clear();
+    let pos: Vec<[f64; 2]> = state.pos.iter().map(|p| [p.x, p.y]).collect();
+    let (lattice, displaced, stacked) = cellular::lattice_from_positions(&Cells::of(scene), scene.tray.length, &pos);
+    let r2 = state.radius.iter().map(|r| r * r).sum::<f64>() / state.radius.len().max(1) as f64;
+    Ok(Setup {
+        lattice,
+        slide_dem: cellular::slide_dem(scene)?,
+        slide_coulomb: mapping::coulomb_slide(&cellular::tray_drive(scene), 6, 20000),
+        displaced,
+        stacked,
+        radius: r2.sqrt(),
+    })
+}
+
+/// Reads the analysis summary keys shared with `stripes analyze`.
+pub(crate) fn analysis_keys(line: &str) -> Result<serde_json::Map<String, Value>, CliError> {
+    let v: Value = serde_json::from_str(line)?;
+    let mut out = serde_json::Map::new();
+    for key in ["stripe_count_final", "stripe_onset_s", "phase"] {
+        if let Some(x) = v.get(key) {
+            out.insert(key.into(), x.clone());
+        }
+    }
+    Ok(out)
+}
+
+/// Runs `stripes analyze` on a run directory, into `<dir>/analysis`.
+pub(crate) fn analyze_dir(dir: &Path) -> Result<String, CliError> {
+    analyze::run(analyze::Args {
+        input: dir.to_path_buf(),
+        out: Some(dir.join("analysis")),
+        ..Default::default()
+    })
+}
+
+fn simulate(args: &Args, path: &Path, scene: Scene) -> Result<String, CliError> {
+    let name = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "scene".into());
+    let out = args.out.clone().unwrap_or_else(|| PathBuf::from(format!("out/automaton-{name}")));
+    let mut dir = RunDir::create(&out, &json!({ "args": args, "scene": &scene }))?;
+    analysis::io::write_atomic(&out.join("scene.toml"), toml::to_string(&scene)?.as_bytes())?;
+    let rule = rule_of(args.rule, &scene);
+    let s = setup(&scene, &args.samples, args.quiet)?;
+    let free: FreeParams = cellular::free_params(&scene);
+    let params = cellular::params(&scene, rule, &s.slide_dem, &free);
+    let wall = Instant::now();
+    let b = bar(1, args.quiet, "automaton");
+    let outcome = evolve(&scene, s.lattice, params, Some(&out.join("snapshots.bin")), s.radius, &b, |_, _| ())?;
+    b.finish_and_clear();
+    let wall_s = wall.elapsed().as_secs_f64();
+    let analysis_line = analyze_dir(&out)?;
+    let mut summary = analysis_keys(&analysis_line)?;
+    let c = outcome.cells;
+    let cell_updates = (c.nx * c.ny) as f64 * outcome.half_steps as f64;
+    let extra = json!({
+        "scene": path.display().to_string(),
+        "rule": rule,
+        "params": params,
+        "cells": c,
+        "grains": outcome.mass.0,
+        "mass_initial": outcome.mass.0,
+        "mass_final": outcome.mass.1,
+        "displaced_to_free_cell": s.displaced,
+        "stacked": s.stacked,
+        "mapping": {
+            "tray_acceleration": cellular::tray_drive(&scene).tray_acceleration(),
+            "friction_acceleration": cellular::tray_drive(&scene).friction_acceleration(),
+            "slide_dem": s.slide_dem,
+            "slide_coulomb_block": s.slide_coulomb,
+            "flight_cap_cells": (s.slide_dem.displacement / c.dx).round(),
+        },
+        "periods": outcome.periods,
+        "half_steps": outcome.half_steps,
+        "stepping_s": outcome.stepping_s,
+        "wall_s": wall_s,
+        "cell_updates_per_s": cell_updates / outcome.stepping_s.max(1e-12),
+    });
+    if let Value::Object(m) = extra {
+        summary.extend(m);
+    }
+    dir.note_files([out.join("snapshots.bin"), out.join("scene.toml")]);
+    dir.finish(Value::Object(summary))
+}
+
+/// Speed on the scene's tray: a random layer of the scene's grain count, `strict` and
+/// `physical`, each for about `bench_seconds`.
+fn bench(args: &Args, path: &Path, scene: &Scene) -> Result<String, CliError> {
+    let out = args.out.clone().unwrap_or_else(|| PathBuf::from("out/automaton-bench"));
+    let mut dir = RunDir::create(&out, &json!({ "args": args, "scene": scene }))?;
+    let cells = Cells::of(scene);
+    // Grain positions from a SplitMix64 stream of the scene's seed.
+    let mut s = scene.run.seed;
+    let mut uniform = || {
+        s = s.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = s;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let pos: Vec<[f64; 2]> = (0..scene.particles.count)
+        .map(|_| [uniform() * scene.tray.length, uniform() * scene.tray.width])
+        .collect();
+    let (lattice, _, _) = cellular::lattice_from_positions(&cells, scene.tray.length, &pos);
+    let slide = cellular::slide_dem(scene)?;
+    let mut rows = Vec::new();
+    let mut cases = serde_json::Map::new();
+    for (name, rule) in [("strict", AutomatonRule::Strict), ("physical", AutomatonRule::Physical)] {
+        let params = cellular::params(scene, rule, &slide, &cellular::free_params(scene));
+        let mut a = Automaton::new(lattice.clone(), params, Direction::Plus)?;
+        // Warm up, then time batches until the budget is spent.
+        for _ in 0..100 {
+            a.half_step();
+        }
+        let (start, cpu0, mut steps) = (Instant::now(), thread_cpu_seconds(), 0u64);
+        while start.elapsed().as_secs_f64() < args.bench_seconds {
+            for _ in 0..1000 {
+                a.half_step();
+            }
+            steps += 1000;
+        }
+        let wall = start.elapsed().as_secs_f64();
+        // On a shared machine the wall clock counts other processes' time slices too; the
+        // thread's own CPU time measures one core's throughput.
+        let cpu = match (cpu0, thread_cpu_seconds()) {
+            (Some(a), Some(b)) if b > a => b - a,
+            _ => wall,
+        };
+        let cells_per_step = (cells.nx * cells.ny) as f64;
+        let cell_rate = cells_per_step * steps as f64 / cpu;
+        let grain_rate = lattice.mass() as f64 * steps as f64 / cpu;
+        rows.push(vec![cell_rate, grain_rate, steps as f64, cpu, wall]);
+        cases.insert(
+            name.into(),
+            json!({ "cell_updates_per_s": cell_rate, "grain_updates_per_s": grain_rate,
+                    "cell_updates_per_wall_s": cells_per_step * steps as f64 / wall,
+                    "half_steps": steps, "cpu_s": cpu, "wall_s": wall, "frozen": a.frozen(), "params": params }),
+        );
+    }
+    dir.csv(
+        "bench.csv",
+        &["cell_updates_per_s", "grain_updates_per_s", "half_steps", "cpu_s", "wall_s"],
+        &rows,
+    )?;
+    dir.finish(json!({
+        "scene": path.display().to_string(),
+        "grains": lattice.mass(),
+        "cells": cells,
+        "threads": 1,
+        "cases": cases,
+        "flight_cap_cells": (slide.displacement / cells.dx).round(),
+    }))
+}
+
+/// CPU time of the calling thread (s), from `/proc/thread-self/schedstat` (Linux); `None`
+/// elsewhere.
+fn thread_cpu_seconds() -> Option<f64> {
+    let text = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
+    let ns: f64 = text.split_whitespace().next()?.parse().ok()?;
+    Some(ns * 1e-9)
+}

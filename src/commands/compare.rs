@@ -1,0 +1,245 @@
+//! `stripes compare SCENE.toml`: both models on the same scene and the same sample, analysed
+//! by the same code (`stripes analyze`), side by side in `report.md`: the two density maps,
+//! stripe count over time of both in one plot and one table, onset times, each model's speed.
+//!
+//! Layout of `--out DIR`: `dem/` (the DEM run, unless `--dem-run` names an existing one),
+//! `automaton/`, their `analysis/` subdirectories, and at the top `report.md`,
+//! `stripe_count.{png,svg}`, `stripe_count.csv`, the two density maps, `summary.json`.
+
+use std::path::{Path, PathBuf};
+
+use analysis::io::read_csv;
+use analysis::plot::{LinePlot, Mark};
+use particles::prepare::sample_key;
+use serde::Serialize;
+use serde_json::{json, Value};
+
+use super::automaton::{analysis_keys, analyze_dir, load_scene};
+use super::{automaton, run};
+use crate::output::{CliError, RunDir};
+
+#[derive(clap::Args, Debug, Serialize)]
+pub struct Args {
+    /// Scene file (TOML), e.g. scenes/quick.toml.
+    pub scene: PathBuf,
+    /// Output directory (default: out/compare-<scene name>).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Override a scene key for both models (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub overrides: Vec<String>,
+    /// Reuse this DEM run directory instead of running the DEM (it must start from the
+    /// same sample as the scene).
+    #[arg(long)]
+    pub dem_run: Option<PathBuf>,
+    /// Directory of prepared samples.
+    #[arg(long, default_value = "out/samples")]
+    pub samples: PathBuf,
+    /// No progress bars.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+fn stage(quiet: bool, k: usize, what: &str) {
+    if !quiet {
+        eprintln!("compare [{k}/4] {what}");
+    }
+}
+
+fn read_json(path: &Path) -> Result<Value, CliError> {
+    let text = std::fs::read_to_string(path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+    Ok(serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?)
+}
+
+/// `(t, count)` of an analysis directory.
+fn counts(analysis: &Path) -> Result<Vec<(f64, f64)>, CliError> {
+    let p = analysis.join("stripe_count.csv");
+    let (_, rows) = read_csv(&p).map_err(|e| format!("cannot read {}: {e}", p.display()))?;
+    Ok(rows.iter().filter(|r| r.len() >= 2).map(|r| (r[0], r[1])).collect())
+}
+
+fn fmt_opt(v: Option<&Value>) -> String {
+    match v {
+        Some(Value::Null) | None => "none".into(),
+        Some(Value::Number(n)) => n.to_string(),
+        Some(Value::String(s)) => s.clone(),
+        Some(x) => x.to_string(),
+    }
+}
+
+pub fn run(args: Args) -> Result<String, CliError> {
+    let scene = load_scene(&args.scene, &args.overrides)?;
+    let name = args
+        .scene
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "scene".into());
+    let out = args.out.clone().unwrap_or_else(|| PathBuf::from(format!("out/compare-{name}")));
+    let mut dir = RunDir::create(&out, &json!({ "args": &args, "scene": &scene }))?;
+
+    // 1. DEM.
+    let dem_dir = match &args.dem_run {
+        Some(d) => {
+            stage(args.quiet, 1, &format!("DEM: reusing {}", d.display()));
+            let dem_scene = load_scene(&d.join("scene.toml"), &[])?;
+            if sample_key(&dem_scene) != sample_key(&scene) {
+                return Err(format!(
+                    "--dem-run {}: its sample ({:016x}) is not the scene's ({:016x}); both models must start from the same sample",
+                    d.display(),
+                    sample_key(&dem_scene),
+                    sample_key(&scene)
+                )
+                .into());
+            }
+            d.clone()
+        }
+        None => {
+            stage(args.quiet, 1, "DEM run");
+            let d = out.join("dem");
+            run::run(run::Args {
+                scene: args.scene.clone(),
+                out: Some(d.clone()),
+                overrides: args.overrides.clone(),
+                resume: false,
+                vtk: false,
+                samples: args.samples.clone(),
+                stop_after: None,
+                quiet: args.quiet,
+            })?;
+            d
+        }
+    };
+    let dem_summary = read_json(&dem_dir.join("summary.json")).unwrap_or(Value::Null);
+
+    // 2. Automaton, same scene and sample.
+    stage(args.quiet, 2, "automaton run");
+    let auto_dir = out.join("automaton");
+    let auto_line = automaton::run(automaton::Args {
+        scene: Some(args.scene.clone()),
+        out: Some(auto_dir.clone()),
+        overrides: args.overrides.clone(),
+        rule: None,
+        samples: args.samples.clone(),
+        bench: false,
+        bench_seconds: 3.0,
+        calibrate: Vec::new(),
+        quiet: args.quiet,
+    })?;
+    let auto_summary: Value = serde_json::from_str(&auto_line)?;
+
+    // 3. The same analysis of both.
+    stage(args.quiet, 3, "analysis");
+    let dem_analysis_dir = out.join("dem-analysis");
+    let dem_line = super::analyze::run(super::analyze::Args {
+        input: dem_dir.clone(),
+        out: Some(dem_analysis_dir.clone()),
+        ..Default::default()
+    })?;
+    let dem_keys = analysis_keys(&dem_line)?;
+    // The automaton command analysed its states already; analyse again so both use this run's binary.
+    let auto_keys = analysis_keys(&analyze_dir(&auto_dir)?)?;
+
+    // 4. Report.
+    stage(args.quiet, 4, "report");
+    let dem_counts = counts(&dem_analysis_dir)?;
+    let auto_counts = counts(&auto_dir.join("analysis"))?;
+    let plot = LinePlot::new("Stripe count over time, same scene and sample", "t (s)", "stripes")
+        .series("DEM", dem_counts.clone(), Mark::LinePoints)
+        .series("automaton", auto_counts.clone(), Mark::LinePoints);
+    dir.plot("stripe_count", &plot)?;
+    let n = dem_counts.len().max(auto_counts.len());
+    let mut rows = Vec::with_capacity(n);
+    for k in 0..n {
+        let t = dem_counts.get(k).or(auto_counts.get(k)).map(|p| p.0).unwrap_or(f64::NAN);
+        rows.push(vec![
+            t,
+            dem_counts.get(k).map_or(f64::NAN, |p| p.1),
+            auto_counts.get(k).map_or(f64::NAN, |p| p.1),
+        ]);
+    }
+    dir.csv("stripe_count.csv", &["t", "count_dem", "count_automaton"], &rows)?;
+    for (src, dst) in [
+        (dem_analysis_dir.join("density_map.png"), "density_map_dem.png"),
+        (auto_dir.join("analysis/density_map.png"), "density_map_automaton.png"),
+    ] {
+        let bytes = std::fs::read(&src).map_err(|e| format!("cannot read {}: {e}", src.display()))?;
+        analysis::io::write_atomic(&out.join(dst), &bytes)?;
+        dir.note_files([out.join(dst)]);
+    }
+
+    let dem_speed = dem_summary.get("particle_steps_per_s").and_then(Value::as_f64);
+    let dem_wall = dem_summary.get("wall_s").and_then(Value::as_f64);
+    let auto_speed = auto_summary.get("cell_updates_per_s").and_then(Value::as_f64);
+    let auto_wall = auto_summary.get("wall_s").and_then(Value::as_f64);
+    let simulated = scene.run.duration;
+    let speed = |wall: Option<f64>| wall.map_or("unknown".to_string(), |w| format!("{:.3}", simulated / w.max(1e-12)));
+    let mut md = String::new();
+    md.push_str(&format!("# DEM and automaton on `{}`\n\n", args.scene.display()));
+    md.push_str(&format!(
+        "Same scene and same prepared sample (key `{:016x}`), same analysis (`stripes analyze`: exact area fraction in 1 mm cells, \
+         stripes above 1.5 x the mean area fraction and at least two mean diameters wide). {} grains on a {} m x {} m tray, \
+         {} Hz, {} m, {} s.\n\n",
+        sample_key(&scene),
+        scene.particles.count,
+        scene.tray.length,
+        scene.tray.width,
+        scene.drive.frequency,
+        scene.drive.amplitude,
+        scene.run.duration
+    ));
+    md.push_str("| model | stripes at the end | onset (s) | phase | wall time (s) | simulated s per wall s | speed |\n|---|---|---|---|---|---|---|\n");
+    md.push_str(&format!(
+        "| DEM | {} | {} | {} | {} | {} | {} particle-steps/s |\n",
+        fmt_opt(dem_keys.get("stripe_count_final")),
+        fmt_opt(dem_keys.get("stripe_onset_s")),
+        fmt_opt(dem_keys.get("phase")),
+        dem_wall.map_or("unknown".into(), |w| format!("{w:.1}")),
+        speed(dem_wall),
+        dem_speed.map_or("unknown".into(), |s| format!("{s:.3e}")),
+    ));
+    md.push_str(&format!(
+        "| automaton | {} | {} | {} | {} | {} | {} cell updates/s |\n\n",
+        fmt_opt(auto_keys.get("stripe_count_final")),
+        fmt_opt(auto_keys.get("stripe_onset_s")),
+        fmt_opt(auto_keys.get("phase")),
+        auto_wall.map_or("unknown".into(), |w| format!("{w:.2}")),
+        speed(auto_wall),
+        auto_speed.map_or("unknown".into(), |s| format!("{s:.3e}")),
+    ));
+    md.push_str(
+        "Wall times cover each model's time loop with its snapshot output; the shared sample preparation and the automaton's \
+         single-sphere mapping run are not included. The DEM speed is particle-steps per second of its stepping; the automaton's \
+         is lattice cells times half steps per second.\n\n",
+    );
+    md.push_str("## Stripe count over time\n\n![stripe count](stripe_count.png)\n\n| t (s) | DEM | automaton |\n|---|---|---|\n");
+    let every = (rows.len() / 25).max(1);
+    for (k, r) in rows.iter().enumerate() {
+        if k % every == 0 || k + 1 == rows.len() {
+            md.push_str(&format!("| {:.3} | {} | {} |\n", r[0], r[1], r[2]));
+        }
+    }
+    md.push_str("\n## Density maps (area fraction over x and t)\n\n| DEM | automaton |\n|---|---|\n");
+    md.push_str("| ![DEM](density_map_dem.png) | ![automaton](density_map_automaton.png) |\n\n");
+    if let Some(m) = auto_summary.get("mapping") {
+        md.push_str(&format!(
+            "## Automaton mapping\n\nFlight cap {} cells (single-sphere DEM slide {} m per half period, Coulomb block {} m); \
+             tray acceleration {} m/s^2 against mu g = {} m/s^2. Parameters: `{}`.\n",
+            fmt_opt(m.get("flight_cap_cells")),
+            fmt_opt(m.get("slide_dem").and_then(|s| s.get("displacement"))),
+            fmt_opt(m.get("slide_coulomb_block").and_then(|s| s.get("displacement"))),
+            fmt_opt(m.get("tray_acceleration")),
+            fmt_opt(m.get("friction_acceleration")),
+            auto_summary.get("params").map(|p| p.to_string()).unwrap_or_default(),
+        ));
+    }
+    let report = out.join("report.md");
+    analysis::io::write_atomic(&report, md.as_bytes())?;
+    dir.note_files([report]);
+    dir.finish(json!({
+        "scene": args.scene.display().to_string(),
+        "sample_key": format!("{:016x}", sample_key(&scene)),
+        "dem_run": dem_dir.display().to_string(),
+        "dem": { "analysis": dem_keys, "particle_steps_per_s": dem_speed, "wall_s": dem_wall },
+        "automaton": { "analysis": auto_keys, "cell_updates_per_s": auto_speed, "wall_s": auto_wall },
+    }))
+}

@@ -1,0 +1,157 @@
+//! The command-line contract of `stripes automaton` and `stripes compare` (issue 5), on a
+//! tiny tray so that the DEM parts take about a second.
+
+use std::path::Path;
+use std::process::Command;
+
+fn stripes(args: &[&str]) -> (bool, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_stripes"))
+        .args(args)
+        .output()
+        .expect("run stripes");
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+/// A 2 cm x 5 mm tray with 40 grains (packing 0.18), 0.02 s of preparation, 0.5 s of run.
+fn tiny_scene(dir: &Path) -> String {
+    std::fs::create_dir_all(dir).unwrap();
+    let p = dir.join("tiny.toml");
+    std::fs::write(
+        &p,
+        r#"
+[box]
+length = 0.02
+width = 0.005
+[drive]
+frequency = 20.0
+amplitude = 0.025
+[particles]
+count = 40
+radius_min = 0.25e-3
+radius_max = 0.5e-3
+[prepare]
+duration = 0.02
+[run]
+duration = 0.5
+dt = 8e-6
+seed = 4
+threads = 1
+"#,
+    )
+    .unwrap();
+    p.display().to_string()
+}
+
+fn last_json(stdout: &str) -> serde_json::Value {
+    serde_json::from_str(stdout.lines().last().expect("a line")).expect("JSON")
+}
+
+#[test]
+fn automaton_writes_snapshots_that_analyze_reads_and_prints_the_analyze_keys() {
+    let d = std::env::temp_dir().join(format!("stripes-cli-automaton-{}", std::process::id()));
+    let scene = tiny_scene(&d);
+    let samples = d.join("samples").display().to_string();
+    for rule in ["physical", "strict"] {
+        let out = d.join(rule).display().to_string();
+        let (ok, stdout, stderr) = stripes(&["automaton", &scene, "--rule", rule, "--out", &out, "--samples", &samples, "--quiet"]);
+        assert!(ok, "{stderr}");
+        let s = last_json(&stdout);
+        assert!(s.get("stripe_count_final").is_some_and(|v| v.is_u64()), "{s}");
+        assert!(s.get("stripe_onset_s").is_some(), "{s}");
+        assert_eq!(s["mass_initial"], 40);
+        assert_eq!(s["mass_final"], 40);
+        assert_eq!(s["periods"], 10);
+        // The written states are what `stripes analyze` reads.
+        let (ok, stdout, stderr) = stripes(&["analyze", &out, "--out", &format!("{out}/again")]);
+        assert!(ok, "{stderr}");
+        let a = last_json(&stdout);
+        assert_eq!(a["frames"], 11, "t = 0 and one frame per period");
+        assert_eq!(a["stripe_count_final"], s["stripe_count_final"]);
+    }
+    // A bad [automaton] value names its key.
+    let (ok, _, stderr) = stripes(&[
+        "automaton",
+        &scene,
+        "--set",
+        "automaton.activation=1.5",
+        "--samples",
+        &samples,
+        "--quiet",
+    ]);
+    assert!(!ok);
+    assert!(stderr.contains("automaton.activation"), "{stderr}");
+    std::fs::remove_dir_all(d).unwrap();
+}
+
+#[test]
+fn compare_runs_both_models_on_one_sample_and_writes_the_report() {
+    let d = std::env::temp_dir().join(format!("stripes-cli-compare-{}", std::process::id()));
+    let scene = tiny_scene(&d);
+    let samples = d.join("samples").display().to_string();
+    let out = d.join("cmp").display().to_string();
+    let (ok, stdout, stderr) = stripes(&[
+        "compare",
+        &scene,
+        "--set",
+        "run.duration=0.2",
+        "--out",
+        &out,
+        "--samples",
+        &samples,
+        "--quiet",
+    ]);
+    assert!(ok, "{stderr}");
+    let s = last_json(&stdout);
+    assert!(s["dem"]["analysis"].get("stripe_count_final").is_some(), "{s}");
+    assert!(s["automaton"]["analysis"].get("stripe_count_final").is_some(), "{s}");
+    let report = std::fs::read_to_string(Path::new(&out).join("report.md")).unwrap();
+    for needle in [
+        "| DEM |",
+        "| automaton |",
+        "stripe_count.png",
+        "density_map_dem.png",
+        "density_map_automaton.png",
+    ] {
+        assert!(report.contains(needle), "report lacks {needle}");
+    }
+    // Reusing the DEM run gives the same automaton side.
+    let out2 = d.join("cmp2").display().to_string();
+    let dem = format!("{out}/dem");
+    let (ok, stdout, stderr) = stripes(&[
+        "compare",
+        &scene,
+        "--set",
+        "run.duration=0.2",
+        "--dem-run",
+        &dem,
+        "--out",
+        &out2,
+        "--samples",
+        &samples,
+        "--quiet",
+    ]);
+    assert!(ok, "{stderr}");
+    assert_eq!(last_json(&stdout)["automaton"]["analysis"], s["automaton"]["analysis"]);
+    // A DEM run from another sample is refused.
+    let (ok, _, stderr) = stripes(&[
+        "compare",
+        &scene,
+        "--set",
+        "run.seed=5",
+        "--set",
+        "run.duration=0.2",
+        "--dem-run",
+        &dem,
+        "--out",
+        &out2,
+        "--samples",
+        &samples,
+        "--quiet",
+    ]);
+    assert!(!ok && stderr.contains("same sample"), "{stderr}");
+    std::fs::remove_dir_all(d).unwrap();
+}
