@@ -38,6 +38,9 @@ enum Command {
     /// One sphere on the shaken plate, with and without rolling friction, and the
     /// rolling-friction stopping test (thesis 3.3, 3.5.2).
     Single(commands::single::Args),
+    /// Speed against error of every accuracy-for-speed choice (time step, Young's modulus,
+    /// integrator, 2D/3D, normal law, neighbour skin): Markdown table and Pareto plot.
+    Bench(commands::bench::Args),
 }
 
 fn main() -> ExitCode {
@@ -49,6 +52,7 @@ fn main() -> ExitCode {
         Command::Eccentricity(a) => commands::eccentricity::run(a),
         Command::ContactTime(a) => commands::contact_time::run(a),
         Command::Single(a) => commands::single::run(a),
+        Command::Bench(a) => commands::bench::run(a),
     };
     match result {
         Ok(summary) => {

@@ -34,6 +34,17 @@ pub struct Stripe {
     pub mass: f64,
 }
 
+/// Stripe onset: the first time from which a stripe is present in every later frame
+/// (`None` if the last frame has none). `times` and `counts` are per frame, in time order.
+pub fn onset(times: &[f64], counts: &[usize]) -> Option<f64> {
+    let last_empty = counts.iter().rposition(|&c| c == 0);
+    match last_empty {
+        None => times.first().copied(),
+        Some(k) if k + 1 < counts.len() => Some(times[k + 1]),
+        Some(_) => None,
+    }
+}
+
 /// Stripes of the profile `phi` (cells of width `length / phi.len()`) on a periodic axis.
 pub fn detect(phi: &[f64], length: f64, p: &StripeParams) -> Vec<Stripe> {
     let n = phi.len();
@@ -86,6 +97,14 @@ pub fn detect(phi: &[f64], length: f64, p: &StripeParams) -> Vec<Stripe> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn onset_is_the_start_of_the_final_run_of_stripes() {
+        let t = [0.0, 1.0, 2.0, 3.0, 4.0];
+        assert_eq!(onset(&t, &[0, 1, 0, 2, 3]), Some(3.0));
+        assert_eq!(onset(&t, &[1, 1, 1, 1, 1]), Some(0.0));
+        assert_eq!(onset(&t, &[1, 1, 1, 1, 0]), None);
+    }
 
     fn bands(k: usize, offset: f64, n: usize) -> Vec<f64> {
         // k dense bands of width 0.04 on a background of 0.1, on [0, 1).

@@ -177,8 +177,10 @@ pub struct Prepare {
 pub enum TimeStep {
     /// Explicit value (s).
     Seconds(f64),
-    /// `"auto"`: the contact time at the largest expected impact speed divided by
-    /// `run.steps_per_contact`.
+    /// `"auto"`: error-controlled. The coarsest step whose restitution error (measured with
+    /// the collision lab on the scene's hardest impacts, see
+    /// [`crate::experiment::step_control`]) is at most `run.restitution_tolerance`, and never
+    /// coarser than `shortest contact time / run.steps_per_contact`.
     Auto(AutoDt),
 }
 
@@ -197,10 +199,15 @@ pub struct Run {
     pub duration: f64,
     /// Time step (s), or `"auto"`.
     pub dt: TimeStep,
-    /// Steps per contact time for `dt = "auto"`, and the least accepted for an explicit dt
-    /// is [`MIN_STEPS_PER_CONTACT`].
+    /// Fewest steps per contact time `dt = "auto"` may give (the least accepted for an
+    /// explicit dt is [`MIN_STEPS_PER_CONTACT`]).
     #[serde(default = "d_steps_per_contact")]
     pub steps_per_contact: f64,
+    /// Largest accepted error of the restitution coefficients (eps_n, eps_t; absolute) for
+    /// `dt = "auto"`. The default, [`DEFAULT_RESTITUTION_TOLERANCE`], sits on the measured
+    /// speed-against-error front (`stripes bench`).
+    #[serde(default = "d_restitution_tolerance")]
+    pub restitution_tolerance: f64,
     /// Random seed of the sample (radii, lattice, initial velocities).
     pub seed: u64,
     /// Worker threads (0: all cores). Results do not depend on it.
@@ -213,6 +220,10 @@ pub struct Run {
     #[serde(default = "d_checkpoint")]
     pub checkpoint_interval: f64,
 }
+
+/// Default `run.restitution_tolerance`, picked from the speed-against-error front of
+/// `stripes bench` (see the README's section on it).
+pub const DEFAULT_RESTITUTION_TOLERANCE: f64 = 1e-2;
 
 /// Fewest steps per contact time an explicit dt may give (the thesis uses 15-20, sec 3.5.1).
 pub const MIN_STEPS_PER_CONTACT: f64 = 8.0;
@@ -261,6 +272,9 @@ fn d_prep_duration() -> f64 {
 }
 fn d_steps_per_contact() -> f64 {
     15.0
+}
+fn d_restitution_tolerance() -> f64 {
+    DEFAULT_RESTITUTION_TOLERANCE
 }
 fn d_one() -> u32 {
     1
@@ -452,6 +466,7 @@ impl Scene {
             positive("run.dt", dt)?;
         }
         positive("run.steps_per_contact", self.run.steps_per_contact)?;
+        positive("run.restitution_tolerance", self.run.restitution_tolerance)?;
         if self.run.snapshots_per_period == 0 {
             return Err(err("run.snapshots_per_period", "must be at least 1"));
         }

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use analysis::density::area_fraction_cells;
 use analysis::plot::{Heatmap, LinePlot, Mark};
 use analysis::snapshot::read_snapshots;
-use analysis::stripes::{detect, StripeParams};
+use analysis::stripes::{detect, onset, StripeParams};
 use serde::Serialize;
 use serde_json::json;
 
@@ -27,16 +27,6 @@ pub struct Args {
     /// Minimum stripe width (m; default: two mean grain diameters).
     #[arg(long)]
     pub min_width: Option<f64>,
-}
-
-/// First time from which a stripe is present in every later frame (`None` if never).
-fn onset(times: &[f64], counts: &[usize]) -> Option<f64> {
-    let last_empty = counts.iter().rposition(|&c| c == 0);
-    match last_empty {
-        None => times.first().copied(),
-        Some(k) if k + 1 < counts.len() => Some(times[k + 1]),
-        Some(_) => None,
-    }
 }
 
 pub fn run(args: Args) -> Result<String, CliError> {
@@ -123,17 +113,4 @@ pub fn run(args: Args) -> Result<String, CliError> {
         "stripe_count_final": final_count,
         "stripe_onset_s": onset_s,
     }))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::onset;
-
-    #[test]
-    fn onset_is_the_start_of_the_final_run_of_stripes() {
-        let t = [0.0, 1.0, 2.0, 3.0, 4.0];
-        assert_eq!(onset(&t, &[0, 1, 0, 2, 3]), Some(3.0));
-        assert_eq!(onset(&t, &[1, 1, 1, 1, 1]), Some(0.0));
-        assert_eq!(onset(&t, &[1, 1, 1, 1, 0]), None);
-    }
 }

@@ -1,6 +1,7 @@
 //! One module per subcommand.
 
 pub mod analyze;
+pub mod bench;
 pub mod collide;
 pub mod contact_time;
 pub mod eccentricity;
