@@ -30,8 +30,8 @@
 //! The tray is chaotic: two runs that differ in the last bit diverge, so the density distance
 //! of any setting that changes the numbers has a floor set by that divergence over the
 //! simulated time (reported as the `noise floor` row: the reference with one grain moved by
-//! 1 nm, compared with the reference itself). Settings
-//! that do not change a single bit (the neighbour skin) have error exactly 0.
+//! 1 nm, compared with the reference itself). Settings that do not change a single bit (the
+//! neighbour skin and rebuild policy) have exactly the reference's error.
 
 mod clock;
 mod lab;
