@@ -128,7 +128,7 @@ impl Config {
     pub fn full() -> Self {
         Self {
             tray_count: 400,
-            tray_duration: 0.2,
+            tray_duration: 0.15,
             reference_steps: 60.0,
             lab_min_wall: 0.2,
             tray_repeats: 1,
@@ -204,7 +204,7 @@ impl Setting {
             overrides: Vec::new(),
             integrator: Integrator::VelocityVerlet,
             steps: None,
-            skin: 0.4,
+            skin: tray::DEFAULT_SKIN,
             perturbed: false,
         }
     }

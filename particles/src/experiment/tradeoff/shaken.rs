@@ -156,7 +156,7 @@ pub(super) fn tray_study(config: &Config, progress: &mut impl FnMut(&str)) -> Re
         .set(&format!("contact.gamma_n={gamma_n:e}"))
         .steps(thesis_steps),
     );
-    for k in [0.0, 0.1, 0.2, 1.0, 2.0] {
+    for k in [0.0, 0.1, 0.4, 1.0, 2.0] {
         let name = if k == 0.0 {
             "skin 0: rebuild every step".to_string()
         } else {
