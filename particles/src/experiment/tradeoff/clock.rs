@@ -34,7 +34,8 @@ impl Stopwatch {
     /// Seconds since the start.
     pub fn seconds(&self) -> f64 {
         match (self.cpu, thread_cpu_seconds()) {
-            (true, Some(now)) => now - self.start_cpu,
+            // A run shorter than the kernel's accounting granularity reads 0: use wall time.
+            (true, Some(now)) if now > self.start_cpu => now - self.start_cpu,
             _ => self.wall.elapsed().as_secs_f64(),
         }
     }
