@@ -111,5 +111,11 @@ fn tray_step(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, contact_laws, tray_step);
+// No HTML plots: plotters' system-font backend has no font on a headless machine (the suite
+// draws its own plots with the shipped font in `analysis::plot`).
+criterion_group! {
+    name = benches;
+    config = Criterion::default().without_plots();
+    targets = contact_laws, tray_step
+}
 criterion_main!(benches);
