@@ -161,7 +161,7 @@ pub fn warnings(scene: &Scene, dt: f64) -> Vec<String> {
         if ratio > 2.0 {
             let what = "is unstable at this step: the friction force chatters at the Coulomb limit instead of stopping the slip";
             out.push(format!(
-                "`contact.tangential_damping` with `run.dt` = {dt:e} s: gamma_t dt / m_t = {ratio:.2} for two of the smallest grains, so the viscous branch of the Haff-Werner friction {what}; friction near zero slip is wrong for these grains. A step below {:e} s resolves it (`run.dt = \"auto\"` does).",
+                "`contact.tangential_damping` with `run.dt` = {dt:e} s: gamma_t dt / m_t = {ratio:.2} for two of the smallest grains, so the viscous branch of the Haff-Werner friction {what}; friction near zero slip is wrong for these grains. A step below {:.2e} s resolves it (`run.dt = \"auto\"` does).",
                 2.0 * dt / ratio
             ));
         }
