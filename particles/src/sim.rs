@@ -210,15 +210,12 @@ impl Simulation {
         Ok(sim)
     }
 
-    /// Records per-contact diagnostics at every force evaluation (see [`Self::contacts`]).
-    /// The forces are re-evaluated at once so that the records describe the current state;
-    /// the ledger is not advanced.
+    /// Records per-contact diagnostics at every force evaluation from the next step on (see
+    /// [`Self::contacts`]). The forces are not re-evaluated: that would advance the
+    /// Cundall-Strack springs a second time and change the trajectory.
     pub fn record_contacts(&mut self, on: bool) {
         self.record = on;
         self.records.clear();
-        if on {
-            self.compute_forces(0.0);
-        }
     }
 
     /// Contacts of the last force evaluation (empty unless recording); each pair once.

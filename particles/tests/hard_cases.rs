@@ -405,3 +405,23 @@ fn a_scene_whose_tangential_spring_is_too_stiff_is_refused_before_the_run() {
     assert!(matches!(e, SimError::TangentialSpringTooStiff { .. }), "{e:?}");
     assert!(e.to_string().contains("contact.tangential_stiffness"), "{e}");
 }
+
+#[test]
+fn recording_contacts_does_not_advance_the_tangential_springs() {
+    // Regression: `record_contacts(true)` re-evaluated the forces and advanced every
+    // Cundall-Strack spring by one more step, so the collision lab started each impact with
+    // twice the initial spring (visible with a dashpot, whose force at touching is not 0).
+    let (kn, kt) = (500.0, 300.0);
+    let dt = std::f64::consts::PI * (0.5 * mass(2.5e-4) / kn).sqrt() / 500.0;
+    let (mut setup, state) = stiff_spring_setup(kn, kt, dt);
+    // A dashpot, so that the spring already carries a load at the first (touching) evaluation.
+    setup.pair_law.normal = NormalLaw::Linear { kn, gamma_n: 0.002 };
+    let mut plain = Simulation::new(setup.clone(), state.clone()).unwrap();
+    let mut recorded = Simulation::new(setup, state).unwrap();
+    recorded.record_contacts(true);
+    for _ in 0..200 {
+        plain.step().unwrap();
+        recorded.step().unwrap();
+    }
+    assert_eq!(plain.state, recorded.state);
+}
