@@ -206,7 +206,9 @@ pub struct Run {
     /// Largest accepted error of the restitution coefficients (eps_n, eps_t; absolute) for
     /// `dt = "auto"`. The default, [`DEFAULT_RESTITUTION_TOLERANCE`], sits on the measured
     /// speed-against-error front (`stripes bench`).
-    #[serde(default = "d_restitution_tolerance")]
+    /// Left out of the serialised scene when it has its default, so that sample keys
+    /// ([`crate::prepare::sample_key`]) of scenes written before this key existed still hold.
+    #[serde(default = "d_restitution_tolerance", skip_serializing_if = "is_default_tolerance")]
     pub restitution_tolerance: f64,
     /// Random seed of the sample (radii, lattice, initial velocities).
     pub seed: u64,
@@ -275,6 +277,9 @@ fn d_steps_per_contact() -> f64 {
 }
 fn d_restitution_tolerance() -> f64 {
     DEFAULT_RESTITUTION_TOLERANCE
+}
+fn is_default_tolerance(x: &f64) -> bool {
+    *x == DEFAULT_RESTITUTION_TOLERANCE
 }
 fn d_one() -> u32 {
     1
@@ -597,6 +602,16 @@ mod tests {
         assert_eq!(pp.rolling, RollingLaw::None);
         assert_eq!(s.run.dt, TimeStep::Auto(AutoDt::Auto));
         assert_eq!(s.run.threads, 2);
+    }
+
+    #[test]
+    fn the_default_restitution_tolerance_leaves_the_serialised_scene_unchanged() {
+        // Sample keys hash the serialised scene: a new key at its default must not move them.
+        let s = Scene::parse(MINIMAL, &[], "test").unwrap();
+        assert!(!toml::to_string(&s).unwrap().contains("restitution_tolerance"));
+        let t = Scene::parse(MINIMAL, &["run.restitution_tolerance=1e-3".into()], "test").unwrap();
+        let again = Scene::parse(&toml::to_string(&t).unwrap(), &[], "test").unwrap();
+        assert_eq!(again.run.restitution_tolerance, 1e-3);
     }
 
     #[test]
