@@ -51,6 +51,9 @@ enum Command {
     Automaton(commands::automaton::Args),
     /// DEM and automaton on the same scene and sample, analysed alike: report.md.
     Compare(commands::compare::Args),
+    /// Speed against error of every accuracy-for-speed choice (time step, Young's modulus,
+    /// integrator, 2D/3D, normal law, neighbour skin): Markdown table and Pareto plot.
+    Bench(commands::bench::Args),
 }
 
 fn main() -> ExitCode {
@@ -67,6 +70,7 @@ fn main() -> ExitCode {
         Command::Collect(a) => commands::collect::run(a),
         Command::Automaton(a) => commands::automaton::run(a),
         Command::Compare(a) => commands::compare::run(a),
+        Command::Bench(a) => commands::bench::run(a),
     };
     match result {
         Ok(summary) => {

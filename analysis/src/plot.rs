@@ -68,6 +68,17 @@ pub struct LinePlot {
     pub series: Vec<Series>,
     pub log_x: bool,
     pub log_y: bool,
+    /// Corner of the legend (upper right unless set with [`LinePlot::legend`]).
+    pub legend: LegendCorner,
+}
+
+/// Where the legend of a [`LinePlot`] sits.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LegendCorner {
+    UpperRight,
+    UpperLeft,
+    LowerRight,
+    LowerLeft,
 }
 
 /// Distinct, colour-blind-friendly colours (Okabe-Ito, then Tableau).
@@ -134,6 +145,7 @@ impl LinePlot {
             series: Vec::new(),
             log_x: false,
             log_y: false,
+            legend: LegendCorner::UpperRight,
         }
     }
 
@@ -150,6 +162,12 @@ impl LinePlot {
     /// Logarithmic x axis.
     pub fn log_x(mut self) -> Self {
         self.log_x = true;
+        self
+    }
+
+    /// Puts the legend in another corner (where it hides no data).
+    pub fn legend(mut self, corner: LegendCorner) -> Self {
+        self.legend = corner;
         self
     }
 
@@ -254,7 +272,12 @@ impl LinePlot {
                 .background_style(WHITE.mix(0.85))
                 .border_style(BLACK)
                 .label_font((FAMILY, 16))
-                .position(SeriesLabelPosition::UpperRight)
+                .position(match self.legend {
+                    LegendCorner::UpperRight => SeriesLabelPosition::UpperRight,
+                    LegendCorner::UpperLeft => SeriesLabelPosition::UpperLeft,
+                    LegendCorner::LowerRight => SeriesLabelPosition::LowerRight,
+                    LegendCorner::LowerLeft => SeriesLabelPosition::LowerLeft,
+                })
                 .draw()
                 .map_err(perr)?;
         }

@@ -24,6 +24,29 @@ pub enum SimError {
     Escaped { step: u64, particle: usize, position: [f64; 3] },
     /// A contact did not end within the allowed number of steps.
     ContactDidNotEnd { steps: u64 },
+    /// Two grains (or a grain and a wall) overlap by more than
+    /// [`crate::sim::MAX_OVERLAP_FRACTION`] of the smaller radius during the run: the soft-sphere
+    /// picture (small, flat contact face) no longer holds, so the run stops rather than go on
+    /// with meaningless forces.
+    ExcessiveOverlap {
+        step: u64,
+        particle: usize,
+        /// The partner, e.g. `particle 17` or `wall floor`.
+        partner: String,
+        overlap: f64,
+        radius: f64,
+        limit: f64,
+    },
+    /// The Cundall-Strack tangential spring oscillates faster than the time step resolves:
+    /// its stuck half period `pi sqrt(m_t / k_t)` gives fewer than `minimum` steps.
+    TangentialSpringTooStiff {
+        /// The option or key that set `k_t`.
+        field: String,
+        dt: f64,
+        half_period: f64,
+        steps: f64,
+        minimum: f64,
+    },
 }
 
 impl fmt::Display for SimError {
@@ -54,6 +77,29 @@ impl fmt::Display for SimError {
                 position[0], position[1], position[2]
             ),
             SimError::ContactDidNotEnd { steps } => write!(f, "the contact did not end within {steps} steps"),
+            SimError::ExcessiveOverlap {
+                step,
+                particle,
+                partner,
+                overlap,
+                radius,
+                limit,
+            } => write!(
+                f,
+                "step {step}: particle {particle} overlaps {partner} by {overlap:e} m ({:.0}% of the radius {radius:e} m, limit {:.0}%): the impact is too hard for this Young's modulus; raise `material.young` or lower the speeds",
+                100.0 * overlap / radius,
+                100.0 * limit
+            ),
+            SimError::TangentialSpringTooStiff {
+                field,
+                dt,
+                half_period,
+                steps,
+                minimum,
+            } => write!(
+                f,
+                "tangential spring `{field}` is too stiff for the time step {dt:e} s: its stuck half period pi sqrt(m_t/k_t) = {half_period:e} s gives {steps:.2} steps; at least {minimum} are needed (lower `{field}` or the time step)"
+            ),
         }
     }
 }

@@ -184,8 +184,10 @@ pub struct Prepare {
 pub enum TimeStep {
     /// Explicit value (s).
     Seconds(f64),
-    /// `"auto"`: the contact time at the largest expected impact speed divided by
-    /// `run.steps_per_contact`.
+    /// `"auto"`: error-controlled. The coarsest step whose restitution error (measured with
+    /// the collision lab on the scene's hardest impacts, see
+    /// [`crate::experiment::step_control`]) is at most `run.restitution_tolerance`, and never
+    /// coarser than `shortest contact time / run.steps_per_contact`.
     Auto(AutoDt),
 }
 
@@ -204,10 +206,17 @@ pub struct Run {
     pub duration: f64,
     /// Time step (s), or `"auto"`.
     pub dt: TimeStep,
-    /// Steps per contact time for `dt = "auto"`, and the least accepted for an explicit dt
-    /// is [`MIN_STEPS_PER_CONTACT`].
+    /// Fewest steps per contact time `dt = "auto"` may give (the least accepted for an
+    /// explicit dt is [`MIN_STEPS_PER_CONTACT`]).
     #[serde(default = "d_steps_per_contact")]
     pub steps_per_contact: f64,
+    /// Largest accepted error of the restitution coefficients (eps_n, eps_t; absolute) for
+    /// `dt = "auto"`. The default, [`DEFAULT_RESTITUTION_TOLERANCE`], sits on the measured
+    /// speed-against-error front (`stripes bench`).
+    /// Left out of the serialised scene when it has its default, so that sample keys
+    /// ([`crate::prepare::sample_key`]) of scenes written before this key existed still hold.
+    #[serde(default = "d_restitution_tolerance", skip_serializing_if = "is_default_tolerance")]
+    pub restitution_tolerance: f64,
     /// Random seed of the sample (radii, lattice, initial velocities).
     pub seed: u64,
     /// Worker threads (0: all cores). Results do not depend on it.
@@ -323,6 +332,9 @@ impl AutomatonSpec {
         Ok(())
     }
 }
+/// Default `run.restitution_tolerance`, picked from the speed-against-error front of
+/// `stripes bench` (see the README's section on it).
+pub const DEFAULT_RESTITUTION_TOLERANCE: f64 = 1e-2;
 
 /// Fewest steps per contact time an explicit dt may give (the thesis uses 15-20, sec 3.5.1).
 pub const MIN_STEPS_PER_CONTACT: f64 = 8.0;
@@ -368,6 +380,12 @@ fn d_prep_duration() -> f64 {
 }
 fn d_steps_per_contact() -> f64 {
     15.0
+}
+fn d_restitution_tolerance() -> f64 {
+    DEFAULT_RESTITUTION_TOLERANCE
+}
+fn is_default_tolerance(x: &f64) -> bool {
+    *x == DEFAULT_RESTITUTION_TOLERANCE
 }
 fn d_one() -> u32 {
     1
@@ -561,6 +579,7 @@ impl Scene {
             positive("run.dt", dt)?;
         }
         positive("run.steps_per_contact", self.run.steps_per_contact)?;
+        positive("run.restitution_tolerance", self.run.restitution_tolerance)?;
         if self.run.snapshots_per_period == 0 {
             return Err(err("run.snapshots_per_period", "must be at least 1"));
         }
@@ -691,6 +710,16 @@ mod tests {
         assert_eq!(pp.rolling, RollingLaw::None);
         assert_eq!(s.run.dt, TimeStep::Auto(AutoDt::Auto));
         assert_eq!(s.run.threads, 2);
+    }
+
+    #[test]
+    fn the_default_restitution_tolerance_leaves_the_serialised_scene_unchanged() {
+        // Sample keys hash the serialised scene: a new key at its default must not move them.
+        let s = Scene::parse(MINIMAL, &[], "test").unwrap();
+        assert!(!toml::to_string(&s).unwrap().contains("restitution_tolerance"));
+        let t = Scene::parse(MINIMAL, &["run.restitution_tolerance=1e-3".into()], "test").unwrap();
+        let again = Scene::parse(&toml::to_string(&t).unwrap(), &[], "test").unwrap();
+        assert_eq!(again.run.restitution_tolerance, 1e-3);
     }
 
     #[test]

@@ -3,7 +3,7 @@
 use particles::contact::{ContactLaw, NormalLaw, RollingLaw, TangentialLaw};
 use particles::experiment::collide::{Collision, CollisionResult, Impact, StepSize, Target};
 use particles::integrate::Integrator;
-use particles::Vec3;
+use particles::{SimError, Vec3};
 use proptest::prelude::*;
 
 fn oblique(tangential: TangentialLaw, rolling: RollingLaw) -> Collision {
@@ -165,7 +165,15 @@ proptest! {
 
     #[test]
     fn random_collisions_conserve_momenta_and_never_gain_energy(c in collision()) {
-        let r: CollisionResult = c.run().unwrap();
+        let r: CollisionResult = match c.run() {
+            Ok(r) => r,
+            // Refusing an impact too hard for the soft-sphere picture is a correct outcome.
+            Err(SimError::ExcessiveOverlap { overlap, radius, limit, .. }) => {
+                prop_assert!(overlap > limit * radius);
+                return Ok(());
+            }
+            Err(e) => return Err(TestCaseError::fail(e.to_string())),
+        };
         prop_assert!(r.momentum_error.unwrap() < 1e-12, "momentum error {:e}", r.momentum_error.unwrap());
         prop_assert!(r.angular_momentum_error.unwrap() < 1e-11, "angular momentum error {:e}", r.angular_momentum_error.unwrap());
         prop_assert!(r.energy_after <= r.energy_before * (1.0 + 1e-9), "energy gained: {} -> {}", r.energy_before, r.energy_after);
@@ -176,8 +184,11 @@ proptest! {
     fn swapping_the_particles_mirrors_the_result(c in collision()) {
         // The swapped run is the original seen under the point reflection x -> r_0 - x and the
         // boost v -> g_0 - v (spins, axial vectors, are unchanged).
-        let a = c.run().unwrap();
-        let b = swapped(&c).run().unwrap();
+        let (a, b) = match (c.run(), swapped(&c).run()) {
+            (Ok(a), Ok(b)) => (a, b),
+            (Err(SimError::ExcessiveOverlap { .. }), Err(SimError::ExcessiveOverlap { .. })) => return Ok(()),
+            (a, b) => return Err(TestCaseError::fail(format!("the swapped run differs in outcome: {a:?} / {b:?}"))),
+        };
         let (vn, v) = c.speeds();
         prop_assert!(close(a.eps_n, b.eps_n, 1.0) && close(a.eps_n_hs, b.eps_n_hs, 1.0), "{} {}", a.eps_n, b.eps_n);
         prop_assert!(close(a.t_c, b.t_c, a.t_c) && close(a.phi, b.phi, 1.0));

@@ -3,6 +3,7 @@
 pub mod ablate;
 pub mod analyze;
 pub mod automaton;
+pub mod bench;
 pub mod calibrate;
 pub mod collect;
 pub mod collide;

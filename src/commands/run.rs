@@ -94,6 +94,10 @@ fn run_in_pool(args: Args, scene: Scene) -> Result<String, CliError> {
     // Everything that can be checked is checked before the (possibly long) preparation.
     let setup = tray::setup(&scene, tray::drive(&scene))?;
     let dt = setup.dt;
+    let warnings = tray::warnings(&scene, dt);
+    for w in &warnings {
+        eprintln!("warning: {w}");
+    }
 
     // Sample: prepared once per (population, box, material, seed), shared by every run.
     let bar = progress_bar(1000, args.quiet, "prepare");
@@ -223,6 +227,7 @@ fn run_in_pool(args: Args, scene: Scene) -> Result<String, CliError> {
         "contacts": { "pair_mean": pair_sum / counted.max(1) as f64, "wall_mean": wall_sum / counted.max(1) as f64 },
         "neighbor_builds": sim.neighbor_builds(),
         "state_hash": format!("{:016x}", observe::state_hash(s)),
+        "warnings": warnings,
     });
     dir.json("scene.json", &scene)?;
     dir.finish(summary)

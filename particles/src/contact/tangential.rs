@@ -19,6 +19,13 @@ pub enum TangentialLaw {
     CundallStrack { kt: f64, mu: f64 },
 }
 
+/// Effective mass (kg) of the tangential contact-point motion of two solid spheres whose
+/// normal effective mass is `m_eff` (kg): `1/m_t = sum_k (1/m_k + R_k^2/I_k)` with
+/// `I = (2/5) m R^2` gives `m_t = (2/7) m_eff` (a wall is the limit of infinite mass).
+pub fn sphere_tangential_mass(m_eff: f64) -> f64 {
+    2.0 / 7.0 * m_eff
+}
+
 /// Result of a tangential kernel.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TangentialForce {
@@ -36,6 +43,16 @@ impl TangentialLaw {
         match *self {
             TangentialLaw::None => 0.0,
             TangentialLaw::HaffWerner { mu, .. } | TangentialLaw::CundallStrack { mu, .. } => mu,
+        }
+    }
+
+    /// Half period `pi sqrt(m_t / k_t)` (s) of a stuck Cundall-Strack spring on the
+    /// tangential effective mass `m_t` (kg, see [`sphere_tangential_mass`]): the time the
+    /// step must resolve during stick phases. `None` for laws without a spring.
+    pub fn spring_half_period(&self, m_t: f64) -> Option<f64> {
+        match *self {
+            TangentialLaw::None | TangentialLaw::HaffWerner { .. } => None,
+            TangentialLaw::CundallStrack { kt, .. } => Some(std::f64::consts::PI * (m_t / kt).sqrt()),
         }
     }
 

@@ -24,6 +24,7 @@
 use serde::Serialize;
 
 use crate::boundary::Boundary;
+use crate::contact::tangential::sphere_tangential_mass;
 use crate::contact::{geometry::tangential_velocity, ContactLaw};
 use crate::integrate::Integrator;
 use crate::neighbor::NeighborSearch;
@@ -214,6 +215,19 @@ impl Collision {
                 steps_per_contact: t_est / dt,
                 minimum: MIN_STEPS_PER_CONTACT,
             });
+        }
+
+        let (m_eff, _) = self.effective();
+        if let Some(half) = self.law.tangential.spring_half_period(sphere_tangential_mass(m_eff)) {
+            if half / dt < MIN_STEPS_PER_CONTACT {
+                return Err(SimError::TangentialSpringTooStiff {
+                    field: "kt".into(),
+                    dt,
+                    half_period: half,
+                    steps: half / dt,
+                    minimum: MIN_STEPS_PER_CONTACT,
+                });
+            }
         }
 
         let (_, v) = self.speeds();

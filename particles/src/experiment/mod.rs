@@ -6,3 +6,5 @@ pub mod collide;
 pub mod contact_time;
 pub mod eccentricity;
 pub mod single;
+pub mod step_control;
+pub mod tradeoff;

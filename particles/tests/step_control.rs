@@ -1,0 +1,78 @@
+//! The error-controlled time step (`run.dt = "auto"`, `run.restitution_tolerance`).
+
+use particles::experiment::step_control::{choose, restitution_error, run_all, scene_probes, REFERENCE_STEPS};
+use particles::integrate::Integrator;
+use particles::scene::Scene;
+use particles::tray;
+use particles::SimError;
+
+const SCENE: &str = r#"
+    [box]
+    length = 0.02
+    width = 0.01
+    [drive]
+    frequency = 20.0
+    amplitude = 0.025
+    [particles]
+    count = 50
+    radius_min = 0.25e-3
+    radius_max = 0.5e-3
+    [run]
+    duration = 0.1
+    dt = "auto"
+    steps_per_contact = 8
+    seed = 1
+"#;
+
+fn scene(overrides: &[&str]) -> Scene {
+    let o: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
+    let s = Scene::parse(SCENE, &o, "test").unwrap();
+    s.validate().unwrap();
+    s
+}
+
+#[test]
+fn the_chosen_step_meets_the_tolerance_and_a_coarser_one_does_not() {
+    let s = scene(&[]);
+    let reference = run_all(&scene_probes(&s, REFERENCE_STEPS, Integrator::VelocityVerlet)).unwrap();
+    for tol in [3e-2, 1e-2, 1e-3] {
+        let c = choose(&s, tol, 8.0).unwrap();
+        println!(
+            "tolerance {tol:e}: {} steps per contact, error {:.2e}",
+            c.steps_per_contact, c.restitution_error
+        );
+        assert!(c.restitution_error <= tol);
+        assert!((c.dt - c.contact_time / c.steps_per_contact).abs() < 1e-18);
+        // The measured error is what the probes give at that step.
+        let at = restitution_error(
+            &run_all(&scene_probes(&s, c.steps_per_contact, Integrator::VelocityVerlet)).unwrap(),
+            &reference,
+        );
+        assert_eq!(at, c.restitution_error);
+    }
+    // Tighter tolerances never give coarser steps.
+    let steps: Vec<f64> = [3e-2, 1e-2, 1e-3]
+        .iter()
+        .map(|&t| choose(&s, t, 8.0).unwrap().steps_per_contact)
+        .collect();
+    assert!(steps.windows(2).all(|w| w[0] <= w[1]), "{steps:?}");
+}
+
+#[test]
+fn auto_uses_the_tolerance_and_never_fewer_than_steps_per_contact() {
+    let t_c = tray::shortest_contact_time(&scene(&[]));
+    let default = tray::time_step(&scene(&[])).unwrap();
+    assert_eq!(t_c / default, 25.0, "thesis material at the default tolerance 1e-2");
+    let floored = tray::time_step(&scene(&["run.steps_per_contact=40"])).unwrap();
+    assert!((t_c / floored - 40.0).abs() < 1e-9);
+}
+
+#[test]
+fn an_unreachable_tolerance_is_refused_naming_the_key() {
+    let e = tray::time_step(&scene(&["run.restitution_tolerance=1e-9"])).unwrap_err();
+    assert!(
+        matches!(&e, SimError::InvalidParameter { field, .. } if field == "run.restitution_tolerance"),
+        "{e:?}"
+    );
+    assert!(e.to_string().contains("cannot be met"), "{e}");
+}
