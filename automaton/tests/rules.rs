@@ -190,3 +190,38 @@ proptest! {
         prop_assert_eq!(a.lattice().heights(), h);
     }
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+    /// Conservation-law suite (issue 7): any lattice (submonolayer or piles), any combination
+    /// of ingredients, any seed and boundary conserves the number of grains exactly.
+    #[test]
+    fn any_rules_on_any_lattice_conserve_mass(
+        nx in 2usize..120,
+        ny in 1usize..9,
+        fill in 0.0f64..0.9,
+        max in 1u8..5,
+        seed in any::<u64>(),
+        cap in 1usize..40,
+        switches in prop::collection::vec(any::<bool>(), 5),
+        periodic in any::<bool>(),
+        half_steps in 1usize..40,
+    ) {
+        let h = random_heights(nx, ny, fill, max, seed);
+        let lattice = Lattice::from_heights(nx, ny, &h).unwrap();
+        let mass = lattice.mass();
+        let y = if periodic { YBoundary::Periodic } else { YBoundary::Walls };
+        let mut p = all_on(cap, y);
+        p.seed = seed;
+        if !switches[0] { p.physical.activation = Activation::None; }
+        if !switches[1] { p.physical.knock = Knock::None; }
+        if !switches[2] { p.physical.lateral = Lateral::None; }
+        if !switches[3] { p.physical.sideways = Sideways::None; }
+        if !switches[4] { p.physical.cap = FlightCap::None; }
+        let mut a = Automaton::new(lattice, p, Direction::Plus).unwrap();
+        for _ in 0..half_steps {
+            a.half_step();
+        }
+        prop_assert_eq!(a.lattice().mass(), mass);
+    }
+}

@@ -51,9 +51,9 @@ fn read_json(path: &Path) -> Result<Value, CliError> {
     Ok(serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?)
 }
 
-/// `(t, count)` of an analysis directory.
+/// `(t, count)` of an analysis directory (the first two columns of its coarsening curve).
 fn counts(analysis: &Path) -> Result<Vec<(f64, f64)>, CliError> {
-    let p = analysis.join("stripe_count.csv");
+    let p = analysis.join("coarsening.csv");
     let (_, rows) = read_csv(&p).map_err(|e| format!("cannot read {}: {e}", p.display()))?;
     Ok(rows.iter().filter(|r| r.len() >= 2).map(|r| (r[0], r[1])).collect())
 }
