@@ -2,6 +2,7 @@
 //! part after it, as per-particle kernels; [`crate::sim`] calls them in that order.
 
 use crate::state::{State, StateBlock};
+use crate::Vec3;
 
 /// Integration scheme.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -62,17 +63,25 @@ impl Integrator {
         }
     }
 
-    /// Stage after the force evaluation for particle `k` of block `b`.
-    #[inline]
-    pub fn after_forces(&self, b: &mut StateBlock, k: usize, dt: f64, rotate: bool) {
+    /// True if the scheme has a stage after the force evaluation ([`Self::after_kick`]).
+    pub fn has_after_stage(&self) -> bool {
         match self {
-            Integrator::VelocityVerlet => {
-                b.vel[k] = b.vel_half[k] + b.force[k] * (0.5 * dt * b.inv_mass[k]);
-                if rotate {
-                    b.omega[k] = b.omega_half[k] + b.torque[k] * (0.5 * dt * b.inv_inertia[k]);
-                }
-            }
-            Integrator::Thesis => {}
+            Integrator::VelocityVerlet => true,
+            Integrator::Thesis => false,
+        }
+    }
+
+    /// Stage after the force evaluation, for one velocity (or spin) of one particle: the
+    /// value at `t + dt` from the half-step value `half` and the new force (or torque) `rate`
+    /// with inverse mass (or inverse inertia) `inv`: `half + rate dt inv / 2` (velocity
+    /// Verlet). A pure function, so [`crate::sim`] can write its result out of place while
+    /// other particles still read the predicted velocities; the identity (`half`) for schemes
+    /// without an after stage.
+    #[inline]
+    pub fn after_kick(&self, half: Vec3, rate: Vec3, inv: f64, dt: f64) -> Vec3 {
+        match self {
+            Integrator::VelocityVerlet => half + rate * (0.5 * dt * inv),
+            Integrator::Thesis => half,
         }
     }
 

@@ -79,6 +79,41 @@ impl ContactGeometry {
         ))
     }
 
+    /// [`Self::wall`] for a wall whose normal is `sign * e_AXIS` (`AXIS` 0, 1, 2 for x, y, z;
+    /// `sign` is +1 or -1), such as the tray's floor and side walls. The same geometry with
+    /// the dot and cross products against the normal written out: it equals [`Self::wall`]
+    /// bit for bit, up to the sign of components that are zero.
+    #[inline(always)]
+    pub fn axis_wall<const AXIS: usize>(xi: Vec3, vi: Vec3, wi: Vec3, ri: f64, origin: Vec3, sign: f64, v_wall: Vec3) -> Option<Self> {
+        let overlap = ri - sign * (xi[AXIS] - origin[AXIS]);
+        if overlap < 0.0 {
+            return None;
+        }
+        let arm_i = ri - 0.5 * overlap;
+        let v_rel = vi - v_wall;
+        let s = arm_i * wi;
+        // s x e_AXIS
+        let s_x_e = match AXIS {
+            0 => Vec3::new(0.0, s.z, -s.y),
+            1 => Vec3::new(-s.z, 0.0, s.x),
+            _ => Vec3::new(s.y, -s.x, 0.0),
+        };
+        let mut v_t = v_rel - s_x_e * sign;
+        v_t[AXIS] = 0.0;
+        let mut n = Vec3::zeros();
+        n[AXIS] = sign;
+        Some(Self {
+            n,
+            overlap,
+            overlap_rate: -sign * v_rel[AXIS],
+            v_t,
+            omega_rel: wi,
+            arm_i,
+            arm_j: f64::INFINITY,
+            r_eff: ri,
+        })
+    }
+
     #[allow(clippy::too_many_arguments)]
     #[inline]
     fn from_parts(n: Vec3, overlap: f64, v_rel: Vec3, spin_sum: Vec3, omega_rel: Vec3, arm_i: f64, arm_j: f64, r_eff: f64) -> Self {
@@ -120,6 +155,32 @@ mod tests {
         let g = ContactGeometry::wall(xi, Vec3::new(v, 0.0, 0.0), w, r, Vec3::zeros(), Vec3::z(), Vec3::zeros()).unwrap();
         assert!(g.v_t.norm() < 1e-15, "{}", g.v_t);
         assert!((g.overlap - 1e-6).abs() < 1e-18);
+    }
+
+    #[test]
+    fn axis_walls_equal_the_general_wall() {
+        let (r, o) = (4e-4, Vec3::new(0.013, 0.02, 0.0));
+        let v = Vec3::new(0.3, -0.2, 0.05);
+        let w = Vec3::new(40.0, -25.0, 12.0);
+        let vw = Vec3::new(1.7, 0.0, 0.0);
+        for (axis, sign) in [(0, 1.0), (0, -1.0), (1, 1.0), (1, -1.0), (2, 1.0), (2, -1.0)] {
+            let mut normal = Vec3::zeros();
+            normal[axis] = sign;
+            for depth in [-1e-6, 0.0, 2e-6] {
+                let x = o + normal * (r - depth) + Vec3::new(1e-4, 2e-4, 3e-4) - normal * normal.dot(&Vec3::new(1e-4, 2e-4, 3e-4));
+                let general = ContactGeometry::wall(x, v, w, r, o, normal, vw);
+                let special = match axis {
+                    0 => ContactGeometry::axis_wall::<0>(x, v, w, r, o, sign, vw),
+                    1 => ContactGeometry::axis_wall::<1>(x, v, w, r, o, sign, vw),
+                    _ => ContactGeometry::axis_wall::<2>(x, v, w, r, o, sign, vw),
+                };
+                assert_eq!(general.is_some(), special.is_some(), "axis {axis} sign {sign} depth {depth}");
+                if let (Some(g), Some(s)) = (general, special) {
+                    // `==` treats -0 and +0 as equal, exactly the freedom the fast path takes.
+                    assert!(g == s, "axis {axis} sign {sign}: {g:?} != {s:?}");
+                }
+            }
+        }
     }
 
     #[test]

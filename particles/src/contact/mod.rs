@@ -72,7 +72,7 @@ pub struct ContactForce {
 /// Dissipation rate: the power the contact takes from the particles' kinetic energy,
 /// `F_n dxi/dt - F_t . v_t - M_roll . omega_rel`, minus the rate of change of the stored
 /// elastic energy `F_el dxi/dt` (and, for Cundall-Strack, `k_t zeta . dzeta/dt`).
-#[inline]
+#[inline(always)]
 pub fn evaluate(law: &ContactLaw, g: &ContactGeometry, history: &mut Vec3, dt: f64) -> ContactForce {
     let n = law.normal.evaluate(g.overlap, g.overlap_rate, g.r_eff);
     evaluate_loaded(law, g, n.raw, n.elastic, n.energy, history, dt)
@@ -81,14 +81,14 @@ pub fn evaluate(law: &ContactLaw, g: &ContactGeometry, history: &mut Vec3, dt: f
 /// [`evaluate`] with the unclamped normal force `normal_raw` (N) given instead of computed
 /// from the normal law: a grain pinned to the floor (jumping off, eq 3.28) carries its
 /// weight there, and its friction and rolling resistance feel that load.
-#[inline]
+#[inline(always)]
 pub fn evaluate_with_normal(law: &ContactLaw, g: &ContactGeometry, normal_raw: f64, history: &mut Vec3, dt: f64) -> ContactForce {
     evaluate_loaded(law, g, normal_raw, 0.0, 0.0, history, dt)
 }
 
 /// The shared tail of [`evaluate`] and [`evaluate_with_normal`]: tangential and rolling laws
 /// under the normal force `normal_raw`, whose elastic part is `elastic` (storing `stored` J).
-#[inline]
+#[inline(always)]
 fn evaluate_loaded(
     law: &ContactLaw,
     g: &ContactGeometry,
