@@ -210,12 +210,14 @@ impl Simulation {
         let anchored = limit.is_some() && anchor.len() == self.state.len();
         let limit = limit.unwrap_or(f64::INFINITY);
         let far = on_blocks(self.state.blocks_mut(BLOCK), |mut b| {
+            integrator.before_forces(&mut b, dt, rotate);
             let mut far = false;
-            for k in 0..b.pos.len() {
-                integrator.before_forces(&mut b, k, dt, rotate);
-                b.pos[k] = boundary.wrap(b.pos[k]);
-                if anchored {
-                    far |= boundary.min_image(b.pos[k] - anchor[b.start + k]).norm_squared() > limit;
+            for x in b.pos.iter_mut() {
+                *x = boundary.wrap(*x);
+            }
+            if anchored {
+                for (x, a) in b.pos.iter().zip(&anchor[b.start..]) {
+                    far |= boundary.min_image(x - a).norm_squared() > limit;
                 }
             }
             far
@@ -447,21 +449,21 @@ impl Simulation {
         let sums = on_blocks(blocks, |b| {
             let mut sums = forces::gather_block(&inputs, b.first, b.force, b.torque, b.pair, b.wall);
             if finish {
-                for k in 0..b.force.len() {
-                    let i = b.first + k;
-                    let (v, w) = if kick {
-                        b.vel_half[k] = integrator.after_kick(b.vel_half[k], b.force[k], inputs.inv_mass[i], dt);
-                        if rotate {
-                            b.omega_half[k] = integrator.after_kick(b.omega_half[k], b.torque[k], inv_inertia[i], dt);
-                        }
-                        (b.vel_half[k], if rotate { b.omega_half[k] } else { inputs.omega[i] })
-                    } else {
-                        (inputs.vel[i], inputs.omega[i])
-                    };
-                    if sums.first_bad.is_none() && !is_sound(&inputs.pos[i], &v, &w, &bounds) {
-                        sums.first_bad = Some(i);
+                let range = b.first..b.first + b.force.len();
+                if kick {
+                    integrator.after_kick(b.vel_half, b.force, &inputs.inv_mass[range.clone()], dt);
+                    if rotate {
+                        integrator.after_kick(b.omega_half, b.torque, &inv_inertia[range.clone()], dt);
                     }
                 }
+                let v = if kick { &*b.vel_half } else { &inputs.vel[range.clone()] };
+                let w = if kick && rotate {
+                    &*b.omega_half
+                } else {
+                    &inputs.omega[range.clone()]
+                };
+                let x = &inputs.pos[range];
+                sums.first_bad = (0..x.len()).find(|&k| !is_sound(&x[k], &v[k], &w[k], &bounds)).map(|k| b.first + k);
             }
             sums
         });
