@@ -115,36 +115,41 @@ pub(crate) fn gather_block(
     let pinned = setup.vertical == Vertical::Pinned;
     let base_slot = list.offsets[first];
     let mut sums = BlockSums::default();
-    // Gravity and particle pairs, particle by particle.
-    for (k, (f_out, t_out)) in force.iter_mut().zip(torque.iter_mut()).enumerate() {
-        let i = first + k;
-        let (xi, vi, wi, ri) = (pos[i], vel[i], omega[i], radius[i]);
-        let mut f = gravity / inp.inv_mass[i];
-        let mut t = Vec3::zeros();
-        // Each pair is evaluated from both sides (half the energies each).
-        let slots = list.offsets[i] - base_slot..list.offsets[i + 1] - base_slot;
-        for (&j, zeta) in list.of(i).iter().zip(&mut pair_history[slots]) {
-            let j = j as usize;
-            let d = setup.boundary.min_image(xi - pos[j]);
-            let Some(g) = ContactGeometry::pair(xi, xi - d, vi, vel[j], wi, omega[j], ri, radius[j]) else {
-                if pair_history_on {
-                    *zeta = Vec3::zeros();
-                }
-                continue;
-            };
-            let c = contact::evaluate(pair_law, &g, zeta, dt);
-            f += c.force;
-            t += c.torque_i;
-            sums.pair_contacts += (i < j) as u64;
-            sums.stored += 0.5 * c.stored_energy;
-            sums.dissipated += 0.5 * c.dissipation_rate;
-            if inp.record && i < j {
-                sums.records
-                    .push(ContactRecord::new(i, Partner::Particle(j), &g, &c, pair_law.tangential.mu()));
+    // Gravity.
+    let n = force.len();
+    for (k, (f, t)) in force.iter_mut().zip(torque.iter_mut()).enumerate() {
+        *f = gravity / inp.inv_mass[first + k];
+        *t = Vec3::zeros();
+    }
+    // Particle pairs, each evaluated from both sides (half the energies each), in one flat
+    // loop over the block's neighbour-list slots: in a dilute layer most particles have zero
+    // to two candidates, and a loop nested per particle would mispredict its exit each time.
+    // Each particle still adds its partners in slot order.
+    let slots = base_slot..list.offsets[first + n];
+    for ((&i, &j), zeta) in list.owner[slots.clone()]
+        .iter()
+        .zip(&list.partners[slots])
+        .zip(pair_history.iter_mut())
+    {
+        let (i, j) = (i as usize, j as usize);
+        let xi = pos[i];
+        let d = setup.boundary.min_image(xi - pos[j]);
+        let Some(g) = ContactGeometry::pair(xi, xi - d, vel[i], vel[j], omega[i], omega[j], radius[i], radius[j]) else {
+            if pair_history_on {
+                *zeta = Vec3::zeros();
             }
+            continue;
+        };
+        let c = contact::evaluate(pair_law, &g, zeta, dt);
+        force[i - first] += c.force;
+        torque[i - first] += c.torque_i;
+        sums.pair_contacts += (i < j) as u64;
+        sums.stored += 0.5 * c.stored_energy;
+        sums.dissipated += 0.5 * c.dissipation_rate;
+        if inp.record && i < j {
+            sums.records
+                .push(ContactRecord::new(i, Partner::Particle(j), &g, &c, pair_law.tangential.mu()));
         }
-        *f_out = f;
-        *t_out = t;
     }
     // Walls, one wall at a time over the block: the loop body is short enough for the
     // processor to overlap the square roots and divisions of consecutive particles. Each

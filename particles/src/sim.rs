@@ -212,12 +212,14 @@ impl Simulation {
         let far = on_blocks(self.state.blocks_mut(BLOCK), |mut b| {
             integrator.before_forces(&mut b, dt, rotate);
             let mut far = false;
-            for x in b.pos.iter_mut() {
-                *x = boundary.wrap(*x);
-            }
             if anchored {
-                for (x, a) in b.pos.iter().zip(&anchor[b.start..]) {
-                    far |= boundary.min_image(x - a).norm_squared() > limit;
+                for (x, a) in b.pos.iter_mut().zip(&anchor[b.start..]) {
+                    *x = boundary.wrap(*x);
+                    far |= boundary.min_image(*x - a).norm_squared() > limit;
+                }
+            } else {
+                for x in b.pos.iter_mut() {
+                    *x = boundary.wrap(*x);
                 }
             }
             far
