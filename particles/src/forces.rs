@@ -118,7 +118,7 @@ pub(crate) fn gather_block(
     // Gravity.
     let n = force.len();
     for (k, (f, t)) in force.iter_mut().zip(torque.iter_mut()).enumerate() {
-        *f = gravity / inp.inv_mass[first + k];
+        *f = gravity * (1.0 / inp.inv_mass[first + k]); // one division, not three
         *t = Vec3::zeros();
     }
     // Particle pairs, each evaluated from both sides (half the energies each), in one flat
