@@ -5,13 +5,14 @@
 //!
 //! Hot-path choices, none of which changes a force law:
 //! - walls whose normal is a coordinate axis (the tray's floor and side walls) get their
-//!   geometry from [`ContactGeometry::axis_wall`], which skips the dot and cross products
-//!   with the normal; the kernels are the same [`contact::evaluate`] for every wall;
+//!   geometry from `ContactGeometry::axis_wall` with an [`AxisNormal`], whose dot and cross
+//!   products with the normal collapse; the kernels are the same generic
+//!   [`contact::evaluate`] for every contact;
 //! - a grain pinned to the floor (jumping off) takes its floor load `m g` as given
 //!   ([`contact::evaluate_with_normal`]): no normal law there;
 //! - per-contact history is only reset when the law has history (Cundall-Strack).
 
-use crate::contact::{self, ContactGeometry};
+use crate::contact::{self, AxisNormal, ContactGeometry, Normal};
 use crate::neighbor::NeighborList;
 use crate::sim::{ContactRecord, Partner, Setup, Vertical};
 use crate::Vec3;
@@ -19,7 +20,7 @@ use crate::Vec3;
 /// How the geometry of a wall contact is computed.
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum PlaneKind {
-    /// Normal `sign * e_axis`: [`ContactGeometry::axis_wall`].
+    /// Normal `sign * e_axis`: `ContactGeometry::<AxisNormal<axis>>::axis_wall`.
     Axis { axis: usize, sign: f64 },
     /// Any other orientation: [`ContactGeometry::wall`].
     General,
@@ -158,13 +159,13 @@ pub(crate) fn gather_block(
         let (origin, v_wall, sign) = (plane.origin, plane.velocity, plane.sign());
         match plane.kind {
             PlaneKind::Axis { axis: 0, .. } => wall_pass(inp, plane, w, first, force, torque, wall_history, &mut sums, |x, v, o, r| {
-                ContactGeometry::axis_wall::<0>(x, v, o, r, origin, sign, v_wall)
+                ContactGeometry::<AxisNormal<0>>::axis_wall(x, v, o, r, origin, sign, v_wall)
             }),
             PlaneKind::Axis { axis: 1, .. } => wall_pass(inp, plane, w, first, force, torque, wall_history, &mut sums, |x, v, o, r| {
-                ContactGeometry::axis_wall::<1>(x, v, o, r, origin, sign, v_wall)
+                ContactGeometry::<AxisNormal<1>>::axis_wall(x, v, o, r, origin, sign, v_wall)
             }),
             PlaneKind::Axis { .. } => wall_pass(inp, plane, w, first, force, torque, wall_history, &mut sums, |x, v, o, r| {
-                ContactGeometry::axis_wall::<2>(x, v, o, r, origin, sign, v_wall)
+                ContactGeometry::<AxisNormal<2>>::axis_wall(x, v, o, r, origin, sign, v_wall)
             }),
             PlaneKind::General => wall_pass(inp, plane, w, first, force, torque, wall_history, &mut sums, |x, v, o, r| {
                 ContactGeometry::wall(x, v, o, r, origin, plane.normal, v_wall)
@@ -184,7 +185,7 @@ pub(crate) fn gather_block(
 /// `torque`.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn wall_pass(
+fn wall_pass<N: Normal>(
     inp: &Inputs,
     plane: &WallPlane,
     w: usize,
@@ -193,7 +194,7 @@ fn wall_pass(
     torque: &mut [Vec3],
     wall_history: &mut [Vec3],
     sums: &mut BlockSums,
-    geometry: impl Fn(Vec3, Vec3, Vec3, f64) -> Option<ContactGeometry>,
+    geometry: impl Fn(Vec3, Vec3, Vec3, f64) -> Option<ContactGeometry<N>>,
 ) {
     let setup = inp.setup;
     let law = &setup.wall_law;

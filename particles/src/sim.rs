@@ -540,7 +540,7 @@ fn on_blocks<B: Send, T: Send>(blocks: Vec<B>, f: impl Fn(B) -> T + Sync + Send)
 }
 
 impl ContactRecord {
-    pub(crate) fn new(i: usize, partner: Partner, g: &ContactGeometry, c: &contact::ContactForce, mu: f64) -> Self {
+    pub(crate) fn new<N: contact::Normal>(i: usize, partner: Partner, g: &ContactGeometry<N>, c: &contact::ContactForce, mu: f64) -> Self {
         Self {
             i,
             partner,

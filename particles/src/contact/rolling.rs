@@ -1,5 +1,6 @@
 //! Rolling resistance.
 
+use super::geometry::Normal;
 use super::ContactGeometry;
 use crate::Vec3;
 
@@ -28,7 +29,7 @@ impl RollingLaw {
     ///
     /// `v_omega / |omega_rel| = R_eff sqrt(|omega_rel x n|^2 / |omega_rel|^2)`: one root.
     #[inline(always)]
-    pub fn torque(&self, g: &ContactGeometry, fn_: f64) -> Vec3 {
+    pub fn torque<N: Normal>(&self, g: &ContactGeometry<N>, fn_: f64) -> Vec3 {
         match *self {
             RollingLaw::None => Vec3::zeros(),
             RollingLaw::BrilliantovPoschel { mu_r } => {
@@ -36,7 +37,7 @@ impl RollingLaw {
                 if spin2 == 0.0 || fn_ == 0.0 {
                     return Vec3::zeros();
                 }
-                let v_omega_per_spin = g.r_eff * (g.omega_rel.cross(&g.n).norm_squared() / spin2).sqrt();
+                let v_omega_per_spin = g.r_eff * (g.n.cross_norm_squared(&g.omega_rel) / spin2).sqrt();
                 g.omega_rel * (-mu_r * v_omega_per_spin * fn_)
             }
         }

@@ -1,5 +1,6 @@
 //! Tangential (friction) force laws.
 
+use super::geometry::Normal;
 use super::ContactGeometry;
 use crate::Vec3;
 
@@ -41,7 +42,7 @@ impl TangentialLaw {
 
     /// Tangential force for the normal force magnitude `fn_` (already clamped, N).
     #[inline(always)]
-    pub fn force(&self, g: &ContactGeometry, fn_: f64, zeta: &mut Vec3, dt: f64) -> TangentialForce {
+    pub fn force<N: Normal>(&self, g: &ContactGeometry<N>, fn_: f64, zeta: &mut Vec3, dt: f64) -> TangentialForce {
         match *self {
             TangentialLaw::None => TangentialForce {
                 force: Vec3::zeros(),
@@ -71,7 +72,7 @@ impl TangentialLaw {
             TangentialLaw::CundallStrack { kt, mu } => {
                 // Rotate the old spring into the current tangent plane, keeping its length.
                 let old_len = zeta.norm();
-                let mut z = *zeta - g.n * zeta.dot(&g.n);
+                let mut z = *zeta - g.n.scaled(g.n.dot(zeta));
                 let proj_len = z.norm();
                 if proj_len > 0.0 {
                     z *= old_len / proj_len;
