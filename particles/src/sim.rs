@@ -99,6 +99,11 @@ pub struct Ledger {
 /// radius (a prepared sample at rest overlaps by about 1e-3).
 pub const MAX_INITIAL_OVERLAP: f64 = 0.05;
 
+/// Slack (m) added to the neighbour-list drift bound per step for the rounding of the
+/// position update and the periodic wrap (each below `2e-15` m, half an ulp, in a box
+/// shorter than 10 m).
+const DRIFT_SLACK: f64 = 1e-14;
+
 /// Particles per block of the parallel force loop. Fixed, so that the block partial sums, and
 /// therefore every result, do not depend on the number of threads.
 const BLOCK: usize = 128;
@@ -127,6 +132,9 @@ pub struct Simulation {
     wall_history: Vec<Vec3>,
     record: bool,
     records: Vec<ContactRecord>,
+    /// Bound (m) on how far any grain has moved, since the neighbour list was built, away
+    /// from a displacement common to all grains (see [`Simulation::step`]).
+    drift: f64,
 }
 
 impl Simulation {
@@ -163,6 +171,7 @@ impl Simulation {
             wall_history: vec![Vec3::zeros(); n * n_walls.max(1)],
             record: false,
             records: Vec::new(),
+            drift: 0.0,
         };
         sim.check_finite()?;
         sim.refresh_neighbors();
@@ -203,31 +212,36 @@ impl Simulation {
     pub fn step(&mut self) -> Result<(), SimError> {
         let (dt, rotate, integrator) = (self.setup.dt, self.rotate, self.setup.integrator);
         let boundary = self.setup.boundary;
-        // Stage 1, fused per particle: integrator before the forces, periodic wrap, and the
-        // largest displacement since the neighbour list was built.
-        let limit = NeighborList::rebuild_distance2(&self.setup.neighbors);
-        let anchor = self.neighbors.anchor();
-        let anchored = limit.is_some() && anchor.len() == self.state.len();
-        let limit = limit.unwrap_or(f64::INFINITY);
-        let far = on_blocks(self.state.blocks_mut(BLOCK), |mut b| {
+        // Stage 1, per block: integrator before the forces, periodic wrap, and the box
+        // spanned by this step's displacement velocities (position += vel_half dt).
+        let boxes = on_blocks(self.state.blocks_mut(BLOCK), |mut b| {
             integrator.before_forces(&mut b, dt, rotate);
-            let mut far = false;
-            if anchored {
-                for (x, a) in b.pos.iter_mut().zip(&anchor[b.start..]) {
-                    *x = boundary.wrap(*x);
-                    far |= boundary.min_image(*x - a).norm_squared() > limit;
-                }
-            } else {
-                for x in b.pos.iter_mut() {
-                    *x = boundary.wrap(*x);
-                }
+            let (mut lo, mut hi) = (Vec3::repeat(f64::INFINITY), Vec3::repeat(f64::NEG_INFINITY));
+            for (x, u) in b.pos.iter_mut().zip(b.vel_half.iter()) {
+                *x = boundary.wrap(*x);
+                lo = lo.inf(u);
+                hi = hi.sup(u);
             }
-            far
+            (lo, hi)
         });
-        let moved_too_far = far.into_iter().any(|f| f);
         self.time += dt;
-        // Stage 2: neighbour list, if due.
-        if moved_too_far || (!anchored && self.neighbors.needs_rebuild(&self.setup.neighbors, &self.state.pos, &boundary)) {
+        // Stage 2: neighbour list, if due. Every displacement velocity u_i lies within
+        // `h = |hi - lo| / 2` of the box centre c, so over the steps since the build each grain
+        // has moved less than `drift = sum h dt` away from the common `sum c dt`, and two
+        // grains less than `2 drift` relative to each other: the list (built with a skin) is
+        // good while `drift <= skin / 2`. A tray's grains moving together cost no rebuilds, and
+        // no per-grain distance test is needed. `DRIFT_SLACK` covers the rounding of the
+        // position updates.
+        let (lo, hi) = boxes.into_iter().fold(
+            (Vec3::repeat(f64::INFINITY), Vec3::repeat(f64::NEG_INFINITY)),
+            |(l, h), (bl, bh)| (l.inf(&bl), h.sup(&bh)),
+        );
+        self.drift += 0.5 * (hi - lo).norm() * dt + DRIFT_SLACK;
+        let due = match NeighborList::rebuild_distance2(&self.setup.neighbors) {
+            Some(limit) => self.drift * self.drift > limit || self.neighbors.anchor().len() != self.state.len(),
+            None => self.neighbors.needs_rebuild(&self.setup.neighbors, &self.state.pos, &boundary),
+        };
+        if due {
             self.rebuild_neighbors();
         }
         // Stages 3 and 4, fused per block of particles: forces, then the integrator after
@@ -335,6 +349,7 @@ impl Simulation {
         self.neighbors
             .build(&self.setup.neighbors, &self.state.pos, &self.state.radius, &self.setup.boundary);
         self.pair_history = vec![Vec3::zeros(); self.neighbors.partners.len()];
+        self.drift = 0.0;
         for &(i, j, h) in pairs {
             let slot = self
                 .neighbors
@@ -379,6 +394,7 @@ impl Simulation {
             }
         }
         self.neighbors = list;
+        self.drift = 0.0;
         self.pair_history = history;
     }
 
