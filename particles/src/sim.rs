@@ -1,16 +1,18 @@
 //! The simulation loop: the only place that knows the order of the stages of a time step.
 //!
-//! One step of [`Simulation::step`]:
-//! 1. integrator stage before the forces (positions to `t + dt`);
-//! 2. `t += dt`, periodic wrap of positions;
-//! 3. neighbour list rebuilt if some particle moved more than half the skin;
-//! 4. force evaluation, gathered per particle in fixed blocks on the rayon pool: gravity,
-//!    particle pairs from the neighbour list, walls at their position and velocity at the new
-//!    time; contact history kept for live contacts only; energy ledger (work of moving walls,
-//!    dissipation) advanced by `power * dt`, summed in block order so that results are
-//!    bit-identical for any number of threads;
-//! 5. integrator stage after the forces (velocities to `t + dt`);
-//! 6. checks: every position, velocity and spin finite.
+//! One step of [`Simulation::step`], in two passes over fixed blocks of particles (on the
+//! rayon pool, or serially when it has one thread; results are bit-identical either way):
+//! 1. per block: integrator stage before the forces (positions to `t + dt`), periodic wrap,
+//!    and the box of this step's displacement velocities;
+//! 2. `t += dt`; neighbour list rebuilt if the drift bound (grains' motion relative to their
+//!    common motion since the last build) exceeds half the skin;
+//! 3. per block ([`crate::forces`]): gravity, particle pairs from the neighbour list, walls at
+//!    their position and velocity at the new time; contact history kept for live contacts
+//!    only; then, on the same block, the integrator stage after the forces (velocities to
+//!    `t + dt`, written out of place and swapped in) and the checks (every position,
+//!    velocity and spin finite, every grain inside the container);
+//! 4. energy ledger (work of moving walls, dissipation) advanced by `power * dt`, block
+//!    partial sums added in block order.
 
 use rayon::prelude::*;
 
