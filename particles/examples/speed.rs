@@ -17,8 +17,9 @@ fn main() {
     }
     let wall = t0.elapsed().as_secs_f64();
     println!(
-        "{} particle-steps/s, builds {}",
+        "{} particle-steps/s, builds {}, contacts (pair, wall) {:?}",
         (steps * scene.particles.count) as f64 / wall,
-        sim.neighbor_builds()
+        sim.neighbor_builds(),
+        sim.contacts
     );
 }

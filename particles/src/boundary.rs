@@ -17,7 +17,7 @@ impl Boundary {
     /// Minimum-image version of a separation vector. Separations of wrapped positions lie
     /// within one box length, so a compare-and-shift suffices (`round` is a software call on
     /// baseline x86-64 and dominated the step).
-    #[inline]
+    #[inline(always)]
     pub fn min_image(&self, mut d: Vec3) -> Vec3 {
         for (k, p) in self.periodic.iter().enumerate() {
             if let Some(l) = *p {
@@ -37,7 +37,7 @@ impl Boundary {
 
     /// Maps a position back into `[0, L)` on periodic axes (one shift for a grain that just
     /// crossed the seam; the general `rem_euclid` only when it is farther out).
-    #[inline]
+    #[inline(always)]
     pub fn wrap(&self, mut x: Vec3) -> Vec3 {
         for (k, p) in self.periodic.iter().enumerate() {
             if let Some(l) = *p {

@@ -1,7 +1,9 @@
 //! Time integrators. Each splits a step into the part before the force evaluation and the
-//! part after it, as per-particle kernels; [`crate::sim`] calls them in that order.
+//! part after it, as kernels over a block of particles; [`crate::sim`] calls them in that
+//! order.
 
 use crate::state::{State, StateBlock};
+use crate::Vec3;
 
 /// Integration scheme.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -34,42 +36,71 @@ impl Integrator {
         }
     }
 
-    /// Stage before the force evaluation for particle `k` of block `b`: position to `t + dt`,
-    /// and velocity and spin to where the force evaluation needs them.
-    #[inline]
-    pub fn before_forces(&self, b: &mut StateBlock, k: usize, dt: f64, rotate: bool) {
+    /// Stage before the force evaluation for every particle of block `b`: positions to
+    /// `t + dt`, and velocities and spins to where the force evaluation needs them.
+    pub fn before_forces(&self, b: &mut StateBlock, dt: f64, rotate: bool) {
+        let n = b.pos.len();
+        let (pos, vel, vel_half, force, inv_mass) = (
+            &mut b.pos[..n],
+            &mut b.vel[..n],
+            &mut b.vel_half[..n],
+            &b.force[..n],
+            &b.inv_mass[..n],
+        );
+        let (omega, omega_half, torque, inv_inertia) = (&mut b.omega[..n], &mut b.omega_half[..n], &b.torque[..n], &b.inv_inertia[..n]);
         match self {
             Integrator::VelocityVerlet => {
-                let half_kick = b.force[k] * (0.5 * dt * b.inv_mass[k]);
-                b.vel_half[k] = b.vel[k] + half_kick;
-                b.pos[k] += b.vel_half[k] * dt;
-                b.vel[k] = b.vel_half[k] + half_kick; // predictor for the forces
+                for k in 0..n {
+                    let half_kick = force[k] * (0.5 * dt * inv_mass[k]);
+                    vel_half[k] = vel[k] + half_kick;
+                    pos[k] += vel_half[k] * dt;
+                    vel[k] = vel_half[k] + half_kick; // predictor for the forces
+                }
                 if rotate {
-                    let half_kick = b.torque[k] * (0.5 * dt * b.inv_inertia[k]);
-                    b.omega_half[k] = b.omega[k] + half_kick;
-                    b.omega[k] = b.omega_half[k] + half_kick;
+                    for k in 0..n {
+                        let half_kick = torque[k] * (0.5 * dt * inv_inertia[k]);
+                        omega_half[k] = omega[k] + half_kick;
+                        omega[k] = omega_half[k] + half_kick;
+                    }
                 }
             }
             Integrator::Thesis => {
-                let a = b.force[k] * b.inv_mass[k];
-                b.vel_half[k] += a * dt; // u_{n+1/2} = u_{n-1/2} + dt a_n
-                b.pos[k] += b.vel_half[k] * dt; // eq 3.26
-                b.vel[k] = b.vel_half[k] + a * (0.5 * dt); // eq 3.27
+                for k in 0..n {
+                    let a = force[k] * inv_mass[k];
+                    vel_half[k] += a * dt; // u_{n+1/2} = u_{n-1/2} + dt a_n
+                    pos[k] += vel_half[k] * dt; // eq 3.26
+                    vel[k] = vel_half[k] + a * (0.5 * dt); // eq 3.27
+                }
                 if rotate {
-                    b.omega[k] += b.torque[k] * (dt * b.inv_inertia[k]); // eq 3.23
+                    for k in 0..n {
+                        omega[k] += torque[k] * (dt * inv_inertia[k]); // eq 3.23
+                    }
                 }
             }
         }
     }
 
-    /// Stage after the force evaluation for particle `k` of block `b`.
-    #[inline]
-    pub fn after_forces(&self, b: &mut StateBlock, k: usize, dt: f64, rotate: bool) {
+    /// True if the scheme has a stage after the force evaluation ([`Self::after_kick`]).
+    pub fn has_after_stage(&self) -> bool {
+        match self {
+            Integrator::VelocityVerlet => true,
+            Integrator::Thesis => false,
+        }
+    }
+
+    /// Stage after the force evaluation, for the velocities (or spins) of a block of
+    /// particles: `half[k]`, the half-step value, becomes the value at `t + dt` given the new
+    /// force (or torque) `rate[k]` and inverse mass (or inverse inertia) `inv[k]`:
+    /// `half + rate dt inv / 2` (velocity Verlet; nothing for schemes without an after
+    /// stage). [`crate::sim`] runs it on the half-step arrays, out of place, while other
+    /// particles still read the predicted velocities.
+    pub fn after_kick(&self, half: &mut [Vec3], rate: &[Vec3], inv: &[f64], dt: f64) {
         match self {
             Integrator::VelocityVerlet => {
-                b.vel[k] = b.vel_half[k] + b.force[k] * (0.5 * dt * b.inv_mass[k]);
-                if rotate {
-                    b.omega[k] = b.omega_half[k] + b.torque[k] * (0.5 * dt * b.inv_inertia[k]);
+                let n = half.len();
+                let (rate, inv) = (&rate[..n], &inv[..n]);
+                for k in 0..n {
+                    half[k] += rate[k] * (0.5 * dt * inv[k]);
                 }
             }
             Integrator::Thesis => {}

@@ -9,6 +9,7 @@
 //! - [`state`]: the particle state as a struct of arrays;
 //! - [`boundary`]: periodic images;
 //! - [`integrate`]: time integrators (velocity Verlet, and the thesis' scheme);
+//! - `forces`: one force evaluation, gathered per particle in fixed blocks;
 //! - [`sim`]: the only module that knows the order of the stages of a time step;
 //! - [`observe`]: energy, momentum and angular momentum of a state;
 //! - [`experiment`]: the collision lab, the single sphere on the shaken plate, contact-time
@@ -19,6 +20,7 @@ pub mod checkpoint;
 pub mod contact;
 pub mod error;
 pub mod experiment;
+mod forces;
 pub mod integrate;
 pub mod material;
 pub mod neighbor;

@@ -27,6 +27,9 @@ pub enum NeighborSearch {
 pub struct NeighborList {
     pub offsets: Vec<usize>,
     pub partners: Vec<u32>,
+    /// The particle whose list holds each slot: `owner[s] = i` for `s` in
+    /// `offsets[i]..offsets[i + 1]`, so a loop can run over slots without nesting.
+    pub owner: Vec<u32>,
     /// Positions at the last build, for the displacement criterion.
     anchor: Vec<Vec3>,
     /// Number of builds so far.
@@ -87,6 +90,10 @@ impl NeighborList {
                 }
             }
             NeighborSearch::VerletList { skin } => self.build_cells(skin, pos, radius, boundary),
+        }
+        self.owner.clear();
+        for i in 0..n {
+            self.owner.resize(self.offsets[i + 1], i as u32);
         }
         self.anchor.clear();
         self.anchor.extend_from_slice(pos);
@@ -237,7 +244,10 @@ mod tests {
             let expect = brute(&pos, &radius, &b, 1e-4);
             for (i, e) in expect.iter().enumerate() {
                 assert_eq!(list.of(i), e.as_slice(), "particle {i}, box {lx} x {ly}");
+                let owners = &list.owner[list.offsets[i]..list.offsets[i + 1]];
+                assert!(owners.iter().all(|&o| o as usize == i), "owner of particle {i}'s slots");
             }
+            assert_eq!(list.owner.len(), list.partners.len());
         }
     }
 

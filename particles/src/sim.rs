@@ -1,21 +1,24 @@
 //! The simulation loop: the only place that knows the order of the stages of a time step.
 //!
-//! One step of [`Simulation::step`]:
-//! 1. integrator stage before the forces (positions to `t + dt`);
-//! 2. `t += dt`, periodic wrap of positions;
-//! 3. neighbour list rebuilt if some particle moved more than half the skin;
-//! 4. force evaluation, gathered per particle in fixed blocks on the rayon pool: gravity,
-//!    particle pairs from the neighbour list, walls at their position and velocity at the new
-//!    time; contact history kept for live contacts only; energy ledger (work of moving walls,
-//!    dissipation) advanced by `power * dt`, summed in block order so that results are
-//!    bit-identical for any number of threads;
-//! 5. integrator stage after the forces (velocities to `t + dt`);
-//! 6. checks: every position, velocity and spin finite.
+//! One step of [`Simulation::step`], in two passes over fixed blocks of particles (on the
+//! rayon pool, or serially when it has one thread; results are bit-identical either way):
+//! 1. per block: integrator stage before the forces (positions to `t + dt`), periodic wrap,
+//!    and the box of this step's displacement velocities;
+//! 2. `t += dt`; neighbour list rebuilt if the drift bound (grains' motion relative to their
+//!    common motion since the last build) exceeds half the skin;
+//! 3. per block ([`crate::forces`]): gravity, particle pairs from the neighbour list, walls at
+//!    their position and velocity at the new time; contact history kept for live contacts
+//!    only; then, on the same block, the integrator stage after the forces (velocities to
+//!    `t + dt`, written out of place and swapped in) and the checks (every position,
+//!    velocity and spin finite, every grain inside the container);
+//! 4. energy ledger (work of moving walls, dissipation) advanced by `power * dt`, block
+//!    partial sums added in block order.
 
 use rayon::prelude::*;
 
 use crate::boundary::Boundary;
 use crate::contact::{self, ContactGeometry, ContactLaw};
+use crate::forces;
 use crate::integrate::Integrator;
 use crate::neighbor::{NeighborList, NeighborSearch};
 use crate::state::State;
@@ -106,6 +109,11 @@ pub const MAX_INITIAL_OVERLAP: f64 = 0.05;
 /// reaches about 13%.)
 pub const MAX_OVERLAP_FRACTION: f64 = 0.5;
 
+/// Slack (m) added to the neighbour-list drift bound per step for the rounding of the
+/// position update and the periodic wrap (each below `2e-15` m, half an ulp, in a box
+/// shorter than 10 m).
+const DRIFT_SLACK: f64 = 1e-14;
+
 /// Particles per block of the parallel force loop. Fixed, so that the block partial sums, and
 /// therefore every result, do not depend on the number of threads.
 const BLOCK: usize = 128;
@@ -134,35 +142,12 @@ pub struct Simulation {
     wall_history: Vec<Vec3>,
     record: bool,
     records: Vec<ContactRecord>,
+    /// Bound (m) on how far any grain has moved, since the neighbour list was built, away
+    /// from a displacement common to all grains (see [`Simulation::step`]).
+    drift: f64,
     /// The worst contact beyond [`MAX_OVERLAP_FRACTION`] at the last force evaluation:
     /// `(particle, partner, overlap, radius)`.
     overlap_violation: Option<(usize, Partner, f64, f64)>,
-}
-
-/// Per-block partial results of a force evaluation.
-#[derive(Default)]
-struct BlockSums {
-    pair_contacts: u64,
-    wall_contacts: u64,
-    stored: f64,
-    dissipated: f64,
-    injected: f64,
-    records: Vec<ContactRecord>,
-    /// Worst overlap beyond the limit: `(fraction, particle, partner, overlap, radius)`.
-    violation: Option<(f64, usize, Partner, f64, f64)>,
-}
-
-impl BlockSums {
-    /// Notes a contact whose overlap exceeds [`MAX_OVERLAP_FRACTION`] of `radius`.
-    #[inline]
-    fn check_overlap(&mut self, i: usize, partner: Partner, overlap: f64, radius: f64) {
-        if overlap > MAX_OVERLAP_FRACTION * radius {
-            let frac = overlap / radius;
-            if self.violation.is_none_or(|v| frac > v.0) {
-                self.violation = Some((frac, i, partner, overlap, radius));
-            }
-        }
-    }
 }
 
 impl Simulation {
@@ -199,12 +184,13 @@ impl Simulation {
             wall_history: vec![Vec3::zeros(); n * n_walls.max(1)],
             record: false,
             records: Vec::new(),
+            drift: 0.0,
             overlap_violation: None,
         };
         sim.check_finite()?;
         sim.refresh_neighbors();
         sim.check_overlaps()?;
-        sim.compute_forces(0.0);
+        sim.compute_forces(0.0, false);
         let dt = sim.setup.dt;
         sim.setup.integrator.start(&mut sim.state, dt);
         Ok(sim)
@@ -237,60 +223,42 @@ impl Simulation {
     pub fn step(&mut self) -> Result<(), SimError> {
         let (dt, rotate, integrator) = (self.setup.dt, self.rotate, self.setup.integrator);
         let boundary = self.setup.boundary;
-        // Stage 1, fused per particle: integrator before the forces, periodic wrap, and the
-        // largest displacement since the neighbour list was built.
-        let limit = NeighborList::rebuild_distance2(&self.setup.neighbors);
-        let anchor = self.neighbors.anchor();
-        let anchored = limit.is_some() && anchor.len() == self.state.len();
-        let moved_too_far = self
-            .state
-            .blocks_mut(BLOCK)
-            .into_par_iter()
-            .map(|mut b| {
-                let mut far = false;
-                for k in 0..b.pos.len() {
-                    integrator.before_forces(&mut b, k, dt, rotate);
-                    b.pos[k] = boundary.wrap(b.pos[k]);
-                    if anchored {
-                        far |= boundary.min_image(b.pos[k] - anchor[b.start + k]).norm_squared() > limit.unwrap_or(0.0);
-                    }
-                }
-                far
-            })
-            .reduce(|| false, |a, b| a || b);
+        // Stage 1, per block: integrator before the forces, periodic wrap, and the box
+        // spanned by this step's displacement velocities (position += vel_half dt).
+        let boxes = on_blocks(self.state.blocks_mut(BLOCK), |mut b| {
+            integrator.before_forces(&mut b, dt, rotate);
+            let (mut lo, mut hi) = (Vec3::repeat(f64::INFINITY), Vec3::repeat(f64::NEG_INFINITY));
+            for (x, u) in b.pos.iter_mut().zip(b.vel_half.iter()) {
+                *x = boundary.wrap(*x);
+                lo = lo.inf(u);
+                hi = hi.sup(u);
+            }
+            (lo, hi)
+        });
         self.time += dt;
-        // Stage 2: neighbour list, if due.
-        if moved_too_far || (!anchored && self.neighbors.needs_rebuild(&self.setup.neighbors, &self.state.pos, &boundary)) {
+        // Stage 2: neighbour list, if due. Every displacement velocity u_i lies within
+        // `h = |hi - lo| / 2` of the box centre c, so over the steps since the build each grain
+        // has moved less than `drift = sum h dt` away from the common `sum c dt`, and two
+        // grains less than `2 drift` relative to each other: the list (built with a skin) is
+        // good while `drift <= skin / 2`. A tray's grains moving together cost no rebuilds, and
+        // no per-grain distance test is needed. `DRIFT_SLACK` covers the rounding of the
+        // position updates.
+        let (lo, hi) = boxes.into_iter().fold(
+            (Vec3::repeat(f64::INFINITY), Vec3::repeat(f64::NEG_INFINITY)),
+            |(l, h), (bl, bh)| (l.inf(&bl), h.sup(&bh)),
+        );
+        self.drift += 0.5 * (hi - lo).norm() * dt + DRIFT_SLACK;
+        let due = match NeighborList::rebuild_distance2(&self.setup.neighbors) {
+            Some(limit) => self.drift * self.drift > limit || self.neighbors.anchor().len() != self.state.len(),
+            None => self.neighbors.needs_rebuild(&self.setup.neighbors, &self.state.pos, &boundary),
+        };
+        if due {
             self.rebuild_neighbors();
         }
-        // Stage 3: forces.
-        self.compute_forces(dt);
-        // Stage 4, fused per particle: integrator after the forces, and the checks.
-        let (container, steps) = (self.setup.container, self.steps + 1);
-        let first_bad = self
-            .state
-            .blocks_mut(BLOCK)
-            .into_par_iter()
-            .map(|mut b| {
-                let mut bad = None;
-                for k in 0..b.pos.len() {
-                    integrator.after_forces(&mut b, k, dt, rotate);
-                    // A NaN or an infinity in any component survives the sum.
-                    let finite = (b.pos[k].sum() + b.vel[k].sum() + b.omega[k].sum()).is_finite();
-                    let x = &b.pos[k];
-                    let inside = container.as_ref().is_none_or(|(lo, hi)| {
-                        (boundary.periodic[0].is_some() || (x.x >= lo.x && x.x <= hi.x))
-                            && (boundary.periodic[1].is_some() || (x.y >= lo.y && x.y <= hi.y))
-                            && (boundary.periodic[2].is_some() || (x.z >= lo.z && x.z <= hi.z))
-                    });
-                    if bad.is_none() && !(finite && inside) {
-                        bad = Some(b.start + k);
-                    }
-                }
-                bad
-            })
-            .reduce(|| None, |a, b| a.or(b));
-        self.steps = steps;
+        // Stages 3 and 4, fused per block of particles: forces, then the integrator after
+        // the forces and the checks.
+        let first_bad = self.compute_forces(dt, true);
+        self.steps += 1;
         match (first_bad, self.overlap_violation) {
             (Some(i), _) => Err(self.describe_bad(i)),
             (None, Some((i, partner, overlap, radius))) => Err(SimError::ExcessiveOverlap {
@@ -403,6 +371,7 @@ impl Simulation {
         self.neighbors
             .build(&self.setup.neighbors, &self.state.pos, &self.state.radius, &self.setup.boundary);
         self.pair_history = vec![Vec3::zeros(); self.neighbors.partners.len()];
+        self.drift = 0.0;
         for &(i, j, h) in pairs {
             let slot = self
                 .neighbors
@@ -447,25 +416,25 @@ impl Simulation {
             }
         }
         self.neighbors = list;
+        self.drift = 0.0;
         self.pair_history = history;
     }
 
     /// Evaluates all forces and torques at the current positions; `ledger_dt` is the time
     /// over which the resulting powers are booked (0 for a re-evaluation).
-    fn compute_forces(&mut self, ledger_dt: f64) {
-        let setup = &self.setup;
+    ///
+    /// With `finish`, each block of particles then runs the integrator's stage after the
+    /// forces ([`Integrator::after_kick`]) and the checks, while its data is still in cache.
+    /// The new velocities and spins are written into the half-step arrays (other blocks still
+    /// read the predicted ones), which are swapped in afterwards. Returns the first particle
+    /// that is non-finite or outside the container.
+    fn compute_forces(&mut self, ledger_dt: f64, finish: bool) -> Option<usize> {
         let n = self.state.len();
-        let n_walls = setup.walls.len();
-        let wall_stride = n_walls.max(1);
-        let walls: Vec<(Vec3, Vec3, Vec3)> = setup
-            .walls
-            .iter()
-            .map(|w| (w.origin_at(self.time), w.normal, w.motion.velocity(self.time)))
-            .collect();
-        let (record, dt) = (self.record, setup.dt);
-        let pinned = setup.vertical == Vertical::Pinned;
-        let support: Vec<bool> = setup.walls.iter().map(|w| pinned && w.normal == Vec3::z()).collect();
-        let weight = -setup.gravity.z;
+        let planes = forces::wall_planes(&self.setup, self.time);
+        let wall_stride = planes.len().max(1);
+        let (dt, integrator, rotate) = (self.setup.dt, self.setup.integrator, self.rotate);
+        let kick = finish && integrator.has_after_stage();
+        let bounds = self.container_bounds();
         let list = &self.neighbors;
         let State {
             pos,
@@ -473,97 +442,83 @@ impl Simulation {
             omega,
             force,
             torque,
+            vel_half,
+            omega_half,
             radius,
             inv_mass,
-            ..
+            inv_inertia,
         } = &mut self.state;
-        let (pos, vel, omega, radius, inv_mass) = (&*pos, &*vel, &*omega, &*radius, &*inv_mass);
+        let inputs = forces::Inputs {
+            setup: &self.setup,
+            planes: &planes,
+            list,
+            pos,
+            vel,
+            omega,
+            radius,
+            inv_mass,
+            record: self.record,
+        };
 
-        // Split the per-slot histories into the ranges owned by each block.
-        let mut pair_blocks: Vec<&mut [Vec3]> = Vec::with_capacity(n / BLOCK + 1);
-        let mut rest = self.pair_history.as_mut_slice();
+        // The arrays each block owns.
+        debug_assert_eq!(self.wall_history.len(), n * wall_stride);
+        let mut blocks = Vec::with_capacity(n.div_ceil(BLOCK));
+        let mut pair_rest = self.pair_history.as_mut_slice();
+        let mut chunks = force
+            .chunks_mut(BLOCK)
+            .zip(torque.chunks_mut(BLOCK))
+            .zip(self.wall_history.chunks_mut(BLOCK * wall_stride))
+            .zip(vel_half.chunks_mut(BLOCK).zip(omega_half.chunks_mut(BLOCK)));
         for b in 0..n.div_ceil(BLOCK) {
             let (lo, hi) = (list.offsets[b * BLOCK], list.offsets[((b + 1) * BLOCK).min(n)]);
-            let (head, tail) = rest.split_at_mut(hi - lo);
-            pair_blocks.push(head);
-            rest = tail;
+            let (pair, tail) = pair_rest.split_at_mut(hi - lo);
+            pair_rest = tail;
+            let (((force, torque), wall), (vel_half, omega_half)) = chunks.next().expect("one chunk per block");
+            blocks.push(BlockArrays {
+                first: b * BLOCK,
+                force,
+                torque,
+                pair,
+                wall,
+                vel_half,
+                omega_half,
+            });
         }
 
-        debug_assert_eq!(self.wall_history.len(), n * wall_stride);
-        let sums: Vec<BlockSums> = force
-            .par_chunks_mut(BLOCK)
-            .zip(torque.par_chunks_mut(BLOCK))
-            .zip(pair_blocks.into_par_iter())
-            .zip(self.wall_history.par_chunks_mut(BLOCK * wall_stride))
-            .enumerate()
-            .map(|(b, (((f_blk, t_blk), ph_blk), wh_blk))| {
-                let mut sums = BlockSums::default();
-                let base_slot = list.offsets[b * BLOCK];
-                for (k, (f_out, t_out)) in f_blk.iter_mut().zip(t_blk.iter_mut()).enumerate() {
-                    let i = b * BLOCK + k;
-                    let mut f = setup.gravity / inv_mass[i];
-                    let mut t = Vec3::zeros();
-                    // Particle pairs (each evaluated from both sides; half the energies each).
-                    let slots = list.offsets[i] - base_slot..list.offsets[i + 1] - base_slot;
-                    for (&j, zeta) in list.of(i).iter().zip(&mut ph_blk[slots]) {
-                        let j = j as usize;
-                        let d = setup.boundary.min_image(pos[i] - pos[j]);
-                        let Some(g) = ContactGeometry::pair(pos[i], pos[i] - d, vel[i], vel[j], omega[i], omega[j], radius[i], radius[j])
-                        else {
-                            *zeta = Vec3::zeros();
-                            continue;
-                        };
-                        let c = contact::evaluate(&setup.pair_law, &g, zeta, dt);
-                        f += c.force;
-                        t += c.torque_i;
-                        sums.pair_contacts += (i < j) as u64;
-                        sums.check_overlap(i, Partner::Particle(j), g.overlap, radius[i].min(radius[j]));
-                        sums.stored += 0.5 * c.stored_energy;
-                        sums.dissipated += 0.5 * c.dissipation_rate;
-                        if record && i < j {
-                            sums.records
-                                .push(ContactRecord::new(i, Partner::Particle(j), &g, &c, setup.pair_law.tangential.mu()));
-                        }
+        let inv_inertia = &*inv_inertia;
+        let sums = on_blocks(blocks, |b| {
+            let mut sums = forces::gather_block(&inputs, b.first, b.force, b.torque, b.pair, b.wall);
+            if finish {
+                let range = b.first..b.first + b.force.len();
+                if kick {
+                    integrator.after_kick(b.vel_half, b.force, &inputs.inv_mass[range.clone()], dt);
+                    if rotate {
+                        integrator.after_kick(b.omega_half, b.torque, &inv_inertia[range.clone()], dt);
                     }
-                    // Walls.
-                    for (w, &(origin, normal, v_wall)) in walls.iter().enumerate() {
-                        let zeta = &mut wh_blk[k * wall_stride + w];
-                        let Some(g) = ContactGeometry::wall(pos[i], vel[i], omega[i], radius[i], origin, normal, v_wall) else {
-                            *zeta = Vec3::zeros();
-                            continue;
-                        };
-                        let c = if support[w] {
-                            contact::evaluate_with_normal(&setup.wall_law, &g, weight / inv_mass[i], zeta, dt)
-                        } else {
-                            contact::evaluate(&setup.wall_law, &g, zeta, dt)
-                        };
-                        f += c.force;
-                        t += c.torque_i;
-                        sums.wall_contacts += 1;
-                        sums.check_overlap(i, Partner::Wall(w), g.overlap, radius[i]);
-                        sums.stored += c.stored_energy;
-                        sums.dissipated += c.dissipation_rate;
-                        sums.injected += c.force.dot(&v_wall);
-                        if record {
-                            sums.records
-                                .push(ContactRecord::new(i, Partner::Wall(w), &g, &c, setup.wall_law.tangential.mu()));
-                        }
-                    }
-                    if pinned {
-                        f.z = 0.0;
-                    }
-                    *f_out = f;
-                    *t_out = t;
                 }
-                sums
-            })
-            .collect();
+                let v = if kick { &*b.vel_half } else { &inputs.vel[range.clone()] };
+                let w = if kick && rotate {
+                    &*b.omega_half
+                } else {
+                    &inputs.omega[range.clone()]
+                };
+                let x = &inputs.pos[range];
+                sums.first_bad = (0..x.len()).find(|&k| !is_sound(&x[k], &v[k], &w[k], &bounds)).map(|k| b.first + k);
+            }
+            sums
+        });
         assert_eq!(sums.len(), n.div_ceil(BLOCK), "every block of particles must be evaluated");
+        if kick {
+            std::mem::swap(vel, vel_half);
+            if rotate {
+                std::mem::swap(omega, omega_half);
+            }
+        }
 
         let (mut stored, mut dissipated, mut injected) = (0.0, 0.0, 0.0);
+        let mut first_bad = None;
+        let mut violation: Option<(f64, usize, Partner, f64, f64)> = None;
         self.records.clear();
-        self.overlap_violation = None;
-        let mut worst = 0.0;
         self.contacts = (0, 0);
         for s in sums {
             self.contacts.0 += s.pair_contacts;
@@ -572,21 +527,65 @@ impl Simulation {
             dissipated += s.dissipated;
             injected += s.injected;
             self.records.extend(s.records);
-            if let Some((frac, i, partner, overlap, radius)) = s.violation {
-                if frac > worst {
-                    worst = frac;
-                    self.overlap_violation = Some((i, partner, overlap, radius));
+            first_bad = first_bad.or(s.first_bad);
+            if let Some(v) = s.violation {
+                if violation.is_none_or(|w| v.0 > w.0) {
+                    violation = Some(v);
                 }
             }
         }
+        self.overlap_violation = violation.map(|(_, i, p, o, r)| (i, p, o, r));
         self.stored_energy = stored;
         self.ledger.injected += injected * ledger_dt;
         self.ledger.dissipated += dissipated * ledger_dt;
+        first_bad
+    }
+
+    /// The container as per-axis bounds, infinite on periodic axes and without a container.
+    fn container_bounds(&self) -> (Vec3, Vec3) {
+        let inf = Vec3::repeat(f64::INFINITY);
+        let (mut lo, mut hi) = self.setup.container.unwrap_or((-inf, inf));
+        for k in 0..3 {
+            if self.setup.boundary.periodic[k].is_some() {
+                (lo[k], hi[k]) = (f64::NEG_INFINITY, f64::INFINITY);
+            }
+        }
+        (lo, hi)
+    }
+}
+
+/// The arrays one block of particles owns during a force evaluation.
+struct BlockArrays<'a> {
+    first: usize,
+    force: &'a mut [Vec3],
+    torque: &'a mut [Vec3],
+    pair: &'a mut [Vec3],
+    wall: &'a mut [Vec3],
+    vel_half: &'a mut [Vec3],
+    omega_half: &'a mut [Vec3],
+}
+
+/// True if position, velocity and spin are finite and the position inside `bounds`.
+#[inline]
+fn is_sound(x: &Vec3, v: &Vec3, w: &Vec3, (lo, hi): &(Vec3, Vec3)) -> bool {
+    // A NaN or an infinity in any component survives the sum.
+    (x.sum() + v.sum() + w.sum()).is_finite() && x.x >= lo.x && x.x <= hi.x && x.y >= lo.y && x.y <= hi.y && x.z >= lo.z && x.z <= hi.z
+}
+
+/// `f` applied to every block, in block order. On the rayon pool, unless it has a single
+/// thread: then a fork-join only costs (a thread switch per stage for a caller outside the
+/// pool). The per-block work and the order of the results are the same either way, so the
+/// results do not depend on the number of threads.
+fn on_blocks<B: Send, T: Send>(blocks: Vec<B>, f: impl Fn(B) -> T + Sync + Send) -> Vec<T> {
+    if rayon::current_num_threads() == 1 {
+        blocks.into_iter().map(f).collect()
+    } else {
+        blocks.into_par_iter().map(f).collect()
     }
 }
 
 impl ContactRecord {
-    fn new(i: usize, partner: Partner, g: &ContactGeometry, c: &contact::ContactForce, mu: f64) -> Self {
+    pub(crate) fn new<N: contact::Normal>(i: usize, partner: Partner, g: &ContactGeometry<N>, c: &contact::ContactForce, mu: f64) -> Self {
         Self {
             i,
             partner,

@@ -16,8 +16,8 @@ use crate::Vec3;
 ///   momentum exactly. A wall is the limit `R_j -> infinity`, so `arm_i = R_i - xi/2` too.
 /// - `omega_rel = omega_i - omega_j`; `r_eff` is the effective radius (eq 3.8).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ContactGeometry {
-    pub n: Vec3,
+pub struct ContactGeometry<N: Normal = Vec3> {
+    pub n: N,
     pub overlap: f64,
     pub overlap_rate: f64,
     pub v_t: Vec3,
@@ -96,6 +96,120 @@ impl ContactGeometry {
     }
 }
 
+/// A contact normal: a unit vector, or a coordinate axis with a sign whose products the
+/// compiler can collapse. The force kernels are generic over it, so an axis-aligned wall
+/// runs the very same kernels with fewer operations; results are equal up to the sign of
+/// zero components.
+pub trait Normal: Copy + std::fmt::Debug + PartialEq {
+    /// The normal as a vector.
+    fn vector(&self) -> Vec3;
+    /// `s n`.
+    fn scaled(&self, s: f64) -> Vec3;
+    /// `n . v`.
+    fn dot(&self, v: &Vec3) -> f64;
+    /// `n x v`.
+    fn cross(&self, v: &Vec3) -> Vec3;
+    /// `|v x n|^2`.
+    fn cross_norm_squared(&self, v: &Vec3) -> f64;
+}
+
+impl Normal for Vec3 {
+    #[inline(always)]
+    fn vector(&self) -> Vec3 {
+        *self
+    }
+    #[inline(always)]
+    fn scaled(&self, s: f64) -> Vec3 {
+        self * s
+    }
+    #[inline(always)]
+    fn dot(&self, v: &Vec3) -> f64 {
+        Vec3::dot(self, v)
+    }
+    #[inline(always)]
+    fn cross(&self, v: &Vec3) -> Vec3 {
+        Vec3::cross(self, v)
+    }
+    #[inline(always)]
+    fn cross_norm_squared(&self, v: &Vec3) -> f64 {
+        v.cross(self).norm_squared()
+    }
+}
+
+/// The normal `sign * e_AXIS` (`AXIS` 0, 1, 2 for x, y, z; `sign` +1 or -1) of an
+/// axis-aligned wall such as the tray's floor and side walls.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AxisNormal<const AXIS: usize> {
+    pub sign: f64,
+}
+
+impl<const AXIS: usize> Normal for AxisNormal<AXIS> {
+    #[inline(always)]
+    fn vector(&self) -> Vec3 {
+        self.scaled(1.0)
+    }
+    #[inline(always)]
+    fn scaled(&self, s: f64) -> Vec3 {
+        let mut v = Vec3::zeros();
+        v[AXIS] = self.sign * s;
+        v
+    }
+    #[inline(always)]
+    fn dot(&self, v: &Vec3) -> f64 {
+        self.sign * v[AXIS]
+    }
+    #[inline(always)]
+    fn cross(&self, v: &Vec3) -> Vec3 {
+        // e_x x v = (0, -v_z, v_y), e_y x v = (v_z, 0, -v_x), e_z x v = (-v_y, v_x, 0)
+        let c = match AXIS {
+            0 => Vec3::new(0.0, -v.z, v.y),
+            1 => Vec3::new(v.z, 0.0, -v.x),
+            _ => Vec3::new(-v.y, v.x, 0.0),
+        };
+        c * self.sign
+    }
+    #[inline(always)]
+    fn cross_norm_squared(&self, v: &Vec3) -> f64 {
+        let (a, b) = (v[(AXIS + 1) % 3], v[(AXIS + 2) % 3]);
+        a * a + b * b
+    }
+}
+
+impl<const AXIS: usize> ContactGeometry<AxisNormal<AXIS>> {
+    /// [`ContactGeometry::wall`] for a wall whose normal is `sign * e_AXIS` (`AXIS` 0, 1, 2 for x, y, z;
+    /// `sign` is +1 or -1), such as the tray's floor and side walls. The same geometry with
+    /// the dot and cross products against the normal written out: it equals [`Self::wall`]
+    /// bit for bit, up to the sign of components that are zero.
+    #[inline(always)]
+    pub fn axis_wall(xi: Vec3, vi: Vec3, wi: Vec3, ri: f64, origin: Vec3, sign: f64, v_wall: Vec3) -> Option<Self> {
+        let overlap = ri - sign * (xi[AXIS] - origin[AXIS]);
+        if overlap < 0.0 {
+            return None;
+        }
+        let arm_i = ri - 0.5 * overlap;
+        let v_rel = vi - v_wall;
+        let s = arm_i * wi;
+        // s x e_AXIS
+        let s_x_e = match AXIS {
+            0 => Vec3::new(0.0, s.z, -s.y),
+            1 => Vec3::new(-s.z, 0.0, s.x),
+            _ => Vec3::new(s.y, -s.x, 0.0),
+        };
+        let mut v_t = v_rel - s_x_e * sign;
+        v_t[AXIS] = 0.0;
+        Some(Self {
+            n: AxisNormal { sign },
+            overlap,
+            overlap_rate: -sign * v_rel[AXIS],
+            v_t,
+            omega_rel: wi,
+            arm_i,
+            arm_j: f64::INFINITY,
+            r_eff: ri,
+        })
+    }
+}
+
 /// Tangential part of the contact-point velocity of i relative to j (eq 3.11):
 /// `v_c = v_rel - spin_sum x n`, `v_t = v_c - (v_c . n) n`, where `v_rel = v_i - v_j` and
 /// `spin_sum = a_i omega_i + a_j omega_j` (lever arms times spins; a wall contributes 0).
@@ -120,6 +234,71 @@ mod tests {
         let g = ContactGeometry::wall(xi, Vec3::new(v, 0.0, 0.0), w, r, Vec3::zeros(), Vec3::z(), Vec3::zeros()).unwrap();
         assert!(g.v_t.norm() < 1e-15, "{}", g.v_t);
         assert!((g.overlap - 1e-6).abs() < 1e-18);
+    }
+
+    fn widen<N: Normal>(g: ContactGeometry<N>) -> ContactGeometry {
+        ContactGeometry {
+            n: g.n.vector(),
+            overlap: g.overlap,
+            overlap_rate: g.overlap_rate,
+            v_t: g.v_t,
+            omega_rel: g.omega_rel,
+            arm_i: g.arm_i,
+            arm_j: g.arm_j,
+            r_eff: g.r_eff,
+        }
+    }
+
+    #[test]
+    fn axis_normals_match_vectors() {
+        let v = Vec3::new(0.3, -1.7, 2.9);
+        for sign in [1.0, -1.0] {
+            let check = |n: &dyn Fn() -> (Vec3, Vec3, f64, Vec3, f64)| {
+                let (vector, scaled, dot, cross, cn2) = n();
+                assert_eq!(scaled, vector * 2.5);
+                assert_eq!(dot, vector.dot(&v));
+                assert_eq!(cross, vector.cross(&v));
+                assert!((cn2 - v.cross(&vector).norm_squared()).abs() < 1e-15);
+            };
+            check(&|| {
+                let n = AxisNormal::<0> { sign };
+                (n.vector(), n.scaled(2.5), n.dot(&v), n.cross(&v), n.cross_norm_squared(&v))
+            });
+            check(&|| {
+                let n = AxisNormal::<1> { sign };
+                (n.vector(), n.scaled(2.5), n.dot(&v), n.cross(&v), n.cross_norm_squared(&v))
+            });
+            check(&|| {
+                let n = AxisNormal::<2> { sign };
+                (n.vector(), n.scaled(2.5), n.dot(&v), n.cross(&v), n.cross_norm_squared(&v))
+            });
+        }
+    }
+
+    #[test]
+    fn axis_walls_equal_the_general_wall() {
+        let (r, o) = (4e-4, Vec3::new(0.013, 0.02, 0.0));
+        let v = Vec3::new(0.3, -0.2, 0.05);
+        let w = Vec3::new(40.0, -25.0, 12.0);
+        let vw = Vec3::new(1.7, 0.0, 0.0);
+        for (axis, sign) in [(0, 1.0), (0, -1.0), (1, 1.0), (1, -1.0), (2, 1.0), (2, -1.0)] {
+            let mut normal = Vec3::zeros();
+            normal[axis] = sign;
+            for depth in [-1e-6, 0.0, 2e-6] {
+                let x = o + normal * (r - depth) + Vec3::new(1e-4, 2e-4, 3e-4) - normal * normal.dot(&Vec3::new(1e-4, 2e-4, 3e-4));
+                let general = ContactGeometry::wall(x, v, w, r, o, normal, vw);
+                let special = match axis {
+                    0 => ContactGeometry::<AxisNormal<0>>::axis_wall(x, v, w, r, o, sign, vw).map(widen),
+                    1 => ContactGeometry::<AxisNormal<1>>::axis_wall(x, v, w, r, o, sign, vw).map(widen),
+                    _ => ContactGeometry::<AxisNormal<2>>::axis_wall(x, v, w, r, o, sign, vw).map(widen),
+                };
+                assert_eq!(general.is_some(), special.is_some(), "axis {axis} sign {sign} depth {depth}");
+                if let (Some(g), Some(s)) = (general, special) {
+                    // `==` treats -0 and +0 as equal, exactly the freedom the fast path takes.
+                    assert!(g == s, "axis {axis} sign {sign}: {g:?} != {s:?}");
+                }
+            }
+        }
     }
 
     #[test]

@@ -11,7 +11,7 @@ pub mod normal;
 pub mod rolling;
 pub mod tangential;
 
-pub use geometry::ContactGeometry;
+pub use geometry::{AxisNormal, ContactGeometry, Normal};
 pub use normal::NormalLaw;
 pub use rolling::RollingLaw;
 pub use tangential::TangentialLaw;
@@ -72,8 +72,8 @@ pub struct ContactForce {
 /// Dissipation rate: the power the contact takes from the particles' kinetic energy,
 /// `F_n dxi/dt - F_t . v_t - M_roll . omega_rel`, minus the rate of change of the stored
 /// elastic energy `F_el dxi/dt` (and, for Cundall-Strack, `k_t zeta . dzeta/dt`).
-#[inline]
-pub fn evaluate(law: &ContactLaw, g: &ContactGeometry, history: &mut Vec3, dt: f64) -> ContactForce {
+#[inline(always)]
+pub fn evaluate<N: Normal>(law: &ContactLaw, g: &ContactGeometry<N>, history: &mut Vec3, dt: f64) -> ContactForce {
     let n = law.normal.evaluate(g.overlap, g.overlap_rate, g.r_eff);
     evaluate_loaded(law, g, n.raw, n.elastic, n.energy, history, dt)
 }
@@ -81,17 +81,23 @@ pub fn evaluate(law: &ContactLaw, g: &ContactGeometry, history: &mut Vec3, dt: f
 /// [`evaluate`] with the unclamped normal force `normal_raw` (N) given instead of computed
 /// from the normal law: a grain pinned to the floor (jumping off, eq 3.28) carries its
 /// weight there, and its friction and rolling resistance feel that load.
-#[inline]
-pub fn evaluate_with_normal(law: &ContactLaw, g: &ContactGeometry, normal_raw: f64, history: &mut Vec3, dt: f64) -> ContactForce {
+#[inline(always)]
+pub fn evaluate_with_normal<N: Normal>(
+    law: &ContactLaw,
+    g: &ContactGeometry<N>,
+    normal_raw: f64,
+    history: &mut Vec3,
+    dt: f64,
+) -> ContactForce {
     evaluate_loaded(law, g, normal_raw, 0.0, 0.0, history, dt)
 }
 
 /// The shared tail of [`evaluate`] and [`evaluate_with_normal`]: tangential and rolling laws
 /// under the normal force `normal_raw`, whose elastic part is `elastic` (storing `stored` J).
-#[inline]
-fn evaluate_loaded(
+#[inline(always)]
+fn evaluate_loaded<N: Normal>(
     law: &ContactLaw,
-    g: &ContactGeometry,
+    g: &ContactGeometry<N>,
     normal_raw: f64,
     elastic: f64,
     stored: f64,
@@ -103,7 +109,7 @@ fn evaluate_loaded(
     let tang = law.tangential.force(g, normal, history, dt);
     let roll = law.rolling.torque(g, normal);
 
-    let force = g.n * normal + tang.force;
+    let force = g.n.scaled(normal) + tang.force;
     let lever = g.n.cross(&tang.force);
     let torque_i = -g.arm_i * lever + roll;
     let torque_j = -g.arm_j * lever - roll;

@@ -29,16 +29,17 @@ impl NormalLaw {
         2.0 / 3.0 * reduced_modulus * r_eff.sqrt()
     }
 
-    /// Everything a contact needs from the normal law in one evaluation (one square root of
-    /// `xi` and one of `R_eff`): unclamped force, its elastic part, and the stored energy.
-    #[inline]
+    /// Everything a contact needs from the normal law in one evaluation (a single square
+    /// root, `k sqrt(xi) = (2/3) Y* sqrt(R_eff xi)`): unclamped force, its elastic part, and
+    /// the stored energy.
+    #[inline(always)]
     pub fn evaluate(&self, xi: f64, xi_dot: f64, r_eff: f64) -> NormalForce {
         match *self {
             NormalLaw::Hertz {
                 reduced_modulus,
                 dissipation,
             } => {
-                let k_sqrt_xi = Self::hertz_stiffness(reduced_modulus, r_eff) * xi.sqrt();
+                let k_sqrt_xi = 2.0 / 3.0 * reduced_modulus * (r_eff * xi).sqrt();
                 let elastic = k_sqrt_xi * xi;
                 NormalForce {
                     raw: elastic + k_sqrt_xi * dissipation * xi_dot,

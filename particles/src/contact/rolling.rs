@@ -1,5 +1,6 @@
 //! Rolling resistance.
 
+use super::geometry::Normal;
 use super::ContactGeometry;
 use crate::Vec3;
 
@@ -25,17 +26,19 @@ pub enum RollingLaw {
 
 impl RollingLaw {
     /// Rolling torque on particle i (N m); particle j receives the opposite.
-    #[inline]
-    pub fn torque(&self, g: &ContactGeometry, fn_: f64) -> Vec3 {
+    ///
+    /// `v_omega / |omega_rel| = R_eff sqrt(|omega_rel x n|^2 / |omega_rel|^2)`: one root.
+    #[inline(always)]
+    pub fn torque<N: Normal>(&self, g: &ContactGeometry<N>, fn_: f64) -> Vec3 {
         match *self {
             RollingLaw::None => Vec3::zeros(),
             RollingLaw::BrilliantovPoschel { mu_r } => {
-                let spin = g.omega_rel.norm();
-                if spin == 0.0 || fn_ == 0.0 {
+                let spin2 = g.omega_rel.norm_squared();
+                if spin2 == 0.0 || fn_ == 0.0 {
                     return Vec3::zeros();
                 }
-                let v_omega = g.r_eff * g.omega_rel.cross(&g.n).norm();
-                g.omega_rel * (-mu_r * v_omega * fn_ / spin)
+                let v_omega_per_spin = g.r_eff * (g.n.cross_norm_squared(&g.omega_rel) / spin2).sqrt();
+                g.omega_rel * (-mu_r * v_omega_per_spin * fn_)
             }
         }
     }

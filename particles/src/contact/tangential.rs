@@ -1,5 +1,6 @@
 //! Tangential (friction) force laws.
 
+use super::geometry::Normal;
 use super::ContactGeometry;
 use crate::Vec3;
 
@@ -57,8 +58,8 @@ impl TangentialLaw {
     }
 
     /// Tangential force for the normal force magnitude `fn_` (already clamped, N).
-    #[inline]
-    pub fn force(&self, g: &ContactGeometry, fn_: f64, zeta: &mut Vec3, dt: f64) -> TangentialForce {
+    #[inline(always)]
+    pub fn force<N: Normal>(&self, g: &ContactGeometry<N>, fn_: f64, zeta: &mut Vec3, dt: f64) -> TangentialForce {
         match *self {
             TangentialLaw::None => TangentialForce {
                 force: Vec3::zeros(),
@@ -66,19 +67,29 @@ impl TangentialLaw {
                 dissipation_rate: 0.0,
             },
             TangentialLaw::HaffWerner { gamma_t, mu } => {
-                let speed = g.v_t.norm();
-                let magnitude = (gamma_t * speed).min(mu * fn_);
-                let force = if speed > 0.0 { g.v_t * (-magnitude / speed) } else { Vec3::zeros() };
-                TangentialForce {
-                    force,
-                    stored_energy: 0.0,
-                    dissipation_rate: magnitude * speed,
+                // Viscous branch `-gamma_t v_t` while `gamma_t |v_t| <= mu F_n` (compared in
+                // squares, no root); Coulomb branch `-mu F_n v_t/|v_t|` beyond.
+                let speed2 = g.v_t.norm_squared();
+                let limit = mu * fn_;
+                if gamma_t * gamma_t * speed2 <= limit * limit {
+                    TangentialForce {
+                        force: g.v_t * -gamma_t,
+                        stored_energy: 0.0,
+                        dissipation_rate: gamma_t * speed2,
+                    }
+                } else {
+                    let speed = speed2.sqrt();
+                    TangentialForce {
+                        force: g.v_t * (-limit / speed),
+                        stored_energy: 0.0,
+                        dissipation_rate: limit * speed,
+                    }
                 }
             }
             TangentialLaw::CundallStrack { kt, mu } => {
                 // Rotate the old spring into the current tangent plane, keeping its length.
                 let old_len = zeta.norm();
-                let mut z = *zeta - g.n * zeta.dot(&g.n);
+                let mut z = *zeta - g.n.scaled(g.n.dot(zeta));
                 let proj_len = z.norm();
                 if proj_len > 0.0 {
                     z *= old_len / proj_len;

@@ -1,0 +1,254 @@
+//! Force gathering: the force and torque on every particle from gravity, its neighbour-list
+//! partners and the walls, evaluated per particle in fixed blocks (so that partial sums, and
+//! therefore every result, are the same for any number of threads). [`crate::sim`] decides
+//! when this runs; this module only knows how one evaluation is done.
+//!
+//! Hot-path choices, none of which changes a force law:
+//! - walls whose normal is a coordinate axis (the tray's floor and side walls) get their
+//!   geometry from `ContactGeometry::axis_wall` with an [`AxisNormal`], whose dot and cross
+//!   products with the normal collapse; the kernels are the same generic
+//!   [`contact::evaluate`] for every contact;
+//! - a grain pinned to the floor (jumping off) takes its floor load `m g` as given
+//!   ([`contact::evaluate_with_normal`]): no normal law there;
+//! - per-contact history is only reset when the law has history (Cundall-Strack).
+
+use crate::contact::{self, AxisNormal, ContactGeometry, Normal};
+use crate::neighbor::NeighborList;
+use crate::sim::{ContactRecord, Partner, Setup, Vertical, MAX_OVERLAP_FRACTION};
+use crate::Vec3;
+
+/// How the geometry of a wall contact is computed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum PlaneKind {
+    /// Normal `sign * e_axis`: `ContactGeometry::<AxisNormal<axis>>::axis_wall`.
+    Axis { axis: usize, sign: f64 },
+    /// Any other orientation: [`ContactGeometry::wall`].
+    General,
+}
+
+/// A wall at the time of one force evaluation.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct WallPlane {
+    origin: Vec3,
+    normal: Vec3,
+    velocity: Vec3,
+    kind: PlaneKind,
+    /// The floor of a pinned layer: carries `m g` as a given normal load.
+    support: bool,
+}
+
+impl WallPlane {
+    /// Sign of the normal along its axis (1 for a general wall).
+    fn sign(&self) -> f64 {
+        match self.kind {
+            PlaneKind::Axis { sign, .. } => sign,
+            PlaneKind::General => 1.0,
+        }
+    }
+}
+
+/// The walls of `setup` at time `t`.
+pub(crate) fn wall_planes(setup: &Setup, t: f64) -> Vec<WallPlane> {
+    let pinned = setup.vertical == Vertical::Pinned;
+    setup
+        .walls
+        .iter()
+        .map(|w| {
+            let n = w.normal;
+            let axis = (0..3).find(|&k| n[k].abs() == 1.0 && n[(k + 1) % 3] == 0.0 && n[(k + 2) % 3] == 0.0);
+            WallPlane {
+                origin: w.origin_at(t),
+                normal: n,
+                velocity: w.motion.velocity(t),
+                kind: axis.map_or(PlaneKind::General, |axis| PlaneKind::Axis { axis, sign: n[axis] }),
+                support: pinned && n == Vec3::z(),
+            }
+        })
+        .collect()
+}
+
+/// Read-only inputs of one force evaluation.
+pub(crate) struct Inputs<'a> {
+    pub setup: &'a Setup,
+    pub planes: &'a [WallPlane],
+    pub list: &'a NeighborList,
+    pub pos: &'a [Vec3],
+    pub vel: &'a [Vec3],
+    pub omega: &'a [Vec3],
+    pub radius: &'a [f64],
+    pub inv_mass: &'a [f64],
+    /// Keep per-contact diagnostics.
+    pub record: bool,
+}
+
+/// Partial results of one block of particles.
+#[derive(Default)]
+pub(crate) struct BlockSums {
+    pub pair_contacts: u64,
+    pub wall_contacts: u64,
+    /// Elastic energy stored in contacts (J).
+    pub stored: f64,
+    /// Dissipated power (W).
+    pub dissipated: f64,
+    /// Power injected by moving walls (W).
+    pub injected: f64,
+    pub records: Vec<ContactRecord>,
+    /// First particle of the block found non-finite or outside the container, if checked.
+    pub first_bad: Option<usize>,
+    /// Worst overlap beyond [`MAX_OVERLAP_FRACTION`] of the smaller radius:
+    /// `(fraction, particle, partner, overlap, radius)`.
+    pub violation: Option<(f64, usize, Partner, f64, f64)>,
+}
+
+impl BlockSums {
+    /// Notes a contact whose overlap exceeds [`MAX_OVERLAP_FRACTION`] of `radius`.
+    #[inline]
+    fn check_overlap(&mut self, i: usize, partner: Partner, overlap: f64, radius: f64) {
+        if overlap > MAX_OVERLAP_FRACTION * radius {
+            let frac = overlap / radius;
+            if self.violation.is_none_or(|v| frac > v.0) {
+                self.violation = Some((frac, i, partner, overlap, radius));
+            }
+        }
+    }
+}
+
+/// Forces and torques on the particles `first..first + force.len()`. `pair_history` holds
+/// the tangential springs of their neighbour-list slots (from `list.offsets[first]` on),
+/// `wall_history` those of their wall contacts, `walls.len().max(1)` per particle.
+pub(crate) fn gather_block(
+    inp: &Inputs,
+    first: usize,
+    force: &mut [Vec3],
+    torque: &mut [Vec3],
+    pair_history: &mut [Vec3],
+    wall_history: &mut [Vec3],
+) -> BlockSums {
+    let setup = inp.setup;
+    let (list, pos, vel, omega, radius) = (inp.list, inp.pos, inp.vel, inp.omega, inp.radius);
+    let pair_law = &setup.pair_law;
+    let pair_history_on = pair_law.has_history();
+    let (dt, gravity) = (setup.dt, setup.gravity);
+    let pinned = setup.vertical == Vertical::Pinned;
+    let base_slot = list.offsets[first];
+    let mut sums = BlockSums::default();
+    // Gravity.
+    let n = force.len();
+    for (k, (f, t)) in force.iter_mut().zip(torque.iter_mut()).enumerate() {
+        *f = gravity * (1.0 / inp.inv_mass[first + k]); // one division, not three
+        *t = Vec3::zeros();
+    }
+    // Particle pairs, each evaluated from both sides (half the energies each), in one flat
+    // loop over the block's neighbour-list slots: in a dilute layer most particles have zero
+    // to two candidates, and a loop nested per particle would mispredict its exit each time.
+    // Each particle still adds its partners in slot order.
+    let slots = base_slot..list.offsets[first + n];
+    for ((&i, &j), zeta) in list.owner[slots.clone()]
+        .iter()
+        .zip(&list.partners[slots])
+        .zip(pair_history.iter_mut())
+    {
+        let (i, j) = (i as usize, j as usize);
+        let xi = pos[i];
+        let d = setup.boundary.min_image(xi - pos[j]);
+        let Some(g) = ContactGeometry::pair(xi, xi - d, vel[i], vel[j], omega[i], omega[j], radius[i], radius[j]) else {
+            if pair_history_on {
+                *zeta = Vec3::zeros();
+            }
+            continue;
+        };
+        let c = contact::evaluate(pair_law, &g, zeta, dt);
+        force[i - first] += c.force;
+        torque[i - first] += c.torque_i;
+        sums.pair_contacts += (i < j) as u64;
+        sums.check_overlap(i, Partner::Particle(j), g.overlap, radius[i].min(radius[j]));
+        sums.stored += 0.5 * c.stored_energy;
+        sums.dissipated += 0.5 * c.dissipation_rate;
+        if inp.record && i < j {
+            sums.records
+                .push(ContactRecord::new(i, Partner::Particle(j), &g, &c, pair_law.tangential.mu()));
+        }
+    }
+    // Walls, one wall at a time over the block: the loop body is short enough for the
+    // processor to overlap the square roots and divisions of consecutive particles. Each
+    // particle still sums gravity, pairs and walls in the same order.
+    for (w, plane) in inp.planes.iter().enumerate() {
+        let (origin, v_wall, sign) = (plane.origin, plane.velocity, plane.sign());
+        match plane.kind {
+            PlaneKind::Axis { axis: 0, .. } => wall_pass(inp, plane, w, first, force, torque, wall_history, &mut sums, |x, v, o, r| {
+                ContactGeometry::<AxisNormal<0>>::axis_wall(x, v, o, r, origin, sign, v_wall)
+            }),
+            PlaneKind::Axis { axis: 1, .. } => wall_pass(inp, plane, w, first, force, torque, wall_history, &mut sums, |x, v, o, r| {
+                ContactGeometry::<AxisNormal<1>>::axis_wall(x, v, o, r, origin, sign, v_wall)
+            }),
+            PlaneKind::Axis { .. } => wall_pass(inp, plane, w, first, force, torque, wall_history, &mut sums, |x, v, o, r| {
+                ContactGeometry::<AxisNormal<2>>::axis_wall(x, v, o, r, origin, sign, v_wall)
+            }),
+            PlaneKind::General => wall_pass(inp, plane, w, first, force, torque, wall_history, &mut sums, |x, v, o, r| {
+                ContactGeometry::wall(x, v, o, r, origin, plane.normal, v_wall)
+            }),
+        }
+    }
+    if pinned {
+        for f in force.iter_mut() {
+            f.z = 0.0;
+        }
+    }
+    sums
+}
+
+/// Contacts of the particles `first..first + force.len()` with wall `w` (`plane`), whose
+/// geometry `geometry(x, v, omega, R)` gives; forces and torques are added to `force` and
+/// `torque`.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn wall_pass<N: Normal>(
+    inp: &Inputs,
+    plane: &WallPlane,
+    w: usize,
+    first: usize,
+    force: &mut [Vec3],
+    torque: &mut [Vec3],
+    wall_history: &mut [Vec3],
+    sums: &mut BlockSums,
+    geometry: impl Fn(Vec3, Vec3, Vec3, f64) -> Option<ContactGeometry<N>>,
+) {
+    let setup = inp.setup;
+    let law = &setup.wall_law;
+    let history_on = law.has_history();
+    let (dt, weight) = (setup.dt, -setup.gravity.z);
+    let wall_stride = inp.planes.len().max(1);
+    let n = force.len();
+    let (pos, vel, omega, radius, inv_mass) = (
+        &inp.pos[first..first + n],
+        &inp.vel[first..first + n],
+        &inp.omega[first..first + n],
+        &inp.radius[first..first + n],
+        &inp.inv_mass[first..first + n],
+    );
+    for k in 0..n {
+        let zeta = &mut wall_history[k * wall_stride + w];
+        let Some(g) = geometry(pos[k], vel[k], omega[k], radius[k]) else {
+            if history_on {
+                *zeta = Vec3::zeros();
+            }
+            continue;
+        };
+        let c = if plane.support {
+            contact::evaluate_with_normal(law, &g, weight / inv_mass[k], zeta, dt)
+        } else {
+            contact::evaluate(law, &g, zeta, dt)
+        };
+        force[k] += c.force;
+        torque[k] += c.torque_i;
+        sums.wall_contacts += 1;
+        sums.check_overlap(first + k, Partner::Wall(w), g.overlap, radius[k]);
+        sums.stored += c.stored_energy;
+        sums.dissipated += c.dissipation_rate;
+        sums.injected += c.force.dot(&plane.velocity);
+        if inp.record {
+            sums.records
+                .push(ContactRecord::new(first + k, Partner::Wall(w), &g, &c, law.tangential.mu()));
+        }
+    }
+}
