@@ -177,7 +177,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
     md.push_str(&format!("# DEM and automaton on `{}`\n\n", args.scene.display()));
     md.push_str(&format!(
         "Same scene and same prepared sample (key `{:016x}`), same analysis (`stripes analyze`: exact area fraction in 1 mm cells, \
-         stripes above 1.5 x the mean area fraction and at least two mean diameters wide). {} grains on a {} m x {} m tray, \
+         stripes above 1.5 x the mean area fraction and at least five mean diameters wide, the analysis defaults). {} grains on a {} m x {} m tray, \
          {} Hz, {} m, {} s.\n\n",
         sample_key(&scene),
         scene.particles.count,
