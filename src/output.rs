@@ -4,6 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use analysis::plot::LinePlot;
+use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
 
 /// Error type of the CLI: a message for the user.
@@ -80,4 +81,19 @@ pub fn parse_vec3(s: &str) -> Result<[f64; 3], String> {
         v[k] = p.parse().map_err(|_| format!("`{p}` is not a number"))?;
     }
     Ok(v)
+}
+
+/// The progress bar of every long command (hidden with `--quiet`).
+pub fn progress_bar(len: u64, quiet: bool, what: &str) -> ProgressBar {
+    if quiet {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::new(len);
+    bar.set_style(
+        ProgressStyle::with_template("{msg:>12} [{bar:40}] {percent:>3}% {elapsed_precise} eta {eta_precise}")
+            .expect("valid template")
+            .progress_chars("=> "),
+    );
+    bar.set_message(what.to_string());
+    bar
 }

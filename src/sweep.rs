@@ -16,11 +16,46 @@
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use indicatif::{ProgressBar, ProgressStyle};
 use serde::{Deserialize, Serialize};
 use serde_json::{json, Value};
 
 use crate::output::CliError;
+
+/// Options every sweep command shares (`ablate`, `phase-map`).
+#[derive(clap::Args, Debug, Serialize)]
+pub struct SweepArgs {
+    /// Override a scene key for every job (repeatable), e.g. --set run.duration=5.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub overrides: Vec<String>,
+    /// Run only the jobs with index I mod N (e.g. 0/4); `stripes collect DIR` merges shards.
+    #[arg(long, default_value = "0/1")]
+    pub shard: Shard,
+    /// Jobs run at once on this machine (default: all cores).
+    #[arg(long)]
+    pub jobs: Option<usize>,
+    /// Directory of prepared samples, shared by every job.
+    #[arg(long, default_value = "out/samples")]
+    pub sample_cache: PathBuf,
+    /// No progress bar.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+impl SweepArgs {
+    /// Stores the sweep in `root` (refusing a different one), runs this shard's unfinished
+    /// jobs, and fails if any job failed.
+    pub fn execute(&self, root: &Path, sweep: &Sweep) -> Result<Progress, CliError> {
+        store(root, sweep)?;
+        let parallel = self
+            .jobs
+            .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+        let progress = run(root, sweep, self.shard, parallel, &self.sample_cache, self.quiet)?;
+        if !progress.failed.is_empty() {
+            return Err(format!("{} job(s) failed: {}", progress.failed.len(), progress.failed.join("; ")).into());
+        }
+        Ok(progress)
+    }
+}
 
 /// Which model a job runs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
@@ -159,18 +194,7 @@ pub fn run(root: &Path, sweep: &Sweep, shard: Shard, parallel: usize, samples: &
         other_shards: sweep.jobs.len() - mine.len(),
         ..Progress::default()
     };
-    let bar = if quiet {
-        ProgressBar::hidden()
-    } else {
-        let b = ProgressBar::new(todo.len() as u64);
-        b.set_style(
-            ProgressStyle::with_template("{msg:>12} [{bar:40}] {pos}/{len} jobs {elapsed_precise} eta {eta_precise}")
-                .expect("valid template")
-                .progress_chars("=> "),
-        );
-        b.set_message(sweep.kind.clone());
-        b
-    };
+    let bar = crate::output::progress_bar(todo.len() as u64, quiet, &sweep.kind);
     let pool = rayon::ThreadPoolBuilder::new().num_threads(parallel.max(1)).build()?;
     let next = AtomicUsize::new(0);
     let outcomes: Vec<(String, Result<(), String>)> = pool.install(|| {

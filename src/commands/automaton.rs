@@ -14,7 +14,6 @@ use std::time::Instant;
 
 use automaton::mapping::{self, FreeParams};
 use automaton::{Automaton, Direction};
-use indicatif::{ProgressBar, ProgressStyle};
 use particles::prepare;
 use particles::scene::{AutomatonRule, Scene};
 use serde::Serialize;
@@ -22,7 +21,8 @@ use serde_json::{json, Value};
 
 use crate::cellular::{self, Cells, StateWriter};
 use crate::commands::analyze;
-use crate::output::{CliError, RunDir};
+use crate::output::{progress_bar, CliError, RunDir};
+use indicatif::ProgressBar;
 
 /// Rule set chosen on the command line.
 #[derive(clap::ValueEnum, Clone, Copy, Debug, Serialize, PartialEq, Eq)]
@@ -62,20 +62,6 @@ pub struct Args {
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
-}
-
-pub(crate) fn bar(len: u64, quiet: bool, what: &str) -> ProgressBar {
-    if quiet {
-        return ProgressBar::hidden();
-    }
-    let bar = ProgressBar::new(len);
-    bar.set_style(
-        ProgressStyle::with_template("{msg:>12} [{bar:40}] {percent:>3}% {elapsed_precise} eta {eta_precise}")
-            .expect("valid template")
-            .progress_chars("=> "),
-    );
-    bar.set_message(what.to_string());
-    bar
 }
 
 pub fn run(args: Args) -> Result<String, CliError> {
@@ -188,7 +174,7 @@ pub(crate) struct Setup {
 }
 
 pub(crate) fn setup(scene: &Scene, samples: &Path, quiet: bool) -> Result<Setup, CliError> {
-    let b = bar(1000, quiet, "prepare");
+    let b = progress_bar(1000, quiet, "prepare");
     let (state, _) = prepare::load_or_prepare(scene, samples, |f| b.set_position((f * 1000.0) as u64))?;
     b.finish_and_clear();
     let pos: Vec<[f64; 2]> = state.pos.iter().map(|p| [p.x, p.y]).collect();
@@ -238,7 +224,7 @@ fn simulate(args: &Args, path: &Path, scene: Scene) -> Result<String, CliError> 
     let free: FreeParams = cellular::free_params(&scene);
     let params = cellular::params(&scene, rule, &s.slide_dem, &free);
     let wall = Instant::now();
-    let b = bar(1, args.quiet, "automaton");
+    let b = progress_bar(1, args.quiet, "automaton");
     let outcome = evolve(&scene, s.lattice, params, Some(&out.join("snapshots.bin")), s.radius, &b, |_, _| ())?;
     b.finish_and_clear();
     let wall_s = wall.elapsed().as_secs_f64();

@@ -20,7 +20,7 @@ use analysis::snapshot::read_snapshots;
 use analysis::stripes::{detect, StripeParams};
 use serde_json::json;
 
-use super::automaton::{bar, evolve, load_scene, setup, Args};
+use super::automaton::{evolve, load_scene, setup, Args};
 use crate::cellular::{self, Cells};
 use crate::output::{CliError, RunDir};
 
@@ -119,7 +119,7 @@ pub fn run(args: &Args) -> Result<String, CliError> {
         runs.push(RunData { scene, dem, setup });
     }
     let total = (ACTIVATIONS.len() * KNOCK_SPEEDS.len() * runs.len()) as u64;
-    let b = bar(total, args.quiet, "calibrate");
+    let b = crate::output::progress_bar(total, args.quiet, "calibrate");
     let mut rows = Vec::new();
     let mut best: Option<(f64, f64, f64, Vec<serde_json::Value>)> = None;
     let mut best_series: Vec<Vec<(f64, f64)>> = Vec::new();

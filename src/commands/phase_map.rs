@@ -15,7 +15,7 @@ use analysis::plot::Heatmap;
 use serde_json::{json, Value};
 
 use crate::output::{CliError, RunDir};
-use crate::sweep::{self, Job, Model, Shard, Sweep};
+use crate::sweep::{self, Job, Model, Sweep};
 
 #[derive(clap::Args, Debug, serde::Serialize)]
 pub struct Args {
@@ -36,21 +36,8 @@ pub struct Args {
     /// Sweep directory.
     #[arg(long, default_value = "out/phase-map")]
     pub out: PathBuf,
-    /// Override a scene key for every job (repeatable), e.g. --set run.duration=5.
-    #[arg(long = "set", value_name = "KEY=VALUE")]
-    pub overrides: Vec<String>,
-    /// Run only the jobs with index I mod N (e.g. 0/4); `stripes collect DIR` merges shards.
-    #[arg(long, default_value = "0/1")]
-    pub shard: Shard,
-    /// Jobs run at once on this machine (default: all cores).
-    #[arg(long)]
-    pub jobs: Option<usize>,
-    /// Directory of prepared samples, shared by every job.
-    #[arg(long, default_value = "out/samples")]
-    pub sample_cache: PathBuf,
-    /// No progress bar.
-    #[arg(long)]
-    pub quiet: bool,
+    #[command(flatten)]
+    pub sweep: sweep::SweepArgs,
 }
 
 /// Models of a phase map.
@@ -103,24 +90,17 @@ pub fn jobs(freqs: &[f64], amps: &[f64], models: &[Model], samples: usize, seed:
 pub fn run(args: Args) -> Result<String, CliError> {
     let freqs = sweep::parse_range(&args.frequency, "frequency")?;
     let amps = sweep::parse_range(&args.amplitude, "amplitude")?;
-    let scene = particles::scene::Scene::load(&args.scene, &args.overrides)?;
+    let scene = particles::scene::Scene::load(&args.scene, &args.sweep.overrides)?;
     scene.validate()?;
     let sweep = Sweep {
         kind: "phase-map".into(),
         scene: args.scene.clone(),
-        overrides: args.overrides.clone(),
+        overrides: args.sweep.overrides.clone(),
         jobs: jobs(&freqs, &amps, &args.model.models(), args.samples.max(1), scene.run.seed),
     };
-    sweep::store(&args.out, &sweep)?;
-    let parallel = args
-        .jobs
-        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
-    let progress = sweep::run(&args.out, &sweep, args.shard, parallel, &args.sample_cache, args.quiet)?;
+    let progress = args.sweep.execute(&args.out, &sweep)?;
     let mut summary = report(&args.out, &sweep)?;
     summary["progress"] = serde_json::to_value(&progress)?;
-    if !progress.failed.is_empty() {
-        return Err(format!("{} job(s) failed: {}", progress.failed.len(), progress.failed.join("; ")).into());
-    }
     Ok(serde_json::to_string(&summary)?)
 }
 

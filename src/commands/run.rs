@@ -9,7 +9,6 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use analysis::snapshot::{Header, SnapshotWriter};
-use indicatif::{ProgressBar, ProgressStyle};
 use particles::observe;
 use particles::prepare;
 use particles::scene::Scene;
@@ -18,7 +17,7 @@ use particles::tray;
 use serde::Serialize;
 use serde_json::json;
 
-use crate::output::{CliError, RunDir};
+use crate::output::{progress_bar, CliError, RunDir};
 
 #[derive(clap::Args, Debug, Serialize)]
 pub struct Args {
@@ -45,20 +44,6 @@ pub struct Args {
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
-}
-
-fn progress_bar(len: u64, quiet: bool, what: &str) -> ProgressBar {
-    if quiet {
-        return ProgressBar::hidden();
-    }
-    let bar = ProgressBar::new(len);
-    bar.set_style(
-        ProgressStyle::with_template("{msg:>12} [{bar:40}] {percent:>3}% {elapsed_precise} eta {eta_precise}")
-            .expect("valid template")
-            .progress_chars("=> "),
-    );
-    bar.set_message(what.to_string());
-    bar
 }
 
 /// What a checkpoint must match to be resumed: the scene and its sample, except the keys that
