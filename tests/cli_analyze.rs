@@ -2,27 +2,17 @@
 //! from a `snapshots.bin` and from a LAMMPS dump gives the same stripes and phase, the
 //! summary is the last stdout line and the plots and tables are written.
 
+mod common;
+use common::stripes;
+
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 use analysis::snapshot::{Header, SnapshotWriter};
 
 const L: f64 = 0.4;
 const W: f64 = 0.02;
 const T: f64 = 0.05;
-
-fn stripes(args: &[&str]) -> (bool, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_stripes"))
-        .args(args)
-        .output()
-        .expect("run stripes");
-    (
-        out.status.success(),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
 
 fn temp_dir(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("stripes-cli-analyze-{name}-{}", std::process::id()));

@@ -1,20 +1,10 @@
 //! The command-line contract of `stripes automaton` and `stripes compare` (issue 5), on a
 //! tiny tray so that the DEM parts take about a second.
 
-use std::path::Path;
-use std::process::Command;
+mod common;
+use common::stripes;
 
-fn stripes(args: &[&str]) -> (bool, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_stripes"))
-        .args(args)
-        .output()
-        .expect("run stripes");
-    (
-        out.status.success(),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+use std::path::Path;
 
 /// A 2 cm x 5 mm tray with 40 grains (packing 0.18), 0.02 s of preparation, 0.5 s of run.
 fn tiny_scene(dir: &Path) -> String {

@@ -1,18 +1,7 @@
 //! The command-line contract of `stripes collide` and the study commands (SPEC section 5).
 
-use std::process::Command;
-
-fn stripes(args: &[&str]) -> (bool, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_stripes"))
-        .args(args)
-        .output()
-        .expect("run stripes");
-    (
-        out.status.success(),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+mod common;
+use common::stripes;
 
 fn temp_out(name: &str) -> String {
     let d = std::env::temp_dir().join(format!("stripes-cli-{name}-{}", std::process::id()));
