@@ -212,33 +212,45 @@ impl RowShape {
         }
     }
 
-    /// Whether the row holds a periodic run of at least `len >= 64` set cells. Such a run
-    /// crosses a word boundary, so one pass over the words, tracking the run that reaches
-    /// each boundary (`leading_ones` / `trailing_ones`), decides it.
-    pub fn has_run(&self, row: &[u64], len: usize) -> bool {
-        debug_assert!(len >= 64);
-        let n = self.words;
-        let r = self.nx - 64 * (n - 1); // valid cells of the last word
-        let full = |d: usize| if d + 1 == n { self.last } else { u64::MAX };
-        // Start just after a word that is not all set, so every run is seen whole.
-        let Some(first) = (0..n).find(|&d| row[d] != full(d)) else {
-            return self.nx >= len;
-        };
-        let mut run = 0usize;
-        for step in 1..=n {
-            let d = if first + step >= n { first + step - n } else { first + step };
-            let (w, bits) = (row[d], if d + 1 == n { r } else { 64 });
-            if w == full(d) {
-                run += bits;
-                continue;
+    /// Periodic window AND: `dst[a] = src[a] & src[a + 1] & ... & src[a + len - 1]` (indices
+    /// mod `nx`), for `1 <= len < nx`. `ext` (at least [`Self::ext_words`] words) holds
+    /// `src` followed by a second copy of it, so every window is a plain (non-periodic)
+    /// range; windows of width `2s` are the AND of two of width `s` (`s` = 1, 2, 4, ...,
+    /// the largest power of two `p <= len`) and the last step ANDs two overlapping windows of
+    /// width `p` that start `len - p` apart: about `log2(len) + 1` shift-and-AND passes over
+    /// `(nx + len) / 64` words, with no periodic rotation.
+    pub fn window_and(&self, src: &[u64], len: usize, dst: &mut [u64], ext: &mut [u64]) {
+        debug_assert!(len >= 1 && len < self.nx);
+        let w = self.words;
+        let n = (self.nx + len).div_ceil(64);
+        ext[..w].copy_from_slice(src);
+        ext[w..n].iter_mut().for_each(|x| *x = 0);
+        // The second copy starts at cell nx (`src` is clean above nx).
+        let (q, b) = (self.nx / 64, (self.nx % 64) as u32);
+        for d in 0..w {
+            if q + d < n {
+                ext[q + d] |= src[d] << b;
             }
-            if run + w.trailing_ones() as usize >= len {
-                return true;
+            if b > 0 && q + d + 1 < n {
+                ext[q + d + 1] |= src[d] >> (64 - b);
             }
-            // Ones at the top of the valid cells start the next run.
-            run = (w << (64 - bits)).leading_ones() as usize;
         }
-        false
+        let ext = &mut ext[..n];
+        let mut s = 1;
+        while 2 * s <= len {
+            and_shifted_down(ext, s);
+            s *= 2;
+        }
+        if len > s {
+            and_shifted_down(ext, len - s);
+        }
+        dst.copy_from_slice(&ext[..w]);
+        self.clean(dst);
+    }
+
+    /// Words of the buffer [`Self::window_and`] needs.
+    pub fn ext_words(&self) -> usize {
+        2 * self.words
     }
 
     /// First cell at or after `from` (cyclically) that is set (`clear = false`) or clear
@@ -276,6 +288,19 @@ impl RowShape {
         } else {
             row[i / 64] &= !(1 << (i % 64));
         }
+    }
+}
+
+/// `x[i] &= x[i + s]` on a non-periodic bit vector (cells beyond its end read 0), in place:
+/// word `d` reads only words `>= d`, which a forward pass has not changed yet.
+#[inline]
+fn and_shifted_down(x: &mut [u64], s: usize) {
+    let n = x.len();
+    let (q, b) = (s / 64, (s % 64) as u32);
+    for d in 0..n {
+        let lo = if d + q < n { x[d + q] >> b } else { 0 };
+        let hi = if b > 0 && d + q + 1 < n { x[d + q + 1] << (64 - b) } else { 0 };
+        x[d] &= lo | hi;
     }
 }
 
@@ -322,23 +347,18 @@ mod tests {
         }
 
         #[test]
-        fn has_run_finds_the_longest_periodic_run(cells in prop::collection::vec(prop::bool::weighted(0.9), 1..400), len in 64usize..200) {
+        fn window_and_is_the_periodic_and_of_len_cells(cells in prop::collection::vec(prop::bool::weighted(0.9), 2..700), len in 1usize..700) {
             let s = RowShape::new(cells.len());
             let n = cells.len();
-            let longest = if cells.iter().all(|&c| c) {
-                n
-            } else {
-                let mut best = 0;
-                for start in 0..n {
-                    let mut l = 0;
-                    while l < n && cells[(start + l) % n] {
-                        l += 1;
-                    }
-                    best = best.max(l);
-                }
-                best
-            };
-            prop_assert_eq!(s.has_run(&to_bits(&s, &cells), len), longest >= len);
+            let len = 1 + len % (n - 1);
+            let mut dst = vec![0; s.words];
+            let mut ext = vec![u64::MAX; s.ext_words()];
+            s.window_and(&to_bits(&s, &cells), len, &mut dst, &mut ext);
+            for a in 0..n {
+                let all = (0..len).all(|k| cells[(a + k) % n]);
+                prop_assert_eq!(RowShape::get(&dst, a), all, "cell {} len {}", a, len);
+            }
+            prop_assert_eq!(dst[s.words - 1] & !s.last, 0);
         }
 
         #[test]

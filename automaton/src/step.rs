@@ -41,6 +41,7 @@ pub(crate) struct BitScratch {
     tmp: Vec<u64>,
     s2: Vec<u64>,
     sum: Vec<u64>,
+    ext: Vec<u64>,
 }
 
 impl BitScratch {
@@ -62,6 +63,7 @@ impl BitScratch {
             tmp: row(),
             s2: row(),
             sum: row(),
+            ext: vec![0; shape.ext_words()],
         }
     }
 }
@@ -125,34 +127,6 @@ fn cluster_cells(shape: &RowShape, ny: usize, sc: &mut BitScratch) {
     }
 }
 
-/// `FL[a] = F[a+1] & ... & F[a+cap]`, by binary composition of doubled runs.
-fn full_flight_mask(shape: &RowShape, f1: &[u64], cap: usize, fl: &mut [u64], pow: &mut [u64], tmp: &mut [u64]) {
-    if cap >= shape.nx {
-        // A run of nx free cells would include the grain itself: nobody flies the full cap.
-        fl.iter_mut().for_each(|x| *x = 0);
-        return;
-    }
-    pow.copy_from_slice(f1);
-    let (mut len_res, mut len_pow, mut c) = (0usize, 1usize, cap);
-    while c > 0 {
-        if c & 1 == 1 {
-            if len_res == 0 {
-                fl.copy_from_slice(pow);
-            } else {
-                shape.rotate_down(pow, len_res, tmp);
-                fl.iter_mut().zip(tmp.iter()).for_each(|(a, b)| *a &= *b);
-            }
-            len_res += len_pow;
-        }
-        c >>= 1;
-        if c > 0 {
-            shape.rotate_down(pow, len_pow, tmp);
-            pow.iter_mut().zip(tmp.iter()).for_each(|(a, b)| *a &= *b);
-            len_pow *= 2;
-        }
-    }
-}
-
 /// One half step of a bit-packed submonolayer `rows` (`ny` rows of `shape.words` words).
 /// `left`: grains fly towards -x in this half step; `t` numbers the half step (random bits).
 #[allow(clippy::too_many_arguments)]
@@ -184,11 +158,12 @@ pub(crate) fn half_step(shape: &RowShape, ny: usize, rows: &mut [u64], r: &Resol
             *a = *l & rng::bernoulli(key, Stream::Activation, k, r.activation);
         }
         shape.rotate_down(&sc.free, 1, &mut sc.f1);
-        // Nobody flies the full cap unless some free run is that long: skip the doubling.
-        if cap >= 64 && cap < shape.nx && !shape.has_run(&sc.free, cap) {
+        // FL[a] = F[a+1] & ... & F[a+cap]. A run of nx free cells would include the grain
+        // itself: with cap >= nx nobody flies the full cap.
+        if cap >= shape.nx {
             sc.fl.iter_mut().for_each(|x| *x = 0);
         } else {
-            full_flight_mask(shape, &sc.f1, cap, &mut sc.fl, &mut sc.pow, &mut sc.tmp);
+            shape.window_and(&sc.f1, cap, &mut sc.fl, &mut sc.ext);
         }
         // Run starts of the grains that stop on an obstacle: s2 = rot_up(A & !FL, 1) & F.
         for k in 0..w {
