@@ -297,11 +297,22 @@ impl RowShape {
 fn and_shifted_down(x: &mut [u64], s: usize) {
     let n = x.len();
     let (q, b) = (s / 64, (s % 64) as u32);
-    for d in 0..n {
-        let lo = if d + q < n { x[d + q] >> b } else { 0 };
-        let hi = if b > 0 && d + q + 1 < n { x[d + q + 1] << (64 - b) } else { 0 };
-        x[d] &= lo | hi;
+    if q >= n {
+        x.iter_mut().for_each(|v| *v = 0);
+        return;
     }
+    let m = n - q; // words with a source word
+    if b == 0 {
+        for d in 0..m {
+            x[d] &= x[d + q];
+        }
+    } else {
+        for d in 0..m - 1 {
+            x[d] &= (x[d + q] >> b) | (x[d + q + 1] << (64 - b));
+        }
+        x[m - 1] &= x[n - 1] >> b;
+    }
+    x[m..].iter_mut().for_each(|v| *v = 0);
 }
 
 #[cfg(test)]

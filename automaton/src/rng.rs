@@ -54,8 +54,15 @@ pub fn word(row_key: u64, stream: Stream, w: usize, k: u32) -> u64 {
 /// then an even coin for the direction, so each way has probability `p / 128`.
 #[inline]
 pub fn sideways(row_key: u64, w: usize, p: u32, up: bool) -> u64 {
-    let dir = word(row_key, Stream::SideDirection, w, 0);
-    bernoulli(row_key, Stream::Side, w, p) & if up { dir } else { !dir }
+    let (moves, dir) = sideways_draw(row_key, w, p);
+    moves & if up { dir } else { !dir }
+}
+
+/// The two words [`sideways`] combines: who moves (probability `p / 64`) and which way (a
+/// set bit: +y). Both directions' passes use the same pair, so it can be drawn once.
+#[inline]
+pub fn sideways_draw(row_key: u64, w: usize, p: u32) -> (u64, u64) {
+    (bernoulli(row_key, Stream::Side, w, p), word(row_key, Stream::SideDirection, w, 0))
 }
 
 /// Probability quantised to 1/64, the resolution of [`bernoulli`].

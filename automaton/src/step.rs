@@ -42,6 +42,11 @@ pub(crate) struct BitScratch {
     s2: Vec<u64>,
     sum: Vec<u64>,
     ext: Vec<u64>,
+    /// Sideways draws ([`rng::sideways_draw`]) of each row word, made at most once per half
+    /// step (both directions' passes share them): moves, direction, drawn yet.
+    side_moves: Vec<u64>,
+    side_dir: Vec<u64>,
+    side_drawn: Vec<bool>,
 }
 
 impl BitScratch {
@@ -64,6 +69,9 @@ impl BitScratch {
             s2: row(),
             sum: row(),
             ext: vec![0; shape.ext_words()],
+            side_moves: vec![0; w * ny],
+            side_dir: vec![0; w * ny],
+            side_drawn: vec![false; w * ny],
         }
     }
 }
@@ -208,6 +216,7 @@ pub(crate) fn half_step(shape: &RowShape, ny: usize, rows: &mut [u64], r: &Resol
         knock_through(shape, ny, r, cap, sc);
     }
     if r.sideways > 0 {
+        sc.side_drawn.iter_mut().for_each(|d| *d = false);
         for up in [true, false] {
             sideways(shape, ny, r, seed, t, up, sc);
         }
@@ -290,7 +299,13 @@ fn sideways(shape: &RowShape, ny: usize, r: &Resolved, seed: u64, t: u64, up: bo
                     let room = sc.new[j * w + k] & !sc.new[jn * w + k];
                     // Draw only where a move is possible (the draw is the same either way).
                     cand[k] = if room != 0 {
-                        room & rng::sideways(key, k, r.sideways, up)
+                        let i = j * w + k;
+                        if !sc.side_drawn[i] {
+                            (sc.side_moves[i], sc.side_dir[i]) = rng::sideways_draw(key, k, r.sideways);
+                            sc.side_drawn[i] = true;
+                        }
+                        let dir = sc.side_dir[i];
+                        room & sc.side_moves[i] & if up { dir } else { !dir }
                     } else {
                         0
                     };
