@@ -115,6 +115,8 @@ fn obstacles(shape: &RowShape, lf: &[u64], clusters: &[u64], ny: usize, j: usize
         for jn in rows.iter().flatten() {
             s |= side[jn * w + k];
         }
+        // Cells already blocked in the own row need no draw (the draw is the same either way).
+        s &= !o[k];
         if s != 0 && r.knock > 0 {
             s &= rng::bernoulli(key, Stream::Hold, k, rng::ONE - r.knock);
         }
@@ -161,11 +163,19 @@ pub(crate) fn half_step(shape: &RowShape, ny: usize, rows: &mut [u64], r: &Resol
         obstacles(shape, &sc.lf, &sc.clusters, ny, j, r, key, &mut sc.o);
         shape.not(&sc.o, &mut sc.free);
         let lrow = &sc.lf[j * w..(j + 1) * w];
-        let act = &mut sc.active[j * w..(j + 1) * w];
-        for (k, (a, l)) in act.iter_mut().zip(lrow).enumerate() {
-            *a = *l & rng::bernoulli(key, Stream::Activation, k, r.activation);
-        }
         shape.rotate_down(&sc.free, 1, &mut sc.f1);
+        let act = &mut sc.active[j * w..(j + 1) * w];
+        for k in 0..w {
+            // A grain with an obstacle right ahead stays whether it flies or not: only the
+            // others are drawn, and only words holding such grains draw (the draw is the
+            // same either way).
+            let movable = lrow[k] & sc.f1[k];
+            act[k] = if movable != 0 {
+                movable & rng::bernoulli(key, Stream::Activation, k, r.activation)
+            } else {
+                0
+            };
+        }
         // FL[a] = F[a+1] & ... & F[a+cap]. A run of nx free cells would include the grain
         // itself: with cap >= nx nobody flies the full cap.
         if cap >= shape.nx {
@@ -201,8 +211,8 @@ pub(crate) fn half_step(shape: &RowShape, ny: usize, rows: &mut [u64], r: &Resol
         }
         shape.rotate_down(&sc.sum, 1, new);
         for k in 0..w {
-            let stopped = act[k] & !sc.fl[k];
-            new[k] |= (lrow[k] & !act[k]) | (stopped & !sc.f1[k]);
+            // Grains that do not fly stay (active grains all have a free cell ahead).
+            new[k] |= lrow[k] & !act[k];
             sc.tmp[k] = act[k] & sc.fl[k];
         }
         if cap < shape.nx && sc.tmp.iter().any(|&x| x != 0) {
