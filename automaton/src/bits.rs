@@ -86,6 +86,25 @@ impl RowShape {
             dst.copy_from_slice(src);
             return;
         }
+        if self.words >= 2 && k == 1 {
+            // By one cell: a carry from each word into the next, cell nx - 1 into cell 0.
+            let n = self.words;
+            let top = (src[n - 1] >> ((self.nx - 1) % 64)) & 1;
+            for d in (1..n).rev() {
+                dst[d] = (src[d] << 1) | (src[d - 1] >> 63);
+            }
+            dst[0] = (src[0] << 1) | top;
+            return self.clean(dst);
+        }
+        if self.words >= 2 && k == self.nx - 1 {
+            // Down by one cell: cell 0 goes to cell nx - 1.
+            let n = self.words;
+            for d in 0..n - 1 {
+                dst[d] = (src[d] >> 1) | (src[d + 1] << 63);
+            }
+            dst[n - 1] = (src[n - 1] >> 1) | ((src[0] & 1) << ((self.nx - 1) % 64));
+            return self.clean(dst);
+        }
         if self.nx < 128 {
             return self.rotate_up_short(src, k, dst);
         }
@@ -219,8 +238,13 @@ impl RowShape {
     /// the largest power of two `p <= len`) and the last step ANDs two overlapping windows of
     /// width `p` that start `len - p` apart: about `log2(len) + 1` shift-and-AND passes over
     /// `(nx + len) / 64` words, with no periodic rotation.
+    ///
+    /// Windows of at least 64 cells go through [`Self::window_and_long`] instead.
     pub fn window_and(&self, src: &[u64], len: usize, dst: &mut [u64], ext: &mut [u64]) {
         debug_assert!(len >= 1 && len < self.nx);
+        if len >= 64 {
+            return self.window_and_long(src, len, dst);
+        }
         let w = self.words;
         let n = (self.nx + len).div_ceil(64);
         ext[..w].copy_from_slice(src);
@@ -246,6 +270,35 @@ impl RowShape {
         }
         dst.copy_from_slice(&ext[..w]);
         self.clean(dst);
+    }
+
+    /// [`Self::window_and`] for `64 <= len < nx` in one backward pass over the words. With
+    /// `Z = !src` the blocked cells, a window of `len >= 64` cells starting at bit `b` of word
+    /// `d` reaches past the word, so it is clear exactly when `Z` has no bit at or above `b`
+    /// in word `d` and the next blocked cell after the word (unrolled: the row's first blocked
+    /// cell plus `nx` past the seam) lies at or beyond `64 d + b + len`. Both bounds make the
+    /// result a single range of bits per word.
+    fn window_and_long(&self, src: &[u64], len: usize, dst: &mut [u64]) {
+        let n = self.words;
+        let valid = |d: usize| if d + 1 == n { self.last } else { u64::MAX };
+        let Some(first) = (0..n).find(|&d| !src[d] & valid(d) != 0) else {
+            // Nothing blocked: every window shorter than the row is clear.
+            dst.copy_from_slice(src);
+            return;
+        };
+        let mut next = 64 * first + (!src[first] & valid(first)).trailing_zeros() as usize + self.nx;
+        for d in (0..n).rev() {
+            let z = !src[d] & valid(d);
+            let lo = 64 - z.leading_zeros() as usize; // 0 if nothing is blocked in the word
+            let word = match (next - 64 * d).checked_sub(len) {
+                Some(hi) if hi >= lo && lo < 64 => (u64::MAX << lo) & (u64::MAX >> (63 - hi.min(63))),
+                _ => 0,
+            };
+            dst[d] = word & valid(d);
+            if z != 0 {
+                next = 64 * d + z.trailing_zeros() as usize;
+            }
+        }
     }
 
     /// Words of the buffer [`Self::window_and`] needs.
@@ -353,6 +406,24 @@ mod tests {
             let rev = from_bits(&s, &dst);
             for i in 0..n {
                 prop_assert_eq!(rev[n - 1 - i], cells[i]);
+            }
+            prop_assert_eq!(dst[s.words - 1] & !s.last, 0);
+        }
+
+        #[test]
+        fn rotations_by_one_cell_match_the_index_formulas(cells in prop::collection::vec(any::<bool>(), 1..700)) {
+            let s = RowShape::new(cells.len());
+            let n = cells.len();
+            let src = to_bits(&s, &cells);
+            let mut dst = vec![0; s.words];
+            s.rotate_up(&src, 1, &mut dst);
+            for i in 0..n {
+                prop_assert_eq!(RowShape::get(&dst, (i + 1) % n), cells[i]);
+            }
+            prop_assert_eq!(dst[s.words - 1] & !s.last, 0);
+            s.rotate_down(&src, 1, &mut dst);
+            for i in 0..n {
+                prop_assert_eq!(RowShape::get(&dst, i), cells[(i + 1) % n]);
             }
             prop_assert_eq!(dst[s.words - 1] & !s.last, 0);
         }
