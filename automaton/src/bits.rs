@@ -81,7 +81,7 @@ impl RowShape {
     /// Periodic rotation towards higher cells: `dst[(i + k) mod nx] = src[i]`. One pass:
     /// word `d` of the result is the 64-cell window of `src` starting at `64 d - k`.
     pub fn rotate_up(&self, src: &[u64], k: usize, dst: &mut [u64]) {
-        let k = k % self.nx;
+        let k = if k < self.nx { k } else { k % self.nx };
         if k == 0 {
             dst.copy_from_slice(src);
             return;
@@ -167,8 +167,8 @@ impl RowShape {
 
     /// Periodic rotation towards lower cells: `dst[i] = src[(i + k) mod nx]`.
     pub fn rotate_down(&self, src: &[u64], k: usize, dst: &mut [u64]) {
-        let k = k % self.nx;
-        self.rotate_up(src, (self.nx - k) % self.nx, dst);
+        let k = if k < self.nx { k } else { k % self.nx };
+        self.rotate_up(src, if k == 0 { 0 } else { self.nx - k }, dst);
     }
 
     /// Mirror: `dst[nx - 1 - i] = src[i]`.
@@ -182,12 +182,15 @@ impl RowShape {
             return;
         }
         let p = pad as u32;
-        for d in 0..n {
-            // Word d of the result takes reversed bits 64 d + pad .. 64 d + pad + 64.
-            let a = src[n - 1 - d].reverse_bits() >> p;
-            let b = if d + 1 < n { src[n - 2 - d].reverse_bits() << (64 - p) } else { 0 };
-            dst[d] = a | b;
+        // Word d of the result takes reversed bits 64 d + pad .. 64 d + pad + 64: each source
+        // word is reversed once and feeds two result words.
+        let mut a = src[n - 1].reverse_bits();
+        for d in 0..n - 1 {
+            let b = src[n - 2 - d].reverse_bits();
+            dst[d] = (a >> p) | (b << (64 - p));
+            a = b;
         }
+        dst[n - 1] = a >> p;
         self.clean(dst);
     }
 

@@ -47,6 +47,8 @@ pub(crate) struct BitScratch {
     side_moves: Vec<u64>,
     side_dir: Vec<u64>,
     side_drawn: Vec<bool>,
+    /// [`rng::row_key`] of each row for the current half step.
+    keys: Vec<u64>,
 }
 
 impl BitScratch {
@@ -72,6 +74,7 @@ impl BitScratch {
             side_moves: vec![0; w * ny],
             side_dir: vec![0; w * ny],
             side_drawn: vec![false; w * ny],
+            keys: vec![0; ny],
         }
     }
 }
@@ -155,11 +158,14 @@ pub(crate) fn half_step(shape: &RowShape, ny: usize, rows: &mut [u64], r: &Resol
         }
     }
     let cap = r.cap.min(shape.nx);
+    for (j, key) in sc.keys.iter_mut().enumerate() {
+        *key = rng::row_key(seed, t, j);
+    }
     if r.lateral == Lateral::Clusters {
         cluster_cells(shape, ny, sc);
     }
     for j in 0..ny {
-        let key = rng::row_key(seed, t, j);
+        let key = sc.keys[j];
         obstacles(shape, &sc.lf, &sc.clusters, ny, j, r, key, &mut sc.o);
         shape.not(&sc.o, &mut sc.free);
         let lrow = &sc.lf[j * w..(j + 1) * w];
@@ -228,7 +234,7 @@ pub(crate) fn half_step(shape: &RowShape, ny: usize, rows: &mut [u64], r: &Resol
     if r.sideways > 0 {
         sc.side_drawn.iter_mut().for_each(|d| *d = false);
         for up in [true, false] {
-            sideways(shape, ny, r, seed, t, up, sc);
+            sideways(shape, ny, r, up, sc);
         }
     }
     for j in 0..ny {
@@ -298,10 +304,10 @@ fn knock_through(shape: &RowShape, ny: usize, r: &Resolved, cap: usize, sc: &mut
 }
 
 /// Simultaneous sideways moves towards +y (`up`) or -y into empty cells.
-fn sideways(shape: &RowShape, ny: usize, r: &Resolved, seed: u64, t: u64, up: bool, sc: &mut BitScratch) {
+fn sideways(shape: &RowShape, ny: usize, r: &Resolved, up: bool, sc: &mut BitScratch) {
     let w = shape.words;
     for j in 0..ny {
-        let key = rng::row_key(seed, t, j);
+        let key = sc.keys[j];
         let cand = &mut sc.cand[j * w..(j + 1) * w];
         match neighbour_row(j, up, ny, r.periodic_y) {
             Some(jn) if jn != j => {
