@@ -112,18 +112,20 @@ fn obstacles(shape: &RowShape, lf: &[u64], clusters: &[u64], ny: usize, j: usize
         Lateral::Neighbours => lf,
         Lateral::Clusters => clusters,
     };
-    let rows = [false, true].map(|up| neighbour_row(j, up, ny, r.periodic_y));
-    for k in 0..w {
-        let mut s = 0;
-        for jn in rows.iter().flatten() {
-            s |= side[jn * w + k];
-        }
+    // A missing neighbour row (beyond a wall) is read as the own row, masked to nothing.
+    let neighbour = |up: bool| match neighbour_row(j, up, ny, r.periodic_y) {
+        Some(jn) => (&side[jn * w..][..w], u64::MAX),
+        None => (&side[j * w..][..w], 0),
+    };
+    let ((below, mb), (above, ma)) = (neighbour(false), neighbour(true));
+    let hold = rng::ONE - r.knock;
+    for (k, ((o, &b), &a)) in o.iter_mut().zip(below).zip(above).enumerate() {
         // Cells already blocked in the own row need no draw (the draw is the same either way).
-        s &= !o[k];
+        let mut s = ((b & mb) | (a & ma)) & !*o;
         if s != 0 && r.knock > 0 {
-            s &= rng::bernoulli(key, Stream::Hold, k, rng::ONE - r.knock);
+            s &= rng::bernoulli(key, Stream::Hold, k, hold);
         }
-        o[k] |= s;
+        *o |= s;
     }
 }
 
@@ -311,17 +313,24 @@ fn sideways(shape: &RowShape, ny: usize, r: &Resolved, up: bool, sc: &mut BitScr
         let cand = &mut sc.cand[j * w..(j + 1) * w];
         match neighbour_row(j, up, ny, r.periodic_y) {
             Some(jn) if jn != j => {
-                for k in 0..w {
-                    let room = sc.new[j * w + k] & !sc.new[jn * w + k];
-                    // Draw only where a move is possible (the draw is the same either way).
-                    cand[k] = if room != 0 {
-                        let i = j * w + k;
-                        if !sc.side_drawn[i] {
-                            (sc.side_moves[i], sc.side_dir[i]) = rng::sideways_draw(key, k, r.sideways);
-                            sc.side_drawn[i] = true;
+                let (row, next) = (&sc.new[j * w..][..w], &sc.new[jn * w..][..w]);
+                let moves = &mut sc.side_moves[j * w..][..w];
+                let dirs = &mut sc.side_dir[j * w..][..w];
+                let drawn = &mut sc.side_drawn[j * w..][..w];
+                let rows = row
+                    .iter()
+                    .zip(next)
+                    .zip(moves.iter_mut().zip(dirs.iter_mut()).zip(drawn.iter_mut()));
+                for (k, (c, ((&a, &b), ((m, d), dr)))) in cand.iter_mut().zip(rows).enumerate() {
+                    let room = a & !b;
+                    // Draw only where a move is possible (the draw is the same either way),
+                    // once for both directions.
+                    *c = if room != 0 {
+                        if !*dr {
+                            (*m, *d) = rng::sideways_draw(key, k, r.sideways);
+                            *dr = true;
                         }
-                        let dir = sc.side_dir[i];
-                        room & sc.side_moves[i] & if up { dir } else { !dir }
+                        room & *m & if up { *d } else { !*d }
                     } else {
                         0
                     };
@@ -331,14 +340,13 @@ fn sideways(shape: &RowShape, ny: usize, r: &Resolved, up: bool, sc: &mut BitScr
         }
     }
     for j in 0..ny {
-        if let Some(jn) = neighbour_row(j, up, ny, r.periodic_y) {
-            if jn == j {
-                continue;
+        if let Some(jn) = neighbour_row(j, up, ny, r.periodic_y).filter(|&jn| jn != j) {
+            let cand = &sc.cand[j * w..][..w];
+            for (x, &c) in sc.new[j * w..][..w].iter_mut().zip(cand) {
+                *x &= !c;
             }
-            for k in 0..w {
-                let c = sc.cand[j * w + k];
-                sc.new[j * w + k] &= !c;
-                sc.new[jn * w + k] |= c;
+            for (x, &c) in sc.new[jn * w..][..w].iter_mut().zip(cand) {
+                *x |= c;
             }
         }
     }
