@@ -89,9 +89,10 @@ impl RowShape {
         if self.words >= 2 && k == 1 {
             // By one cell: a carry from each word into the next, cell nx - 1 into cell 0.
             let n = self.words;
+            let (src, dst) = (&src[..n], &mut dst[..n]);
             let top = (src[n - 1] >> ((self.nx - 1) % 64)) & 1;
-            for d in (1..n).rev() {
-                dst[d] = (src[d] << 1) | (src[d - 1] >> 63);
+            for (d, pair) in dst[1..].iter_mut().zip(src.windows(2)) {
+                *d = (pair[1] << 1) | (pair[0] >> 63);
             }
             dst[0] = (src[0] << 1) | top;
             return self.clean(dst);
@@ -99,8 +100,9 @@ impl RowShape {
         if self.words >= 2 && k == self.nx - 1 {
             // Down by one cell: cell 0 goes to cell nx - 1.
             let n = self.words;
-            for d in 0..n - 1 {
-                dst[d] = (src[d] >> 1) | (src[d + 1] << 63);
+            let (src, dst) = (&src[..n], &mut dst[..n]);
+            for (d, pair) in dst.iter_mut().zip(src.windows(2)) {
+                *d = (pair[0] >> 1) | (pair[1] << 63);
             }
             dst[n - 1] = (src[n - 1] >> 1) | ((src[0] & 1) << ((self.nx - 1) % 64));
             return self.clean(dst);
@@ -283,6 +285,7 @@ impl RowShape {
     /// result a single range of bits per word.
     fn window_and_long(&self, src: &[u64], len: usize, dst: &mut [u64]) {
         let n = self.words;
+        let (src, dst) = (&src[..n], &mut dst[..n]);
         let valid = |d: usize| if d + 1 == n { self.last } else { u64::MAX };
         let Some(first) = (0..n).find(|&d| !src[d] & valid(d) != 0) else {
             // Nothing blocked: every window shorter than the row is clear.
@@ -292,6 +295,7 @@ impl RowShape {
         let mut next = 64 * first + (!src[first] & valid(first)).trailing_zeros() as usize + self.nx;
         for d in (0..n).rev() {
             let z = !src[d] & valid(d);
+            // Clear windows start at bits lo ..= hi of the word.
             let lo = 64 - z.leading_zeros() as usize; // 0 if nothing is blocked in the word
             let word = match (next - 64 * d).checked_sub(len) {
                 Some(hi) if hi >= lo && lo < 64 => (u64::MAX << lo) & (u64::MAX >> (63 - hi.min(63))),
