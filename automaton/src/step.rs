@@ -191,14 +191,12 @@ pub(crate) fn half_step(shape: &RowShape, ny: usize, rows: &mut [u64], r: &Resol
         } else {
             shape.window_and(&sc.f1, cap, &mut sc.fl, &mut sc.ext);
         }
-        // Run starts of the grains that stop on an obstacle: s2 = rot_up(A & !FL, 1) & F.
+        // Run starts of the grains that stop on an obstacle: s2 = rot_up(A & !FL, 1) & F,
+        // where `& F` holds already (every active grain has a free cell ahead).
         for k in 0..w {
             sc.tmp[k] = act[k] & !sc.fl[k];
         }
         shape.rotate_up(&sc.tmp, 1, &mut sc.s2);
-        for k in 0..w {
-            sc.s2[k] &= sc.free[k];
-        }
         shape.cyclic_add(&sc.free, &sc.s2, &mut sc.sum);
         let new = &mut sc.new[j * w..(j + 1) * w];
         // E (ends of the runs) in sum; landing just before them.
@@ -286,16 +284,18 @@ fn knock_through(shape: &RowShape, ny: usize, r: &Resolved, cap: usize, sc: &mut
                 if !RowShape::get(new, p) {
                     continue; // the hit grain has flown off itself
                 }
+                // Cells mod nx without a division (arguments below 2 nx).
+                let wrap = |i: usize| if i >= nx { i - nx } else { i };
                 // Far end of the line: the cell before the first empty one after p.
                 let f = match shape.next(new, p, true) {
-                    Some(e) => (e + nx - 1) % nx,
-                    None => (p + nx - 1) % nx,
+                    Some(e) => wrap(e + nx - 1),
+                    None => wrap(p + nx - 1),
                 };
                 // It flies until the cell before the next grain of its row, at most `cap`.
-                let ahead = shape.next(new, (f + 1) % nx, false).expect("the far grain itself is set");
-                let dist = (ahead + nx - f) % nx;
+                let ahead = shape.next(new, wrap(f + 1), false).expect("the far grain itself is set");
+                let dist = wrap(ahead + nx - f);
                 let dist = if dist == 0 { nx } else { dist };
-                let land = (f + (dist - 1).min(cap)) % nx;
+                let land = wrap(f + (dist - 1).min(cap));
                 if land != f {
                     RowShape::set(new, f, false);
                     RowShape::set(new, land, true);
