@@ -297,11 +297,11 @@ impl RowShape {
             let z = !src[d] & valid(d);
             // Clear windows start at bits lo ..= hi of the word.
             let lo = 64 - z.leading_zeros() as usize; // 0 if nothing is blocked in the word
-            let word = match (next - 64 * d).checked_sub(len) {
-                Some(hi) if hi >= lo && lo < 64 => (u64::MAX << lo) & (u64::MAX >> (63 - hi.min(63))),
-                _ => 0,
-            };
-            dst[d] = word & valid(d);
+            let hi = (next - 64 * d) as isize - len as isize;
+            // Bits lo ..= hi, branch-free (empty if lo = 64 or hi < 0).
+            let from_lo = (u64::MAX << (lo & 63)) & ((lo < 64) as u64).wrapping_neg();
+            let to_hi = (u64::MAX >> (63 - hi.clamp(0, 63) as u32)) & ((hi >= 0) as u64).wrapping_neg();
+            dst[d] = from_lo & to_hi & valid(d);
             if z != 0 {
                 next = 64 * d + z.trailing_zeros() as usize;
             }
