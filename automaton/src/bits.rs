@@ -81,10 +81,31 @@ impl RowShape {
     /// Periodic rotation towards higher cells: `dst[(i + k) mod nx] = src[i]`. One pass:
     /// word `d` of the result is the 64-cell window of `src` starting at `64 d - k`.
     pub fn rotate_up(&self, src: &[u64], k: usize, dst: &mut [u64]) {
-        let k = k % self.nx;
+        let k = if k < self.nx { k } else { k % self.nx };
         if k == 0 {
             dst.copy_from_slice(src);
             return;
+        }
+        if self.words >= 2 && k == 1 {
+            // By one cell: a carry from each word into the next, cell nx - 1 into cell 0.
+            let n = self.words;
+            let (src, dst) = (&src[..n], &mut dst[..n]);
+            let top = (src[n - 1] >> ((self.nx - 1) % 64)) & 1;
+            for (d, pair) in dst[1..].iter_mut().zip(src.windows(2)) {
+                *d = (pair[1] << 1) | (pair[0] >> 63);
+            }
+            dst[0] = (src[0] << 1) | top;
+            return self.clean(dst);
+        }
+        if self.words >= 2 && k == self.nx - 1 {
+            // Down by one cell: cell 0 goes to cell nx - 1.
+            let n = self.words;
+            let (src, dst) = (&src[..n], &mut dst[..n]);
+            for (d, pair) in dst.iter_mut().zip(src.windows(2)) {
+                *d = (pair[0] >> 1) | (pair[1] << 63);
+            }
+            dst[n - 1] = (src[n - 1] >> 1) | ((src[0] & 1) << ((self.nx - 1) % 64));
+            return self.clean(dst);
         }
         if self.nx < 128 {
             return self.rotate_up_short(src, k, dst);
@@ -148,8 +169,8 @@ impl RowShape {
 
     /// Periodic rotation towards lower cells: `dst[i] = src[(i + k) mod nx]`.
     pub fn rotate_down(&self, src: &[u64], k: usize, dst: &mut [u64]) {
-        let k = k % self.nx;
-        self.rotate_up(src, (self.nx - k) % self.nx, dst);
+        let k = if k < self.nx { k } else { k % self.nx };
+        self.rotate_up(src, if k == 0 { 0 } else { self.nx - k }, dst);
     }
 
     /// Mirror: `dst[nx - 1 - i] = src[i]`.
@@ -163,12 +184,15 @@ impl RowShape {
             return;
         }
         let p = pad as u32;
-        for d in 0..n {
-            // Word d of the result takes reversed bits 64 d + pad .. 64 d + pad + 64.
-            let a = src[n - 1 - d].reverse_bits() >> p;
-            let b = if d + 1 < n { src[n - 2 - d].reverse_bits() << (64 - p) } else { 0 };
-            dst[d] = a | b;
+        // Word d of the result takes reversed bits 64 d + pad .. 64 d + pad + 64: each source
+        // word is reversed once and feeds two result words.
+        let mut a = src[n - 1].reverse_bits();
+        for d in 0..n - 1 {
+            let b = src[n - 2 - d].reverse_bits();
+            dst[d] = (a >> p) | (b << (64 - p));
+            a = b;
         }
+        dst[n - 1] = a >> p;
         self.clean(dst);
     }
 
@@ -212,33 +236,81 @@ impl RowShape {
         }
     }
 
-    /// Whether the row holds a periodic run of at least `len >= 64` set cells. Such a run
-    /// crosses a word boundary, so one pass over the words, tracking the run that reaches
-    /// each boundary (`leading_ones` / `trailing_ones`), decides it.
-    pub fn has_run(&self, row: &[u64], len: usize) -> bool {
-        debug_assert!(len >= 64);
-        let n = self.words;
-        let r = self.nx - 64 * (n - 1); // valid cells of the last word
-        let full = |d: usize| if d + 1 == n { self.last } else { u64::MAX };
-        // Start just after a word that is not all set, so every run is seen whole.
-        let Some(first) = (0..n).find(|&d| row[d] != full(d)) else {
-            return self.nx >= len;
-        };
-        let mut run = 0usize;
-        for step in 1..=n {
-            let d = if first + step >= n { first + step - n } else { first + step };
-            let (w, bits) = (row[d], if d + 1 == n { r } else { 64 });
-            if w == full(d) {
-                run += bits;
-                continue;
-            }
-            if run + w.trailing_ones() as usize >= len {
-                return true;
-            }
-            // Ones at the top of the valid cells start the next run.
-            run = (w << (64 - bits)).leading_ones() as usize;
+    /// Periodic window AND: `dst[a] = src[a] & src[a + 1] & ... & src[a + len - 1]` (indices
+    /// mod `nx`), for `1 <= len < nx`. `ext` (at least [`Self::ext_words`] words) holds
+    /// `src` followed by a second copy of it, so every window is a plain (non-periodic)
+    /// range; windows of width `2s` are the AND of two of width `s` (`s` = 1, 2, 4, ...,
+    /// the largest power of two `p <= len`) and the last step ANDs two overlapping windows of
+    /// width `p` that start `len - p` apart: about `log2(len) + 1` shift-and-AND passes over
+    /// `(nx + len) / 64` words, with no periodic rotation.
+    ///
+    /// Windows of at least 64 cells go through [`Self::window_and_long`] instead.
+    pub fn window_and(&self, src: &[u64], len: usize, dst: &mut [u64], ext: &mut [u64]) {
+        debug_assert!(len >= 1 && len < self.nx);
+        if len >= 64 {
+            return self.window_and_long(src, len, dst);
         }
-        false
+        let w = self.words;
+        let n = (self.nx + len).div_ceil(64);
+        ext[..w].copy_from_slice(src);
+        ext[w..n].iter_mut().for_each(|x| *x = 0);
+        // The second copy starts at cell nx (`src` is clean above nx).
+        let (q, b) = (self.nx / 64, (self.nx % 64) as u32);
+        for d in 0..w {
+            if q + d < n {
+                ext[q + d] |= src[d] << b;
+            }
+            if b > 0 && q + d + 1 < n {
+                ext[q + d + 1] |= src[d] >> (64 - b);
+            }
+        }
+        let ext = &mut ext[..n];
+        let mut s = 1;
+        while 2 * s <= len {
+            and_shifted_down(ext, s);
+            s *= 2;
+        }
+        if len > s {
+            and_shifted_down(ext, len - s);
+        }
+        dst.copy_from_slice(&ext[..w]);
+        self.clean(dst);
+    }
+
+    /// [`Self::window_and`] for `64 <= len < nx` in one backward pass over the words. With
+    /// `Z = !src` the blocked cells, a window of `len >= 64` cells starting at bit `b` of word
+    /// `d` reaches past the word, so it is clear exactly when `Z` has no bit at or above `b`
+    /// in word `d` and the next blocked cell after the word (unrolled: the row's first blocked
+    /// cell plus `nx` past the seam) lies at or beyond `64 d + b + len`. Both bounds make the
+    /// result a single range of bits per word.
+    fn window_and_long(&self, src: &[u64], len: usize, dst: &mut [u64]) {
+        let n = self.words;
+        let (src, dst) = (&src[..n], &mut dst[..n]);
+        let valid = |d: usize| if d + 1 == n { self.last } else { u64::MAX };
+        let Some(first) = (0..n).find(|&d| !src[d] & valid(d) != 0) else {
+            // Nothing blocked: every window shorter than the row is clear.
+            dst.copy_from_slice(src);
+            return;
+        };
+        let mut next = 64 * first + (!src[first] & valid(first)).trailing_zeros() as usize + self.nx;
+        for d in (0..n).rev() {
+            let z = !src[d] & valid(d);
+            // Clear windows start at bits lo ..= hi of the word.
+            let lo = 64 - z.leading_zeros() as usize; // 0 if nothing is blocked in the word
+            let hi = (next - 64 * d) as isize - len as isize;
+            // Bits lo ..= hi, branch-free (empty if lo = 64 or hi < 0).
+            let from_lo = (u64::MAX << (lo & 63)) & ((lo < 64) as u64).wrapping_neg();
+            let to_hi = (u64::MAX >> (63 - hi.clamp(0, 63) as u32)) & ((hi >= 0) as u64).wrapping_neg();
+            dst[d] = from_lo & to_hi & valid(d);
+            if z != 0 {
+                next = 64 * d + z.trailing_zeros() as usize;
+            }
+        }
+    }
+
+    /// Words of the buffer [`Self::window_and`] needs.
+    pub fn ext_words(&self) -> usize {
+        2 * self.words
     }
 
     /// First cell at or after `from` (cyclically) that is set (`clear = false`) or clear
@@ -277,6 +349,30 @@ impl RowShape {
             row[i / 64] &= !(1 << (i % 64));
         }
     }
+}
+
+/// `x[i] &= x[i + s]` on a non-periodic bit vector (cells beyond its end read 0), in place:
+/// word `d` reads only words `>= d`, which a forward pass has not changed yet.
+#[inline]
+fn and_shifted_down(x: &mut [u64], s: usize) {
+    let n = x.len();
+    let (q, b) = (s / 64, (s % 64) as u32);
+    if q >= n {
+        x.iter_mut().for_each(|v| *v = 0);
+        return;
+    }
+    let m = n - q; // words with a source word
+    if b == 0 {
+        for d in 0..m {
+            x[d] &= x[d + q];
+        }
+    } else {
+        for d in 0..m - 1 {
+            x[d] &= (x[d + q] >> b) | (x[d + q + 1] << (64 - b));
+        }
+        x[m - 1] &= x[n - 1] >> b;
+    }
+    x[m..].iter_mut().for_each(|v| *v = 0);
 }
 
 #[cfg(test)]
@@ -322,23 +418,36 @@ mod tests {
         }
 
         #[test]
-        fn has_run_finds_the_longest_periodic_run(cells in prop::collection::vec(prop::bool::weighted(0.9), 1..400), len in 64usize..200) {
+        fn rotations_by_one_cell_match_the_index_formulas(cells in prop::collection::vec(any::<bool>(), 1..700)) {
             let s = RowShape::new(cells.len());
             let n = cells.len();
-            let longest = if cells.iter().all(|&c| c) {
-                n
-            } else {
-                let mut best = 0;
-                for start in 0..n {
-                    let mut l = 0;
-                    while l < n && cells[(start + l) % n] {
-                        l += 1;
-                    }
-                    best = best.max(l);
-                }
-                best
-            };
-            prop_assert_eq!(s.has_run(&to_bits(&s, &cells), len), longest >= len);
+            let src = to_bits(&s, &cells);
+            let mut dst = vec![0; s.words];
+            s.rotate_up(&src, 1, &mut dst);
+            for i in 0..n {
+                prop_assert_eq!(RowShape::get(&dst, (i + 1) % n), cells[i]);
+            }
+            prop_assert_eq!(dst[s.words - 1] & !s.last, 0);
+            s.rotate_down(&src, 1, &mut dst);
+            for i in 0..n {
+                prop_assert_eq!(RowShape::get(&dst, i), cells[(i + 1) % n]);
+            }
+            prop_assert_eq!(dst[s.words - 1] & !s.last, 0);
+        }
+
+        #[test]
+        fn window_and_is_the_periodic_and_of_len_cells(cells in prop::collection::vec(prop::bool::weighted(0.9), 2..700), len in 1usize..700) {
+            let s = RowShape::new(cells.len());
+            let n = cells.len();
+            let len = 1 + len % (n - 1);
+            let mut dst = vec![0; s.words];
+            let mut ext = vec![u64::MAX; s.ext_words()];
+            s.window_and(&to_bits(&s, &cells), len, &mut dst, &mut ext);
+            for a in 0..n {
+                let all = (0..len).all(|k| cells[(a + k) % n]);
+                prop_assert_eq!(RowShape::get(&dst, a), all, "cell {} len {}", a, len);
+            }
+            prop_assert_eq!(dst[s.words - 1] & !s.last, 0);
         }
 
         #[test]

@@ -44,8 +44,22 @@ pub const ONE: u32 = 64;
 /// counter (one 128-bit multiplication).
 #[inline]
 pub fn word(row_key: u64, stream: Stream, w: usize, k: u32) -> u64 {
-    let counter = ((stream as u64) << 48) ^ ((w as u64) << 8) ^ k as u64;
-    let s = row_key.wrapping_add(counter.wrapping_mul(0xa076_1d64_78bd_642f));
+    mum(row_key.wrapping_add(counter(stream, w, k).wrapping_mul(STEP)))
+}
+
+/// Multiplier of the counter in [`word`] (wyhash's first secret).
+const STEP: u64 = 0xa076_1d64_78bd_642f;
+
+/// The counter of word `w`, digit `k` (`k < 256`) of a stream: disjoint bit fields, so
+/// `counter(s, w, k) = counter(s, w, 0) + k`.
+#[inline(always)]
+fn counter(stream: Stream, w: usize, k: u32) -> u64 {
+    ((stream as u64) << 48) ^ ((w as u64) << 8) ^ k as u64
+}
+
+/// wyhash's multiply-fold of an advanced key.
+#[inline(always)]
+fn mum(s: u64) -> u64 {
     let t = (s as u128).wrapping_mul((s ^ 0xe703_7ed1_a0b4_28db) as u128);
     (t >> 64) as u64 ^ t as u64
 }
@@ -54,8 +68,15 @@ pub fn word(row_key: u64, stream: Stream, w: usize, k: u32) -> u64 {
 /// then an even coin for the direction, so each way has probability `p / 128`.
 #[inline]
 pub fn sideways(row_key: u64, w: usize, p: u32, up: bool) -> u64 {
-    let dir = word(row_key, Stream::SideDirection, w, 0);
-    bernoulli(row_key, Stream::Side, w, p) & if up { dir } else { !dir }
+    let (moves, dir) = sideways_draw(row_key, w, p);
+    moves & if up { dir } else { !dir }
+}
+
+/// The two words [`sideways`] combines: who moves (probability `p / 64`) and which way (a
+/// set bit: +y). Both directions' passes use the same pair, so it can be drawn once.
+#[inline]
+pub fn sideways_draw(row_key: u64, w: usize, p: u32) -> (u64, u64) {
+    (bernoulli(row_key, Stream::Side, w, p), word(row_key, Stream::SideDirection, w, 0))
 }
 
 /// Probability quantised to 1/64, the resolution of [`bernoulli`].
@@ -73,13 +94,19 @@ pub fn bernoulli(row_key: u64, stream: Stream, w: usize, p: u32) -> u64 {
         0 => 0,
         ONE.. => u64::MAX,
         _ => {
+            // word(row_key, stream, w, b) for digit b, from one base (see `counter`).
+            let base = row_key.wrapping_add(counter(stream, w, 0).wrapping_mul(STEP));
             let low = p.trailing_zeros();
-            let mut m = word(row_key, stream, w, low);
-            for b in low + 1..6 {
-                let r = word(row_key, stream, w, b);
-                // Branch-free: the digit selects `m | r` (1) or `m & r` (0).
-                let digit = (((p >> b) & 1) as u64).wrapping_neg();
-                m = (m & r) | (digit & (m | r));
+            let mut m = mum(base.wrapping_add((low as u64).wrapping_mul(STEP)));
+            // A fixed trip count lets the digits unroll; the test on `b` is the same for
+            // every word of a half step.
+            for b in 1..6u32 {
+                if b > low {
+                    let r = mum(base.wrapping_add((b as u64).wrapping_mul(STEP)));
+                    // Branch-free: the digit selects `m | r` (1) or `m & r` (0).
+                    let digit = (((p >> b) & 1) as u64).wrapping_neg();
+                    m = (m & r) | (digit & (m | r));
+                }
             }
             m
         }

@@ -41,6 +41,14 @@ pub(crate) struct BitScratch {
     tmp: Vec<u64>,
     s2: Vec<u64>,
     sum: Vec<u64>,
+    ext: Vec<u64>,
+    /// Sideways draws ([`rng::sideways_draw`]) of each row word, made at most once per half
+    /// step (both directions' passes share them): moves, direction, drawn yet.
+    side_moves: Vec<u64>,
+    side_dir: Vec<u64>,
+    side_drawn: Vec<bool>,
+    /// [`rng::row_key`] of each row for the current half step.
+    keys: Vec<u64>,
 }
 
 impl BitScratch {
@@ -62,6 +70,11 @@ impl BitScratch {
             tmp: row(),
             s2: row(),
             sum: row(),
+            ext: vec![0; shape.ext_words()],
+            side_moves: vec![0; w * ny],
+            side_dir: vec![0; w * ny],
+            side_drawn: vec![false; w * ny],
+            keys: vec![0; ny],
         }
     }
 }
@@ -99,16 +112,20 @@ fn obstacles(shape: &RowShape, lf: &[u64], clusters: &[u64], ny: usize, j: usize
         Lateral::Neighbours => lf,
         Lateral::Clusters => clusters,
     };
-    let rows = [false, true].map(|up| neighbour_row(j, up, ny, r.periodic_y));
-    for k in 0..w {
-        let mut s = 0;
-        for jn in rows.iter().flatten() {
-            s |= side[jn * w + k];
-        }
+    // A missing neighbour row (beyond a wall) is read as the own row, masked to nothing.
+    let neighbour = |up: bool| match neighbour_row(j, up, ny, r.periodic_y) {
+        Some(jn) => (&side[jn * w..][..w], u64::MAX),
+        None => (&side[j * w..][..w], 0),
+    };
+    let ((below, mb), (above, ma)) = (neighbour(false), neighbour(true));
+    let hold = rng::ONE - r.knock;
+    for (k, ((o, &b), &a)) in o.iter_mut().zip(below).zip(above).enumerate() {
+        // Cells already blocked in the own row need no draw (the draw is the same either way).
+        let mut s = ((b & mb) | (a & ma)) & !*o;
         if s != 0 && r.knock > 0 {
-            s &= rng::bernoulli(key, Stream::Hold, k, rng::ONE - r.knock);
+            s &= rng::bernoulli(key, Stream::Hold, k, hold);
         }
-        o[k] |= s;
+        *o |= s;
     }
 }
 
@@ -121,34 +138,6 @@ fn cluster_cells(shape: &RowShape, ny: usize, sc: &mut BitScratch) {
         shape.rotate_down(l, 1, &mut sc.pow);
         for k in 0..w {
             sc.clusters[j * w + k] = l[k] & (sc.tmp[k] | sc.pow[k]);
-        }
-    }
-}
-
-/// `FL[a] = F[a+1] & ... & F[a+cap]`, by binary composition of doubled runs.
-fn full_flight_mask(shape: &RowShape, f1: &[u64], cap: usize, fl: &mut [u64], pow: &mut [u64], tmp: &mut [u64]) {
-    if cap >= shape.nx {
-        // A run of nx free cells would include the grain itself: nobody flies the full cap.
-        fl.iter_mut().for_each(|x| *x = 0);
-        return;
-    }
-    pow.copy_from_slice(f1);
-    let (mut len_res, mut len_pow, mut c) = (0usize, 1usize, cap);
-    while c > 0 {
-        if c & 1 == 1 {
-            if len_res == 0 {
-                fl.copy_from_slice(pow);
-            } else {
-                shape.rotate_down(pow, len_res, tmp);
-                fl.iter_mut().zip(tmp.iter()).for_each(|(a, b)| *a &= *b);
-            }
-            len_res += len_pow;
-        }
-        c >>= 1;
-        if c > 0 {
-            shape.rotate_down(pow, len_pow, tmp);
-            pow.iter_mut().zip(tmp.iter()).for_each(|(a, b)| *a &= *b);
-            len_pow *= 2;
         }
     }
 }
@@ -171,33 +160,43 @@ pub(crate) fn half_step(shape: &RowShape, ny: usize, rows: &mut [u64], r: &Resol
         }
     }
     let cap = r.cap.min(shape.nx);
+    for (j, key) in sc.keys.iter_mut().enumerate() {
+        *key = rng::row_key(seed, t, j);
+    }
     if r.lateral == Lateral::Clusters {
         cluster_cells(shape, ny, sc);
     }
     for j in 0..ny {
-        let key = rng::row_key(seed, t, j);
+        let key = sc.keys[j];
         obstacles(shape, &sc.lf, &sc.clusters, ny, j, r, key, &mut sc.o);
         shape.not(&sc.o, &mut sc.free);
         let lrow = &sc.lf[j * w..(j + 1) * w];
-        let act = &mut sc.active[j * w..(j + 1) * w];
-        for (k, (a, l)) in act.iter_mut().zip(lrow).enumerate() {
-            *a = *l & rng::bernoulli(key, Stream::Activation, k, r.activation);
-        }
         shape.rotate_down(&sc.free, 1, &mut sc.f1);
-        // Nobody flies the full cap unless some free run is that long: skip the doubling.
-        if cap >= 64 && cap < shape.nx && !shape.has_run(&sc.free, cap) {
+        let act = &mut sc.active[j * w..(j + 1) * w];
+        for k in 0..w {
+            // A grain with an obstacle right ahead stays whether it flies or not: only the
+            // others are drawn, and only words holding such grains draw (the draw is the
+            // same either way).
+            let movable = lrow[k] & sc.f1[k];
+            act[k] = if movable != 0 {
+                movable & rng::bernoulli(key, Stream::Activation, k, r.activation)
+            } else {
+                0
+            };
+        }
+        // FL[a] = F[a+1] & ... & F[a+cap]. A run of nx free cells would include the grain
+        // itself: with cap >= nx nobody flies the full cap.
+        if cap >= shape.nx {
             sc.fl.iter_mut().for_each(|x| *x = 0);
         } else {
-            full_flight_mask(shape, &sc.f1, cap, &mut sc.fl, &mut sc.pow, &mut sc.tmp);
+            shape.window_and(&sc.f1, cap, &mut sc.fl, &mut sc.ext);
         }
-        // Run starts of the grains that stop on an obstacle: s2 = rot_up(A & !FL, 1) & F.
+        // Run starts of the grains that stop on an obstacle: s2 = rot_up(A & !FL, 1) & F,
+        // where `& F` holds already (every active grain has a free cell ahead).
         for k in 0..w {
             sc.tmp[k] = act[k] & !sc.fl[k];
         }
         shape.rotate_up(&sc.tmp, 1, &mut sc.s2);
-        for k in 0..w {
-            sc.s2[k] &= sc.free[k];
-        }
         shape.cyclic_add(&sc.free, &sc.s2, &mut sc.sum);
         let new = &mut sc.new[j * w..(j + 1) * w];
         // E (ends of the runs) in sum; landing just before them.
@@ -218,8 +217,8 @@ pub(crate) fn half_step(shape: &RowShape, ny: usize, rows: &mut [u64], r: &Resol
         }
         shape.rotate_down(&sc.sum, 1, new);
         for k in 0..w {
-            let stopped = act[k] & !sc.fl[k];
-            new[k] |= (lrow[k] & !act[k]) | (stopped & !sc.f1[k]);
+            // Grains that do not fly stay (active grains all have a free cell ahead).
+            new[k] |= lrow[k] & !act[k];
             sc.tmp[k] = act[k] & sc.fl[k];
         }
         if cap < shape.nx && sc.tmp.iter().any(|&x| x != 0) {
@@ -233,8 +232,9 @@ pub(crate) fn half_step(shape: &RowShape, ny: usize, rows: &mut [u64], r: &Resol
         knock_through(shape, ny, r, cap, sc);
     }
     if r.sideways > 0 {
+        sc.side_drawn.iter_mut().for_each(|d| *d = false);
         for up in [true, false] {
-            sideways(shape, ny, r, seed, t, up, sc);
+            sideways(shape, ny, r, up, sc);
         }
     }
     for j in 0..ny {
@@ -284,16 +284,18 @@ fn knock_through(shape: &RowShape, ny: usize, r: &Resolved, cap: usize, sc: &mut
                 if !RowShape::get(new, p) {
                     continue; // the hit grain has flown off itself
                 }
+                // Cells mod nx without a division (arguments below 2 nx).
+                let wrap = |i: usize| if i >= nx { i - nx } else { i };
                 // Far end of the line: the cell before the first empty one after p.
                 let f = match shape.next(new, p, true) {
-                    Some(e) => (e + nx - 1) % nx,
-                    None => (p + nx - 1) % nx,
+                    Some(e) => wrap(e + nx - 1),
+                    None => wrap(p + nx - 1),
                 };
                 // It flies until the cell before the next grain of its row, at most `cap`.
-                let ahead = shape.next(new, (f + 1) % nx, false).expect("the far grain itself is set");
-                let dist = (ahead + nx - f) % nx;
+                let ahead = shape.next(new, wrap(f + 1), false).expect("the far grain itself is set");
+                let dist = wrap(ahead + nx - f);
                 let dist = if dist == 0 { nx } else { dist };
-                let land = (f + (dist - 1).min(cap)) % nx;
+                let land = wrap(f + (dist - 1).min(cap));
                 if land != f {
                     RowShape::set(new, f, false);
                     RowShape::set(new, land, true);
@@ -304,18 +306,31 @@ fn knock_through(shape: &RowShape, ny: usize, r: &Resolved, cap: usize, sc: &mut
 }
 
 /// Simultaneous sideways moves towards +y (`up`) or -y into empty cells.
-fn sideways(shape: &RowShape, ny: usize, r: &Resolved, seed: u64, t: u64, up: bool, sc: &mut BitScratch) {
+fn sideways(shape: &RowShape, ny: usize, r: &Resolved, up: bool, sc: &mut BitScratch) {
     let w = shape.words;
     for j in 0..ny {
-        let key = rng::row_key(seed, t, j);
+        let key = sc.keys[j];
         let cand = &mut sc.cand[j * w..(j + 1) * w];
         match neighbour_row(j, up, ny, r.periodic_y) {
             Some(jn) if jn != j => {
-                for k in 0..w {
-                    let room = sc.new[j * w + k] & !sc.new[jn * w + k];
-                    // Draw only where a move is possible (the draw is the same either way).
-                    cand[k] = if room != 0 {
-                        room & rng::sideways(key, k, r.sideways, up)
+                let (row, next) = (&sc.new[j * w..][..w], &sc.new[jn * w..][..w]);
+                let moves = &mut sc.side_moves[j * w..][..w];
+                let dirs = &mut sc.side_dir[j * w..][..w];
+                let drawn = &mut sc.side_drawn[j * w..][..w];
+                let rows = row
+                    .iter()
+                    .zip(next)
+                    .zip(moves.iter_mut().zip(dirs.iter_mut()).zip(drawn.iter_mut()));
+                for (k, (c, ((&a, &b), ((m, d), dr)))) in cand.iter_mut().zip(rows).enumerate() {
+                    let room = a & !b;
+                    // Draw only where a move is possible (the draw is the same either way),
+                    // once for both directions.
+                    *c = if room != 0 {
+                        if !*dr {
+                            (*m, *d) = rng::sideways_draw(key, k, r.sideways);
+                            *dr = true;
+                        }
+                        room & *m & if up { *d } else { !*d }
                     } else {
                         0
                     };
@@ -325,14 +340,13 @@ fn sideways(shape: &RowShape, ny: usize, r: &Resolved, seed: u64, t: u64, up: bo
         }
     }
     for j in 0..ny {
-        if let Some(jn) = neighbour_row(j, up, ny, r.periodic_y) {
-            if jn == j {
-                continue;
+        if let Some(jn) = neighbour_row(j, up, ny, r.periodic_y).filter(|&jn| jn != j) {
+            let cand = &sc.cand[j * w..][..w];
+            for (x, &c) in sc.new[j * w..][..w].iter_mut().zip(cand) {
+                *x &= !c;
             }
-            for k in 0..w {
-                let c = sc.cand[j * w + k];
-                sc.new[j * w + k] &= !c;
-                sc.new[jn * w + k] |= c;
+            for (x, &c) in sc.new[jn * w..][..w].iter_mut().zip(cand) {
+                *x |= c;
             }
         }
     }

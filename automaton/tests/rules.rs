@@ -100,6 +100,32 @@ fn bit_parallel_step_equals_the_byte_reference_on_submonolayers() {
     }
 }
 
+/// Stripes leave free runs longer than a word in every row: the flight-cap mask must see
+/// runs that cover whole 64-cell words (a bit path once missed them; the byte path did not).
+#[test]
+fn bit_parallel_step_equals_the_byte_reference_on_a_striped_layer() {
+    let (nx, ny) = (533usize, 27usize);
+    let mut h = random_heights(nx, ny, 0.9, 1, 17);
+    for j in 0..ny {
+        for i in 0..nx {
+            if !(100..260).contains(&i) {
+                h[j * nx + i] = 0;
+            }
+        }
+    }
+    let mut params = all_on(66, YBoundary::Walls);
+    params.physical.lateral = Lateral::Clusters;
+    params.physical.activation = Activation::Bernoulli { p: 0.8 };
+    let bits = Lattice::from_heights(nx, ny, &h).unwrap();
+    let mut a = Automaton::new(bits.clone(), params, Direction::Plus).unwrap();
+    let mut b = Automaton::new(bits.into_byte_storage(), params, Direction::Plus).unwrap();
+    for _ in 0..30 {
+        a.half_step();
+        b.half_step();
+        assert_eq!(a.lattice().heights(), b.lattice().heights(), "half step {}", a.half_steps());
+    }
+}
+
 #[test]
 fn mirror_image_with_reversed_drive_phase_gives_the_mirrored_pattern() {
     for (nx, ny, max) in [(533, 27, 1u8), (90, 6, 3)] {
