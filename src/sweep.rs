@@ -300,6 +300,28 @@ pub fn results(root: &Path, sweep: &Sweep) -> Result<Vec<(Job, Value)>, CliError
     Ok(out)
 }
 
+/// The "Scale: ..." line of a sweep's report: scene, N, box, packing, duration, samples per
+/// `unit` (cell, configuration) and how many jobs have finished.
+pub fn scale_line(sweep: &Sweep, finished: usize, unit: &str) -> Result<String, CliError> {
+    let scene = particles::scene::Scene::load(&sweep.scene, &sweep.overrides)?;
+    let samples = sweep
+        .jobs
+        .iter()
+        .filter_map(|j| j.labels.get("sample")?.as_u64())
+        .max()
+        .map_or(1, |k| k + 1);
+    Ok(format!(
+        "Scale: scene `{}`, N = {}, box {} m x {} m (packing {:.3}), {} s per run, {samples} sample(s) per {unit}, {finished} of {} jobs finished.",
+        sweep.scene.display(),
+        scene.particles.count,
+        scene.tray.length,
+        scene.tray.width,
+        scene.packing(),
+        scene.run.duration,
+        sweep.jobs.len()
+    ))
+}
+
 /// A number from a job's analysis summary (`NaN` when absent or null).
 pub fn metric(result: &Value, key: &str) -> f64 {
     result["analysis"][key].as_f64().unwrap_or(f64::NAN)

@@ -235,27 +235,12 @@ pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
         .iter()
         .filter_map(|j| j.labels.get("config")?.as_str()?.strip_prefix("N=")?.parse().ok())
         .collect();
-    let scene = particles::scene::Scene::load(&sweep.scene, &sweep.overrides)?;
     let mut md = String::new();
-    let samples = sweep
-        .jobs
-        .iter()
-        .filter_map(|j| j.labels.get("sample")?.as_u64())
-        .max()
-        .map_or(1, |k| k + 1);
     writeln!(md, "# Ablation study (thesis 3.5.4)\n")?;
     writeln!(
         md,
-        "Scale: scene `{}`, N = {}, box {} m x {} m (packing {:.3}), {} s per run, {} sample(s) per configuration, {} of {} jobs finished. The thesis ran N = 4000 in 0.4 m x 0.02 m for 20 s, 9 samples.\n",
-        sweep.scene.display(),
-        scene.particles.count,
-        scene.tray.length,
-        scene.tray.width,
-        scene.packing(),
-        scene.run.duration,
-        samples,
-        results.len(),
-        sweep.jobs.len()
+        "{} The thesis ran N = 4000 in 0.4 m x 0.02 m for 20 s, 9 samples.\n",
+        sweep::scale_line(sweep, results.len(), "configuration")?
     )?;
     let mut rows = Vec::new();
     let models: Vec<Model> = {

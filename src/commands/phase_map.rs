@@ -229,26 +229,7 @@ pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
     let mut agreement = Value::Null;
     let mut md = String::new();
     writeln!(md, "# Phase map (nu, A)\n")?;
-    let scene = particles::scene::Scene::load(&sweep.scene, &sweep.overrides)?;
-    let samples = sweep
-        .jobs
-        .iter()
-        .filter_map(|j| j.labels.get("sample")?.as_u64())
-        .max()
-        .map_or(1, |k| k + 1);
-    writeln!(
-        md,
-        "Scale: scene `{}`, N = {}, box {} m x {} m (packing {:.3}), {} s per run, {} sample(s) per cell, {} of {} jobs finished.\n",
-        sweep.scene.display(),
-        scene.particles.count,
-        scene.tray.length,
-        scene.tray.width,
-        scene.packing(),
-        scene.run.duration,
-        samples,
-        results.len(),
-        sweep.jobs.len()
-    )?;
+    writeln!(md, "{}\n", sweep::scale_line(sweep, results.len(), "cell")?)?;
     writeln!(
         md,
         "Phases by the analysis' classifier (`nothing | stripes | gas`); each cell is the majority over samples.\n"
