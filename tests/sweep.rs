@@ -151,3 +151,51 @@ fn a_tiny_sweep_runs_through_gnu_parallel() {
     let _ = std::fs::remove_dir_all(dir);
     let _ = std::fs::remove_dir_all(samples);
 }
+
+#[test]
+fn the_automaton_ablation_switches_off_each_ingredient_and_reports_every_configuration() {
+    let dir = tmp("ablate");
+    let samples = tmp("ablate-samples");
+    let o = stripes()
+        .arg("ablate")
+        .arg(scene())
+        .args([
+            "--set",
+            "particles.count=60",
+            "--set",
+            "box.length=0.006",
+            "--set",
+            "prepare.duration=0.005",
+        ])
+        .args(["--set", "run.duration=0.5", "--model", "automaton", "--quiet", "--out"])
+        .arg(&dir)
+        .arg("--sample-cache")
+        .arg(&samples)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let summary: serde_json::Value = serde_json::from_str(String::from_utf8_lossy(&o.stdout).lines().last().unwrap()).unwrap();
+    let configs: Vec<&str> = summary["rows"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| r["config"].as_str().unwrap())
+        .collect();
+    assert_eq!(
+        configs,
+        [
+            "reference",
+            "threshold-off",
+            "flight-cap-off",
+            "stochastic-off",
+            "knock-off",
+            "lateral-none",
+            "sideways-off",
+            "strict"
+        ]
+    );
+    let report = std::fs::read_to_string(dir.join("report.md")).unwrap();
+    assert!(report.contains("| strict | 1 |") && report.contains("Scale: scene"), "{report}");
+    let _ = std::fs::remove_dir_all(dir);
+    let _ = std::fs::remove_dir_all(samples);
+}

@@ -181,7 +181,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
         crate::commands::phase_map::Which::Automaton | crate::commands::phase_map::Which::Both
     ) {
         all.extend(jobs(
-            &dem_configs(&args.packing),
+            &automaton_configs(&args.packing),
             Model::Automaton,
             args.samples.max(1),
             scene.run.seed,
