@@ -68,7 +68,7 @@ pub(super) fn collision_study(config: &Config, progress: &mut impl FnMut(&str)) 
     let thesis_steps = t_c / THESIS_DT;
     let default_steps = step_control::choose(&base, DEFAULT_RESTITUTION_TOLERANCE, base.run.steps_per_contact)?.steps_per_contact;
 
-    let mut settings = vec![Setting::new(format!("reference: thesis dt = {THESIS_DT:e} s"), "reference").steps(thesis_steps)];
+    let mut settings = vec![Setting::reference(thesis_steps)];
     for s in [5.0, 8.0, 10.0, 20.0, 30.0, 50.0, 100.0, 300.0] {
         settings.push(Setting::new(format!("{s} steps/contact"), "time step").steps(s));
     }
@@ -79,30 +79,9 @@ pub(super) fn collision_study(config: &Config, progress: &mut impl FnMut(&str)) 
                 .integrator(Integrator::Thesis),
         );
     }
-    for y in [3e5, 1e5] {
-        settings.push(
-            Setting::new(format!("Y = {y:e} Pa, {thesis_steps:.1} steps/contact"), "young")
-                .set(&format!("material.young={y:e}"))
-                .steps(thesis_steps),
-        );
-    }
-    settings.push(
-        Setting::new(
-            format!("linear law matched at v_max, {thesis_steps:.1} steps/contact"),
-            "normal law",
-        )
-        .set("contact.normal=\"linear\"")
-        .set(&format!("contact.kn={kn:e}"))
-        .set(&format!("contact.gamma_n={gamma_n:e}"))
-        .steps(thesis_steps),
-    );
-    settings.push(
-        Setting::new(
-            format!("default: dt = auto, tolerance {DEFAULT_RESTITUTION_TOLERANCE:e} ({default_steps} steps/contact)"),
-            "default",
-        )
-        .steps(default_steps),
-    );
+    settings.extend(Setting::softer(thesis_steps));
+    settings.push(Setting::matched_linear(kn, gamma_n, thesis_steps));
+    settings.push(Setting::default_step(default_steps));
 
     let ref_probes = lab_probes(&base, &settings[0], setting_dt(&base, settings[0].steps)?, false);
     let mut rows = Vec::new();

@@ -45,6 +45,7 @@ use serde::Serialize;
 
 use crate::integrate::Integrator;
 use crate::scene::Scene;
+use crate::scene::DEFAULT_RESTITUTION_TOLERANCE;
 use crate::tray;
 use crate::SimError;
 
@@ -223,6 +224,40 @@ impl Setting {
     fn skin(mut self, k: f64) -> Self {
         self.skin = k;
         self
+    }
+
+    /// The settings both studies share, in table order: the thesis step as reference, the
+    /// softer materials and the matched linear law (`kn`, `gamma_n`) at the thesis' steps per
+    /// contact. The default (error-controlled dt) is [`Setting::default_step`].
+    fn reference(thesis_steps: f64) -> Self {
+        Setting::new(format!("reference: thesis dt = {THESIS_DT:e} s"), "reference").steps(thesis_steps)
+    }
+    fn softer(thesis_steps: f64) -> Vec<Self> {
+        [3e5, 1e5]
+            .iter()
+            .map(|y| {
+                Setting::new(format!("Y = {y:e} Pa, {thesis_steps:.1} steps/contact"), "young")
+                    .set(&format!("material.young={y:e}"))
+                    .steps(thesis_steps)
+            })
+            .collect()
+    }
+    fn matched_linear(kn: f64, gamma_n: f64, thesis_steps: f64) -> Self {
+        Setting::new(
+            format!("linear law matched at v_max, {thesis_steps:.1} steps/contact"),
+            "normal law",
+        )
+        .set("contact.normal=\"linear\"")
+        .set(&format!("contact.kn={kn:e}"))
+        .set(&format!("contact.gamma_n={gamma_n:e}"))
+        .steps(thesis_steps)
+    }
+    fn default_step(default_steps: f64) -> Self {
+        Setting::new(
+            format!("default: dt = auto, tolerance {DEFAULT_RESTITUTION_TOLERANCE:e} ({default_steps:.1} steps/contact)"),
+            "default",
+        )
+        .steps(default_steps)
     }
 }
 

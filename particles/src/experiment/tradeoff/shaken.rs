@@ -8,7 +8,7 @@ use crate::experiment::step_control::{self, REFERENCE_STEPS};
 use crate::integrate::Integrator;
 use crate::neighbor::NeighborSearch;
 use crate::prepare::initial_state;
-use crate::scene::{Scene, DEFAULT_RESTITUTION_TOLERANCE};
+use crate::scene::Scene;
 use crate::sim::Simulation;
 use crate::state::State;
 use crate::tray;
@@ -122,7 +122,7 @@ pub(super) fn tray_study(config: &Config, progress: &mut impl FnMut(&str)) -> Re
     )?;
     progress(&format!("converged tray reference ({} steps/contact)", config.reference_steps));
 
-    let mut settings = vec![Setting::new(format!("reference: thesis dt = {THESIS_DT:e} s"), "reference").steps(thesis_steps)];
+    let mut settings = vec![Setting::reference(thesis_steps)];
     let mut floor = Setting::new("noise floor: reference with one grain moved by 1 nm", "noise floor").steps(thesis_steps);
     floor.perturbed = true;
     settings.push(floor);
@@ -134,28 +134,13 @@ pub(super) fn tray_study(config: &Config, progress: &mut impl FnMut(&str)) -> Re
             .steps(thesis_steps)
             .integrator(Integrator::Thesis),
     );
-    for y in [3e5, 1e5] {
-        settings.push(
-            Setting::new(format!("Y = {y:e} Pa, {thesis_steps:.1} steps/contact"), "young")
-                .set(&format!("material.young={y:e}"))
-                .steps(thesis_steps),
-        );
-    }
+    settings.extend(Setting::softer(thesis_steps));
     settings.push(
         Setting::new("pinned 2D (jumping off)", "dimension")
             .set("toggles.jumping=false")
             .steps(thesis_steps),
     );
-    settings.push(
-        Setting::new(
-            format!("linear law matched at v_max, {thesis_steps:.1} steps/contact"),
-            "normal law",
-        )
-        .set("contact.normal=\"linear\"")
-        .set(&format!("contact.kn={kn:e}"))
-        .set(&format!("contact.gamma_n={gamma_n:e}"))
-        .steps(thesis_steps),
-    );
+    settings.push(Setting::matched_linear(kn, gamma_n, thesis_steps));
     for k in [0.0, 0.1, 0.4, 1.0, 2.0] {
         let name = if k == 0.0 {
             "skin 0: rebuild every step".to_string()
@@ -164,13 +149,7 @@ pub(super) fn tray_study(config: &Config, progress: &mut impl FnMut(&str)) -> Re
         };
         settings.push(Setting::new(name, "neighbour list").steps(thesis_steps).skin(k));
     }
-    settings.push(
-        Setting::new(
-            format!("default: dt = auto, tolerance {DEFAULT_RESTITUTION_TOLERANCE:e} ({default_steps:.1} steps/contact)"),
-            "default",
-        )
-        .steps(default_steps),
-    );
+    settings.push(Setting::default_step(default_steps));
 
     let mut rows = Vec::new();
     let reference = (settings[0].clone(), run_tray(&base, &settings[0], &state, None, config.cpu_time)?);
