@@ -7,6 +7,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::contact::{ContactLaw, NormalLaw, RollingLaw, TangentialLaw};
+use crate::integrate::Integrator;
 use crate::material::{mix, Material};
 
 /// A scene. Sections mirror the TOML tables.
@@ -228,6 +229,12 @@ pub struct Run {
     /// Simulated seconds between checkpoints (0: none).
     #[serde(default = "d_checkpoint")]
     pub checkpoint_interval: f64,
+    /// Time integrator: `velocity-verlet` (default, second order) or `thesis` (the thesis'
+    /// scheme, sec 3.5.1: Verlet positions eq 3.26, central-difference velocities eq 3.27,
+    /// Euler rotation eq 3.22-3.23; first order). Left out of the serialised scene when it
+    /// has its default, so that sample keys of older scenes still hold.
+    #[serde(default = "d_integrator", skip_serializing_if = "is_default_integrator")]
+    pub integrator: Integrator,
 }
 
 /// Rule set of the automaton.
@@ -389,6 +396,12 @@ fn is_default_tolerance(x: &f64) -> bool {
 }
 fn d_one() -> u32 {
     1
+}
+fn d_integrator() -> Integrator {
+    Integrator::VelocityVerlet
+}
+fn is_default_integrator(x: &Integrator) -> bool {
+    *x == d_integrator()
 }
 fn d_checkpoint() -> f64 {
     1.0

@@ -4,7 +4,6 @@ use crate::boundary::Boundary;
 use crate::contact::tangential::sphere_tangential_mass;
 use crate::contact::TangentialLaw;
 use crate::experiment::step_control;
-use crate::integrate::Integrator;
 use crate::neighbor::NeighborSearch;
 use crate::scene::{Scene, TimeStep, MIN_STEPS_PER_CONTACT};
 use crate::sim::{Setup, Vertical};
@@ -120,7 +119,7 @@ pub fn setup(scene: &Scene, motion: Motion) -> Result<Setup, SimError> {
         walls,
         gravity: Vec3::new(0.0, 0.0, -GRAVITY),
         dt: time_step(scene)?,
-        integrator: Integrator::VelocityVerlet,
+        integrator: scene.run.integrator,
         boundary,
         neighbors: NeighborSearch::VerletList {
             skin: DEFAULT_SKIN * scene.particles.radius_max,
