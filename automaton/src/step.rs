@@ -45,6 +45,8 @@ pub(crate) struct BitScratch {
     cells: Vec<u64>,
     /// A row of zeros.
     zeros: Vec<u64>,
+    /// Grains of the current row moving sideways.
+    side_moving: Vec<u64>,
     /// Sideways draws of each row word for the current half step, see [`sideways_draws`].
     side_up: Vec<u64>,
     side_down: Vec<u64>,
@@ -73,6 +75,7 @@ impl BitScratch {
             ext: vec![0; shape.ext_words()],
             cells: row(),
             zeros: row(),
+            side_moving: row(),
             side_up: vec![0; w * ny],
             side_down: vec![0; w * ny],
             keys: vec![0; ny],
@@ -213,8 +216,8 @@ pub(crate) fn half_step(shape: &RowShape, ny: usize, rows: &mut [u64], r: &Resol
         // Flying grains: those drawn active (`cells` on the row's grains) with a free cell
         // ahead (a grain with an obstacle right ahead stays whether it flies or not).
         let act = &mut sc.active[j * w..(j + 1) * w];
-        for k in 0..w {
-            act[k] = lrow[k] & sc.f1[k] & sc.cells[k];
+        for ((a, &l), (&f, &c)) in act.iter_mut().zip(lrow).zip(sc.f1.iter().zip(&sc.cells)) {
+            *a = l & f & c;
         }
         // FL[a] = F[a+1] & ... & F[a+cap]. A run of nx free cells would include the grain
         // itself: with cap >= nx nobody flies the full cap.
@@ -225,30 +228,32 @@ pub(crate) fn half_step(shape: &RowShape, ny: usize, rows: &mut [u64], r: &Resol
         }
         // Run starts of the grains that stop on an obstacle: s2 = rot_up(A & !FL, 1) & F,
         // where `& F` holds already (every active grain has a free cell ahead).
-        for k in 0..w {
-            sc.tmp[k] = act[k] & !sc.fl[k];
+        for ((x, &a), &fl) in sc.tmp.iter_mut().zip(act.iter()).zip(&sc.fl) {
+            *x = a & !fl;
         }
         shape.rotate_up(&sc.tmp, 1, &mut sc.s2);
         shape.cyclic_add(&sc.free, &sc.s2, &mut sc.sum);
         let new = &mut sc.new[j * w..(j + 1) * w];
         // E (ends of the runs) in sum; landing just before them.
-        for k in 0..w {
-            sc.sum[k] &= !sc.free[k];
+        for (x, &f) in sc.sum.iter_mut().zip(&sc.free) {
+            *x &= !f;
         }
         if r.knock > 0 {
             // Draw only where something was hit (the draw is the same either way).
             rng::bernoulli_row(key, Stream::Knock, r.knock, &sc.sum, &mut sc.impacts[j * w..(j + 1) * w]);
         }
         shape.rotate_down(&sc.sum, 1, new);
-        for k in 0..w {
+        let mut full = 0;
+        for ((n, x), ((&l, &a), &fl)) in new.iter_mut().zip(sc.tmp.iter_mut()).zip(lrow.iter().zip(act.iter()).zip(&sc.fl)) {
             // Grains that do not fly stay (active grains all have a free cell ahead).
-            new[k] |= lrow[k] & !act[k];
-            sc.tmp[k] = act[k] & sc.fl[k];
+            *n |= l & !a;
+            *x = a & fl;
+            full |= *x;
         }
-        if cap < shape.nx && sc.tmp.iter().any(|&x| x != 0) {
+        if cap < shape.nx && full != 0 {
             shape.rotate_up(&sc.tmp, cap, &mut sc.pow);
-            for k in 0..w {
-                new[k] |= sc.pow[k];
+            for (n, &x) in new.iter_mut().zip(&sc.pow) {
+                *n |= x;
             }
         }
     }
@@ -347,20 +352,21 @@ fn sideways_draws(ny: usize, w: usize, r: &Resolved, sc: &mut BitScratch) {
         let (above, up_ok) = above.map_or((none, 0), |x| (x, u64::MAX));
         let (below, down_ok) = below.map_or((none, 0), |x| (x, u64::MAX));
         let here = &sc.new[j * w..][..w];
-        for k in 0..w {
-            let tried = (here[k] & !above[k] & up_ok) | ((here[k] ^ below[k]) & down_ok);
-            sc.tmp[k] = if tried != 0 { u64::MAX } else { 0 };
+        for (t, ((&h, &a), &b)) in sc.tmp.iter_mut().zip(here.iter().zip(above).zip(below)) {
+            let tried = (h & !a & up_ok) | ((h ^ b) & down_ok);
+            *t = if tried != 0 { u64::MAX } else { 0 };
         }
         rng::bernoulli_row(key, Stream::Side, r.sideways, &sc.tmp, &mut sc.pow);
         let (ups, downs) = (&mut sc.side_up[j * w..][..w], &mut sc.side_down[j * w..][..w]);
-        for k in 0..w {
-            let dir = if sc.tmp[k] != 0 {
+        for (k, ((u, d), &moves)) in ups.iter_mut().zip(downs.iter_mut()).zip(&sc.pow[..w]).enumerate() {
+            // The direction only matters where a grain moves.
+            let dir = if moves != 0 {
                 rng::word(key, Stream::SideDirection, k, 0)
             } else {
                 0
             };
-            ups[k] = sc.pow[k] & dir;
-            downs[k] = sc.pow[k] & !dir;
+            *u = moves & dir;
+            *d = moves & !dir;
         }
     }
 }
@@ -379,17 +385,21 @@ fn sideways(ny: usize, w: usize, r: &Resolved, up: bool, sc: &mut BitScratch) {
     sc.pow.iter_mut().for_each(|x| *x = 0); // grains moving into the current row
     for step in 0..ny {
         let j = if up { step } else { ny - 1 - step };
-        let next = neighbour_row(j, up, ny, r.periodic_y);
-        for k in 0..w {
-            let here = sc.new[j * w + k];
-            let room = match next {
-                Some(_) if j == last => here & !sc.tmp[k], // the neighbour is row `first`
-                Some(jn) => here & !sc.new[jn * w + k],
-                None => 0,
-            };
-            let moving = room & draws[j * w + k];
-            sc.new[j * w + k] = (here & !moving) | sc.pow[k];
-            sc.pow[k] = moving;
+        // The neighbour row as it was before the pass (the first row's copy for the last);
+        // beyond a wall every cell counts as occupied.
+        let (next, blocked): (&[u64], u64) = match neighbour_row(j, up, ny, r.periodic_y) {
+            Some(_) if j == last => (&sc.tmp, 0),
+            Some(jn) => (&sc.new[jn * w..][..w], 0),
+            None => (&sc.zeros[..w], u64::MAX),
+        };
+        let (here, draws) = (&sc.new[j * w..][..w], &draws[j * w..][..w]);
+        for (((m, &h), &n), &d) in sc.side_moving.iter_mut().zip(here).zip(next).zip(draws) {
+            *m = h & !(n | blocked) & d;
+        }
+        let (row, inc) = (&mut sc.new[j * w..][..w], &mut sc.pow[..w]);
+        for ((x, i), &m) in row.iter_mut().zip(inc.iter_mut()).zip(&sc.side_moving) {
+            *x = (*x & !m) | *i;
+            *i = m;
         }
     }
     if r.periodic_y {
