@@ -2,6 +2,19 @@
 //! stream), so results depend on nothing else (not on thread count, not on the order rows are
 //! visited), and the bit-packed and the byte (scalar) update paths see the same numbers.
 //!
+//! The scheme: every probability is quantised to a multiple of 1/64 ([`quantise`]). A word
+//! of 64 Bernoulli lanes is `U < p` lane by lane for six random binary digits `U` per lane,
+//! bit-sliced: digit `b` of all 64 lanes is one uniformly random word (wyhash's multiply-fold
+//! of the counter, one 128-bit multiplication), combined from the lowest set digit of `p`
+//! upwards (`m | r` for a 1 digit, `m & r` for a 0), so a probability costs at most six words
+//! (`6 - trailing_zeros(p)`). Draws are made only for words that hold a cell whose draw is
+//! read; a draw is the same whether made or not, so skipping changes no result. The
+//! activation of a grain's flight and the holding of a lateral contact (at the floor level)
+//! share one set of digit words ([`bernoulli_split`]): activation is read only on cells of
+//! the row that hold a grain, holding only on empty ones, so each cell's `U` decides one
+//! event and the events stay independent with their own probabilities (tested against
+//! binomial tolerances in `tests/rules.rs`).
+//!
 //! Words are indexed in the *flight frame* (the row as seen by a grain flying in +x, see
 //! [`crate::step`]), which makes the automaton exactly mirror symmetric: a mirrored lattice
 //! driven with the reversed phase draws the same bits for the mirrored grains.
@@ -139,7 +152,9 @@ pub fn bernoulli_row(row_key: u64, stream: Stream, p: u32, cand: &[u64], out: &m
 /// `U < p` for the lane's six random digits `U` (bit `i` of the words `word(.., b)`), so
 /// `(bernoulli_split(.., a, pa, pb) >> i) & 1` is `(bernoulli(.., pa) >> i) & 1` for a lane
 /// in `a`, `(bernoulli(.., pb) >> i) & 1` otherwise; both probabilities cost the words of one.
-#[cfg(test)]
+/// (The scalar reference reads single lanes with [`bernoulli`]; this word form is the
+/// definition the row draws implement and is tested against it.)
+#[cfg_attr(not(test), allow(dead_code))]
 pub fn bernoulli_split(row_key: u64, stream: Stream, w: usize, a: u64, pa: u32, pb: u32) -> u64 {
     Split::new(pa, pb).draw::<0>(row_key.wrapping_add(counter(stream, w, 0).wrapping_mul(STEP)), a)
 }
