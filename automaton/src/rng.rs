@@ -2,6 +2,19 @@
 //! stream), so results depend on nothing else (not on thread count, not on the order rows are
 //! visited), and the bit-packed and the byte (scalar) update paths see the same numbers.
 //!
+//! The scheme: every probability is quantised to a multiple of 1/64 ([`quantise`]). A word
+//! of 64 Bernoulli lanes is `U < p` lane by lane for six random binary digits `U` per lane,
+//! bit-sliced: digit `b` of all 64 lanes is one uniformly random word (wyhash's multiply-fold
+//! of the counter, one 128-bit multiplication), combined from the lowest set digit of `p`
+//! upwards (`m | r` for a 1 digit, `m & r` for a 0), so a probability costs at most six words
+//! (`6 - trailing_zeros(p)`). Draws are made only for words that hold a cell whose draw is
+//! read; a draw is the same whether made or not, so skipping changes no result. The
+//! activation of a grain's flight and the holding of a lateral contact (at the floor level)
+//! share one set of digit words ([`bernoulli_split`]): activation is read only on cells of
+//! the row that hold a grain, holding only on empty ones, so each cell's `U` decides one
+//! event and the events stay independent with their own probabilities (tested against
+//! binomial tolerances in `tests/rules.rs`).
+//!
 //! Words are indexed in the *flight frame* (the row as seen by a grain flying in +x, see
 //! [`crate::step`]), which makes the automaton exactly mirror symmetric: a mirrored lattice
 //! driven with the reversed phase draws the same bits for the mirrored grains.
@@ -10,7 +23,10 @@
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[repr(u64)]
 pub enum Stream {
-    /// Activation of a grain's flight (`physical`, stochastic flights).
+    /// Per cell of a row: the activation of the grain's flight (`physical`, stochastic
+    /// flights) where the row has a grain, whether a lateral contact holds at level 0
+    /// ([`Stream::Hold`]) where it has none. A cell's number is so used for one event only:
+    /// both share the digit words of [`bernoulli_split`].
     Activation = 1,
     /// Knock-through of the far grain of a line that was hit.
     Knock = 2,
@@ -18,7 +34,8 @@ pub enum Stream {
     Side = 3,
     /// Which way (+y or -y) a sideways move goes.
     SideDirection = 4,
-    /// Whether a lateral contact holds against an impact.
+    /// Whether a lateral contact holds against an impact above the floor level (multilayers;
+    /// at level 0 the draw comes from [`Stream::Activation`]).
     Hold = 5,
 }
 
@@ -93,25 +110,127 @@ pub fn bernoulli(row_key: u64, stream: Stream, w: usize, p: u32) -> u64 {
     match p {
         0 => 0,
         ONE.. => u64::MAX,
+        _ => digits(row_key.wrapping_add(counter(stream, w, 0).wrapping_mul(STEP)), p),
+    }
+}
+
+/// The digit recursion of [`bernoulli`] for `0 < p < 64`, from the counter base of the word
+/// (`word(row_key, stream, w, b) = mum(base + b STEP)`, see `counter`).
+#[inline(always)]
+fn digits(base: u64, p: u32) -> u64 {
+    let low = p.trailing_zeros();
+    let mut m = mum(base.wrapping_add((low as u64).wrapping_mul(STEP)));
+    for b in low + 1..6 {
+        let r = mum(base.wrapping_add((b as u64).wrapping_mul(STEP)));
+        // The digit is the same for every word of a half step: a predictable branch.
+        m = if (p >> b) & 1 == 1 { m | r } else { m & r };
+    }
+    m
+}
+
+/// `out[k] = cand[k] & bernoulli(row_key, stream, k, p)` for every word `k` of a row, drawing
+/// only for words with a candidate (`cand[k] != 0`; the others get 0).
+#[inline]
+pub fn bernoulli_row(row_key: u64, stream: Stream, p: u32, cand: &[u64], out: &mut [u64]) {
+    let out = &mut out[..cand.len()];
+    match p {
+        0 => out.iter_mut().for_each(|x| *x = 0),
+        ONE.. => out.copy_from_slice(cand),
         _ => {
-            // word(row_key, stream, w, b) for digit b, from one base (see `counter`).
-            let base = row_key.wrapping_add(counter(stream, w, 0).wrapping_mul(STEP));
-            let low = p.trailing_zeros();
-            let mut m = mum(base.wrapping_add((low as u64).wrapping_mul(STEP)));
-            // A fixed trip count lets the digits unroll; the test on `b` is the same for
-            // every word of a half step.
-            for b in 1..6u32 {
-                if b > low {
-                    let r = mum(base.wrapping_add((b as u64).wrapping_mul(STEP)));
-                    // Branch-free: the digit selects `m | r` (1) or `m & r` (0).
-                    let digit = (((p >> b) & 1) as u64).wrapping_neg();
-                    m = (m & r) | (digit & (m | r));
-                }
+            let mut base = row_key.wrapping_add(counter(stream, 0, 0).wrapping_mul(STEP));
+            for (o, &c) in out.iter_mut().zip(cand) {
+                *o = if c != 0 { c & digits(base, p) } else { 0 };
+                base = base.wrapping_add(NEXT_WORD);
             }
-            m
         }
     }
 }
+
+/// Lanes drawn with two probabilities from the same digit words: lane `i` is 1 with
+/// probability `pa / 64` if bit `i` of `a` is set and `pb / 64` otherwise (both in 0..=64).
+/// Lane by lane this is exactly [`bernoulli`] with the lane's probability: a lane's bit is
+/// `U < p` for the lane's six random digits `U` (bit `i` of the words `word(.., b)`), so
+/// `(bernoulli_split(.., a, pa, pb) >> i) & 1` is `(bernoulli(.., pa) >> i) & 1` for a lane
+/// in `a`, `(bernoulli(.., pb) >> i) & 1` otherwise; both probabilities cost the words of one.
+/// (The scalar reference reads single lanes with [`bernoulli`]; this word form is the
+/// definition the row draws implement and is tested against it.)
+#[cfg_attr(not(test), allow(dead_code))]
+pub fn bernoulli_split(row_key: u64, stream: Stream, w: usize, a: u64, pa: u32, pb: u32) -> u64 {
+    Split::new(pa, pb).draw::<0>(row_key.wrapping_add(counter(stream, w, 0).wrapping_mul(STEP)), a)
+}
+
+/// The digits of the two probabilities of [`bernoulli_split`], worked out once per half step.
+#[derive(Clone, Copy, Debug)]
+pub struct Split {
+    /// First digit word drawn (6: none).
+    low: u32,
+    /// Digit `b` of `pb` as a mask (0 for probabilities 0 and 1), and where the digits of
+    /// `pa` and `pb` differ: a lane's digit is `db ^ (a & dx)`.
+    db: [u64; 6],
+    dx: [u64; 6],
+    /// All lanes of a probability 1 (their digits are 0, so the recursion leaves them 0).
+    one_a: u64,
+    one_b: u64,
+}
+
+impl Split {
+    pub fn new(pa: u32, pb: u32) -> Self {
+        let frac = |p: u32| p > 0 && p < ONE;
+        let low = |p: u32| if frac(p) { p.trailing_zeros() } else { 6 };
+        let digit = |p: u32, b: usize| if frac(p) && (p >> b) & 1 == 1 { u64::MAX } else { 0 };
+        let one = |p: u32| if p >= ONE { u64::MAX } else { 0 };
+        Self {
+            low: low(pa).min(low(pb)),
+            db: std::array::from_fn(|b| digit(pb, b)),
+            dx: std::array::from_fn(|b| digit(pa, b) ^ digit(pb, b)),
+            one_a: one(pa),
+            one_b: one(pb),
+        }
+    }
+
+    /// The word from its counter base (see [`bernoulli_row`]) and the lanes of `pa`, with
+    /// `LOW = self.low` (a constant, so the digit loop unrolls).
+    #[inline(always)]
+    fn draw<const LOW: usize>(&self, base: u64, a: u64) -> u64 {
+        let mut m = 0u64;
+        for b in LOW..6 {
+            let r = mum(base.wrapping_add((b as u64).wrapping_mul(STEP)));
+            let d = self.db[b] ^ (a & self.dx[b]);
+            m = (m & r) | (d & (m | r));
+        }
+        m | (a & self.one_a) | (!a & self.one_b)
+    }
+
+    #[inline(always)]
+    fn row<const LOW: usize>(&self, mut base: u64, a: &[u64], cand: &[u64], out: &mut [u64]) {
+        for ((o, &c), &a) in out.iter_mut().zip(cand).zip(a) {
+            *o = if c != 0 { self.draw::<LOW>(base, a) } else { 0 };
+            base = base.wrapping_add(NEXT_WORD);
+        }
+    }
+}
+
+/// `out[k] = bernoulli_split(row_key, stream, k, a[k], pa, pb)` for the words with `cand[k]
+/// != 0`, 0 for the others, with `split = Split::new(pa, pb)`.
+#[inline]
+pub fn bernoulli_split_row(row_key: u64, stream: Stream, a: &[u64], split: &Split, cand: &[u64], out: &mut [u64]) {
+    let base = row_key.wrapping_add(counter(stream, 0, 0).wrapping_mul(STEP));
+    let n = cand.len();
+    let (a, out) = (&a[..n], &mut out[..n]);
+    match split.low {
+        0 => split.row::<0>(base, a, cand, out),
+        1 => split.row::<1>(base, a, cand, out),
+        2 => split.row::<2>(base, a, cand, out),
+        3 => split.row::<3>(base, a, cand, out),
+        4 => split.row::<4>(base, a, cand, out),
+        5 => split.row::<5>(base, a, cand, out),
+        _ => split.row::<6>(base, a, cand, out),
+    }
+}
+
+/// Counter base step from word `w` to `w + 1`: `counter(s, w + 1, 0) = counter(s, w, 0) +
+/// 256` (disjoint bit fields).
+const NEXT_WORD: u64 = 256u64.wrapping_mul(STEP);
 
 #[cfg(test)]
 mod tests {
@@ -129,5 +248,44 @@ mod tests {
         }
         assert_eq!(bernoulli(1, Stream::Knock, 0, 0), 0);
         assert_eq!(bernoulli(1, Stream::Knock, 0, ONE), u64::MAX);
+    }
+
+    #[test]
+    fn row_draws_equal_word_draws() {
+        let key = row_key(5, 8, 2);
+        // Candidates in some words only, rows longer than a chunk.
+        let cand: Vec<u64> = (0..37u64).map(|k| if k % 3 == 1 { 0 } else { mix(k) }).collect();
+        for p in [0u32, 1, 6, 12, 32, 51, 52, 63, 64] {
+            for stream in [Stream::Activation, Stream::Knock, Stream::Hold, Stream::Side] {
+                let mut out = vec![u64::MAX; cand.len()];
+                bernoulli_row(key, stream, p, &cand, &mut out);
+                for (k, (&o, &c)) in out.iter().zip(&cand).enumerate() {
+                    assert_eq!(o, c & bernoulli(key, stream, k, p), "p {p} word {k}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn split_draws_are_the_lane_wise_plain_draws() {
+        let key = row_key(9, 4, 6);
+        for w in 0..50 {
+            let a = mix(w as u64 + 100);
+            for (pa, pb) in [
+                (51u32, 52u32),
+                (51, 64),
+                (64, 52),
+                (0, 12),
+                (12, 0),
+                (1, 63),
+                (32, 32),
+                (0, 64),
+                (64, 64),
+            ] {
+                let s = bernoulli_split(key, Stream::Activation, w, a, pa, pb);
+                let (ba, bb) = (bernoulli(key, Stream::Activation, w, pa), bernoulli(key, Stream::Activation, w, pb));
+                assert_eq!(s, (a & ba) | (!a & bb), "pa {pa} pb {pb} word {w}");
+            }
+        }
     }
 }

@@ -76,8 +76,12 @@ pub(crate) fn half_step(nx: usize, ny: usize, h: &mut [u8], r: &Resolved, seed: 
                 Lateral::Clusters => clustered(jn, c, z),
             })
         });
-        // With knock-through a lateral contact holds with probability 1 - p_knock.
-        side && (r.knock == 0 || bit(rng::row_key(seed, t, j), Stream::Hold, c, rng::ONE - r.knock))
+        // With knock-through a lateral contact holds with probability 1 - p_knock; at the
+        // floor level the draw is the cell's [`Stream::Activation`] number (the cell has no
+        // grain of its own here, so its activation is never drawn), above it the cell's
+        // [`Stream::Hold`] number.
+        let stream = if z == 0 { Stream::Activation } else { Stream::Hold };
+        side && (r.knock == 0 || bit(rng::row_key(seed, t, j), stream, c, rng::ONE - r.knock))
     };
     sc.impacts.clear();
     if !r.frozen {

@@ -32,7 +32,6 @@ pub(crate) struct BitScratch {
     new: Vec<u64>,
     active: Vec<u64>,
     impacts: Vec<u64>,
-    cand: Vec<u64>,
     o: Vec<u64>,
     free: Vec<u64>,
     f1: Vec<u64>,
@@ -42,11 +41,15 @@ pub(crate) struct BitScratch {
     s2: Vec<u64>,
     sum: Vec<u64>,
     ext: Vec<u64>,
-    /// Sideways draws ([`rng::sideways_draw`]) of each row word, made at most once per half
-    /// step (both directions' passes share them): moves, direction, drawn yet.
-    side_moves: Vec<u64>,
-    side_dir: Vec<u64>,
-    side_drawn: Vec<bool>,
+    /// The cell draws of the current row (see [`obstacles`]).
+    cells: Vec<u64>,
+    /// A row of zeros.
+    zeros: Vec<u64>,
+    /// Grains of the current row moving sideways.
+    side_moving: Vec<u64>,
+    /// Sideways draws of each row word for the current half step, see [`sideways_draws`].
+    side_up: Vec<u64>,
+    side_down: Vec<u64>,
     /// [`rng::row_key`] of each row for the current half step.
     keys: Vec<u64>,
 }
@@ -61,7 +64,6 @@ impl BitScratch {
             new: vec![0; w * ny],
             active: vec![0; w * ny],
             impacts: vec![0; w * ny],
-            cand: vec![0; w * ny],
             o: row(),
             free: row(),
             f1: row(),
@@ -71,9 +73,11 @@ impl BitScratch {
             s2: row(),
             sum: row(),
             ext: vec![0; shape.ext_words()],
-            side_moves: vec![0; w * ny],
-            side_dir: vec![0; w * ny],
-            side_drawn: vec![false; w * ny],
+            cells: row(),
+            zeros: row(),
+            side_moving: row(),
+            side_up: vec![0; w * ny],
+            side_down: vec![0; w * ny],
             keys: vec![0; ny],
         }
     }
@@ -99,18 +103,39 @@ pub(crate) fn neighbour_row(j: usize, up: bool, ny: usize, periodic: bool) -> Op
     }
 }
 
-/// Obstacles of row `j` in the flight-frame copy `lf`; `clusters` holds the grains that
-/// touch an x-neighbour in their row (used by [`Lateral::Clusters`]). With knock-through, a
-/// lateral contact holds only with probability `1 - p_knock` (an impact that knocks loose
-/// also pushes past the neighbouring rows), drawn per cell of row `j`.
+/// Obstacles of row `j` in the flight-frame copy `lf`, and the row's cell draws; `clusters`
+/// holds the grains that touch an x-neighbour in their row (used by [`Lateral::Clusters`]).
+/// With knock-through, a lateral contact holds only with probability `1 - p_knock` (an
+/// impact that knocks loose also pushes past the neighbouring rows), drawn per cell of row
+/// `j`. `cells` gets [`rng::bernoulli_split`] of [`Stream::Activation`]: the activation
+/// draw on the row's grains, the holding draw on its empty cells (the only cells where a
+/// lateral contact is tested), in one set of digit words; words without grains or lateral
+/// contacts are not drawn (the draw is the same either way).
 #[allow(clippy::too_many_arguments)]
-fn obstacles(shape: &RowShape, lf: &[u64], clusters: &[u64], ny: usize, j: usize, r: &Resolved, key: u64, o: &mut [u64]) {
+fn obstacles(
+    shape: &RowShape,
+    lf: &[u64],
+    clusters: &[u64],
+    ny: usize,
+    j: usize,
+    r: &Resolved,
+    key: u64,
+    split: &rng::Split,
+    o: &mut [u64],
+    side_cells: &mut [u64],
+    cells: &mut [u64],
+) {
     let w = shape.words;
-    o.copy_from_slice(&lf[j * w..(j + 1) * w]);
+    let lrow = &lf[j * w..(j + 1) * w];
+    o.copy_from_slice(lrow);
     let side = match r.lateral {
-        Lateral::None => return,
-        Lateral::Neighbours => lf,
-        Lateral::Clusters => clusters,
+        Lateral::None => None,
+        Lateral::Neighbours => Some(lf),
+        Lateral::Clusters => Some(clusters),
+    };
+    let Some(side) = side else {
+        rng::bernoulli_split_row(key, Stream::Activation, lrow, split, lrow, cells);
+        return;
     };
     // A missing neighbour row (beyond a wall) is read as the own row, masked to nothing.
     let neighbour = |up: bool| match neighbour_row(j, up, ny, r.periodic_y) {
@@ -118,14 +143,15 @@ fn obstacles(shape: &RowShape, lf: &[u64], clusters: &[u64], ny: usize, j: usize
         None => (&side[j * w..][..w], 0),
     };
     let ((below, mb), (above, ma)) = (neighbour(false), neighbour(true));
-    let hold = rng::ONE - r.knock;
-    for (k, ((o, &b), &a)) in o.iter_mut().zip(below).zip(above).enumerate() {
-        // Cells already blocked in the own row need no draw (the draw is the same either way).
-        let mut s = ((b & mb) | (a & ma)) & !*o;
-        if s != 0 && r.knock > 0 {
-            s &= rng::bernoulli(key, Stream::Hold, k, hold);
-        }
-        *o |= s;
+    for (k, ((s, &b), &a)) in side_cells.iter_mut().zip(below).zip(above).enumerate() {
+        // Cells already blocked in the own row are not tested.
+        *s = ((b & mb) | (a & ma)) & !lrow[k];
+        o[k] = lrow[k] | *s;
+    }
+    rng::bernoulli_split_row(key, Stream::Activation, lrow, split, o, cells);
+    for (o, (&s, &c)) in o.iter_mut().zip(side_cells.iter().zip(cells.iter())) {
+        // A lateral contact that does not hold is no obstacle.
+        *o &= !(s & !c);
     }
 }
 
@@ -166,23 +192,32 @@ pub(crate) fn half_step(shape: &RowShape, ny: usize, rows: &mut [u64], r: &Resol
     if r.lateral == Lateral::Clusters {
         cluster_cells(shape, ny, sc);
     }
+    // Cell draws: activation on grains, holding of lateral contacts (probability 1 without
+    // knock-through) on empty cells.
+    let split = rng::Split::new(r.activation, rng::ONE - r.knock);
     for j in 0..ny {
         let key = sc.keys[j];
-        obstacles(shape, &sc.lf, &sc.clusters, ny, j, r, key, &mut sc.o);
+        obstacles(
+            shape,
+            &sc.lf,
+            &sc.clusters,
+            ny,
+            j,
+            r,
+            key,
+            &split,
+            &mut sc.o,
+            &mut sc.tmp,
+            &mut sc.cells,
+        );
         shape.not(&sc.o, &mut sc.free);
         let lrow = &sc.lf[j * w..(j + 1) * w];
         shape.rotate_down(&sc.free, 1, &mut sc.f1);
+        // Flying grains: those drawn active (`cells` on the row's grains) with a free cell
+        // ahead (a grain with an obstacle right ahead stays whether it flies or not).
         let act = &mut sc.active[j * w..(j + 1) * w];
-        for k in 0..w {
-            // A grain with an obstacle right ahead stays whether it flies or not: only the
-            // others are drawn, and only words holding such grains draw (the draw is the
-            // same either way).
-            let movable = lrow[k] & sc.f1[k];
-            act[k] = if movable != 0 {
-                movable & rng::bernoulli(key, Stream::Activation, k, r.activation)
-            } else {
-                0
-            };
+        for ((a, &l), (&f, &c)) in act.iter_mut().zip(lrow).zip(sc.f1.iter().zip(&sc.cells)) {
+            *a = l & f & c;
         }
         // FL[a] = F[a+1] & ... & F[a+cap]. A run of nx free cells would include the grain
         // itself: with cap >= nx nobody flies the full cap.
@@ -193,38 +228,32 @@ pub(crate) fn half_step(shape: &RowShape, ny: usize, rows: &mut [u64], r: &Resol
         }
         // Run starts of the grains that stop on an obstacle: s2 = rot_up(A & !FL, 1) & F,
         // where `& F` holds already (every active grain has a free cell ahead).
-        for k in 0..w {
-            sc.tmp[k] = act[k] & !sc.fl[k];
+        for ((x, &a), &fl) in sc.tmp.iter_mut().zip(act.iter()).zip(&sc.fl) {
+            *x = a & !fl;
         }
         shape.rotate_up(&sc.tmp, 1, &mut sc.s2);
         shape.cyclic_add(&sc.free, &sc.s2, &mut sc.sum);
         let new = &mut sc.new[j * w..(j + 1) * w];
         // E (ends of the runs) in sum; landing just before them.
-        for k in 0..w {
-            sc.sum[k] &= !sc.free[k];
+        for (x, &f) in sc.sum.iter_mut().zip(&sc.free) {
+            *x &= !f;
         }
         if r.knock > 0 {
-            let imp = &mut sc.impacts[j * w..(j + 1) * w];
-            for k in 0..w {
-                let hits = sc.sum[k];
-                // Draw only where something was hit (the draw is the same either way).
-                imp[k] = if hits != 0 {
-                    hits & rng::bernoulli(key, Stream::Knock, k, r.knock)
-                } else {
-                    0
-                };
-            }
+            // Draw only where something was hit (the draw is the same either way).
+            rng::bernoulli_row(key, Stream::Knock, r.knock, &sc.sum, &mut sc.impacts[j * w..(j + 1) * w]);
         }
         shape.rotate_down(&sc.sum, 1, new);
-        for k in 0..w {
+        let mut full = 0;
+        for ((n, x), ((&l, &a), &fl)) in new.iter_mut().zip(sc.tmp.iter_mut()).zip(lrow.iter().zip(act.iter()).zip(&sc.fl)) {
             // Grains that do not fly stay (active grains all have a free cell ahead).
-            new[k] |= lrow[k] & !act[k];
-            sc.tmp[k] = act[k] & sc.fl[k];
+            *n |= l & !a;
+            *x = a & fl;
+            full |= *x;
         }
-        if cap < shape.nx && sc.tmp.iter().any(|&x| x != 0) {
+        if cap < shape.nx && full != 0 {
             shape.rotate_up(&sc.tmp, cap, &mut sc.pow);
-            for k in 0..w {
-                new[k] |= sc.pow[k];
+            for (n, &x) in new.iter_mut().zip(&sc.pow) {
+                *n |= x;
             }
         }
     }
@@ -232,9 +261,9 @@ pub(crate) fn half_step(shape: &RowShape, ny: usize, rows: &mut [u64], r: &Resol
         knock_through(shape, ny, r, cap, sc);
     }
     if r.sideways > 0 {
-        sc.side_drawn.iter_mut().for_each(|d| *d = false);
+        sideways_draws(ny, w, r, sc);
         for up in [true, false] {
-            sideways(shape, ny, r, up, sc);
+            sideways(ny, w, r, up, sc);
         }
     }
     for j in 0..ny {
@@ -305,49 +334,77 @@ fn knock_through(shape: &RowShape, ny: usize, r: &Resolved, cap: usize, sc: &mut
     }
 }
 
-/// Simultaneous sideways moves towards +y (`up`) or -y into empty cells.
-fn sideways(shape: &RowShape, ny: usize, r: &Resolved, up: bool, sc: &mut BitScratch) {
-    let w = shape.words;
+/// The sideways draws of every row ([`rng::sideways_draw`]): `side_up` (move towards +y) and
+/// `side_down` (towards -y), drawn once for both passes and only in words where a move can
+/// be tried (the draw is the same either way): towards +y from a grain below an empty cell,
+/// towards -y (after the +y pass) from a cell where rows `j` and `j - 1` differ now (a grain
+/// above an empty cell stays so unless it moves up, a grain below an empty cell may move up).
+fn sideways_draws(ny: usize, w: usize, r: &Resolved, sc: &mut BitScratch) {
+    let none = &sc.zeros[..w];
     for j in 0..ny {
         let key = sc.keys[j];
-        let cand = &mut sc.cand[j * w..(j + 1) * w];
-        match neighbour_row(j, up, ny, r.periodic_y) {
-            Some(jn) if jn != j => {
-                let (row, next) = (&sc.new[j * w..][..w], &sc.new[jn * w..][..w]);
-                let moves = &mut sc.side_moves[j * w..][..w];
-                let dirs = &mut sc.side_dir[j * w..][..w];
-                let drawn = &mut sc.side_drawn[j * w..][..w];
-                let rows = row
-                    .iter()
-                    .zip(next)
-                    .zip(moves.iter_mut().zip(dirs.iter_mut()).zip(drawn.iter_mut()));
-                for (k, (c, ((&a, &b), ((m, d), dr)))) in cand.iter_mut().zip(rows).enumerate() {
-                    let room = a & !b;
-                    // Draw only where a move is possible (the draw is the same either way),
-                    // once for both directions.
-                    *c = if room != 0 {
-                        if !*dr {
-                            (*m, *d) = rng::sideways_draw(key, k, r.sideways);
-                            *dr = true;
-                        }
-                        room & *m & if up { *d } else { !*d }
-                    } else {
-                        0
-                    };
-                }
-            }
-            _ => cand.iter_mut().for_each(|x| *x = 0),
+        let row = |jn: Option<usize>| jn.filter(|&jn| jn != j).map(|jn| &sc.new[jn * w..][..w]);
+        let (above, below) = (
+            row(neighbour_row(j, true, ny, r.periodic_y)),
+            row(neighbour_row(j, false, ny, r.periodic_y)),
+        );
+        // Without a row above no move up is tried; without a row below, none down.
+        let (above, up_ok) = above.map_or((none, 0), |x| (x, u64::MAX));
+        let (below, down_ok) = below.map_or((none, 0), |x| (x, u64::MAX));
+        let here = &sc.new[j * w..][..w];
+        for (t, ((&h, &a), &b)) in sc.tmp.iter_mut().zip(here.iter().zip(above).zip(below)) {
+            let tried = (h & !a & up_ok) | ((h ^ b) & down_ok);
+            *t = if tried != 0 { u64::MAX } else { 0 };
+        }
+        rng::bernoulli_row(key, Stream::Side, r.sideways, &sc.tmp, &mut sc.pow);
+        let (ups, downs) = (&mut sc.side_up[j * w..][..w], &mut sc.side_down[j * w..][..w]);
+        for (k, ((u, d), &moves)) in ups.iter_mut().zip(downs.iter_mut()).zip(&sc.pow[..w]).enumerate() {
+            // The direction only matters where a grain moves.
+            let dir = if moves != 0 {
+                rng::word(key, Stream::SideDirection, k, 0)
+            } else {
+                0
+            };
+            *u = moves & dir;
+            *d = moves & !dir;
         }
     }
-    for j in 0..ny {
-        if let Some(jn) = neighbour_row(j, up, ny, r.periodic_y).filter(|&jn| jn != j) {
-            let cand = &sc.cand[j * w..][..w];
-            for (x, &c) in sc.new[j * w..][..w].iter_mut().zip(cand) {
-                *x &= !c;
-            }
-            for (x, &c) in sc.new[jn * w..][..w].iter_mut().zip(cand) {
-                *x |= c;
-            }
+}
+
+/// Simultaneous sideways moves towards +y (`up`) or -y into empty cells, in one pass over the
+/// rows in the direction of the move: a row is read before any grain moves into it, so every
+/// move sees the state before the pass.
+fn sideways(ny: usize, w: usize, r: &Resolved, up: bool, sc: &mut BitScratch) {
+    if ny < 2 {
+        return; // no neighbour row, or (periodic) the row itself
+    }
+    let (first, last) = if up { (0, ny - 1) } else { (ny - 1, 0) };
+    let draws = if up { &sc.side_up } else { &sc.side_down };
+    // The row that receives from the last one (periodic) is changed first: keep its state.
+    sc.tmp.copy_from_slice(&sc.new[first * w..][..w]);
+    sc.pow.iter_mut().for_each(|x| *x = 0); // grains moving into the current row
+    for step in 0..ny {
+        let j = if up { step } else { ny - 1 - step };
+        // The neighbour row as it was before the pass (the first row's copy for the last);
+        // beyond a wall every cell counts as occupied.
+        let (next, blocked): (&[u64], u64) = match neighbour_row(j, up, ny, r.periodic_y) {
+            Some(_) if j == last => (&sc.tmp, 0),
+            Some(jn) => (&sc.new[jn * w..][..w], 0),
+            None => (&sc.zeros[..w], u64::MAX),
+        };
+        let (here, draws) = (&sc.new[j * w..][..w], &draws[j * w..][..w]);
+        for (((m, &h), &n), &d) in sc.side_moving.iter_mut().zip(here).zip(next).zip(draws) {
+            *m = h & !(n | blocked) & d;
+        }
+        let (row, inc) = (&mut sc.new[j * w..][..w], &mut sc.pow[..w]);
+        for ((x, i), &m) in row.iter_mut().zip(inc.iter_mut()).zip(&sc.side_moving) {
+            *x = (*x & !m) | *i;
+            *i = m;
+        }
+    }
+    if r.periodic_y {
+        for k in 0..w {
+            sc.new[first * w + k] |= sc.pow[k];
         }
     }
 }

@@ -251,3 +251,61 @@ proptest! {
         prop_assert_eq!(a.lattice().mass(), mass);
     }
 }
+
+/// Grains of row 0 (of `ny` rows) at every 4th cell fly at most one cell in one half step;
+/// returns the fraction of them that moved over `runs` seeds, and the number of trials.
+fn moved_fraction(nx: usize, ny: usize, h: &[u8], params: Params, runs: u64) -> (f64, f64) {
+    let (mut moved, mut trials) = (0usize, 0usize);
+    for seed in 0..runs {
+        let lattice = Lattice::from_heights(nx, ny, h).unwrap();
+        assert!(lattice.is_bit_packed());
+        let mut a = Automaton::new(lattice, Params { seed, ..params }, Direction::Plus).unwrap();
+        a.half_step();
+        let after = a.lattice().heights();
+        for i in (0..nx).step_by(4) {
+            trials += 1;
+            moved += (after[i] == 0) as usize;
+        }
+    }
+    (moved as f64 / trials as f64, trials as f64)
+}
+
+fn assert_binomial(frac: f64, n: f64, p: f64, what: &str) {
+    let sigma = (p * (1.0 - p) / n).sqrt();
+    assert!(
+        (frac - p).abs() < 5.0 * sigma,
+        "{what}: {frac} against {p} (n = {n}, sigma = {sigma})"
+    );
+}
+
+/// The flight and holding draws (which share one set of random digit words, on disjoint
+/// cells) give their nominal (quantised) probabilities, and independently so.
+#[test]
+fn flight_and_holding_probabilities_match_their_nominal_values() {
+    let nx = 4000;
+    // Isolated grains with a cap of one cell: a grain moves exactly when it flies.
+    let mut params = all_on(1, YBoundary::Walls);
+    params.physical.knock = Knock::None;
+    params.physical.lateral = Lateral::None;
+    params.physical.sideways = Sideways::None;
+    params.physical.activation = Activation::Bernoulli { p: 0.6 };
+    let h: Vec<u8> = (0..nx).map(|i| (i % 4 == 0) as u8).collect();
+    let (frac, n) = moved_fraction(nx, 1, &h, params, 20);
+    assert_binomial(frac, n, 38.0 / 64.0, "activation 0.6 (38/64)");
+
+    // Row 1 holds a grain right ahead of each grain of row 0: a lateral contact that holds
+    // with probability 1 - p_knock. Row 0's grains move when they fly and the contact gives.
+    let mut h = vec![0u8; 2 * nx];
+    for i in (0..nx).step_by(4) {
+        h[i] = 1;
+        h[nx + i + 1] = 1;
+    }
+    params.physical.lateral = Lateral::Neighbours;
+    params.physical.knock = Knock::Bernoulli { p: 0.3 };
+    params.physical.activation = Activation::None;
+    let (frac, n) = moved_fraction(nx, 2, &h, params, 20);
+    assert_binomial(frac, n, 19.0 / 64.0, "contact gives, p_knock 0.3 (19/64)");
+    params.physical.activation = Activation::Bernoulli { p: 0.6 };
+    let (frac, n) = moved_fraction(nx, 2, &h, params, 20);
+    assert_binomial(frac, n, 38.0 / 64.0 * 19.0 / 64.0, "flies and contact gives");
+}
