@@ -76,7 +76,11 @@ pub(crate) struct Inputs<'a> {
     pub vel: &'a [Vec3],
     pub omega: &'a [Vec3],
     pub radius: &'a [f64],
-    pub inv_mass: &'a [f64],
+    /// Masses (kg), `1 / inv_mass` computed once.
+    pub mass: &'a [f64],
+    /// Pinned layer: each grain's floor load `-g_z / inv_mass` (N), computed once (empty
+    /// otherwise).
+    pub load: &'a [f64],
     /// Keep per-contact diagnostics.
     pub record: bool,
 }
@@ -134,9 +138,11 @@ pub(crate) fn gather_block(
     let mut sums = BlockSums::default();
     // Gravity.
     let n = force.len();
-    for (k, (f, t)) in force.iter_mut().zip(torque.iter_mut()).enumerate() {
-        *f = gravity * (1.0 / inp.inv_mass[first + k]); // one division, not three
-        *t = Vec3::zeros();
+    for ((f, t), &m) in force.iter_mut().zip(torque.iter_mut()).zip(&inp.mass[first..first + n]) {
+        *f = gravity * m; // the mass precomputed: no division
+        // Not a constant store: LLVM would split it off into a memset, whose `rep stosb`
+        // valgrind counts per byte. `0 m` is +0 for a mass m > 0: one multiplication.
+        *t = Vec3::repeat(0.0 * m);
     }
     // Particle pairs, each evaluated from both sides (half the energies each), in one flat
     // loop over the block's neighbour-list slots: in a dilute layer most particles have zero
@@ -172,20 +178,38 @@ pub(crate) fn gather_block(
     // Walls, one wall at a time over the block: the loop body is short enough for the
     // processor to overlap the square roots and divisions of consecutive particles. Each
     // particle still sums gravity, pairs and walls in the same order.
+    // The geometry closures test the gap first: a grain away from a wall reads nothing else.
+    let (pos, vel, omega, radius) = (&pos[first..first + n], &vel[first..first + n], &omega[first..first + n], &radius[first..first + n]);
     for (w, plane) in inp.planes.iter().enumerate() {
         let (origin, v_wall, sign) = (plane.origin, plane.velocity, plane.sign());
+        if plane.support {
+            // A pinned grain rests on the floor: the contact is always there, without overlap.
+            wall_pass(inp, plane, w, first, force, torque, wall_history, &mut sums, |k| {
+                Some(ContactGeometry::resting_on_floor(vel[k], omega[k], radius[k], v_wall))
+            });
+            continue;
+        }
         match plane.kind {
-            PlaneKind::Axis { axis: 0, .. } => wall_pass(inp, plane, w, first, force, torque, wall_history, &mut sums, |x, v, o, r| {
-                ContactGeometry::<AxisNormal<0>>::axis_wall(x, v, o, r, origin, sign, v_wall)
+            PlaneKind::Axis { axis: 0, .. } => wall_pass(inp, plane, w, first, force, torque, wall_history, &mut sums, |k| {
+                if radius[k] - sign * (pos[k].x - origin.x) < 0.0 {
+                    return None;
+                }
+                ContactGeometry::<AxisNormal<0>>::axis_wall(pos[k], vel[k], omega[k], radius[k], origin, sign, v_wall)
             }),
-            PlaneKind::Axis { axis: 1, .. } => wall_pass(inp, plane, w, first, force, torque, wall_history, &mut sums, |x, v, o, r| {
-                ContactGeometry::<AxisNormal<1>>::axis_wall(x, v, o, r, origin, sign, v_wall)
+            PlaneKind::Axis { axis: 1, .. } => wall_pass(inp, plane, w, first, force, torque, wall_history, &mut sums, |k| {
+                if radius[k] - sign * (pos[k].y - origin.y) < 0.0 {
+                    return None;
+                }
+                ContactGeometry::<AxisNormal<1>>::axis_wall(pos[k], vel[k], omega[k], radius[k], origin, sign, v_wall)
             }),
-            PlaneKind::Axis { .. } => wall_pass(inp, plane, w, first, force, torque, wall_history, &mut sums, |x, v, o, r| {
-                ContactGeometry::<AxisNormal<2>>::axis_wall(x, v, o, r, origin, sign, v_wall)
+            PlaneKind::Axis { .. } => wall_pass(inp, plane, w, first, force, torque, wall_history, &mut sums, |k| {
+                if radius[k] - sign * (pos[k].z - origin.z) < 0.0 {
+                    return None;
+                }
+                ContactGeometry::<AxisNormal<2>>::axis_wall(pos[k], vel[k], omega[k], radius[k], origin, sign, v_wall)
             }),
-            PlaneKind::General => wall_pass(inp, plane, w, first, force, torque, wall_history, &mut sums, |x, v, o, r| {
-                ContactGeometry::wall(x, v, o, r, origin, plane.normal, v_wall)
+            PlaneKind::General => wall_pass(inp, plane, w, first, force, torque, wall_history, &mut sums, |k| {
+                ContactGeometry::wall(pos[k], vel[k], omega[k], radius[k], origin, plane.normal, v_wall)
             }),
         }
     }
@@ -198,8 +222,8 @@ pub(crate) fn gather_block(
 }
 
 /// Contacts of the particles `first..first + force.len()` with wall `w` (`plane`), whose
-/// geometry `geometry(x, v, omega, R)` gives; forces and torques are added to `force` and
-/// `torque`.
+/// geometry `geometry(k)` gives for particle `first + k`; forces and torques are added to
+/// `force` and `torque`.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn wall_pass<N: Normal>(
@@ -211,38 +235,34 @@ fn wall_pass<N: Normal>(
     torque: &mut [Vec3],
     wall_history: &mut [Vec3],
     sums: &mut BlockSums,
-    geometry: impl Fn(Vec3, Vec3, Vec3, f64) -> Option<ContactGeometry<N>>,
+    geometry: impl Fn(usize) -> Option<ContactGeometry<N>>,
 ) {
     let setup = inp.setup;
     let law = &setup.wall_law;
     let history_on = law.has_history();
-    let (dt, weight) = (setup.dt, -setup.gravity.z);
+    let dt = setup.dt;
     let wall_stride = inp.planes.len().max(1);
     let n = force.len();
-    let (pos, vel, omega, radius, inv_mass) = (
-        &inp.pos[first..first + n],
-        &inp.vel[first..first + n],
-        &inp.omega[first..first + n],
-        &inp.radius[first..first + n],
-        &inp.inv_mass[first..first + n],
-    );
+    let radius = &inp.radius[first..first + n];
     for k in 0..n {
         let zeta = &mut wall_history[k * wall_stride + w];
-        let Some(g) = geometry(pos[k], vel[k], omega[k], radius[k]) else {
+        let Some(g) = geometry(k) else {
             if history_on {
                 *zeta = Vec3::zeros();
             }
             continue;
         };
         let c = if plane.support {
-            contact::evaluate_with_normal(law, &g, weight / inv_mass[k], zeta, dt)
+            contact::evaluate_with_normal(law, &g, inp.load[first + k], zeta, dt)
         } else {
             contact::evaluate(law, &g, zeta, dt)
         };
         force[k] += c.force;
         torque[k] += c.torque_i;
         sums.wall_contacts += 1;
-        sums.check_overlap(first + k, Partner::Wall(w), g.overlap, radius[k]);
+        if !plane.support {
+            sums.check_overlap(first + k, Partner::Wall(w), g.overlap, radius[k]);
+        }
         sums.stored += c.stored_energy;
         sums.dissipated += c.dissipation_rate;
         sums.injected += c.force.dot(&plane.velocity);

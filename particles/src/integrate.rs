@@ -38,7 +38,11 @@ impl Integrator {
 
     /// Stage before the force evaluation for every particle of block `b`: positions to
     /// `t + dt`, and velocities and spins to where the force evaluation needs them.
-    pub fn before_forces(&self, b: &mut StateBlock, dt: f64, rotate: bool) {
+    ///
+    /// `planar`: the particles move in the x-y plane only (pinned layer, with zero vertical
+    /// force and velocity): velocity Verlet leaves z alone, which is what its arithmetic on
+    /// z would give anyway (adding exact zeros).
+    pub fn before_forces(&self, b: &mut StateBlock, dt: f64, rotate: bool, planar: bool) {
         let n = b.pos.len();
         let (pos, vel, vel_half, force, inv_mass) = (
             &mut b.pos[..n],
@@ -49,6 +53,24 @@ impl Integrator {
         );
         let (omega, omega_half, torque, inv_inertia) = (&mut b.omega[..n], &mut b.omega_half[..n], &b.torque[..n], &b.inv_inertia[..n]);
         match self {
+            Integrator::VelocityVerlet if planar => {
+                for k in 0..n {
+                    let c = 0.5 * dt * inv_mass[k];
+                    for a in 0..2 {
+                        let half_kick = force[k][a] * c;
+                        vel_half[k][a] = vel[k][a] + half_kick;
+                        pos[k][a] += vel_half[k][a] * dt;
+                        vel[k][a] = vel_half[k][a] + half_kick; // predictor for the forces
+                    }
+                }
+                if rotate {
+                    for k in 0..n {
+                        let half_kick = torque[k] * (0.5 * dt * inv_inertia[k]);
+                        omega_half[k] = omega[k] + half_kick;
+                        omega[k] = omega_half[k] + half_kick;
+                    }
+                }
+            }
             Integrator::VelocityVerlet => {
                 for k in 0..n {
                     let half_kick = force[k] * (0.5 * dt * inv_mass[k]);
@@ -100,9 +122,19 @@ impl Integrator {
                 let n = half.len();
                 let (rate, inv) = (&rate[..n], &inv[..n]);
                 for k in 0..n {
-                    half[k] += rate[k] * (0.5 * dt * inv[k]);
+                    self.kick(&mut half[k], &rate[k], inv[k], dt);
                 }
             }
+            Integrator::Thesis => {}
+        }
+    }
+
+    /// [`Self::after_kick`] for one particle: `half += rate dt inv / 2` (velocity Verlet), so
+    /// that a caller can fuse it with other per-particle work.
+    #[inline(always)]
+    pub fn kick(&self, half: &mut Vec3, rate: &Vec3, inv: f64, dt: f64) {
+        match self {
+            Integrator::VelocityVerlet => *half += rate * (0.5 * dt * inv),
             Integrator::Thesis => {}
         }
     }
