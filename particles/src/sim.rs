@@ -528,7 +528,12 @@ impl Simulation {
                     &inputs.omega[range.clone()]
                 };
                 let x = &inputs.pos[range];
-                sums.first_bad = (0..x.len()).find(|&k| !is_sound(&x[k], &v[k], &w[k], &bounds)).map(|k| b.first + k);
+                sums.first_bad = x
+                    .iter()
+                    .zip(v)
+                    .zip(w)
+                    .position(|((x, v), w)| !is_sound(x, v, w, &bounds))
+                    .map(|k| b.first + k);
             }
             sums
         });
