@@ -5,6 +5,26 @@
 use crate::state::{State, StateBlock};
 use crate::Vec3;
 
+/// Velocity Verlet's first half-kick, drift and force predictor for one particle: with
+/// `c = dt / (2 m)`, `v_half = v + F c`, `x += v_half dt`, `v = v_half + F c`; in x and y
+/// only when `planar`.
+#[inline(always)]
+fn translate_half(x: &mut Vec3, v: &mut Vec3, v_half: &mut Vec3, f: &Vec3, c: f64, dt: f64, planar: bool) {
+    if planar {
+        for a in 0..2 {
+            let half_kick = f[a] * c;
+            v_half[a] = v[a] + half_kick;
+            x[a] += v_half[a] * dt;
+            v[a] = v_half[a] + half_kick; // predictor for the forces
+        }
+    } else {
+        let half_kick = f * c;
+        *v_half = *v + half_kick;
+        *x += *v_half * dt;
+        *v = *v_half + half_kick; // predictor for the forces
+    }
+}
+
 /// Integration scheme.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "kebab-case")]
@@ -53,37 +73,18 @@ impl Integrator {
         );
         let (omega, omega_half, torque, inv_inertia) = (&mut b.omega[..n], &mut b.omega_half[..n], &b.torque[..n], &b.inv_inertia[..n]);
         match self {
-            Integrator::VelocityVerlet if planar => {
+            // Translation and rotation in one loop when both are integrated.
+            Integrator::VelocityVerlet if rotate => {
                 for k in 0..n {
-                    let c = 0.5 * dt * inv_mass[k];
-                    for a in 0..2 {
-                        let half_kick = force[k][a] * c;
-                        vel_half[k][a] = vel[k][a] + half_kick;
-                        pos[k][a] += vel_half[k][a] * dt;
-                        vel[k][a] = vel_half[k][a] + half_kick; // predictor for the forces
-                    }
-                }
-                if rotate {
-                    for k in 0..n {
-                        let half_kick = torque[k] * (0.5 * dt * inv_inertia[k]);
-                        omega_half[k] = omega[k] + half_kick;
-                        omega[k] = omega_half[k] + half_kick;
-                    }
+                    translate_half(&mut pos[k], &mut vel[k], &mut vel_half[k], &force[k], 0.5 * dt * inv_mass[k], dt, planar);
+                    let half_kick = torque[k] * (0.5 * dt * inv_inertia[k]);
+                    omega_half[k] = omega[k] + half_kick;
+                    omega[k] = omega_half[k] + half_kick;
                 }
             }
             Integrator::VelocityVerlet => {
                 for k in 0..n {
-                    let half_kick = force[k] * (0.5 * dt * inv_mass[k]);
-                    vel_half[k] = vel[k] + half_kick;
-                    pos[k] += vel_half[k] * dt;
-                    vel[k] = vel_half[k] + half_kick; // predictor for the forces
-                }
-                if rotate {
-                    for k in 0..n {
-                        let half_kick = torque[k] * (0.5 * dt * inv_inertia[k]);
-                        omega_half[k] = omega[k] + half_kick;
-                        omega[k] = omega_half[k] + half_kick;
-                    }
+                    translate_half(&mut pos[k], &mut vel[k], &mut vel_half[k], &force[k], 0.5 * dt * inv_mass[k], dt, planar);
                 }
             }
             Integrator::Thesis => {
