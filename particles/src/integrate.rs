@@ -25,6 +25,39 @@ fn translate_half(x: &mut Vec3, v: &mut Vec3, v_half: &mut Vec3, f: &Vec3, c: f6
     }
 }
 
+/// Velocity Verlet's half-kick of the spin and its predictor for one particle: with
+/// `c = dt / (2 I)`, `omega_half = omega + T c`, `omega = omega_half + T c`.
+#[inline(always)]
+fn rotate_half(omega: &mut Vec3, omega_half: &mut Vec3, torque: &Vec3, c: f64) {
+    let half_kick = torque * c;
+    *omega_half = *omega + half_kick;
+    *omega = *omega_half + half_kick;
+}
+
+/// Component-wise bounds of a set of vectors.
+struct Span {
+    lo: Vec3,
+    hi: Vec3,
+}
+
+impl Span {
+    fn new() -> Self {
+        Self {
+            lo: Vec3::repeat(f64::INFINITY),
+            hi: Vec3::repeat(f64::NEG_INFINITY),
+        }
+    }
+
+    /// `if` rather than `inf`/`sup`: one minsd/maxsd per component (equal results).
+    #[inline(always)]
+    fn add(&mut self, u: &Vec3) {
+        for k in 0..3 {
+            self.lo[k] = if u[k] < self.lo[k] { u[k] } else { self.lo[k] };
+            self.hi[k] = if u[k] > self.hi[k] { u[k] } else { self.hi[k] };
+        }
+    }
+}
+
 /// Integration scheme.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "kebab-case")]
@@ -62,7 +95,11 @@ impl Integrator {
     /// `planar`: the particles move in the x-y plane only (pinned layer, with zero vertical
     /// force and velocity): velocity Verlet leaves z alone, which is what its arithmetic on
     /// z would give anyway (adding exact zeros).
-    pub fn before_forces(&self, b: &mut StateBlock, dt: f64, rotate: bool, planar: bool) {
+    ///
+    /// Returns the box `(lo, hi)` spanned by the displacement velocities of this step
+    /// (`position += u dt`), for the neighbour list's drift bound, computed in the same loop.
+    #[inline(always)]
+    pub fn before_forces(&self, b: &mut StateBlock, dt: f64, rotate: bool, planar: bool) -> (Vec3, Vec3) {
         let n = b.pos.len();
         let (pos, vel, vel_half, force, inv_mass) = (
             &mut b.pos[..n],
@@ -72,27 +109,35 @@ impl Integrator {
             &b.inv_mass[..n],
         );
         let (omega, omega_half, torque, inv_inertia) = (&mut b.omega[..n], &mut b.omega_half[..n], &b.torque[..n], &b.inv_inertia[..n]);
-        match self {
-            // Translation and rotation in one loop when both are integrated.
-            Integrator::VelocityVerlet if rotate => {
+        let mut span = Span::new();
+        match (self, planar) {
+            // Translation and rotation in one loop (when both are integrated), with the
+            // planar case as its own loop.
+            (Integrator::VelocityVerlet, true) => {
                 for k in 0..n {
-                    translate_half(&mut pos[k], &mut vel[k], &mut vel_half[k], &force[k], 0.5 * dt * inv_mass[k], dt, planar);
-                    let half_kick = torque[k] * (0.5 * dt * inv_inertia[k]);
-                    omega_half[k] = omega[k] + half_kick;
-                    omega[k] = omega_half[k] + half_kick;
+                    translate_half(&mut pos[k], &mut vel[k], &mut vel_half[k], &force[k], 0.5 * dt * inv_mass[k], dt, true);
+                    span.add(&vel_half[k]);
+                    if rotate {
+                        rotate_half(&mut omega[k], &mut omega_half[k], &torque[k], 0.5 * dt * inv_inertia[k]);
+                    }
                 }
             }
-            Integrator::VelocityVerlet => {
+            (Integrator::VelocityVerlet, false) => {
                 for k in 0..n {
-                    translate_half(&mut pos[k], &mut vel[k], &mut vel_half[k], &force[k], 0.5 * dt * inv_mass[k], dt, planar);
+                    translate_half(&mut pos[k], &mut vel[k], &mut vel_half[k], &force[k], 0.5 * dt * inv_mass[k], dt, false);
+                    span.add(&vel_half[k]);
+                    if rotate {
+                        rotate_half(&mut omega[k], &mut omega_half[k], &torque[k], 0.5 * dt * inv_inertia[k]);
+                    }
                 }
             }
-            Integrator::Thesis => {
+            (Integrator::Thesis, _) => {
                 for k in 0..n {
                     let a = force[k] * inv_mass[k];
                     vel_half[k] += a * dt; // u_{n+1/2} = u_{n-1/2} + dt a_n
                     pos[k] += vel_half[k] * dt; // eq 3.26
                     vel[k] = vel_half[k] + a * (0.5 * dt); // eq 3.27
+                    span.add(&vel_half[k]);
                 }
                 if rotate {
                     for k in 0..n {
@@ -101,6 +146,7 @@ impl Integrator {
                 }
             }
         }
+        (span.lo, span.hi)
     }
 
     /// True if the scheme has a stage after the force evaluation ([`Self::after_kick`]).

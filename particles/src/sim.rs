@@ -242,22 +242,14 @@ impl Simulation {
         // A pinned layer moves in the plane only (z = R and v_z = 0 stay exact either way).
         let planar = self.setup.vertical == Vertical::Pinned;
         let boxes = on_blocks(self.state.blocks_mut(BLOCK), |mut b| {
-            integrator.before_forces(&mut b, dt, rotate, planar);
+            let span = integrator.before_forces(&mut b, dt, rotate, planar);
             // One pass per periodic axis (the tray has one): no test of the other axes.
             for (axis, l) in boundary.periodic.iter().enumerate().filter_map(|(k, p)| p.map(|l| (k, l))) {
                 for x in b.pos.iter_mut() {
                     x[axis] = Boundary::wrap_coordinate(x[axis], l);
                 }
             }
-            // `if` rather than `inf`/`sup`: one minsd/maxsd per component (equal results).
-            let (mut lo, mut hi) = (Vec3::repeat(f64::INFINITY), Vec3::repeat(f64::NEG_INFINITY));
-            for u in b.vel_half.iter() {
-                for k in 0..3 {
-                    lo[k] = if u[k] < lo[k] { u[k] } else { lo[k] };
-                    hi[k] = if u[k] > hi[k] { u[k] } else { hi[k] };
-                }
-            }
-            (lo, hi)
+            span
         });
         self.time += dt;
         // Stage 2: neighbour list, if due. Every displacement velocity u_i lies within
