@@ -139,9 +139,10 @@ pub(crate) fn gather_block(
     // Gravity.
     let n = force.len();
     for ((f, t), &m) in force.iter_mut().zip(torque.iter_mut()).zip(&inp.mass[first..first + n]) {
-        *f = gravity * m; // the mass precomputed: no division
-        // Not a constant store: LLVM would split it off into a memset, whose `rep stosb`
-        // valgrind counts per byte. `0 m` is +0 for a mass m > 0: one multiplication.
+        // The mass precomputed: no division. The torque's zero is not a constant store, which
+        // LLVM would split off into a memset whose `rep stosb` valgrind counts per byte;
+        // `0 m` is +0 for a mass m > 0: one multiplication.
+        *f = gravity * m;
         *t = Vec3::repeat(0.0 * m);
     }
     // Particle pairs, each evaluated from both sides (half the energies each), in one flat
@@ -179,7 +180,12 @@ pub(crate) fn gather_block(
     // processor to overlap the square roots and divisions of consecutive particles. Each
     // particle still sums gravity, pairs and walls in the same order.
     // The geometry closures test the gap first: a grain away from a wall reads nothing else.
-    let (pos, vel, omega, radius) = (&pos[first..first + n], &vel[first..first + n], &omega[first..first + n], &radius[first..first + n]);
+    let (pos, vel, omega, radius) = (
+        &pos[first..first + n],
+        &vel[first..first + n],
+        &omega[first..first + n],
+        &radius[first..first + n],
+    );
     let mut w = 0;
     while w < inp.planes.len() {
         let plane = &inp.planes[w];
@@ -308,7 +314,15 @@ fn axis_pair_pass<const AXIS: usize>(
             let g = if apart {
                 None
             } else {
-                ContactGeometry::<AxisNormal<AXIS>>::axis_wall(pos[k], inp.vel[i], inp.omega[i], r, plane.origin, plane.sign(), plane.velocity)
+                ContactGeometry::<AxisNormal<AXIS>>::axis_wall(
+                    pos[k],
+                    inp.vel[i],
+                    inp.omega[i],
+                    r,
+                    plane.origin,
+                    plane.sign(),
+                    plane.velocity,
+                )
             };
             match g {
                 Some(g) => add_wall_contact(inp, plane, wk, i, &g, zeta, &mut force[k], &mut torque[k], sums),

@@ -115,7 +115,15 @@ impl Integrator {
             // planar case as its own loop.
             (Integrator::VelocityVerlet, true) => {
                 for k in 0..n {
-                    translate_half(&mut pos[k], &mut vel[k], &mut vel_half[k], &force[k], 0.5 * dt * inv_mass[k], dt, true);
+                    translate_half(
+                        &mut pos[k],
+                        &mut vel[k],
+                        &mut vel_half[k],
+                        &force[k],
+                        0.5 * dt * inv_mass[k],
+                        dt,
+                        true,
+                    );
                     span.add(&vel_half[k]);
                     if rotate {
                         rotate_half(&mut omega[k], &mut omega_half[k], &torque[k], 0.5 * dt * inv_inertia[k]);
@@ -124,7 +132,15 @@ impl Integrator {
             }
             (Integrator::VelocityVerlet, false) => {
                 for k in 0..n {
-                    translate_half(&mut pos[k], &mut vel[k], &mut vel_half[k], &force[k], 0.5 * dt * inv_mass[k], dt, false);
+                    translate_half(
+                        &mut pos[k],
+                        &mut vel[k],
+                        &mut vel_half[k],
+                        &force[k],
+                        0.5 * dt * inv_mass[k],
+                        dt,
+                        false,
+                    );
                     span.add(&vel_half[k]);
                     if rotate {
                         rotate_half(&mut omega[k], &mut omega_half[k], &torque[k], 0.5 * dt * inv_inertia[k]);
