@@ -9,7 +9,12 @@
 //!   products with the normal collapse; the kernels are the same generic
 //!   [`contact::evaluate`] for every contact;
 //! - a grain pinned to the floor (jumping off) takes its floor load `m g` as given
-//!   ([`contact::evaluate_with_normal`]): no normal law there;
+//!   ([`contact::evaluate_with_normal`]), precomputed per grain, on a geometry built
+//!   directly (`ContactGeometry::resting_on_floor`: zero overlap, arm `R`): no normal law,
+//!   gap test or overlap check there;
+//! - a wall's gap is tested before anything else of a grain is read; two consecutive walls
+//!   across the same axis (the tray's sides) share one pass that tests both gaps;
+//! - gravity uses masses computed once (no division per step);
 //! - per-contact history is only reset when the law has history (Cundall-Strack).
 
 use crate::contact::{self, AxisNormal, ContactGeometry, Normal};
