@@ -41,20 +41,27 @@ impl Boundary {
     pub fn wrap(&self, mut x: Vec3) -> Vec3 {
         for (k, p) in self.periodic.iter().enumerate() {
             if let Some(l) = *p {
-                if x[k] < 0.0 {
-                    x[k] += l;
-                } else if x[k] >= l {
-                    x[k] -= l;
-                }
-                if !(0.0..l).contains(&x[k]) {
-                    x[k] = x[k].rem_euclid(l);
-                    if x[k] >= l {
-                        x[k] = 0.0; // rem_euclid can return l for tiny negative inputs
-                    }
-                }
+                x[k] = Self::wrap_coordinate(x[k], l);
             }
         }
         x
+    }
+
+    /// [`Self::wrap`] on one periodic axis of length `l`.
+    #[inline(always)]
+    pub fn wrap_coordinate(mut c: f64, l: f64) -> f64 {
+        if c < 0.0 {
+            c += l;
+        } else if c >= l {
+            c -= l;
+        }
+        if !(0.0..l).contains(&c) {
+            c = c.rem_euclid(l);
+            if c >= l {
+                c = 0.0; // rem_euclid can return l for tiny negative inputs
+            }
+        }
+        c
     }
 }
 

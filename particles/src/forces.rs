@@ -9,7 +9,12 @@
 //!   products with the normal collapse; the kernels are the same generic
 //!   [`contact::evaluate`] for every contact;
 //! - a grain pinned to the floor (jumping off) takes its floor load `m g` as given
-//!   ([`contact::evaluate_with_normal`]): no normal law there;
+//!   ([`contact::evaluate_with_normal`]), precomputed per grain, on a geometry built
+//!   directly (`ContactGeometry::resting_on_floor`: zero overlap, arm `R`): no normal law,
+//!   gap test or overlap check there;
+//! - a wall's gap is tested before anything else of a grain is read; two consecutive walls
+//!   across the same axis (the tray's sides) share one pass that tests both gaps;
+//! - gravity uses masses computed once (no division per step);
 //! - per-contact history is only reset when the law has history (Cundall-Strack).
 
 use crate::contact::{self, AxisNormal, ContactGeometry, Normal};
@@ -76,7 +81,11 @@ pub(crate) struct Inputs<'a> {
     pub vel: &'a [Vec3],
     pub omega: &'a [Vec3],
     pub radius: &'a [f64],
-    pub inv_mass: &'a [f64],
+    /// Masses (kg), `1 / inv_mass` computed once.
+    pub mass: &'a [f64],
+    /// Pinned layer: each grain's floor load `-g_z / inv_mass` (N), computed once (empty
+    /// otherwise).
+    pub load: &'a [f64],
     /// Keep per-contact diagnostics.
     pub record: bool,
 }
@@ -134,9 +143,12 @@ pub(crate) fn gather_block(
     let mut sums = BlockSums::default();
     // Gravity.
     let n = force.len();
-    for (k, (f, t)) in force.iter_mut().zip(torque.iter_mut()).enumerate() {
-        *f = gravity * (1.0 / inp.inv_mass[first + k]); // one division, not three
-        *t = Vec3::zeros();
+    for ((f, t), &m) in force.iter_mut().zip(torque.iter_mut()).zip(&inp.mass[first..first + n]) {
+        // The mass precomputed: no division. The torque's zero is not a constant store, which
+        // LLVM would split off into a memset whose `rep stosb` valgrind counts per byte;
+        // `0 m` is +0 for a mass m > 0: one multiplication.
+        *f = gravity * m;
+        *t = Vec3::repeat(0.0 * m);
     }
     // Particle pairs, each evaluated from both sides (half the energies each), in one flat
     // loop over the block's neighbour-list slots: in a dilute layer most particles have zero
@@ -172,22 +184,65 @@ pub(crate) fn gather_block(
     // Walls, one wall at a time over the block: the loop body is short enough for the
     // processor to overlap the square roots and divisions of consecutive particles. Each
     // particle still sums gravity, pairs and walls in the same order.
-    for (w, plane) in inp.planes.iter().enumerate() {
+    // The geometry closures test the gap first: a grain away from a wall reads nothing else.
+    let (pos, vel, omega, radius) = (
+        &pos[first..first + n],
+        &vel[first..first + n],
+        &omega[first..first + n],
+        &radius[first..first + n],
+    );
+    let mut w = 0;
+    while w < inp.planes.len() {
+        let plane = &inp.planes[w];
         let (origin, v_wall, sign) = (plane.origin, plane.velocity, plane.sign());
+        // Two consecutive walls across the same axis (the tray's sides) share one pass.
+        let pair = match (plane.kind, inp.planes.get(w + 1)) {
+            (PlaneKind::Axis { axis, .. }, Some(next)) => {
+                !plane.support && !next.support && matches!(next.kind, PlaneKind::Axis { axis: a, .. } if a == axis)
+            }
+            _ => false,
+        };
+        if pair {
+            match plane.kind {
+                PlaneKind::Axis { axis: 0, .. } => axis_pair_pass::<0>(inp, w, first, force, torque, wall_history, &mut sums),
+                PlaneKind::Axis { axis: 1, .. } => axis_pair_pass::<1>(inp, w, first, force, torque, wall_history, &mut sums),
+                _ => axis_pair_pass::<2>(inp, w, first, force, torque, wall_history, &mut sums),
+            }
+            w += 2;
+            continue;
+        }
+        if plane.support {
+            // A pinned grain rests on the floor: the contact is always there, without overlap.
+            wall_pass(inp, plane, w, first, force, torque, wall_history, &mut sums, |k| {
+                Some(ContactGeometry::resting_on_floor(vel[k], omega[k], radius[k], v_wall))
+            });
+            w += 1;
+            continue;
+        }
         match plane.kind {
-            PlaneKind::Axis { axis: 0, .. } => wall_pass(inp, plane, w, first, force, torque, wall_history, &mut sums, |x, v, o, r| {
-                ContactGeometry::<AxisNormal<0>>::axis_wall(x, v, o, r, origin, sign, v_wall)
+            PlaneKind::Axis { axis: 0, .. } => wall_pass(inp, plane, w, first, force, torque, wall_history, &mut sums, |k| {
+                if radius[k] - sign * (pos[k].x - origin.x) < 0.0 {
+                    return None;
+                }
+                ContactGeometry::<AxisNormal<0>>::axis_wall(pos[k], vel[k], omega[k], radius[k], origin, sign, v_wall)
             }),
-            PlaneKind::Axis { axis: 1, .. } => wall_pass(inp, plane, w, first, force, torque, wall_history, &mut sums, |x, v, o, r| {
-                ContactGeometry::<AxisNormal<1>>::axis_wall(x, v, o, r, origin, sign, v_wall)
+            PlaneKind::Axis { axis: 1, .. } => wall_pass(inp, plane, w, first, force, torque, wall_history, &mut sums, |k| {
+                if radius[k] - sign * (pos[k].y - origin.y) < 0.0 {
+                    return None;
+                }
+                ContactGeometry::<AxisNormal<1>>::axis_wall(pos[k], vel[k], omega[k], radius[k], origin, sign, v_wall)
             }),
-            PlaneKind::Axis { .. } => wall_pass(inp, plane, w, first, force, torque, wall_history, &mut sums, |x, v, o, r| {
-                ContactGeometry::<AxisNormal<2>>::axis_wall(x, v, o, r, origin, sign, v_wall)
+            PlaneKind::Axis { .. } => wall_pass(inp, plane, w, first, force, torque, wall_history, &mut sums, |k| {
+                if radius[k] - sign * (pos[k].z - origin.z) < 0.0 {
+                    return None;
+                }
+                ContactGeometry::<AxisNormal<2>>::axis_wall(pos[k], vel[k], omega[k], radius[k], origin, sign, v_wall)
             }),
-            PlaneKind::General => wall_pass(inp, plane, w, first, force, torque, wall_history, &mut sums, |x, v, o, r| {
-                ContactGeometry::wall(x, v, o, r, origin, plane.normal, v_wall)
+            PlaneKind::General => wall_pass(inp, plane, w, first, force, torque, wall_history, &mut sums, |k| {
+                ContactGeometry::wall(pos[k], vel[k], omega[k], radius[k], origin, plane.normal, v_wall)
             }),
         }
+        w += 1;
     }
     if pinned {
         for f in force.iter_mut() {
@@ -198,8 +253,8 @@ pub(crate) fn gather_block(
 }
 
 /// Contacts of the particles `first..first + force.len()` with wall `w` (`plane`), whose
-/// geometry `geometry(x, v, omega, R)` gives; forces and torques are added to `force` and
-/// `torque`.
+/// geometry `geometry(k)` gives for particle `first + k`; forces and torques are added to
+/// `force` and `torque`.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn wall_pass<N: Normal>(
@@ -211,44 +266,111 @@ fn wall_pass<N: Normal>(
     torque: &mut [Vec3],
     wall_history: &mut [Vec3],
     sums: &mut BlockSums,
-    geometry: impl Fn(Vec3, Vec3, Vec3, f64) -> Option<ContactGeometry<N>>,
+    geometry: impl Fn(usize) -> Option<ContactGeometry<N>>,
 ) {
-    let setup = inp.setup;
-    let law = &setup.wall_law;
-    let history_on = law.has_history();
-    let (dt, weight) = (setup.dt, -setup.gravity.z);
+    let history_on = inp.setup.wall_law.has_history();
     let wall_stride = inp.planes.len().max(1);
     let n = force.len();
-    let (pos, vel, omega, radius, inv_mass) = (
-        &inp.pos[first..first + n],
-        &inp.vel[first..first + n],
-        &inp.omega[first..first + n],
-        &inp.radius[first..first + n],
-        &inp.inv_mass[first..first + n],
-    );
     for k in 0..n {
         let zeta = &mut wall_history[k * wall_stride + w];
-        let Some(g) = geometry(pos[k], vel[k], omega[k], radius[k]) else {
+        let Some(g) = geometry(k) else {
             if history_on {
                 *zeta = Vec3::zeros();
             }
             continue;
         };
-        let c = if plane.support {
-            contact::evaluate_with_normal(law, &g, weight / inv_mass[k], zeta, dt)
-        } else {
-            contact::evaluate(law, &g, zeta, dt)
-        };
-        force[k] += c.force;
-        torque[k] += c.torque_i;
-        sums.wall_contacts += 1;
-        sums.check_overlap(first + k, Partner::Wall(w), g.overlap, radius[k]);
-        sums.stored += c.stored_energy;
-        sums.dissipated += c.dissipation_rate;
-        sums.injected += c.force.dot(&plane.velocity);
-        if inp.record {
-            sums.records
-                .push(ContactRecord::new(first + k, Partner::Wall(w), &g, &c, law.tangential.mu()));
+        add_wall_contact(inp, plane, w, first + k, &g, zeta, &mut force[k], &mut torque[k], sums);
+    }
+}
+
+/// Contacts of the particles `first..first + force.len()` with the walls `w` and `w + 1`,
+/// both normal to axis `AXIS` (neither a pinned floor), in one pass: both gaps are tested
+/// first, and only a grain touching one of them reads anything else; per particle, the
+/// walls in order.
+#[inline(always)]
+fn axis_pair_pass<const AXIS: usize>(
+    inp: &Inputs,
+    w: usize,
+    first: usize,
+    force: &mut [Vec3],
+    torque: &mut [Vec3],
+    wall_history: &mut [Vec3],
+    sums: &mut BlockSums,
+) {
+    let history_on = inp.setup.wall_law.has_history();
+    let wall_stride = inp.planes.len().max(1);
+    let n = force.len();
+    let (p0, p1) = (&inp.planes[w], &inp.planes[w + 1]);
+    let (s0, o0, s1, o1) = (p0.sign(), p0.origin[AXIS], p1.sign(), p1.origin[AXIS]);
+    let (pos, radius) = (&inp.pos[first..first + n], &inp.radius[first..first + n]);
+    for k in 0..n {
+        let (x, r) = (pos[k][AXIS], radius[k]);
+        let (apart0, apart1) = (r - s0 * (x - o0) < 0.0, r - s1 * (x - o1) < 0.0);
+        if apart0 & apart1 {
+            if history_on {
+                wall_history[k * wall_stride + w] = Vec3::zeros();
+                wall_history[k * wall_stride + w + 1] = Vec3::zeros();
+            }
+            continue;
         }
+        let i = first + k;
+        for (wk, plane, apart) in [(w, p0, apart0), (w + 1, p1, apart1)] {
+            let zeta = &mut wall_history[k * wall_stride + wk];
+            let g = if apart {
+                None
+            } else {
+                ContactGeometry::<AxisNormal<AXIS>>::axis_wall(
+                    pos[k],
+                    inp.vel[i],
+                    inp.omega[i],
+                    r,
+                    plane.origin,
+                    plane.sign(),
+                    plane.velocity,
+                )
+            };
+            match g {
+                Some(g) => add_wall_contact(inp, plane, wk, i, &g, zeta, &mut force[k], &mut torque[k], sums),
+                None if history_on => *zeta = Vec3::zeros(),
+                None => {}
+            }
+        }
+    }
+}
+
+/// Adds the contact `g` of particle `i` with wall `w` (`plane`, history `zeta`) to the
+/// particle's `force` and `torque` and to the block sums.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn add_wall_contact<N: Normal>(
+    inp: &Inputs,
+    plane: &WallPlane,
+    w: usize,
+    i: usize,
+    g: &ContactGeometry<N>,
+    zeta: &mut Vec3,
+    force: &mut Vec3,
+    torque: &mut Vec3,
+    sums: &mut BlockSums,
+) {
+    let law = &inp.setup.wall_law;
+    let c = if plane.support {
+        contact::evaluate_with_normal(law, g, inp.load[i], zeta, inp.setup.dt)
+    } else {
+        contact::evaluate(law, g, zeta, inp.setup.dt)
+    };
+    *force += c.force;
+    *torque += c.torque_i;
+    sums.wall_contacts += 1;
+    if !plane.support {
+        // A pinned grain's floor contact has no overlap.
+        sums.check_overlap(i, Partner::Wall(w), g.overlap, inp.radius[i]);
+    }
+    sums.stored += c.stored_energy;
+    sums.dissipated += c.dissipation_rate;
+    sums.injected += c.force.dot(&plane.velocity);
+    if inp.record {
+        sums.records
+            .push(ContactRecord::new(i, Partner::Wall(w), g, &c, law.tangential.mu()));
     }
 }

@@ -5,6 +5,59 @@
 use crate::state::{State, StateBlock};
 use crate::Vec3;
 
+/// Velocity Verlet's first half-kick, drift and force predictor for one particle: with
+/// `c = dt / (2 m)`, `v_half = v + F c`, `x += v_half dt`, `v = v_half + F c`; in x and y
+/// only when `planar`.
+#[inline(always)]
+fn translate_half(x: &mut Vec3, v: &mut Vec3, v_half: &mut Vec3, f: &Vec3, c: f64, dt: f64, planar: bool) {
+    if planar {
+        for a in 0..2 {
+            let half_kick = f[a] * c;
+            v_half[a] = v[a] + half_kick;
+            x[a] += v_half[a] * dt;
+            v[a] = v_half[a] + half_kick; // predictor for the forces
+        }
+    } else {
+        let half_kick = f * c;
+        *v_half = *v + half_kick;
+        *x += *v_half * dt;
+        *v = *v_half + half_kick; // predictor for the forces
+    }
+}
+
+/// Velocity Verlet's half-kick of the spin and its predictor for one particle: with
+/// `c = dt / (2 I)`, `omega_half = omega + T c`, `omega = omega_half + T c`.
+#[inline(always)]
+fn rotate_half(omega: &mut Vec3, omega_half: &mut Vec3, torque: &Vec3, c: f64) {
+    let half_kick = torque * c;
+    *omega_half = *omega + half_kick;
+    *omega = *omega_half + half_kick;
+}
+
+/// Component-wise bounds of a set of vectors.
+struct Span {
+    lo: Vec3,
+    hi: Vec3,
+}
+
+impl Span {
+    fn new() -> Self {
+        Self {
+            lo: Vec3::repeat(f64::INFINITY),
+            hi: Vec3::repeat(f64::NEG_INFINITY),
+        }
+    }
+
+    /// `if` rather than `inf`/`sup`: one minsd/maxsd per component (equal results).
+    #[inline(always)]
+    fn add(&mut self, u: &Vec3) {
+        for k in 0..3 {
+            self.lo[k] = if u[k] < self.lo[k] { u[k] } else { self.lo[k] };
+            self.hi[k] = if u[k] > self.hi[k] { u[k] } else { self.hi[k] };
+        }
+    }
+}
+
 /// Integration scheme.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "kebab-case")]
@@ -38,7 +91,15 @@ impl Integrator {
 
     /// Stage before the force evaluation for every particle of block `b`: positions to
     /// `t + dt`, and velocities and spins to where the force evaluation needs them.
-    pub fn before_forces(&self, b: &mut StateBlock, dt: f64, rotate: bool) {
+    ///
+    /// `planar`: the particles move in the x-y plane only (pinned layer, with zero vertical
+    /// force and velocity): velocity Verlet leaves z alone, which is what its arithmetic on
+    /// z would give anyway (adding exact zeros).
+    ///
+    /// Returns the box `(lo, hi)` spanned by the displacement velocities of this step
+    /// (`position += u dt`), for the neighbour list's drift bound, computed in the same loop.
+    #[inline(always)]
+    pub fn before_forces(&self, b: &mut StateBlock, dt: f64, rotate: bool, planar: bool) -> (Vec3, Vec3) {
         let n = b.pos.len();
         let (pos, vel, vel_half, force, inv_mass) = (
             &mut b.pos[..n],
@@ -48,28 +109,51 @@ impl Integrator {
             &b.inv_mass[..n],
         );
         let (omega, omega_half, torque, inv_inertia) = (&mut b.omega[..n], &mut b.omega_half[..n], &b.torque[..n], &b.inv_inertia[..n]);
-        match self {
-            Integrator::VelocityVerlet => {
+        let mut span = Span::new();
+        match (self, planar) {
+            // Translation and rotation in one loop (when both are integrated), with the
+            // planar case as its own loop.
+            (Integrator::VelocityVerlet, true) => {
                 for k in 0..n {
-                    let half_kick = force[k] * (0.5 * dt * inv_mass[k]);
-                    vel_half[k] = vel[k] + half_kick;
-                    pos[k] += vel_half[k] * dt;
-                    vel[k] = vel_half[k] + half_kick; // predictor for the forces
-                }
-                if rotate {
-                    for k in 0..n {
-                        let half_kick = torque[k] * (0.5 * dt * inv_inertia[k]);
-                        omega_half[k] = omega[k] + half_kick;
-                        omega[k] = omega_half[k] + half_kick;
+                    translate_half(
+                        &mut pos[k],
+                        &mut vel[k],
+                        &mut vel_half[k],
+                        &force[k],
+                        0.5 * dt * inv_mass[k],
+                        dt,
+                        true,
+                    );
+                    span.add(&vel_half[k]);
+                    if rotate {
+                        rotate_half(&mut omega[k], &mut omega_half[k], &torque[k], 0.5 * dt * inv_inertia[k]);
                     }
                 }
             }
-            Integrator::Thesis => {
+            (Integrator::VelocityVerlet, false) => {
+                for k in 0..n {
+                    translate_half(
+                        &mut pos[k],
+                        &mut vel[k],
+                        &mut vel_half[k],
+                        &force[k],
+                        0.5 * dt * inv_mass[k],
+                        dt,
+                        false,
+                    );
+                    span.add(&vel_half[k]);
+                    if rotate {
+                        rotate_half(&mut omega[k], &mut omega_half[k], &torque[k], 0.5 * dt * inv_inertia[k]);
+                    }
+                }
+            }
+            (Integrator::Thesis, _) => {
                 for k in 0..n {
                     let a = force[k] * inv_mass[k];
                     vel_half[k] += a * dt; // u_{n+1/2} = u_{n-1/2} + dt a_n
                     pos[k] += vel_half[k] * dt; // eq 3.26
                     vel[k] = vel_half[k] + a * (0.5 * dt); // eq 3.27
+                    span.add(&vel_half[k]);
                 }
                 if rotate {
                     for k in 0..n {
@@ -78,6 +162,7 @@ impl Integrator {
                 }
             }
         }
+        (span.lo, span.hi)
     }
 
     /// True if the scheme has a stage after the force evaluation ([`Self::after_kick`]).
@@ -100,9 +185,19 @@ impl Integrator {
                 let n = half.len();
                 let (rate, inv) = (&rate[..n], &inv[..n]);
                 for k in 0..n {
-                    half[k] += rate[k] * (0.5 * dt * inv[k]);
+                    self.kick(&mut half[k], &rate[k], inv[k], dt);
                 }
             }
+            Integrator::Thesis => {}
+        }
+    }
+
+    /// [`Self::after_kick`] for one particle: `half += rate dt inv / 2` (velocity Verlet), so
+    /// that a caller can fuse it with other per-particle work.
+    #[inline(always)]
+    pub fn kick(&self, half: &mut Vec3, rate: &Vec3, inv: f64, dt: f64) {
+        match self {
+            Integrator::VelocityVerlet => *half += rate * (0.5 * dt * inv),
             Integrator::Thesis => {}
         }
     }

@@ -134,6 +134,11 @@ pub struct Simulation {
     /// Live contacts at the last force evaluation: `(particle pairs, particle-wall)`.
     pub contacts: (u64, u64),
     rotate: bool,
+    /// Masses `1 / inv_mass` (kg), computed once.
+    mass: Vec<f64>,
+    /// Pinned layer: each grain's floor load `-g_z / inv_mass` (N), computed once; empty
+    /// otherwise.
+    load: Vec<f64>,
     neighbors: NeighborList,
     /// Tangential spring of each neighbour-list slot (pair history), aligned with
     /// `neighbors.partners`; zero for pairs not in contact.
@@ -169,9 +174,17 @@ impl Simulation {
             for i in 0..n {
                 state.pos[i].z = state.radius[i];
                 state.vel[i].z = 0.0;
+                state.vel_half[i].z = 0.0; // the planar integrator never writes it
             }
         }
+        let mass = state.inv_mass.iter().map(|&inv| 1.0 / inv).collect();
+        let load = match setup.vertical {
+            Vertical::Pinned => state.inv_mass.iter().map(|&inv| -setup.gravity.z / inv).collect(),
+            Vertical::Free => Vec::new(),
+        };
         let mut sim = Self {
+            mass,
+            load,
             setup,
             state,
             time: 0.0,
@@ -226,15 +239,17 @@ impl Simulation {
         let boundary = self.setup.boundary;
         // Stage 1, per block: integrator before the forces, periodic wrap, and the box
         // spanned by this step's displacement velocities (position += vel_half dt).
+        // A pinned layer moves in the plane only (z = R and v_z = 0 stay exact either way).
+        let planar = self.setup.vertical == Vertical::Pinned;
         let boxes = on_blocks(self.state.blocks_mut(BLOCK), |mut b| {
-            integrator.before_forces(&mut b, dt, rotate);
-            let (mut lo, mut hi) = (Vec3::repeat(f64::INFINITY), Vec3::repeat(f64::NEG_INFINITY));
-            for (x, u) in b.pos.iter_mut().zip(b.vel_half.iter()) {
-                *x = boundary.wrap(*x);
-                lo = lo.inf(u);
-                hi = hi.sup(u);
+            let span = integrator.before_forces(&mut b, dt, rotate, planar);
+            // One pass per periodic axis (the tray has one): no test of the other axes.
+            for (axis, l) in boundary.periodic.iter().enumerate().filter_map(|(k, p)| p.map(|l| (k, l))) {
+                for x in b.pos.iter_mut() {
+                    x[axis] = Boundary::wrap_coordinate(x[axis], l);
+                }
             }
-            (lo, hi)
+            span
         });
         self.time += dt;
         // Stage 2: neighbour list, if due. Every displacement velocity u_i lies within
@@ -457,7 +472,8 @@ impl Simulation {
             vel,
             omega,
             radius,
-            inv_mass,
+            mass: &self.mass,
+            load: &self.load,
             record: self.record,
         };
 
@@ -486,13 +502,13 @@ impl Simulation {
             });
         }
 
-        let inv_inertia = &*inv_inertia;
+        let (inv_mass, inv_inertia) = (&*inv_mass, &*inv_inertia);
         let sums = on_blocks(blocks, |b| {
             let mut sums = forces::gather_block(&inputs, b.first, b.force, b.torque, b.pair, b.wall);
             if finish {
                 let range = b.first..b.first + b.force.len();
                 if kick {
-                    integrator.after_kick(b.vel_half, b.force, &inputs.inv_mass[range.clone()], dt);
+                    integrator.after_kick(b.vel_half, b.force, &inv_mass[range.clone()], dt);
                     if rotate {
                         integrator.after_kick(b.omega_half, b.torque, &inv_inertia[range.clone()], dt);
                     }
@@ -504,7 +520,12 @@ impl Simulation {
                     &inputs.omega[range.clone()]
                 };
                 let x = &inputs.pos[range];
-                sums.first_bad = (0..x.len()).find(|&k| !is_sound(&x[k], &v[k], &w[k], &bounds)).map(|k| b.first + k);
+                sums.first_bad = x
+                    .iter()
+                    .zip(v)
+                    .zip(w)
+                    .position(|((x, v), w)| !is_sound(x, v, w, &bounds))
+                    .map(|k| b.first + k);
             }
             sums
         });
@@ -569,8 +590,14 @@ struct BlockArrays<'a> {
 /// True if position, velocity and spin are finite and the position inside `bounds`.
 #[inline]
 fn is_sound(x: &Vec3, v: &Vec3, w: &Vec3, (lo, hi): &(Vec3, Vec3)) -> bool {
-    // A NaN or an infinity in any component survives the sum.
-    (x.sum() + v.sum() + w.sum()).is_finite() && x.x >= lo.x && x.x <= hi.x && x.y >= lo.y && x.y <= hi.y && x.z >= lo.z && x.z <= hi.z
+    // A NaN or an infinity in any component survives the sum. `&`, not `&&`: no branches.
+    (x.sum() + v.sum() + w.sum()).is_finite()
+        & (x.x >= lo.x)
+        & (x.x <= hi.x)
+        & (x.y >= lo.y)
+        & (x.y <= hi.y)
+        & (x.z >= lo.z)
+        & (x.z <= hi.z)
 }
 
 /// `f` applied to every block, in block order. On the rayon pool, unless it has a single

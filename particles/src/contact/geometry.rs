@@ -210,6 +210,29 @@ impl<const AXIS: usize> ContactGeometry<AxisNormal<AXIS>> {
     }
 }
 
+impl ContactGeometry<AxisNormal<2>> {
+    /// [`ContactGeometry::axis_wall`] for a grain resting on a floor through `z = 0` with its
+    /// centre at `z = R` and no vertical velocity (a pinned layer, eq 3.28): zero overlap,
+    /// lever arm `R`. Equal to `axis_wall` for such a grain, without the gap test.
+    #[inline(always)]
+    pub fn resting_on_floor(vi: Vec3, wi: Vec3, ri: f64, v_wall: Vec3) -> Self {
+        let v_rel = vi - v_wall;
+        let s = ri * wi;
+        let mut v_t = v_rel - Vec3::new(s.y, -s.x, 0.0);
+        v_t.z = 0.0;
+        Self {
+            n: AxisNormal { sign: 1.0 },
+            overlap: 0.0,
+            overlap_rate: -v_rel.z,
+            v_t,
+            omega_rel: wi,
+            arm_i: ri,
+            arm_j: f64::INFINITY,
+            r_eff: ri,
+        }
+    }
+}
+
 /// Tangential part of the contact-point velocity of i relative to j (eq 3.11):
 /// `v_c = v_rel - spin_sum x n`, `v_t = v_c - (v_c . n) n`, where `v_rel = v_i - v_j` and
 /// `spin_sum = a_i omega_i + a_j omega_j` (lever arms times spins; a wall contributes 0).
@@ -299,6 +322,17 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn resting_on_floor_equals_axis_wall() {
+        let (r, v, w) = (4e-4, Vec3::new(0.3, -0.2, 0.0), Vec3::new(40.0, -25.0, 12.0));
+        let (o, vw) = (Vec3::new(0.013, 0.0, 0.0), Vec3::new(1.7, 0.0, 0.0));
+        let x = Vec3::new(0.1, 0.01, r);
+        let g = ContactGeometry::<AxisNormal<2>>::axis_wall(x, v, w, r, o, 1.0, vw).unwrap();
+        let f = ContactGeometry::resting_on_floor(v, w, r, vw);
+        assert!(g == f, "{g:?} != {f:?}");
+        assert_eq!((f.overlap, f.arm_i), (0.0, r));
     }
 
     #[test]
