@@ -43,17 +43,32 @@ pub struct SweepArgs {
 
 impl SweepArgs {
     /// Stores the sweep in `root` (refusing a different one), runs this shard's unfinished
-    /// jobs, and fails if any job failed.
-    pub fn execute(&self, root: &Path, sweep: &Sweep) -> Result<Progress, CliError> {
+    /// jobs, writes the report of every result present with `report` (also when some job
+    /// failed, so nothing finished is lost from view), and returns the report's summary with
+    /// the progress; fails, after the report, if any job failed.
+    pub fn execute(
+        &self,
+        root: &Path,
+        sweep: &Sweep,
+        report: impl Fn(&Path, &Sweep) -> Result<Value, CliError>,
+    ) -> Result<String, CliError> {
         store(root, sweep)?;
         let parallel = self
             .jobs
             .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
         let progress = run(root, sweep, self.shard, parallel, &self.sample_cache, self.quiet)?;
+        let mut summary = report(root, sweep)?;
         if !progress.failed.is_empty() {
-            return Err(format!("{} job(s) failed: {}", progress.failed.len(), progress.failed.join("; ")).into());
+            return Err(format!(
+                "{} job(s) failed (the report {} lists them): {}",
+                progress.failed.len(),
+                root.join("report.md").display(),
+                progress.failed.join("; ")
+            )
+            .into());
         }
-        Ok(progress)
+        summary["progress"] = serde_json::to_value(&progress)?;
+        Ok(serde_json::to_string(&summary)?)
     }
 }
 
@@ -216,12 +231,55 @@ pub fn run(root: &Path, sweep: &Sweep, shard: Shard, parallel: usize, samples: &
     });
     bar.finish_and_clear();
     for (id, r) in outcomes {
+        let error_file = root.join("jobs").join(&id).join(ERROR_FILE);
         match r {
-            Ok(()) => progress.ran += 1,
-            Err(e) => progress.failed.push(format!("{id}: {e}")),
+            Ok(()) => {
+                progress.ran += 1;
+                let _ = std::fs::remove_file(&error_file);
+            }
+            Err(e) => {
+                // Kept beside the job's partial run, so that the report can say why it stopped;
+                // a re-run retries the job (it has no result) and removes the file on success.
+                std::fs::create_dir_all(error_file.parent().expect("a job directory"))?;
+                analysis::io::write_atomic(&error_file, format!("{e}\n").as_bytes())?;
+                progress.failed.push(format!("{id}: {e}"));
+            }
         }
     }
     Ok(progress)
+}
+
+/// File in a job's directory holding the error that stopped its last attempt.
+const ERROR_FILE: &str = "error.txt";
+
+/// The report section on jobs without a result: each stopped job with its error, then the
+/// count of jobs not run yet (other shards, or an interrupted sweep). Empty when every job
+/// has finished.
+pub fn unfinished_section(root: &Path, sweep: &Sweep) -> String {
+    let mut failed = Vec::new();
+    let mut pending = 0;
+    for job in &sweep.jobs {
+        let dir = job_dir(root, job);
+        if dir.join("result.json").exists() {
+            continue;
+        }
+        match std::fs::read_to_string(dir.join(ERROR_FILE)) {
+            Ok(e) => failed.push(format!("- `{}` stopped: {}", job.id, e.trim())),
+            Err(_) => pending += 1,
+        }
+    }
+    let mut md = String::new();
+    if !failed.is_empty() {
+        md.push_str("## Jobs that stopped with an error\n\nTheir partial runs are kept in `jobs/<id>/run`; a re-run retries them.\n\n");
+        md.push_str(&failed.join("\n"));
+        md.push_str("\n\n");
+    }
+    if pending > 0 {
+        md.push_str(&format!(
+            "{pending} job(s) have not run yet (other shards, or an interrupted sweep).\n\n"
+        ));
+    }
+    md
 }
 
 /// Runs one job: the model into `jobs/<id>/run`, the shared analysis into `jobs/<id>/analysis`,

@@ -199,3 +199,35 @@ fn the_automaton_ablation_switches_off_each_ingredient_and_reports_every_configu
     let _ = std::fs::remove_dir_all(dir);
     let _ = std::fs::remove_dir_all(samples);
 }
+
+#[test]
+fn a_sweep_whose_jobs_fail_still_writes_a_report_naming_each_error() {
+    let out = tmp("failing");
+    let samples = tmp("failing-samples");
+    let _ = std::fs::remove_dir_all(&out);
+    // A step far above the contact-time bound: every job stops before its first step.
+    let o = stripes()
+        .arg("phase-map")
+        .arg(scene())
+        .args(TINY)
+        .args(["--set", "run.dt=1e-3", "--out"])
+        .arg(&out)
+        .arg("--sample-cache")
+        .arg(&samples)
+        .output()
+        .unwrap();
+    assert!(!o.status.success());
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(stderr.contains("4 job(s) failed") && stderr.contains("report.md"), "{stderr}");
+    let report = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(report.contains("## Jobs that stopped with an error"), "{report}");
+    assert_eq!(report.matches("stopped: ").count(), 4, "{report}");
+    assert!(report.contains("run.dt"), "{report}");
+    let errors = std::fs::read_dir(out.join("jobs"))
+        .unwrap()
+        .filter(|e| e.as_ref().unwrap().path().join("error.txt").exists())
+        .count();
+    assert_eq!(errors, 4);
+    let _ = std::fs::remove_dir_all(&out);
+    let _ = std::fs::remove_dir_all(&samples);
+}

@@ -193,10 +193,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
         overrides: args.sweep.overrides.clone(),
         jobs: all,
     };
-    let progress = args.sweep.execute(&args.out, &sweep)?;
-    let mut summary = report(&args.out, &sweep)?;
-    summary["progress"] = serde_json::to_value(&progress)?;
-    Ok(serde_json::to_string(&summary)?)
+    args.sweep.execute(&args.out, &sweep, report)
 }
 
 /// Mean and sample standard deviation of the finite values (`NaN`s when none).
@@ -213,6 +210,15 @@ fn mean_std(v: &[f64]) -> (f64, f64, usize) {
         0.0
     };
     (m, s, n)
+}
+
+/// `x` in scientific notation with three significant digits, `-` when not finite.
+fn sci(x: f64) -> String {
+    if x.is_finite() {
+        format!("{x:.2e}")
+    } else {
+        "-".into()
+    }
 }
 
 fn fmt(x: f64, digits: usize) -> String {
@@ -281,9 +287,9 @@ pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
                 } => (
                     format!("onset {lo}-{hi} s, {tc} +- {spread}"),
                     format!(
-                        "onset {}, count {}",
+                        "{}, count {}",
                         if onset.is_finite() {
-                            format!("{:+.1} s", onset - 0.5 * (lo + hi))
+                            format!("onset {:+.1} s", onset - 0.5 * (lo + hi))
                         } else {
                             "no onset".into()
                         },
@@ -306,8 +312,8 @@ pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
                 },
                 fmt(count, 2),
                 fmt(count_sd, 2),
-                fmt(before, 6),
-                fmt(after, 6),
+                sci(before),
+                sci(after),
                 phase,
                 thesis,
                 diff
@@ -329,6 +335,7 @@ pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
         }
         writeln!(md)?;
     }
+    md.push_str(&sweep::unfinished_section(root, sweep));
     let path = root.join("report.md");
     analysis::io::write_atomic(&path, md.as_bytes())?;
     dir.note_files([path]);

@@ -98,10 +98,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
         overrides: args.sweep.overrides.clone(),
         jobs: jobs(&freqs, &amps, &args.model.models(), args.samples.max(1), scene.run.seed),
     };
-    let progress = args.sweep.execute(&args.out, &sweep)?;
-    let mut summary = report(&args.out, &sweep)?;
-    summary["progress"] = serde_json::to_value(&progress)?;
-    Ok(serde_json::to_string(&summary)?)
+    args.sweep.execute(&args.out, &sweep, report)
 }
 
 const PHASES: [&str; 3] = ["nothing", "stripes", "gas"];
@@ -294,6 +291,7 @@ pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
         }
         agreement = json!({ "cells": both, "agree": same, "fraction": if both > 0 { same as f64 / both as f64 } else { f64::NAN } });
     }
+    md.push_str(&sweep::unfinished_section(root, sweep));
     let path = root.join("report.md");
     analysis::io::write_atomic(&path, md.as_bytes())?;
     dir.note_files([path]);
