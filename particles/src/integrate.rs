@@ -5,6 +5,39 @@
 use crate::state::{State, StateBlock};
 use crate::Vec3;
 
+/// Velocity Verlet's first stage for the particles of one block, translation with
+/// [`translate_half`] (only x and y when `PLANAR`) and, in the same loop, `spin(k)` for the
+/// rotation of particle `k`; adds each displacement velocity to `span`. The two cases are
+/// separate instances, so the planar test is decided at compile time.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn verlet_first_half<const PLANAR: bool>(
+    pos: &mut [Vec3],
+    vel: &mut [Vec3],
+    vel_half: &mut [Vec3],
+    force: &[Vec3],
+    inv_mass: &[f64],
+    dt: f64,
+    span: &mut Span,
+    mut spin: impl FnMut(usize),
+) {
+    let n = pos.len();
+    let (vel, vel_half, force, inv_mass) = (&mut vel[..n], &mut vel_half[..n], &force[..n], &inv_mass[..n]);
+    for k in 0..n {
+        translate_half(
+            &mut pos[k],
+            &mut vel[k],
+            &mut vel_half[k],
+            &force[k],
+            0.5 * dt * inv_mass[k],
+            dt,
+            PLANAR,
+        );
+        span.add(&vel_half[k]);
+        spin(k);
+    }
+}
+
 /// Velocity Verlet's first half-kick, drift and force predictor for one particle: with
 /// `c = dt / (2 m)`, `v_half = v + F c`, `x += v_half dt`, `v = v_half + F c`; in x and y
 /// only when `planar`.
@@ -113,40 +146,16 @@ impl Integrator {
         match (self, planar) {
             // Translation and rotation in one loop (when both are integrated), with the
             // planar case as its own loop.
-            (Integrator::VelocityVerlet, true) => {
-                for k in 0..n {
-                    translate_half(
-                        &mut pos[k],
-                        &mut vel[k],
-                        &mut vel_half[k],
-                        &force[k],
-                        0.5 * dt * inv_mass[k],
-                        dt,
-                        true,
-                    );
-                    span.add(&vel_half[k]);
-                    if rotate {
-                        rotate_half(&mut omega[k], &mut omega_half[k], &torque[k], 0.5 * dt * inv_inertia[k]);
-                    }
+            (Integrator::VelocityVerlet, true) => verlet_first_half::<true>(pos, vel, vel_half, force, inv_mass, dt, &mut span, |k| {
+                if rotate {
+                    rotate_half(&mut omega[k], &mut omega_half[k], &torque[k], 0.5 * dt * inv_inertia[k]);
                 }
-            }
-            (Integrator::VelocityVerlet, false) => {
-                for k in 0..n {
-                    translate_half(
-                        &mut pos[k],
-                        &mut vel[k],
-                        &mut vel_half[k],
-                        &force[k],
-                        0.5 * dt * inv_mass[k],
-                        dt,
-                        false,
-                    );
-                    span.add(&vel_half[k]);
-                    if rotate {
-                        rotate_half(&mut omega[k], &mut omega_half[k], &torque[k], 0.5 * dt * inv_inertia[k]);
-                    }
+            }),
+            (Integrator::VelocityVerlet, false) => verlet_first_half::<false>(pos, vel, vel_half, force, inv_mass, dt, &mut span, |k| {
+                if rotate {
+                    rotate_half(&mut omega[k], &mut omega_half[k], &torque[k], 0.5 * dt * inv_inertia[k]);
                 }
-            }
+            }),
             (Integrator::Thesis, _) => {
                 for k in 0..n {
                     let a = force[k] * inv_mass[k];
