@@ -9,6 +9,7 @@ use serde::{Deserialize, Serialize};
 use crate::contact::{ContactLaw, NormalLaw, RollingLaw, TangentialLaw};
 use crate::integrate::Integrator;
 use crate::material::{mix, Material};
+use crate::SimError;
 
 /// A scene. Sections mirror the TOML tables.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -345,6 +346,39 @@ pub const DEFAULT_RESTITUTION_TOLERANCE: f64 = 1e-2;
 
 /// Fewest steps per contact time an explicit dt may give (the thesis uses 15-20, sec 3.5.1).
 pub const MIN_STEPS_PER_CONTACT: f64 = 8.0;
+
+/// Refuses a step `dt` (s) that resolves the contact time `contact_time` (s), or the half
+/// period `spring_half_period` (s) of a stuck tangential spring, with fewer than `minimum`
+/// steps ([`MIN_STEPS_PER_CONTACT`] for a tray); `dt_field` and `spring_field` name the keys
+/// to blame. The one check of the tray's scenes and the collision lab.
+pub fn check_step_resolution(
+    dt: f64,
+    minimum: f64,
+    contact_time: f64,
+    spring_half_period: Option<f64>,
+    dt_field: &str,
+    spring_field: &str,
+) -> Result<(), SimError> {
+    if contact_time / dt < minimum {
+        return Err(SimError::TimeStepTooLarge {
+            field: dt_field.into(),
+            dt,
+            contact_time,
+            steps_per_contact: contact_time / dt,
+            minimum,
+        });
+    }
+    match spring_half_period {
+        Some(half) if half / dt < minimum => Err(SimError::TangentialSpringTooStiff {
+            field: spring_field.into(),
+            dt,
+            half_period: half,
+            steps: half / dt,
+            minimum,
+        }),
+        _ => Ok(()),
+    }
+}
 
 fn d_density() -> f64 {
     2500.0

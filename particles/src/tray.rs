@@ -5,7 +5,7 @@ use crate::contact::tangential::sphere_tangential_mass;
 use crate::contact::TangentialLaw;
 use crate::experiment::step_control;
 use crate::neighbor::NeighborSearch;
-use crate::scene::{Scene, TimeStep, MIN_STEPS_PER_CONTACT};
+use crate::scene::{check_step_resolution, Scene, TimeStep, MIN_STEPS_PER_CONTACT};
 use crate::sim::{Setup, Vertical};
 use crate::wall::{Motion, Wall};
 use crate::{SimError, Vec3};
@@ -53,36 +53,22 @@ pub fn shortest_spring_half_period(scene: &Scene) -> Option<f64> {
 /// spring, is refused before the run starts.
 pub fn time_step(scene: &Scene) -> Result<f64, SimError> {
     let dt = contact_step(scene)?;
-    if let Some(half) = shortest_spring_half_period(scene) {
-        if half / dt < MIN_STEPS_PER_CONTACT {
-            return Err(SimError::TangentialSpringTooStiff {
-                field: "contact.tangential_stiffness".into(),
-                dt,
-                half_period: half,
-                steps: half / dt,
-                minimum: MIN_STEPS_PER_CONTACT,
-            });
-        }
-    }
+    // An explicit step is checked against the contact time too; `auto` never gives fewer
+    // steps per contact than the minimum.
+    check_step_resolution(
+        dt,
+        MIN_STEPS_PER_CONTACT,
+        shortest_contact_time(scene),
+        shortest_spring_half_period(scene),
+        "run.dt",
+        "contact.tangential_stiffness",
+    )?;
     Ok(dt)
 }
 
 fn contact_step(scene: &Scene) -> Result<f64, SimError> {
-    let t_c = shortest_contact_time(scene);
     match scene.run.dt {
-        TimeStep::Seconds(dt) => {
-            let steps = t_c / dt;
-            if steps < MIN_STEPS_PER_CONTACT {
-                return Err(SimError::TimeStepTooLarge {
-                    field: "run.dt".into(),
-                    dt,
-                    contact_time: t_c,
-                    steps_per_contact: steps,
-                    minimum: MIN_STEPS_PER_CONTACT,
-                });
-            }
-            Ok(dt)
-        }
+        TimeStep::Seconds(dt) => Ok(dt),
         TimeStep::Auto(_) => {
             let floor = scene.run.steps_per_contact.max(MIN_STEPS_PER_CONTACT);
             let choice = step_control::choose(scene, scene.run.restitution_tolerance, floor)?;

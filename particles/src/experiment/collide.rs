@@ -29,6 +29,7 @@ use crate::contact::{geometry::tangential_velocity, ContactLaw};
 use crate::integrate::Integrator;
 use crate::neighbor::NeighborSearch;
 use crate::observe;
+use crate::scene::check_step_resolution;
 use crate::sim::{Setup, Simulation, Vertical};
 use crate::state::State;
 use crate::wall::{Motion, Wall};
@@ -207,28 +208,9 @@ impl Collision {
                 message: format!("time step must be positive, got {dt}"),
             });
         }
-        if t_est / dt < MIN_STEPS_PER_CONTACT {
-            return Err(SimError::TimeStepTooLarge {
-                field: "dt".into(),
-                dt,
-                contact_time: t_est,
-                steps_per_contact: t_est / dt,
-                minimum: MIN_STEPS_PER_CONTACT,
-            });
-        }
-
         let (m_eff, _) = self.effective();
-        if let Some(half) = self.law.tangential.spring_half_period(sphere_tangential_mass(m_eff)) {
-            if half / dt < MIN_STEPS_PER_CONTACT {
-                return Err(SimError::TangentialSpringTooStiff {
-                    field: "kt".into(),
-                    dt,
-                    half_period: half,
-                    steps: half / dt,
-                    minimum: MIN_STEPS_PER_CONTACT,
-                });
-            }
-        }
+        let spring = self.law.tangential.spring_half_period(sphere_tangential_mass(m_eff));
+        check_step_resolution(dt, MIN_STEPS_PER_CONTACT, t_est, spring, "dt", "kt")?;
 
         let (_, v) = self.speeds();
         let mut state = State::default();
