@@ -19,7 +19,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use serde::{Deserialize, Serialize};
 use serde_json::{json, Value};
 
-use crate::output::CliError;
+use crate::output::{CliError, RunDir};
 
 /// Options every sweep command shares (`ablate`, `phase-map`).
 #[derive(clap::Args, Debug, Serialize)]
@@ -247,6 +247,27 @@ pub fn run(root: &Path, sweep: &Sweep, shard: Shard, parallel: usize, samples: &
         }
     }
     Ok(progress)
+}
+
+/// Opens a sweep's report: the results present (in job order) and the sweep directory as
+/// an output directory (its `config.json` names the sweep).
+pub fn open_report(root: &Path, sweep: &Sweep) -> Result<(Vec<(Job, Value)>, RunDir), CliError> {
+    let results = results(root, sweep)?;
+    let dir = RunDir::create(
+        root,
+        &json!({ "sweep": sweep.kind, "scene": sweep.scene, "overrides": sweep.overrides }),
+    )?;
+    Ok((results, dir))
+}
+
+/// Writes `report.md` (the body `md`, then [`unfinished_section`]) atomically into the
+/// sweep's directory.
+pub fn write_report(root: &Path, sweep: &Sweep, dir: &mut RunDir, mut md: String) -> Result<(), CliError> {
+    md.push_str(&unfinished_section(root, sweep));
+    let path = root.join("report.md");
+    analysis::io::write_atomic(&path, md.as_bytes())?;
+    dir.note_files([path]);
+    Ok(())
 }
 
 /// File in a job's directory holding the error that stopped its last attempt.

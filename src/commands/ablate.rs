@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 
 use serde_json::{json, Value};
 
-use crate::output::{CliError, RunDir};
+use crate::output::CliError;
 use crate::sweep::{self, Job, Model, Sweep};
 
 #[derive(clap::Args, Debug, serde::Serialize)]
@@ -231,11 +231,7 @@ fn fmt(x: f64, digits: usize) -> String {
 
 /// Writes the report of whatever results exist; returns the summary.
 pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
-    let results = sweep::results(root, sweep)?;
-    let mut dir = RunDir::create(
-        root,
-        &json!({ "sweep": sweep.kind, "scene": sweep.scene, "overrides": sweep.overrides }),
-    )?;
+    let (results, mut dir) = sweep::open_report(root, sweep)?;
     let packing: Vec<usize> = sweep
         .jobs
         .iter()
@@ -335,10 +331,7 @@ pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
         }
         writeln!(md)?;
     }
-    md.push_str(&sweep::unfinished_section(root, sweep));
-    let path = root.join("report.md");
-    analysis::io::write_atomic(&path, md.as_bytes())?;
-    dir.note_files([path]);
+    sweep::write_report(root, sweep, &mut dir, md)?;
     let line = dir.finish(json!({ "kind": "ablate", "jobs": sweep.jobs.len(), "finished": results.len(), "rows": rows }))?;
     Ok(serde_json::from_str(&line)?)
 }

@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 use analysis::plot::Heatmap;
 use serde_json::{json, Value};
 
-use crate::output::{CliError, RunDir};
+use crate::output::CliError;
 use crate::sweep::{self, Job, Model, Sweep};
 
 #[derive(clap::Args, Debug, serde::Serialize)]
@@ -119,11 +119,7 @@ fn mean(v: &[f64]) -> f64 {
 
 /// Writes the CSV, the plots and the report of whatever results exist; returns the summary.
 pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
-    let results = sweep::results(root, sweep)?;
-    let mut dir = RunDir::create(
-        root,
-        &json!({ "sweep": sweep.kind, "scene": sweep.scene, "overrides": sweep.overrides }),
-    )?;
+    let (results, mut dir) = sweep::open_report(root, sweep)?;
     let mut csv = String::from("model,frequency,amplitude,sample,phase,stripe_count,contrast,mobility,onset_s\n");
     // (model, amplitude index, frequency index) -> per-sample (phase, contrast, mobility).
     let num = |v: &Value, k: &str| v[k].as_f64().unwrap_or(f64::NAN);
@@ -291,10 +287,7 @@ pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
         }
         agreement = json!({ "cells": both, "agree": same, "fraction": if both > 0 { same as f64 / both as f64 } else { f64::NAN } });
     }
-    md.push_str(&sweep::unfinished_section(root, sweep));
-    let path = root.join("report.md");
-    analysis::io::write_atomic(&path, md.as_bytes())?;
-    dir.note_files([path]);
+    sweep::write_report(root, sweep, &mut dir, md)?;
     let phases: BTreeMap<String, Vec<Vec<&str>>> = grids
         .iter()
         .map(|(m, g)| (m.clone(), g.iter().map(|row| row.iter().map(|&c| names[c]).collect()).collect()))
