@@ -3,6 +3,9 @@
 //!
 //! Run with `cargo bench -p particles --bench kernels`.
 
+#[path = "../tests/common/mod.rs"]
+mod common;
+
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use particles::contact::{self, ContactGeometry, ContactLaw, NormalLaw, RollingLaw, TangentialLaw};
 use particles::neighbor::{NeighborList, NeighborSearch};
@@ -73,32 +76,20 @@ fn contact_laws(c: &mut Criterion) {
     group.finish();
 }
 
-const SCENE: &str = r#"
-    [box]
-    length = 0.04
-    width = 0.02
-    [drive]
-    frequency = 20.0
-    amplitude = 0.025
-    [particles]
-    count = 400
-    radius_min = 0.25e-3
-    radius_max = 0.5e-3
-    [run]
-    duration = 1.0
-    dt = 8e-6
-    seed = 1
-"#;
+/// 400 grains at the thesis packing on 40 mm x 20 mm.
+fn scene(overrides: &[&str]) -> Scene {
+    common::tray_scene(0.04, 0.02, 400, "[run]\nduration = 1.0\ndt = 8e-6\nseed = 1\n", overrides)
+}
 
 fn tray_step(c: &mut Criterion) {
     let mut group = c.benchmark_group("tray-400");
     for (name, jumping) in [("step 3D", "true"), ("step pinned 2D", "false")] {
-        let scene = Scene::parse(SCENE, &[format!("toggles.jumping={jumping}")], "bench").expect("valid scene");
+        let scene = scene(&[&format!("toggles.jumping={jumping}")]);
         let setup = tray::setup(&scene, tray::drive(&scene)).expect("valid setup");
         let mut sim = Simulation::new(setup, initial_state(&scene)).expect("valid start");
         group.bench_function(name, |b| b.iter(|| sim.step().expect("the tray runs")));
     }
-    let scene = Scene::parse(SCENE, &[], "bench").expect("valid scene");
+    let scene = scene(&[]);
     let state = initial_state(&scene);
     let boundary = tray::setup(&scene, tray::drive(&scene)).expect("valid setup").boundary;
     for skin in [0.0, 0.2e-3, 0.5e-3] {

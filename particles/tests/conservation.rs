@@ -7,13 +7,14 @@
 //!
 //! (The automaton's mass conservation belongs to the automaton crate.)
 
+mod common;
+
 use particles::boundary::Boundary;
 use particles::contact::{ContactLaw, NormalLaw, RollingLaw, TangentialLaw};
 use particles::integrate::Integrator;
 use particles::neighbor::NeighborSearch;
 use particles::observe;
 use particles::prepare::initial_state;
-use particles::scene::Scene;
 use particles::sim::{Setup, Simulation, Vertical};
 use particles::state::State;
 use particles::tray;
@@ -185,29 +186,11 @@ proptest! {
         walls in any::<bool>(),
         rolling in any::<bool>(),
     ) {
-        let text = format!(r#"
-            [box]
-            length = 0.01
-            width = 0.008
-            [drive]
-            frequency = 20.0
-            amplitude = 0.025
-            [particles]
-            count = 40
-            radius_min = 0.25e-3
-            radius_max = 0.5e-3
-            [toggles]
-            friction = {friction}
-            jumping = {jumping}
-            walls = {walls}
-            rolling = {rolling}
-            [run]
-            duration = 0.1
-            dt = 4e-6
-            seed = {seed}
-        "#);
-        let scene = Scene::parse(&text, &[], "test").unwrap();
-        scene.validate().unwrap();
+        let toggles = format!(
+            "[toggles]\nfriction = {friction}\njumping = {jumping}\nwalls = {walls}\nrolling = {rolling}\n\
+             [run]\nduration = 0.1\ndt = 4e-6\nseed = {seed}\n"
+        );
+        let scene = common::tray_scene(0.01, 0.008, 40, &toggles, &[]);
         let mut sim = Simulation::new(tray::setup(&scene, tray::drive(&scene)).unwrap(), initial_state(&scene)).unwrap();
         let n = sim.state.len();
         for _ in 0..2500 {

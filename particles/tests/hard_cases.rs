@@ -5,6 +5,8 @@
 //! impacts without tangential speed (`collision_conservation.rs`), dense packing at area
 //! fraction 0.46 with 8000 grains (a row of `stripes bench`).
 
+mod common;
+
 use particles::boundary::Boundary;
 use particles::contact::{ContactLaw, NormalLaw, RollingLaw, TangentialLaw};
 use particles::experiment::closed_form::{gamma_for_damping_ratio, linear_dashpot};
@@ -12,7 +14,6 @@ use particles::experiment::collide::{Collision, Impact, StepSize, Target};
 use particles::integrate::Integrator;
 use particles::neighbor::NeighborSearch;
 use particles::prepare::initial_state;
-use particles::scene::Scene;
 use particles::sim::{Partner, Setup, Simulation, Vertical};
 use particles::state::State;
 use particles::tray;
@@ -335,24 +336,7 @@ fn the_energy_ledger_of_a_long_shaken_run_closes() {
     // At dt = 4e-6 s it closes to 2.5e-5 of the injected work. At the thesis' 8e-6 s it
     // misses by 4e-3: the Haff-Werner viscous branch is unstable there for the smallest
     // grains (gamma_t dt / m_t = 2.4), and the run says so (`tray::warnings`).
-    let text = r#"
-        [box]
-        length = 0.006
-        width = 0.01
-        [drive]
-        frequency = 20.0
-        amplitude = 0.025
-        [particles]
-        count = 60
-        radius_min = 0.25e-3
-        radius_max = 0.5e-3
-        [run]
-        duration = 0.1
-        dt = 4e-6
-        seed = 7
-    "#;
-    let scene = Scene::parse(text, &[], "test").unwrap();
-    scene.validate().unwrap();
+    let scene = common::tray_scene(0.006, 0.01, 60, "[run]\nduration = 0.1\ndt = 4e-6\nseed = 7\n", &[]);
     assert!(tray::warnings(&scene, 4e-6).is_empty());
     let at_thesis_dt = tray::warnings(&scene, 8e-6);
     assert!(
@@ -380,27 +364,13 @@ fn the_energy_ledger_of_a_long_shaken_run_closes() {
 
 #[test]
 fn a_scene_whose_tangential_spring_is_too_stiff_is_refused_before_the_run() {
-    let text = r#"
-        [box]
-        length = 0.02
-        width = 0.01
-        [drive]
-        frequency = 20.0
-        amplitude = 0.025
-        [particles]
-        count = 10
-        radius_min = 0.25e-3
-        radius_max = 0.5e-3
-        [contact]
-        tangential = "cundall-strack"
-        tangential_stiffness = 1e5
-        [run]
-        duration = 0.1
-        dt = 8e-6
-        seed = 1
-    "#;
-    let scene = Scene::parse(text, &[], "test").unwrap();
-    scene.validate().unwrap();
+    let scene = common::tray_scene(
+        0.02,
+        0.01,
+        10,
+        "[contact]\ntangential = \"cundall-strack\"\ntangential_stiffness = 1e5\n[run]\nduration = 0.1\ndt = 8e-6\nseed = 1\n",
+        &[],
+    );
     let e = tray::setup(&scene, tray::drive(&scene)).unwrap_err();
     assert!(matches!(e, SimError::TangentialSpringTooStiff { .. }), "{e:?}");
     assert!(e.to_string().contains("contact.tangential_stiffness"), "{e}");

@@ -3,35 +3,22 @@
 //! (partners are summed in increasing index order either way, and a candidate that does not
 //! touch contributes nothing).
 
+mod common;
+
 use particles::neighbor::NeighborSearch;
 use particles::prepare::initial_state;
-use particles::scene::Scene;
 use particles::sim::Simulation;
 use particles::tray;
 
-const SCENE: &str = r#"
-    [box]
-    length = 0.02
-    width = 0.01
-    [drive]
-    frequency = 20.0
-    amplitude = 0.025
-    [particles]
-    count = 120
-    radius_min = 0.25e-3
-    radius_max = 0.5e-3
-    [prepare]
-    speed = 0.2
-    [run]
-    duration = 0.1
-    dt = 8e-6
-    seed = 5
-"#;
-
 fn run(all_pairs: bool, overrides: &[&str]) -> (Vec<u8>, u64, u64) {
-    let o: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
-    let scene = Scene::parse(SCENE, &o, "test").unwrap();
-    scene.validate().unwrap();
+    // 120 grains on 20 mm x 10 mm, stirred at 0.2 m/s so that the list is rebuilt often.
+    let scene = common::tray_scene(
+        0.02,
+        0.01,
+        120,
+        "[prepare]\nspeed = 0.2\n[run]\nduration = 0.1\ndt = 8e-6\nseed = 5\n",
+        overrides,
+    );
     let mut setup = tray::setup(&scene, tray::drive(&scene)).unwrap();
     if all_pairs {
         setup.neighbors = NeighborSearch::AllPairs;

@@ -1,34 +1,22 @@
 //! The error-controlled time step (`run.dt = "auto"`, `run.restitution_tolerance`).
 
+mod common;
+
 use particles::experiment::step_control::{choose, restitution_error, run_all, scene_probes, REFERENCE_STEPS};
 use particles::integrate::Integrator;
 use particles::scene::Scene;
 use particles::tray;
 use particles::SimError;
 
-const SCENE: &str = r#"
-    [box]
-    length = 0.02
-    width = 0.01
-    [drive]
-    frequency = 20.0
-    amplitude = 0.025
-    [particles]
-    count = 50
-    radius_min = 0.25e-3
-    radius_max = 0.5e-3
-    [run]
-    duration = 0.1
-    dt = "auto"
-    steps_per_contact = 8
-    seed = 1
-"#;
-
+/// 50 grains on 20 mm x 10 mm with the error-controlled step.
 fn scene(overrides: &[&str]) -> Scene {
-    let o: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
-    let s = Scene::parse(SCENE, &o, "test").unwrap();
-    s.validate().unwrap();
-    s
+    common::tray_scene(
+        0.02,
+        0.01,
+        50,
+        "[run]\nduration = 0.1\ndt = \"auto\"\nsteps_per_contact = 8\nseed = 1\n",
+        overrides,
+    )
 }
 
 #[test]

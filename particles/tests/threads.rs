@@ -2,33 +2,15 @@
 //! (no rayon job), two threads split the force blocks; both must give the same bits,
 //! including the contact histories and the energy ledger.
 
+mod common;
+
 use particles::prepare::initial_state;
-use particles::scene::Scene;
 use particles::sim::Simulation;
 use particles::tray;
 
-/// 400 grains at the thesis packing (four force blocks of 128), 1500 steps of shaking.
-const SCENE: &str = r#"
-    [box]
-    length = 0.04
-    width = 0.02
-    [drive]
-    frequency = 20.0
-    amplitude = 0.025
-    [particles]
-    count = 400
-    radius_min = 0.25e-3
-    radius_max = 0.5e-3
-    [run]
-    duration = 0.1
-    dt = 8e-6
-    seed = 11
-"#;
-
 fn run(threads: usize, overrides: &[&str]) -> (Vec<u8>, String) {
-    let o: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
-    let scene = Scene::parse(SCENE, &o, "test").unwrap();
-    scene.validate().unwrap();
+    // 400 grains at the thesis packing (four force blocks of 128), 1500 steps of shaking.
+    let scene = common::tray_scene(0.04, 0.02, 400, "[run]\nduration = 0.1\ndt = 8e-6\nseed = 11\n", overrides);
     let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
     pool.install(|| {
         let mut sim = Simulation::new(tray::setup(&scene, tray::drive(&scene)).unwrap(), initial_state(&scene)).unwrap();

@@ -1,5 +1,7 @@
 //! The shaken tray: periodic seam, pinned 2D mode, particle count, bad runtime input.
 
+mod common;
+
 use particles::boundary::Boundary;
 use particles::prepare::initial_state;
 use particles::scene::Scene;
@@ -8,28 +10,9 @@ use particles::state::State;
 use particles::tray;
 use particles::{SimError, Vec3};
 
-const SCENE: &str = r#"
-    [box]
-    length = 0.02
-    width = 0.01
-    [drive]
-    frequency = 20.0
-    amplitude = 0.025
-    [particles]
-    count = 100
-    radius_min = 0.25e-3
-    radius_max = 0.5e-3
-    [run]
-    duration = 0.1
-    dt = 8e-6
-    seed = 4
-"#;
-
+/// 100 grains on 20 mm x 10 mm, 0.1 s at the thesis' step.
 fn scene(overrides: &[&str]) -> Scene {
-    let o: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
-    let s = Scene::parse(SCENE, &o, "test").unwrap();
-    s.validate().unwrap();
-    s
+    common::tray_scene(0.02, 0.01, 100, "[run]\nduration = 0.1\ndt = 8e-6\nseed = 4\n", overrides)
 }
 
 fn tray_sim(overrides: &[&str]) -> Simulation {
