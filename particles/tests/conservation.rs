@@ -11,22 +11,17 @@ mod common;
 
 use particles::boundary::Boundary;
 use particles::contact::{ContactLaw, NormalLaw, RollingLaw, TangentialLaw};
-use particles::integrate::Integrator;
-use particles::neighbor::NeighborSearch;
 use particles::observe;
 use particles::prepare::initial_state;
-use particles::sim::{Setup, Simulation, Vertical};
+use particles::sim::Simulation;
 use particles::state::State;
 use particles::tray;
 use particles::Vec3;
 use proptest::prelude::*;
 
-const RHO: f64 = 2500.0;
 const R: f64 = 5e-4;
 
-fn mass(r: f64) -> f64 {
-    RHO * 4.0 / 3.0 * std::f64::consts::PI * r * r * r
-}
+use common::mass;
 
 /// `n` grains of radii in `[0.6 R, R]` on a loose cubic lattice of spacing `2.4 R` with
 /// random velocities up to `v` (m/s) and spins up to `w` (rad/s), from `draws` in [0, 1).
@@ -49,20 +44,7 @@ fn cluster(n: usize, draws: &[f64], v: f64, w: f64, converge: bool) -> State {
     s
 }
 
-fn setup(law: ContactLaw, boundary: Boundary, dt: f64) -> Setup {
-    Setup {
-        pair_law: law,
-        wall_law: law,
-        walls: Vec::new(),
-        gravity: Vec3::zeros(),
-        dt,
-        integrator: Integrator::VelocityVerlet,
-        boundary,
-        neighbors: NeighborSearch::AllPairs,
-        vertical: Vertical::Free,
-        container: None,
-    }
-}
+use common::free_setup as setup;
 
 /// Contact time of two of the largest grains at 1 m/s under `law` (s).
 fn contact_time(law: &ContactLaw) -> f64 {

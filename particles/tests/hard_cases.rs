@@ -12,19 +12,14 @@ use particles::contact::{ContactLaw, NormalLaw, RollingLaw, TangentialLaw};
 use particles::experiment::closed_form::{gamma_for_damping_ratio, linear_dashpot};
 use particles::experiment::collide::{Collision, Impact, StepSize, Target};
 use particles::integrate::Integrator;
-use particles::neighbor::NeighborSearch;
 use particles::prepare::initial_state;
-use particles::sim::{Partner, Setup, Simulation, Vertical};
+use particles::sim::{Partner, Setup, Simulation};
 use particles::state::State;
 use particles::tray;
 use particles::wall::{Motion, Wall};
 use particles::{SimError, Vec3};
 
-const RHO: f64 = 2500.0;
-
-fn mass(r: f64) -> f64 {
-    RHO * 4.0 / 3.0 * std::f64::consts::PI * r * r * r
-}
+use common::mass;
 
 /// The thesis contact law (Table 3.3), optionally with another Young's modulus.
 fn thesis_law(young: f64) -> ContactLaw {
@@ -158,18 +153,7 @@ fn stiff_spring_setup(kn: f64, kt: f64, dt: f64) -> (Setup, State) {
     let mut s = State::default();
     s.push(Vec3::zeros(), Vec3::zeros(), Vec3::new(0.0, 0.0, 300.0), r, mass(r));
     s.push(Vec3::new(2.0 * r, 0.0, 0.0), Vec3::new(-0.2, 0.3, 0.0), Vec3::zeros(), r, mass(r));
-    let setup = Setup {
-        pair_law: law,
-        wall_law: law,
-        walls: Vec::new(),
-        gravity: Vec3::zeros(),
-        dt,
-        integrator: Integrator::VelocityVerlet,
-        boundary: Boundary::open(),
-        neighbors: NeighborSearch::AllPairs,
-        vertical: Vertical::Free,
-        container: None,
-    };
+    let setup = common::free_setup(law, Boundary::open(), dt);
     (setup, s)
 }
 
@@ -246,16 +230,9 @@ fn resting(stack: &[f64], offset: f64) -> Simulation {
         z += 2.0 * r;
     }
     let setup = Setup {
-        pair_law: law,
-        wall_law: law,
         walls: vec![Wall::new("floor", Vec3::zeros(), Vec3::z(), Motion::Fixed)],
         gravity: Vec3::new(0.0, 0.0, -10.0),
-        dt: 8e-6,
-        integrator: Integrator::VelocityVerlet,
-        boundary: Boundary::open(),
-        neighbors: NeighborSearch::AllPairs,
-        vertical: Vertical::Free,
-        container: None,
+        ..common::free_setup(law, Boundary::open(), 8e-6)
     };
     Simulation::new(setup, s).unwrap()
 }
