@@ -93,7 +93,7 @@ fn tray_step(c: &mut Criterion) {
     let state = initial_state(&scene);
     let boundary = tray::setup(&scene, tray::drive(&scene)).expect("valid setup").boundary;
     for skin in [0.0, 0.2e-3, 0.5e-3] {
-        let search = NeighborSearch::VerletList { skin };
+        let search = NeighborSearch::verlet(skin);
         group.bench_function(format!("neighbour build, skin {skin:e} m"), |b| {
             let mut list = NeighborList::default();
             b.iter(|| list.build(&search, black_box(&state.pos), &state.radius, &boundary))

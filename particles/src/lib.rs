@@ -11,6 +11,7 @@
 //! - [`integrate`]: time integrators (velocity Verlet, and the thesis' scheme);
 //! - `forces`: one force evaluation, gathered per particle in fixed blocks;
 //! - [`sim`]: the only module that knows the order of the stages of a time step;
+//! - `parallel`: deterministic block parallelism (results independent of the thread count);
 //! - [`observe`]: energy, momentum and angular momentum of a state;
 //! - [`experiment`]: the collision lab, the single sphere on the shaken plate, contact-time
 //!   and eccentricity studies.
@@ -25,6 +26,7 @@ pub mod integrate;
 pub mod material;
 pub mod neighbor;
 pub mod observe;
+mod parallel;
 pub mod prepare;
 pub mod scene;
 pub mod sim;

@@ -7,6 +7,7 @@
 //! addition), so `F_ji = -F_ij` bit for bit.
 
 use crate::boundary::Boundary;
+use crate::parallel::on_blocks;
 use crate::Vec3;
 
 /// Neighbour search strategy.
@@ -15,11 +16,31 @@ pub enum NeighborSearch {
     /// Every other particle is a candidate: O(N^2), exact, the oracle for the Verlet list;
     /// right for a handful of particles (the collision lab).
     AllPairs,
-    /// Verlet list with a `skin` (m) built from a grid of columns in x and y (the layer is
-    /// thin, so z is not binned) and rebuilt when some particle has moved more than
-    /// `skin / 2` since the last build.
-    VerletList { skin: f64 },
+    /// Verlet list built from a grid of columns in x and y (the layer is thin, so z is not
+    /// binned) with a skin between `skin` and `max_skin` (m), rebuilt when some particle has
+    /// moved more than half the skin since the last build.
+    ///
+    /// The skin adapts at each rebuild (see [`NeighborList::build_after`]): a layer at rest
+    /// keeps the smallest, which has the fewest candidate pairs; a gas, whose lists expire
+    /// within a few steps, grows it until a list lasts about [`TARGET_LIFETIME`] steps. The
+    /// skin never changes a result: every contact is in the list whatever the skin, and each
+    /// particle sums its contacts in partner order.
+    VerletList { skin: f64, max_skin: f64 },
 }
+
+impl NeighborSearch {
+    /// A Verlet list with the fixed skin `skin` (m).
+    pub fn verlet(skin: f64) -> Self {
+        NeighborSearch::VerletList { skin, max_skin: skin }
+    }
+}
+
+/// Steps a Verlet list should last when the layer moves (see [`NeighborSearch::VerletList`]).
+/// On the thesis tray's gas (`stripes run` resumed at 6 s, 625 steps, callgrind) fixed skins
+/// of 0.2, 0.5, 1 and 2 R_max gave lists lasting 3, 6.6, 12.5 and 24 steps and 1.28, 0.90,
+/// 0.79 and 0.85 G instructions; the same layer at rest pays 48% more per step at 1 R_max
+/// than at 0.2 R_max.
+pub const TARGET_LIFETIME: f64 = 12.0;
 
 /// Candidate partners of every particle in compressed-row form: the partners of `i` are
 /// `partners[offsets[i]..offsets[i + 1]]`, in increasing index order.
@@ -32,10 +53,14 @@ pub struct NeighborList {
     pub owner: Vec<u32>,
     /// Positions at the last build, for the displacement criterion.
     anchor: Vec<Vec3>,
+    /// Skin (m) of the last build.
+    pub skin: f64,
     /// Number of builds so far.
     pub builds: u64,
     // Scratch of the cell grid, kept to avoid allocation per build.
+    cell_of: Vec<u32>,
     cell_start: Vec<usize>,
+    cell_fill: Vec<usize>,
     cell_items: Vec<u32>,
 }
 
@@ -53,10 +78,10 @@ impl NeighborList {
 
     /// Square of the displacement since the last build beyond which a rebuild is due, or
     /// `None` when displacements do not matter (all pairs).
-    pub fn rebuild_distance2(search: &NeighborSearch) -> Option<f64> {
+    pub fn rebuild_distance2(&self, search: &NeighborSearch) -> Option<f64> {
         match *search {
             NeighborSearch::AllPairs => None,
-            NeighborSearch::VerletList { skin } => Some(0.25 * skin * skin),
+            NeighborSearch::VerletList { .. } => Some(0.25 * self.skin * self.skin),
         }
     }
 
@@ -64,11 +89,11 @@ impl NeighborList {
     pub fn needs_rebuild(&self, search: &NeighborSearch, pos: &[Vec3], boundary: &Boundary) -> bool {
         match *search {
             NeighborSearch::AllPairs => self.offsets.len() != pos.len() + 1,
-            NeighborSearch::VerletList { skin } => {
+            NeighborSearch::VerletList { .. } => {
                 if self.anchor.len() != pos.len() {
                     return true;
                 }
-                let limit = 0.25 * skin * skin;
+                let limit = 0.25 * self.skin * self.skin;
                 pos.iter()
                     .zip(&self.anchor)
                     .any(|(x, a)| boundary.min_image(x - a).norm_squared() > limit)
@@ -76,8 +101,17 @@ impl NeighborList {
         }
     }
 
-    /// Builds the lists for `pos` with radii `radius`.
+    /// Builds the lists for `pos` with radii `radius`, with the smallest skin.
     pub fn build(&mut self, search: &NeighborSearch, pos: &[Vec3], radius: &[f64], boundary: &Boundary) {
+        self.build_after(search, None, pos, radius, boundary);
+    }
+
+    /// Builds the lists for `pos` with radii `radius`, the previous lists having lasted
+    /// `lasted` steps (`None`: no previous lists to learn from). A Verlet list takes the skin
+    /// `s' = s sqrt(TARGET_LIFETIME / lasted)`, kept within `[skin, max_skin]`: a list
+    /// lasts about `s / (2 v)` steps for a relative drift `v` per step, so `s'` moves the
+    /// lifetime halfway (geometrically) to [`TARGET_LIFETIME`] without overshooting.
+    pub fn build_after(&mut self, search: &NeighborSearch, lasted: Option<u64>, pos: &[Vec3], radius: &[f64], boundary: &Boundary) {
         let n = pos.len();
         self.offsets.clear();
         self.partners.clear();
@@ -89,7 +123,13 @@ impl NeighborList {
                     self.offsets.push(self.partners.len());
                 }
             }
-            NeighborSearch::VerletList { skin } => self.build_cells(skin, pos, radius, boundary),
+            NeighborSearch::VerletList { skin, max_skin } => {
+                self.skin = match lasted {
+                    Some(k) if self.skin > 0.0 => (self.skin * (TARGET_LIFETIME / k.max(1) as f64).sqrt()).clamp(skin, max_skin.max(skin)),
+                    _ => skin,
+                };
+                self.build_cells(self.skin, pos, radius, boundary)
+            }
         }
         self.owner.clear();
         for i in 0..n {
@@ -105,9 +145,98 @@ impl NeighborList {
         if n == 0 {
             return;
         }
+        let grid = Grid::new(skin, pos, radius, boundary);
+        // Counting sort of particles into cells (stable: increasing index within a cell).
+        self.cell_of.clear();
+        self.cell_of.extend(pos.iter().map(|x| grid.cell(x)));
+        self.cell_start.clear();
+        self.cell_start.resize(grid.dims[0] * grid.dims[1] + 1, 0);
+        for &c in &self.cell_of {
+            self.cell_start[c as usize + 1] += 1;
+        }
+        for c in 0..grid.dims[0] * grid.dims[1] {
+            self.cell_start[c + 1] += self.cell_start[c];
+        }
+        self.cell_items.clear();
+        self.cell_items.resize(n, 0);
+        self.cell_fill.clear();
+        self.cell_fill.extend_from_slice(&self.cell_start);
+        for (i, &c) in self.cell_of.iter().enumerate() {
+            let slot = &mut self.cell_fill[c as usize];
+            self.cell_items[*slot] = i as u32;
+            *slot += 1;
+        }
+        // Each particle's candidates from its 3 x 3 cells (fewer on a short or walled axis),
+        // in fixed chunks of particles, possibly in parallel: the lists do not depend on the
+        // chunking or the number of threads.
+        let (cells, starts, items) = (&self.cell_of, &self.cell_start, &self.cell_items);
+        let chunks: Vec<std::ops::Range<usize>> = (0..n.div_ceil(BUILD_CHUNK))
+            .map(|c| c * BUILD_CHUNK..((c + 1) * BUILD_CHUNK).min(n))
+            .collect();
+        let lists = on_blocks(chunks, |range| {
+            let mut partners: Vec<u32> = Vec::with_capacity(8 * range.len());
+            let mut ends: Vec<u32> = Vec::with_capacity(range.len());
+            for i in range {
+                let (xi, ri, c) = (pos[i], radius[i], cells[i] as usize);
+                let first = partners.len();
+                let (cx, cy) = (c % grid.dims[0], c / grid.dims[0]);
+                for &row in grid.rows[cy].as_slice() {
+                    for &col in grid.cols[cx].as_slice() {
+                        let cell = row as usize * grid.dims[0] + col as usize;
+                        for &j in &items[starts[cell]..starts[cell + 1]] {
+                            let cut = ri + radius[j as usize] + skin;
+                            if j as usize != i && boundary.min_image(xi - pos[j as usize]).norm_squared() < cut * cut {
+                                partners.push(j);
+                            }
+                        }
+                    }
+                }
+                partners[first..].sort_unstable();
+                ends.push(partners.len() as u32);
+            }
+            (partners, ends)
+        });
+        for (partners, ends) in lists {
+            let base = self.partners.len();
+            self.partners.extend_from_slice(&partners);
+            self.offsets.extend(ends.iter().map(|&e| base + e as usize));
+        }
+    }
+}
+
+/// Particles per chunk of the list build.
+const BUILD_CHUNK: usize = 512;
+
+/// Up to three distinct cell indices along one axis.
+#[derive(Clone, Copy, Debug)]
+struct Stencil {
+    cells: [u32; 3],
+    len: u8,
+}
+
+impl Stencil {
+    fn as_slice(&self) -> &[u32] {
+        &self.cells[..self.len as usize]
+    }
+}
+
+/// The grid of columns in x and y (z is not binned) of one build: cells at least
+/// `2 R_max + skin` wide, over the bounding box or the periodic length, and each row's and
+/// column's neighbouring indices.
+struct Grid {
+    lo: [f64; 2],
+    size: [f64; 2],
+    dims: [usize; 2],
+    /// Neighbouring rows of each row, neighbouring columns of each column: distinct indices
+    /// only (a periodic axis with fewer than three cells must not visit a cell twice).
+    rows: Vec<Stencil>,
+    cols: Vec<Stencil>,
+}
+
+impl Grid {
+    fn new(skin: f64, pos: &[Vec3], radius: &[f64], boundary: &Boundary) -> Self {
         let r_max = radius.iter().cloned().fold(0.0, f64::max);
         let reach = 2.0 * r_max + skin;
-        // Grid over the bounding box in x and y (or the periodic length).
         let mut lo = [f64::INFINITY; 2];
         let mut hi = [f64::NEG_INFINITY; 2];
         for x in pos {
@@ -127,37 +256,8 @@ impl NeighborList {
             dims[k] = ((length / reach).floor() as usize).clamp(1, 1 << 20);
             size[k] = length / dims[k] as f64;
         }
-        let cell_of = |x: &Vec3| -> [usize; 2] {
-            let mut c = [0usize; 2];
-            for k in 0..2 {
-                c[k] = (((x[k] - lo[k]) / size[k]).floor().max(0.0) as usize).min(dims[k] - 1);
-            }
-            c
-        };
-        let n_cells = dims[0] * dims[1];
-        // Counting sort of particles into cells (stable: increasing index within a cell).
-        self.cell_start.clear();
-        self.cell_start.resize(n_cells + 1, 0);
-        for x in pos {
-            let c = cell_of(x);
-            self.cell_start[c[1] * dims[0] + c[0] + 1] += 1;
-        }
-        for c in 0..n_cells {
-            self.cell_start[c + 1] += self.cell_start[c];
-        }
-        self.cell_items.clear();
-        self.cell_items.resize(n, 0);
-        let mut fill = self.cell_start.clone();
-        for (i, x) in pos.iter().enumerate() {
-            let c = cell_of(x);
-            let slot = &mut fill[c[1] * dims[0] + c[0]];
-            self.cell_items[*slot] = i as u32;
-            *slot += 1;
-        }
-        // Neighbouring cells along each axis: distinct indices only (a periodic axis with
-        // fewer than three cells must not visit a cell twice).
-        let axis_cells = |k: usize, c: usize| -> Vec<usize> {
-            let mut v: Vec<usize> = Vec::with_capacity(3);
+        let stencil = |k: usize, c: usize| {
+            let mut s = Stencil { cells: [0; 3], len: 0 };
             for d in [-1i64, 0, 1] {
                 let j = c as i64 + d;
                 let j = if boundary.periodic[k].is_some() {
@@ -166,35 +266,31 @@ impl NeighborList {
                     continue;
                 } else {
                     j
-                } as usize;
-                if !v.contains(&j) {
-                    v.push(j);
+                } as u32;
+                if !s.as_slice().contains(&j) {
+                    s.cells[s.len as usize] = j;
+                    s.len += 1;
                 }
             }
-            v
+            s
         };
-        let mut found: Vec<u32> = Vec::new();
-        for (i, xi) in pos.iter().enumerate() {
-            let c = cell_of(xi);
-            found.clear();
-            for cy in axis_cells(1, c[1]) {
-                for cx in axis_cells(0, c[0]) {
-                    let cell = cy * dims[0] + cx;
-                    for &j in &self.cell_items[self.cell_start[cell]..self.cell_start[cell + 1]] {
-                        if j as usize == i {
-                            continue;
-                        }
-                        let cut = radius[i] + radius[j as usize] + skin;
-                        if boundary.min_image(xi - pos[j as usize]).norm_squared() < cut * cut {
-                            found.push(j);
-                        }
-                    }
-                }
-            }
-            found.sort_unstable();
-            self.partners.extend_from_slice(&found);
-            self.offsets.push(self.partners.len());
+        Self {
+            lo,
+            size,
+            dims,
+            rows: (0..dims[1]).map(|c| stencil(1, c)).collect(),
+            cols: (0..dims[0]).map(|c| stencil(0, c)).collect(),
         }
+    }
+
+    /// Index `row * dims[0] + column` of the cell holding `x` (clamped to the grid).
+    #[inline]
+    fn cell(&self, x: &Vec3) -> u32 {
+        let mut c = [0usize; 2];
+        for k in 0..2 {
+            c[k] = (((x[k] - self.lo[k]) / self.size[k]).floor().max(0.0) as usize).min(self.dims[k] - 1);
+        }
+        (c[1] * self.dims[0] + c[0]) as u32
     }
 }
 
@@ -238,7 +334,7 @@ mod tests {
                 periodic: [Some(lx), if periodic_y { Some(ly) } else { None }, None],
             };
             let (pos, radius) = layout(400, lx, ly, 7);
-            let search = NeighborSearch::VerletList { skin: 1e-4 };
+            let search = NeighborSearch::verlet(1e-4);
             let mut list = NeighborList::default();
             list.build(&search, &pos, &radius, &b);
             let expect = brute(&pos, &radius, &b, 1e-4);
@@ -255,12 +351,43 @@ mod tests {
     fn rebuild_triggers_after_half_skin() {
         let b = Boundary::open();
         let (mut pos, radius) = layout(10, 0.01, 0.01, 3);
-        let search = NeighborSearch::VerletList { skin: 1e-4 };
+        let search = NeighborSearch::verlet(1e-4);
         let mut list = NeighborList::default();
         list.build(&search, &pos, &radius, &b);
         pos[3].x += 0.49e-4;
         assert!(!list.needs_rebuild(&search, &pos, &b));
         pos[3].x += 0.02e-4;
         assert!(list.needs_rebuild(&search, &pos, &b));
+    }
+
+    #[test]
+    fn adapted_skin_follows_the_list_lifetime_within_its_bounds_and_lists_stay_exact() {
+        let b = Boundary {
+            periodic: [Some(0.02), None, None],
+        };
+        let (pos, radius) = layout(400, 0.02, 0.01, 11);
+        let search = NeighborSearch::VerletList {
+            skin: 1e-4,
+            max_skin: 1e-3,
+        };
+        let mut list = NeighborList::default();
+        list.build(&search, &pos, &radius, &b);
+        assert_eq!(list.skin, 1e-4);
+        // Lists that lasted 3 steps: the skin grows by sqrt(12 / 3) = 2, up to the bound.
+        for expect in [2e-4, 4e-4, 8e-4, 1e-3] {
+            list.build_after(&search, Some(3), &pos, &radius, &b);
+            assert!((list.skin - expect).abs() < 1e-15, "skin {} against {expect}", list.skin);
+            let brute = brute(&pos, &radius, &b, list.skin);
+            for (i, e) in brute.iter().enumerate() {
+                assert_eq!(list.of(i), e.as_slice(), "particle {i} at skin {}", list.skin);
+            }
+        }
+        // A list that lasted 1200 steps (a layer at rest): back to the smallest skin.
+        list.build_after(&search, Some(1200), &pos, &radius, &b);
+        assert_eq!(list.skin, 1e-4);
+        // A fixed skin never moves.
+        let fixed = NeighborSearch::verlet(1e-4);
+        list.build_after(&fixed, Some(1), &pos, &radius, &b);
+        assert_eq!(list.skin, 1e-4);
     }
 }

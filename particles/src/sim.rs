@@ -14,13 +14,12 @@
 //! 4. energy ledger (work of moving walls, dissipation) advanced by `power * dt`, block
 //!    partial sums added in block order.
 
-use rayon::prelude::*;
-
 use crate::boundary::Boundary;
 use crate::contact::{self, ContactGeometry, ContactLaw};
 use crate::forces;
 use crate::integrate::Integrator;
 use crate::neighbor::{NeighborList, NeighborSearch};
+use crate::parallel::on_blocks;
 use crate::state::State;
 use crate::wall::Wall;
 use crate::{SimError, Vec3};
@@ -151,6 +150,8 @@ pub struct Simulation {
     /// Bound (m) on how far any grain has moved, since the neighbour list was built, away
     /// from a displacement common to all grains (see [`Simulation::step`]).
     drift: f64,
+    /// Completed steps at the last neighbour-list build.
+    built_at: u64,
     /// The worst contact beyond [`MAX_OVERLAP_FRACTION`] at the last force evaluation:
     /// `(particle, partner, overlap, radius)`.
     overlap_violation: Option<(usize, Partner, f64, f64)>,
@@ -199,6 +200,7 @@ impl Simulation {
             record: false,
             records: Vec::new(),
             drift: 0.0,
+            built_at: 0,
             overlap_violation: None,
         };
         sim.check_finite()?;
@@ -226,6 +228,11 @@ impl Simulation {
     /// True if spins are integrated.
     pub fn rotates(&self) -> bool {
         self.rotate
+    }
+
+    /// Skin (m) of the current neighbour list (0 for all pairs).
+    pub fn neighbor_skin(&self) -> f64 {
+        self.neighbors.skin
     }
 
     /// Number of neighbour-list builds so far.
@@ -264,7 +271,7 @@ impl Simulation {
             |(l, h), (bl, bh)| (l.inf(&bl), h.sup(&bh)),
         );
         self.drift += 0.5 * (hi - lo).norm() * dt + DRIFT_SLACK;
-        let due = match NeighborList::rebuild_distance2(&self.setup.neighbors) {
+        let due = match self.neighbors.rebuild_distance2(&self.setup.neighbors) {
             Some(limit) => self.drift * self.drift > limit || self.neighbors.anchor().len() != self.state.len(),
             None => self.neighbors.needs_rebuild(&self.setup.neighbors, &self.state.pos, &boundary),
         };
@@ -388,6 +395,7 @@ impl Simulation {
             .build(&self.setup.neighbors, &self.state.pos, &self.state.radius, &self.setup.boundary);
         self.pair_history = vec![Vec3::zeros(); self.neighbors.partners.len()];
         self.drift = 0.0;
+        self.built_at = self.steps;
         for &(i, j, h) in pairs {
             let slot = self
                 .neighbors
@@ -409,31 +417,39 @@ impl Simulation {
         }
     }
 
-    /// Rebuilds the neighbour list, carrying the pair history over to the new slots.
+    /// Rebuilds the neighbour list, carrying the pair history over to the new slots (for laws
+    /// with history; otherwise the list's and the history's buffers are reused as they are).
     fn rebuild_neighbors(&mut self) {
         let s = &self.state;
         let search = self.setup.neighbors;
-        let old = std::mem::take(&mut self.neighbors);
-        let mut list = old.clone();
-        list.build(&search, &s.pos, &s.radius, &self.setup.boundary);
-        let mut history = vec![Vec3::zeros(); list.partners.len()];
-        if self.setup.pair_law.has_history() && !old.offsets.is_empty() {
+        let carry = self.setup.pair_law.has_history() && !self.neighbors.offsets.is_empty();
+        let old = carry.then(|| {
+            let list = &self.neighbors;
+            (list.offsets.clone(), list.partners.clone(), std::mem::take(&mut self.pair_history))
+        });
+        let list = &mut self.neighbors;
+        // The steps the old lists lasted, for the adaptive skin (none before the first build).
+        let lasted = (!list.anchor().is_empty()).then(|| self.steps - self.built_at);
+        list.build_after(&search, lasted, &s.pos, &s.radius, &self.setup.boundary);
+        self.built_at = self.steps;
+        self.pair_history.clear();
+        self.pair_history.resize(list.partners.len(), Vec3::zeros());
+        if let Some((old_offsets, old_partners, old_history)) = old {
             for i in 0..s.len() {
-                let (old_j, old_h) = (old.of(i), &self.pair_history[old.offsets[i]..old.offsets[i + 1]]);
+                let (lo, hi) = (old_offsets[i], old_offsets[i + 1]);
+                let (old_j, old_h) = (&old_partners[lo..hi], &old_history[lo..hi]);
                 let mut k = 0;
                 for (slot, &j) in list.of(i).iter().enumerate() {
                     while k < old_j.len() && old_j[k] < j {
                         k += 1;
                     }
                     if k < old_j.len() && old_j[k] == j {
-                        history[list.offsets[i] + slot] = old_h[k];
+                        self.pair_history[list.offsets[i] + slot] = old_h[k];
                     }
                 }
             }
         }
-        self.neighbors = list;
         self.drift = 0.0;
-        self.pair_history = history;
     }
 
     /// Evaluates all forces and torques at the current positions; `ledger_dt` is the time
@@ -598,18 +614,6 @@ fn is_sound(x: &Vec3, v: &Vec3, w: &Vec3, (lo, hi): &(Vec3, Vec3)) -> bool {
         & (x.y <= hi.y)
         & (x.z >= lo.z)
         & (x.z <= hi.z)
-}
-
-/// `f` applied to every block, in block order. On the rayon pool, unless it has a single
-/// thread: then a fork-join only costs (a thread switch per stage for a caller outside the
-/// pool). The per-block work and the order of the results are the same either way, so the
-/// results do not depend on the number of threads.
-fn on_blocks<B: Send, T: Send>(blocks: Vec<B>, f: impl Fn(B) -> T + Sync + Send) -> Vec<T> {
-    if rayon::current_num_threads() == 1 {
-        blocks.into_iter().map(f).collect()
-    } else {
-        blocks.into_par_iter().map(f).collect()
-    }
 }
 
 impl ContactRecord {

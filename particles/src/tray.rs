@@ -16,6 +16,11 @@ use crate::{SimError, Vec3};
 /// 20% slower, and rebuilding every step 2.2 to 2.6 times slower.
 pub const DEFAULT_SKIN: f64 = 0.2;
 
+/// Largest neighbour-list skin of the tray scenes, in units of the largest radius: the skin
+/// grows from [`DEFAULT_SKIN`] towards it while the layer is a gas (see
+/// [`NeighborSearch::VerletList`]).
+pub const MAX_SKIN: f64 = 2.0;
+
 /// Gravitational acceleration of the tray scenes (m/s^2, SPEC section 2).
 pub const GRAVITY: f64 = 10.0;
 
@@ -109,6 +114,7 @@ pub fn setup(scene: &Scene, motion: Motion) -> Result<Setup, SimError> {
         boundary,
         neighbors: NeighborSearch::VerletList {
             skin: DEFAULT_SKIN * scene.particles.radius_max,
+            max_skin: MAX_SKIN * scene.particles.radius_max,
         },
         vertical: if scene.toggles.jumping { Vertical::Free } else { Vertical::Pinned },
         // Grains may sink into the floor by their overlap; anything below -R_max, outside the

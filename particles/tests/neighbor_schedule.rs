@@ -10,18 +10,21 @@ use particles::prepare::initial_state;
 use particles::sim::Simulation;
 use particles::tray;
 
-fn run(all_pairs: bool, overrides: &[&str]) -> (Vec<u8>, u64, u64) {
-    // 120 grains on 20 mm x 10 mm, stirred at 0.2 m/s so that the list is rebuilt often.
+/// The tray stepped 4000 times with `search` (the tray's own adaptive list if `None`), its
+/// grains stirred at `speed` m/s: checkpoint bytes, steps with grain-grain contacts,
+/// list builds and the final skin (m).
+fn run(search: Option<NeighborSearch>, speed: f64, overrides: &[&str]) -> (Vec<u8>, u64, u64, f64) {
+    // 120 grains on 20 mm x 10 mm, stirred so that the list is rebuilt often.
     let scene = common::tray_scene(
         0.02,
         0.01,
         120,
-        "[prepare]\nspeed = 0.2\n[run]\nduration = 0.1\ndt = 8e-6\nseed = 5\n",
+        &format!("[prepare]\nspeed = {speed}\n[run]\nduration = 0.1\ndt = 8e-6\nseed = 5\n"),
         overrides,
     );
     let mut setup = tray::setup(&scene, tray::drive(&scene)).unwrap();
-    if all_pairs {
-        setup.neighbors = NeighborSearch::AllPairs;
+    if let Some(search) = search {
+        setup.neighbors = search;
     }
     let mut sim = Simulation::new(setup, initial_state(&scene)).unwrap();
     let mut pair_contact_steps = 0;
@@ -29,14 +32,14 @@ fn run(all_pairs: bool, overrides: &[&str]) -> (Vec<u8>, u64, u64) {
         sim.step().unwrap();
         pair_contact_steps += (sim.contacts.0 > 0) as u64;
     }
-    (sim.checkpoint(0, 0), pair_contact_steps, sim.neighbor_builds())
+    (sim.checkpoint(0, 0), pair_contact_steps, sim.neighbor_builds(), sim.neighbor_skin())
 }
 
 #[test]
 fn verlet_list_run_equals_all_pairs_run_bit_for_bit() {
     for overrides in [&[][..], &["toggles.jumping=false"][..]] {
-        let (list, contacts, builds) = run(false, overrides);
-        let (all, _, _) = run(true, overrides);
+        let (list, contacts, builds, _) = run(None, 0.2, overrides);
+        let (all, _, _, _) = run(Some(NeighborSearch::AllPairs), 0.2, overrides);
         assert!(
             contacts > 100,
             "{overrides:?}: the test needs grain-grain contacts ({contacts} steps with some)"
@@ -44,4 +47,29 @@ fn verlet_list_run_equals_all_pairs_run_bit_for_bit() {
         assert!(builds > 3, "{overrides:?}: the test needs rebuilds ({builds})");
         assert!(list == all, "{overrides:?}: the Verlet-list run differs from the all-pairs run");
     }
+}
+
+/// A fast gas grows the adaptive skin, which then rebuilds less often than the smallest
+/// skin fixed, and neither changes a bit of the run.
+#[test]
+fn adaptive_skin_grows_in_a_gas_and_changes_no_result() {
+    let scene = common::tray_scene(0.02, 0.01, 120, "[run]\nduration = 0.1\ndt = 8e-6\nseed = 5\n", &[]);
+    let NeighborSearch::VerletList { skin, max_skin } = tray::setup(&scene, tray::drive(&scene)).unwrap().neighbors else {
+        panic!("the tray uses a Verlet list");
+    };
+    let (adaptive, contacts, adaptive_builds, final_skin) = run(None, 1.0, &[]);
+    let (fixed, _, fixed_builds, fixed_skin) = run(Some(NeighborSearch::verlet(skin)), 1.0, &[]);
+    let (all, _, _, _) = run(Some(NeighborSearch::AllPairs), 1.0, &[]);
+    assert!(contacts > 100, "the test needs grain-grain contacts ({contacts} steps with some)");
+    assert_eq!(fixed_skin, skin);
+    assert!(
+        final_skin > 2.0 * skin && final_skin <= max_skin,
+        "skin {final_skin:e} m: expected grown from {skin:e} towards {max_skin:e}"
+    );
+    assert!(
+        2 * adaptive_builds < fixed_builds,
+        "{adaptive_builds} adaptive builds against {fixed_builds} with the fixed skin"
+    );
+    assert!(adaptive == fixed, "the adaptive-skin run differs from the fixed-skin run");
+    assert!(adaptive == all, "the adaptive-skin run differs from the all-pairs run");
 }

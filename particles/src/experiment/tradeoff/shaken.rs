@@ -30,9 +30,7 @@ fn run_tray(scene: &Scene, s: &Setting, base_state: &State, steps_override: Opti
     let mut setup = tray::setup(scene, tray::drive(scene))?;
     setup.dt = setting_dt(scene, steps_override.or(s.steps))?;
     setup.integrator = s.integrator;
-    setup.neighbors = NeighborSearch::VerletList {
-        skin: s.skin * scene.particles.radius_max,
-    };
+    setup.neighbors = NeighborSearch::verlet(s.skin * scene.particles.radius_max);
     let n = base_state.len();
     let order: Vec<usize> = (0..n).collect();
     let mut state = State::default();
