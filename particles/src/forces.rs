@@ -17,7 +17,7 @@
 //! - gravity uses masses computed once (no division per step);
 //! - per-contact history is only reset when the law has history (Cundall-Strack).
 
-use crate::contact::{self, AxisNormal, ContactGeometry, Normal};
+use crate::contact::{self, AxisNormal, ContactGeometry, ContactLaw, Normal};
 use crate::neighbor::NeighborList;
 use crate::sim::{ContactRecord, Partner, Setup, Vertical, MAX_OVERLAP_FRACTION};
 use crate::Vec3;
@@ -155,32 +155,34 @@ pub(crate) fn gather_block(
     // to two candidates, and a loop nested per particle would mispredict its exit each time.
     // Each particle still adds its partners in slot order.
     let slots = base_slot..list.offsets[first + n];
-    for ((&i, &j), zeta) in list.owner[slots.clone()]
-        .iter()
-        .zip(&list.partners[slots])
-        .zip(pair_history.iter_mut())
-    {
-        let (i, j) = (i as usize, j as usize);
-        let xi = pos[i];
-        let d = setup.boundary.min_image(xi - pos[j]);
-        let Some(g) = ContactGeometry::pair(xi, xi - d, vel[i], vel[j], omega[i], omega[j], radius[i], radius[j]) else {
-            if pair_history_on {
-                *zeta = Vec3::zeros();
+    pair_law.unswitched(|pair_law| {
+        for ((&i, &j), zeta) in list.owner[slots.clone()]
+            .iter()
+            .zip(&list.partners[slots])
+            .zip(pair_history.iter_mut())
+        {
+            let (i, j) = (i as usize, j as usize);
+            let xi = pos[i];
+            let d = setup.boundary.min_image(xi - pos[j]);
+            let Some(g) = ContactGeometry::pair(xi, xi - d, vel[i], vel[j], omega[i], omega[j], radius[i], radius[j]) else {
+                if pair_history_on {
+                    *zeta = Vec3::zeros();
+                }
+                continue;
+            };
+            let c = contact::evaluate(pair_law, &g, zeta, dt);
+            force[i - first] += c.force;
+            torque[i - first] += c.torque_i;
+            sums.pair_contacts += (i < j) as u64;
+            sums.check_overlap(i, Partner::Particle(j), g.overlap, radius[i].min(radius[j]));
+            sums.stored += 0.5 * c.stored_energy;
+            sums.dissipated += 0.5 * c.dissipation_rate;
+            if inp.record && i < j {
+                sums.records
+                    .push(ContactRecord::new(i, Partner::Particle(j), &g, &c, pair_law.tangential.mu()));
             }
-            continue;
-        };
-        let c = contact::evaluate(pair_law, &g, zeta, dt);
-        force[i - first] += c.force;
-        torque[i - first] += c.torque_i;
-        sums.pair_contacts += (i < j) as u64;
-        sums.check_overlap(i, Partner::Particle(j), g.overlap, radius[i].min(radius[j]));
-        sums.stored += 0.5 * c.stored_energy;
-        sums.dissipated += 0.5 * c.dissipation_rate;
-        if inp.record && i < j {
-            sums.records
-                .push(ContactRecord::new(i, Partner::Particle(j), &g, &c, pair_law.tangential.mu()));
         }
-    }
+    });
     // Walls, one wall at a time over the block: the loop body is short enough for the
     // processor to overlap the square roots and divisions of consecutive particles. Each
     // particle still sums gravity, pairs and walls in the same order.
@@ -271,16 +273,18 @@ fn wall_pass<N: Normal>(
     let history_on = inp.setup.wall_law.has_history();
     let wall_stride = inp.planes.len().max(1);
     let n = force.len();
-    for k in 0..n {
-        let zeta = &mut wall_history[k * wall_stride + w];
-        let Some(g) = geometry(k) else {
-            if history_on {
-                *zeta = Vec3::zeros();
-            }
-            continue;
-        };
-        add_wall_contact(inp, plane, w, first + k, &g, zeta, &mut force[k], &mut torque[k], sums);
-    }
+    inp.setup.wall_law.unswitched(|law| {
+        for k in 0..n {
+            let zeta = &mut wall_history[k * wall_stride + w];
+            let Some(g) = geometry(k) else {
+                if history_on {
+                    *zeta = Vec3::zeros();
+                }
+                continue;
+            };
+            add_wall_contact(inp, law, plane, w, first + k, &g, zeta, &mut force[k], &mut torque[k], sums);
+        }
+    })
 }
 
 /// Contacts of the particles `first..first + force.len()` with the walls `w` and `w + 1`,
@@ -330,7 +334,18 @@ fn axis_pair_pass<const AXIS: usize>(
                 )
             };
             match g {
-                Some(g) => add_wall_contact(inp, plane, wk, i, &g, zeta, &mut force[k], &mut torque[k], sums),
+                Some(g) => add_wall_contact(
+                    inp,
+                    &inp.setup.wall_law,
+                    plane,
+                    wk,
+                    i,
+                    &g,
+                    zeta,
+                    &mut force[k],
+                    &mut torque[k],
+                    sums,
+                ),
                 None if history_on => *zeta = Vec3::zeros(),
                 None => {}
             }
@@ -344,6 +359,7 @@ fn axis_pair_pass<const AXIS: usize>(
 #[inline(always)]
 fn add_wall_contact<N: Normal>(
     inp: &Inputs,
+    law: &ContactLaw,
     plane: &WallPlane,
     w: usize,
     i: usize,
@@ -353,7 +369,6 @@ fn add_wall_contact<N: Normal>(
     torque: &mut Vec3,
     sums: &mut BlockSums,
 ) {
-    let law = &inp.setup.wall_law;
     let c = if plane.support {
         contact::evaluate_with_normal(law, g, inp.load[i], zeta, inp.setup.dt)
     } else {

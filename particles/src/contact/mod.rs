@@ -38,6 +38,25 @@ impl ContactLaw {
     }
 }
 
+impl ContactLaw {
+    /// `f(law)` compiled once per combination of tangential and rolling variants (loop
+    /// unswitching by hand): a loop over many contacts in `f` then tests the variants once,
+    /// not once per contact, and each copy can be optimised for its laws. The arithmetic is
+    /// the same in every copy.
+    #[inline(always)]
+    pub fn unswitched<R>(&self, f: impl FnOnce(&ContactLaw) -> R) -> R {
+        let law = *self;
+        match (law.tangential, law.rolling) {
+            (TangentialLaw::None, RollingLaw::None) => f(&law),
+            (TangentialLaw::None, RollingLaw::BrilliantovPoschel { .. }) => f(&law),
+            (TangentialLaw::HaffWerner { .. }, RollingLaw::None) => f(&law),
+            (TangentialLaw::HaffWerner { .. }, RollingLaw::BrilliantovPoschel { .. }) => f(&law),
+            (TangentialLaw::CundallStrack { .. }, RollingLaw::None) => f(&law),
+            (TangentialLaw::CundallStrack { .. }, RollingLaw::BrilliantovPoschel { .. }) => f(&law),
+        }
+    }
+}
+
 /// Forces and torques of one contact, plus diagnostics.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ContactForce {
