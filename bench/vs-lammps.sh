@@ -1,21 +1,26 @@
 #!/usr/bin/env bash
 # Side-by-side speed of stripes and LAMMPS on the thesis tray (scenes/thesis-reference.toml):
-# same N, radii, box (length scaled with N at the thesis packing), dt = 8e-6 s, drive
-# (20 Hz, 25 mm), number of steps; 1 and 2 threads (LAMMPS: MPI ranks). Prints particle-steps
-# per second of the stepping loop for each and the ratio stripes / LAMMPS, then one JSON line.
+# the same grains (stripes writes its starting state as a LAMMPS data file, --lammps-data),
+# dt = 8e-6 s, box (length scaled with N at the thesis packing), drive (20 Hz, 25 mm) and
+# number of steps; 1 and 2 threads (LAMMPS: MPI ranks). Prints particle-steps per second of
+# the stepping loop for each and the ratio stripes / LAMMPS, then one JSON line.
 #
-#   bench/vs-lammps.sh                 # N = 4000, 10000 steps
+#   bench/vs-lammps.sh                       # N = 4000, 10000 steps from the lattice at rest
 #   N=16000 STEPS=5000 bench/vs-lammps.sh
+#   STATE=gas bench/vs-lammps.sh             # from the thesis scene's gas (t = 10 s, N = 4000)
 #
-# Both codes start from the same kind of state (one layer on a lattice at rest on the floor,
-# random vx, vy in +-5 mm/s, no relaxation); see bench/README.md for the model mapping.
+# STATE=lattice (default): one layer on a lattice at rest on the floor, random vx, vy in
+# +-5 mm/s, no relaxation (prepare.duration = 0). STATE=gas: the state of the thesis scene
+# (velocity Verlet, dt = 8e-6 s) after 10 s of shaking, when the layer is a gas of flying and
+# colliding grains; stripes prepares it once in out/bench-gas (about 5 minutes on 2 cores) and
+# both codes continue from it. See bench/README.md for the model mapping.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+STATE=${STATE:-lattice}
 N=${N:-4000}
 STEPS=${STEPS:-10000}
 THREADS=${THREADS:-"1 2"}
-LENGTH=$(python3 -c "print(0.4 * $N / 4000)")
-DURATION=$(python3 -c "print($STEPS * 8e-6)")
+DT=8e-6
 
 if ! command -v lmp > /dev/null; then
   echo "installing LAMMPS (apt-get install lammps)" >&2
@@ -25,14 +30,48 @@ if ! command -v mpirun > /dev/null; then
   DEBIAN_FRONTEND=noninteractive apt-get install -y -qq openmpi-bin > /dev/null
 fi
 cargo build --release -q
-
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-python3 bench/lammps/make_data.py "$N" "$LENGTH" 0.02 1 "$work/tray.data"
+
+case "$STATE" in
+  lattice)
+    LENGTH=$(python3 -c "print(0.4 * $N / 4000)")
+    DURATION=$(python3 -c "print($STEPS * $DT)")
+    ;;
+  gas)
+    [ "$N" = 4000 ] || { echo "STATE=gas runs the thesis scene itself: N = 4000" >&2; exit 2; }
+    LENGTH=0.4
+    GAS=out/bench-gas
+    if [ ! -f "$GAS/checkpoint.bin" ]; then
+      echo "preparing the gas state: the thesis scene for 10 s in $GAS" >&2
+      target/release/stripes run scenes/thesis-reference.toml --quiet --out "$GAS" \
+        --set run.duration=10 --set run.checkpoint_interval=10 > /dev/null
+    fi
+    DURATION=$(python3 -c "print(10 + $STEPS * $DT)")
+    ;;
+  *) echo "STATE must be lattice or gas, got $STATE" >&2; exit 2 ;;
+esac
+
+# stripes, writing the state it starts from for LAMMPS.
+ours() {
+  local T=$1 dir="$work/stripes$1"
+  if [ "$STATE" = gas ]; then
+    cp -a "$GAS" "$dir"
+    target/release/stripes run "$dir/scene.toml" --resume --quiet --out "$dir" --lammps-data "$work/tray.data" \
+      --set run.duration="$DURATION" --set run.threads="$T" --set run.checkpoint_interval=0 2>> "$work/stripes.err" | tail -1
+  else
+    target/release/stripes run scenes/thesis-reference.toml --quiet --out "$dir" --lammps-data "$work/tray.data" \
+      --set particles.count="$N" --set box.length="$LENGTH" --set prepare.duration=0 \
+      --set run.duration="$DURATION" --set run.threads="$T" --set run.checkpoint_interval=0 2>> "$work/stripes.err" | tail -1
+  fi
+}
 
 json="["
-printf '%8s %8s %18s %18s %8s\n' N threads "stripes p-steps/s" "LAMMPS p-steps/s" ratio
+printf '%8s %8s %8s %18s %18s %8s\n' state N threads "stripes p-steps/s" "LAMMPS p-steps/s" ratio
 for T in $THREADS; do
+  summary=$(ours "$T")
+  our_rate=$(python3 -c "import json,sys; print(json.loads(sys.argv[1])['particle_steps_per_s'])" "$summary")
+
   OMP_NUM_THREADS=1 mpirun --allow-run-as-root --oversubscribe -np "$T" lmp -in bench/lammps/in.tray \
     -var data "$work/tray.data" -var steps "$STEPS" -log "$work/lmp$T.log" -screen none > /dev/null
   loop=$(awk '/^Loop time/ {print $4}' "$work/lmp$T.log" | tail -1)
@@ -40,12 +79,8 @@ for T in $THREADS; do
   [ "$atoms" = "$N" ] || { echo "LAMMPS lost atoms: $atoms of $N" >&2; exit 1; }
   lmp_rate=$(python3 -c "print($N * $STEPS / $loop)")
 
-  summary=$(target/release/stripes run scenes/thesis-reference.toml --quiet --out "$work/stripes$T" --samples "$work/samples" \
-    --set particles.count="$N" --set box.length="$LENGTH" --set prepare.duration=0 \
-    --set run.duration="$DURATION" --set run.threads="$T" --set run.checkpoint_interval=0 | tail -1)
-  our_rate=$(python3 -c "import json,sys; print(json.loads(sys.argv[1])['particle_steps_per_s'])" "$summary")
   ratio=$(python3 -c "print($our_rate / $lmp_rate)")
-  printf '%8d %8d %18.4g %18.4g %8.2f\n' "$N" "$T" "$our_rate" "$lmp_rate" "$ratio"
-  json="$json{\"n\":$N,\"steps\":$STEPS,\"threads\":$T,\"stripes\":$our_rate,\"lammps\":$lmp_rate,\"ratio\":$ratio},"
+  printf '%8s %8d %8d %18.4g %18.4g %8.2f\n' "$STATE" "$N" "$T" "$our_rate" "$lmp_rate" "$ratio"
+  json="$json{\"state\":\"$STATE\",\"n\":$N,\"steps\":$STEPS,\"threads\":$T,\"stripes\":$our_rate,\"lammps\":$lmp_rate,\"ratio\":$ratio},"
 done
 echo "${json%,}]"

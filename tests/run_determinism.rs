@@ -58,8 +58,36 @@ fn same_seed_same_state_for_one_and_two_threads_and_after_a_kill_and_resume() {
     let killed = run(&dir, &samples, &["--set", "run.threads=2", "--stop-after", "6000"]);
     assert!(!killed.status.success());
     assert!(dir.join("checkpoint.bin").exists());
-    let resumed = summary(&run(&dir, &samples, &["--set", "run.threads=1", "--resume"]));
+    let data = dir.join("resumed.data");
+    let resumed = summary(&run(
+        &dir,
+        &samples,
+        &["--set", "run.threads=1", "--resume", "--lammps-data", data.to_str().unwrap()],
+    ));
     assert_eq!(resumed["state_hash"], one["state_hash"], "resume diverged");
+    // The LAMMPS data file holds the state the resumed run started from: the checkpoint.
+    let data = std::fs::read_to_string(&data).unwrap();
+    assert!(
+        data.lines().next().unwrap().contains("t = 0.04"),
+        "{}",
+        data.lines().next().unwrap()
+    );
+    assert!(data.contains("\n600 atoms\n"));
+    let atoms: Vec<Vec<f64>> = data
+        .split("Atoms # sphere\n\n")
+        .nth(1)
+        .unwrap()
+        .lines()
+        .take(600)
+        .map(|l| l.split(' ').map(|w| w.parse().unwrap()).collect())
+        .collect();
+    for a in &atoms {
+        let (d, x, y, z) = (a[2], a[4], a[5], a[6]);
+        assert!(
+            (0.5e-3..=1e-3).contains(&d) && (0.0..0.06).contains(&x) && (0.0..0.02).contains(&y) && z > 0.0,
+            "{a:?}"
+        );
+    }
     assert_eq!(resumed["snapshots"], one["snapshots"]);
     let a = std::fs::read(tmp("t1").join("snapshots.bin")).unwrap();
     let b = std::fs::read(dir.join("snapshots.bin")).unwrap();

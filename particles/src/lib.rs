@@ -12,6 +12,7 @@
 //! - `forces`: one force evaluation, gathered per particle in fixed blocks;
 //! - [`sim`]: the only module that knows the order of the stages of a time step;
 //! - `parallel`: deterministic block parallelism (results independent of the thread count);
+//! - [`lammps`]: LAMMPS data files of a state;
 //! - [`observe`]: energy, momentum and angular momentum of a state;
 //! - [`experiment`]: the collision lab, the single sphere on the shaken plate, contact-time
 //!   and eccentricity studies.
@@ -23,6 +24,7 @@ pub mod error;
 pub mod experiment;
 mod forces;
 pub mod integrate;
+pub mod lammps;
 pub mod material;
 pub mod neighbor;
 pub mod observe;

@@ -10,10 +10,11 @@ use crate::sim::{Setup, Vertical};
 use crate::wall::{Motion, Wall};
 use crate::{SimError, Vec3};
 
-/// Neighbour-list skin of the tray scenes, in units of the largest radius. The skin never
-/// changes a result (a rebuild is due when some grain moved half the skin); `stripes bench`
-/// timed 0.1 to 1 R_max within 10% of each other, 0.2 fastest in two runs of three, 2 R_max
-/// 20% slower, and rebuilding every step 2.2 to 2.6 times slower.
+/// Smallest neighbour-list skin of the tray scenes, in units of the largest radius: the skin
+/// of a layer at rest, where lists last long and every extra candidate pair costs each step.
+/// The skin never changes a result (a rebuild is due when some grain moved half the skin);
+/// `stripes bench` timed 0.1 to 1 R_max within 10% of each other on a layer at rest, 0.2
+/// fastest in two runs of three. A moving layer grows it up to [`MAX_SKIN`].
 pub const DEFAULT_SKIN: f64 = 0.2;
 
 /// Largest neighbour-list skin of the tray scenes, in units of the largest radius: the skin

@@ -104,6 +104,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
                 vtk: false,
                 samples: args.samples.clone(),
                 stop_after: None,
+                lammps_data: None,
                 quiet: args.quiet,
             })?;
             d

@@ -38,6 +38,11 @@ pub struct Args {
     /// Directory of prepared samples, shared by all runs.
     #[arg(long, default_value = "out/samples")]
     pub samples: PathBuf,
+    /// Also write the state the run starts from (the prepared sample, or the checkpoint with
+    /// --resume) as a LAMMPS data file (atom_style sphere, units si), to run the same grains
+    /// in LAMMPS (bench/lammps/in.tray).
+    #[arg(long, value_name = "FILE")]
+    pub lammps_data: Option<PathBuf>,
     /// Die after this many steps as `kill -9` would (a test hook for checkpoints and --resume).
     #[arg(long, hide = true)]
     pub stop_after: Option<u64>,
@@ -106,6 +111,11 @@ fn run_in_pool(args: Args, scene: Scene) -> Result<String, CliError> {
     } else {
         (SnapshotWriter::create(&snap_path, header.clone())?, 0)
     };
+    if let Some(path) = &args.lammps_data {
+        let title = format!("stripes {} at t = {} s, {} grains", args.scene.display(), sim.time, sim.state.len());
+        let text = particles::lammps::data_file(&sim.state, scene.material.density, scene.tray.length, scene.tray.width, &title);
+        analysis::io::write_atomic(path, text.as_bytes())?;
+    }
     let vtk_dir = out.join("vtk");
     if args.vtk {
         std::fs::create_dir_all(&vtk_dir)?;
