@@ -145,17 +145,19 @@ impl Integrator {
         let mut span = Span::new();
         match (self, planar) {
             // Translation and rotation in one loop (when both are integrated), with the
-            // planar case as its own loop.
-            (Integrator::VelocityVerlet, true) => verlet_first_half::<true>(pos, vel, vel_half, force, inv_mass, dt, &mut span, |k| {
-                if rotate {
+            // planar and the non-rotating cases as their own loops.
+            (Integrator::VelocityVerlet, true) if rotate => {
+                verlet_first_half::<true>(pos, vel, vel_half, force, inv_mass, dt, &mut span, |k| {
                     rotate_half(&mut omega[k], &mut omega_half[k], &torque[k], 0.5 * dt * inv_inertia[k]);
-                }
-            }),
-            (Integrator::VelocityVerlet, false) => verlet_first_half::<false>(pos, vel, vel_half, force, inv_mass, dt, &mut span, |k| {
-                if rotate {
+                })
+            }
+            (Integrator::VelocityVerlet, false) if rotate => {
+                verlet_first_half::<false>(pos, vel, vel_half, force, inv_mass, dt, &mut span, |k| {
                     rotate_half(&mut omega[k], &mut omega_half[k], &torque[k], 0.5 * dt * inv_inertia[k]);
-                }
-            }),
+                })
+            }
+            (Integrator::VelocityVerlet, true) => verlet_first_half::<true>(pos, vel, vel_half, force, inv_mass, dt, &mut span, |_| {}),
+            (Integrator::VelocityVerlet, false) => verlet_first_half::<false>(pos, vel, vel_half, force, inv_mass, dt, &mut span, |_| {}),
             (Integrator::Thesis, _) => {
                 for k in 0..n {
                     let a = force[k] * inv_mass[k];
