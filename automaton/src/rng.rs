@@ -129,20 +129,21 @@ fn digits(base: u64, p: u32) -> u64 {
 }
 
 /// `out[k] = cand[k] & bernoulli(row_key, stream, k, p)` for every word `k` of a row, drawing
-/// only for words with a candidate (`cand[k] != 0`; the others get 0).
+/// only for words with a candidate (`cand[k] != 0`; the others get 0), with `plain =
+/// Split::plain(p)` (the digits worked out once per half step, so the digit loop has no
+/// branch per digit).
 #[inline]
-pub fn bernoulli_row(row_key: u64, stream: Stream, p: u32, cand: &[u64], out: &mut [u64]) {
+pub fn bernoulli_row(row_key: u64, stream: Stream, plain: &Split, cand: &[u64], out: &mut [u64]) {
+    let base = row_key.wrapping_add(counter(stream, 0, 0).wrapping_mul(STEP));
     let out = &mut out[..cand.len()];
-    match p {
-        0 => out.iter_mut().for_each(|x| *x = 0),
-        ONE.. => out.copy_from_slice(cand),
-        _ => {
-            let mut base = row_key.wrapping_add(counter(stream, 0, 0).wrapping_mul(STEP));
-            for (o, &c) in out.iter_mut().zip(cand) {
-                *o = if c != 0 { c & digits(base, p) } else { 0 };
-                base = base.wrapping_add(NEXT_WORD);
-            }
-        }
+    match plain.low {
+        0 => plain.row_plain::<0>(base, cand, out),
+        1 => plain.row_plain::<1>(base, cand, out),
+        2 => plain.row_plain::<2>(base, cand, out),
+        3 => plain.row_plain::<3>(base, cand, out),
+        4 => plain.row_plain::<4>(base, cand, out),
+        5 => plain.row_plain::<5>(base, cand, out),
+        _ => plain.row_plain::<6>(base, cand, out),
     }
 }
 
@@ -174,6 +175,11 @@ pub struct Split {
 }
 
 impl Split {
+    /// One probability for every lane: the draws of [`bernoulli`].
+    pub fn plain(p: u32) -> Self {
+        Self::new(p, p)
+    }
+
     pub fn new(pa: u32, pb: u32) -> Self {
         let frac = |p: u32| p > 0 && p < ONE;
         let low = |p: u32| if frac(p) { p.trailing_zeros() } else { 6 };
@@ -199,6 +205,16 @@ impl Split {
             m = (m & r) | (d & (m | r));
         }
         m | (a & self.one_a) | (!a & self.one_b)
+    }
+
+    /// [`Self::row`] with one probability (`a = 0`, so the digit of every lane is `db`):
+    /// `out[k] = cand[k] & draw`.
+    #[inline(always)]
+    fn row_plain<const LOW: usize>(&self, mut base: u64, cand: &[u64], out: &mut [u64]) {
+        for (o, &c) in out.iter_mut().zip(cand) {
+            *o = if c != 0 { c & self.draw::<LOW>(base, 0) } else { 0 };
+            base = base.wrapping_add(NEXT_WORD);
+        }
     }
 
     #[inline(always)]
@@ -258,7 +274,7 @@ mod tests {
         for p in [0u32, 1, 6, 12, 32, 51, 52, 63, 64] {
             for stream in [Stream::Activation, Stream::Knock, Stream::Hold, Stream::Side] {
                 let mut out = vec![u64::MAX; cand.len()];
-                bernoulli_row(key, stream, p, &cand, &mut out);
+                bernoulli_row(key, stream, &Split::plain(p), &cand, &mut out);
                 for (k, (&o, &c)) in out.iter().zip(&cand).enumerate() {
                     assert_eq!(o, c & bernoulli(key, stream, k, p), "p {p} word {k}");
                 }

@@ -195,6 +195,7 @@ pub(crate) fn half_step(shape: &RowShape, ny: usize, rows: &mut [u64], r: &Resol
     // Cell draws: activation on grains, holding of lateral contacts (probability 1 without
     // knock-through) on empty cells.
     let split = rng::Split::new(r.activation, rng::ONE - r.knock);
+    let knock = rng::Split::plain(r.knock);
     for j in 0..ny {
         let key = sc.keys[j];
         obstacles(
@@ -240,7 +241,7 @@ pub(crate) fn half_step(shape: &RowShape, ny: usize, rows: &mut [u64], r: &Resol
         }
         if r.knock > 0 {
             // Draw only where something was hit (the draw is the same either way).
-            rng::bernoulli_row(key, Stream::Knock, r.knock, &sc.sum, &mut sc.impacts[j * w..(j + 1) * w]);
+            rng::bernoulli_row(key, Stream::Knock, &knock, &sc.sum, &mut sc.impacts[j * w..(j + 1) * w]);
         }
         shape.rotate_down(&sc.sum, 1, new);
         let mut full = 0;
@@ -341,6 +342,7 @@ fn knock_through(shape: &RowShape, ny: usize, r: &Resolved, cap: usize, sc: &mut
 /// above an empty cell stays so unless it moves up, a grain below an empty cell may move up).
 fn sideways_draws(ny: usize, w: usize, r: &Resolved, sc: &mut BitScratch) {
     let none = &sc.zeros[..w];
+    let side = rng::Split::plain(r.sideways);
     for j in 0..ny {
         let key = sc.keys[j];
         let row = |jn: Option<usize>| jn.filter(|&jn| jn != j).map(|jn| &sc.new[jn * w..][..w]);
@@ -356,7 +358,7 @@ fn sideways_draws(ny: usize, w: usize, r: &Resolved, sc: &mut BitScratch) {
             let tried = (h & !a & up_ok) | ((h ^ b) & down_ok);
             *t = if tried != 0 { u64::MAX } else { 0 };
         }
-        rng::bernoulli_row(key, Stream::Side, r.sideways, &sc.tmp, &mut sc.pow);
+        rng::bernoulli_row(key, Stream::Side, &side, &sc.tmp, &mut sc.pow);
         let (ups, downs) = (&mut sc.side_up[j * w..][..w], &mut sc.side_down[j * w..][..w]);
         for (k, ((u, d), &moves)) in ups.iter_mut().zip(downs.iter_mut()).zip(&sc.pow[..w]).enumerate() {
             // The direction only matters where a grain moves.
