@@ -62,7 +62,7 @@ impl BitScratch {
             lf: vec![0; w * ny],
             clusters: vec![0; w * ny],
             new: vec![0; w * ny],
-            active: vec![0; w * ny],
+            active: row(),
             impacts: vec![0; w * ny],
             o: row(),
             free: row(),
@@ -168,6 +168,32 @@ fn cluster_cells(shape: &RowShape, ny: usize, sc: &mut BitScratch) {
     }
 }
 
+/// Calls `$f::<W>($args)` for rows of `W = $w` words up to 16 (fused, fixed-width rows),
+/// `$any($args)` for wider rows.
+macro_rules! by_width {
+    ($w:expr, $f:ident, $any:ident, $($arg:expr),*) => {
+        match $w {
+            1 => $f::<1>($($arg),*),
+            2 => $f::<2>($($arg),*),
+            3 => $f::<3>($($arg),*),
+            4 => $f::<4>($($arg),*),
+            5 => $f::<5>($($arg),*),
+            6 => $f::<6>($($arg),*),
+            7 => $f::<7>($($arg),*),
+            8 => $f::<8>($($arg),*),
+            9 => $f::<9>($($arg),*),
+            10 => $f::<10>($($arg),*),
+            11 => $f::<11>($($arg),*),
+            12 => $f::<12>($($arg),*),
+            13 => $f::<13>($($arg),*),
+            14 => $f::<14>($($arg),*),
+            15 => $f::<15>($($arg),*),
+            16 => $f::<16>($($arg),*),
+            _ => $any($($arg),*),
+        }
+    };
+}
+
 /// One half step of a bit-packed submonolayer `rows` (`ny` rows of `shape.words` words).
 /// `left`: grains fly towards -x in this half step; `t` numbers the half step (random bits).
 #[allow(clippy::too_many_arguments)]
@@ -175,6 +201,164 @@ pub(crate) fn half_step(shape: &RowShape, ny: usize, rows: &mut [u64], r: &Resol
     if r.frozen {
         return;
     }
+    let w = shape.words;
+    let cap = r.cap.min(shape.nx);
+    for (j, key) in sc.keys.iter_mut().enumerate() {
+        *key = rng::row_key(seed, t, j);
+    }
+    // Cell draws: activation on grains, holding of lateral contacts (probability 1 without
+    // knock-through) on empty cells.
+    let split = rng::Split::new(r.activation, rng::ONE - r.knock);
+    let knock = rng::Split::plain(r.knock);
+    by_width!(w, flights, flights_any, shape, ny, rows, r, left, &split, &knock, sc);
+    if r.knock > 0 {
+        knock_through(shape, ny, r, cap, sc);
+    }
+    if r.sideways > 0 {
+        by_width!(w, sideways_moves, sideways_moves_any, ny, r, sc);
+    }
+    by_width!(w, unframe, unframe_any, shape, ny, rows, left, sc);
+}
+
+/// `rows` from the flight-frame result `sc.new`.
+#[inline(never)]
+fn unframe<const W: usize>(shape: &RowShape, ny: usize, rows: &mut [u64], left: bool, sc: &mut BitScratch) {
+    for (dst, src) in rows.chunks_exact_mut(W).zip(sc.new.chunks_exact(W)).take(ny) {
+        let src: &[u64; W] = src.try_into().expect("W words");
+        dst.copy_from_slice(&if left { shape.reverse_w(src) } else { *src });
+    }
+}
+
+fn unframe_any(shape: &RowShape, ny: usize, rows: &mut [u64], left: bool, sc: &mut BitScratch) {
+    let w = shape.words;
+    for j in 0..ny {
+        let (src, dst) = (&sc.new[j * w..(j + 1) * w], &mut rows[j * w..(j + 1) * w]);
+        if left {
+            shape.reverse(src, dst);
+        } else {
+            dst.copy_from_slice(src);
+        }
+    }
+}
+
+/// Row `j` of `rows` (rows of `W` words) as an array.
+#[inline(always)]
+fn load<const W: usize>(rows: &[u64], j: usize) -> [u64; W] {
+    rows[j * W..(j + 1) * W].try_into().expect("W words")
+}
+
+/// The flights of a half step for rows of `W` words: the flight frame `sc.lf` (with the
+/// clusters), then per row, in one pass over fixed-width arrays, the obstacles and cell draws
+/// ([`obstacles`]), the flying grains and their landing cells into `sc.new`, and the drawn
+/// impacts into `sc.impacts`. The same operations as [`flights_any`], in the same order.
+#[allow(clippy::too_many_arguments)]
+#[inline(never)]
+fn flights<const W: usize>(
+    shape: &RowShape,
+    ny: usize,
+    rows: &[u64],
+    r: &Resolved,
+    left: bool,
+    split: &rng::Split,
+    knock: &rng::Split,
+    sc: &mut BitScratch,
+) {
+    let nx = shape.nx;
+    let cap = r.cap.min(nx);
+    let BitScratch {
+        lf,
+        clusters,
+        new,
+        impacts,
+        ext,
+        keys,
+        ..
+    } = sc;
+    let with_clusters = r.lateral == Lateral::Clusters;
+    for j in 0..ny {
+        let src = load::<W>(rows, j);
+        let l = if left { shape.reverse_w(&src) } else { src };
+        lf[j * W..(j + 1) * W].copy_from_slice(&l);
+        if with_clusters {
+            let (u, d) = (shape.rot_up1(&l), shape.rot_down1(&l));
+            for k in 0..W {
+                clusters[j * W + k] = l[k] & (u[k] | d[k]);
+            }
+        }
+    }
+    let side: Option<&[u64]> = match r.lateral {
+        Lateral::None => None,
+        Lateral::Neighbours => Some(lf),
+        Lateral::Clusters => Some(clusters),
+    };
+    for j in 0..ny {
+        let key = keys[j];
+        let l = load::<W>(lf, j);
+        // Obstacles and cell draws, as in [`obstacles`].
+        let mut o = l;
+        let mut side_cells = [0u64; W];
+        if let Some(side) = side {
+            let neighbour = |up: bool| neighbour_row(j, up, ny, r.periodic_y).map_or([0; W], |jn| load::<W>(side, jn));
+            let (below, above) = (neighbour(false), neighbour(true));
+            for k in 0..W {
+                side_cells[k] = (below[k] | above[k]) & !l[k];
+                o[k] = l[k] | side_cells[k];
+            }
+        }
+        let mut cells = [0u64; W];
+        rng::bernoulli_split_row(key, Stream::Activation, &l, split, &o, &mut cells);
+        for k in 0..W {
+            // A lateral contact that does not hold is no obstacle.
+            o[k] &= !(side_cells[k] & !cells[k]);
+        }
+        let free = shape.not_w(&o);
+        let f1 = shape.rot_down1(&free);
+        let mut act = [0u64; W];
+        for k in 0..W {
+            act[k] = l[k] & f1[k] & cells[k];
+        }
+        let fl = if cap >= nx { [0; W] } else { shape.window_and_w(&f1, cap, ext) };
+        let mut stop = [0u64; W];
+        for k in 0..W {
+            stop[k] = act[k] & !fl[k];
+        }
+        let mut ends = shape.cyclic_add_w(&free, &shape.rot_up1(&stop));
+        for k in 0..W {
+            ends[k] &= !free[k];
+        }
+        if r.knock > 0 {
+            rng::bernoulli_row(key, Stream::Knock, knock, &ends, &mut impacts[j * W..(j + 1) * W]);
+        }
+        let mut n = shape.rot_down1(&ends);
+        let mut full = [0u64; W];
+        let mut any = 0;
+        for k in 0..W {
+            n[k] |= l[k] & !act[k];
+            full[k] = act[k] & fl[k];
+            any |= full[k];
+        }
+        if cap < nx && any != 0 {
+            let far = shape.rot_up_w(&full, cap);
+            for k in 0..W {
+                n[k] |= far[k];
+            }
+        }
+        new[j * W..(j + 1) * W].copy_from_slice(&n);
+    }
+}
+
+/// [`flights`] for rows of any width, one word loop per operation.
+#[allow(clippy::too_many_arguments)]
+fn flights_any(
+    shape: &RowShape,
+    ny: usize,
+    rows: &[u64],
+    r: &Resolved,
+    left: bool,
+    split: &rng::Split,
+    knock: &rng::Split,
+    sc: &mut BitScratch,
+) {
     let w = shape.words;
     // Flight frame.
     for j in 0..ny {
@@ -186,16 +370,9 @@ pub(crate) fn half_step(shape: &RowShape, ny: usize, rows: &mut [u64], r: &Resol
         }
     }
     let cap = r.cap.min(shape.nx);
-    for (j, key) in sc.keys.iter_mut().enumerate() {
-        *key = rng::row_key(seed, t, j);
-    }
     if r.lateral == Lateral::Clusters {
         cluster_cells(shape, ny, sc);
     }
-    // Cell draws: activation on grains, holding of lateral contacts (probability 1 without
-    // knock-through) on empty cells.
-    let split = rng::Split::new(r.activation, rng::ONE - r.knock);
-    let knock = rng::Split::plain(r.knock);
     for j in 0..ny {
         let key = sc.keys[j];
         obstacles(
@@ -206,7 +383,7 @@ pub(crate) fn half_step(shape: &RowShape, ny: usize, rows: &mut [u64], r: &Resol
             j,
             r,
             key,
-            &split,
+            split,
             &mut sc.o,
             &mut sc.tmp,
             &mut sc.cells,
@@ -216,7 +393,7 @@ pub(crate) fn half_step(shape: &RowShape, ny: usize, rows: &mut [u64], r: &Resol
         shape.rotate_down(&sc.free, 1, &mut sc.f1);
         // Flying grains: those drawn active (`cells` on the row's grains) with a free cell
         // ahead (a grain with an obstacle right ahead stays whether it flies or not).
-        let act = &mut sc.active[j * w..(j + 1) * w];
+        let act = &mut sc.active[..w];
         for ((a, &l), (&f, &c)) in act.iter_mut().zip(lrow).zip(sc.f1.iter().zip(&sc.cells)) {
             *a = l & f & c;
         }
@@ -241,7 +418,7 @@ pub(crate) fn half_step(shape: &RowShape, ny: usize, rows: &mut [u64], r: &Resol
         }
         if r.knock > 0 {
             // Draw only where something was hit (the draw is the same either way).
-            rng::bernoulli_row(key, Stream::Knock, &knock, &sc.sum, &mut sc.impacts[j * w..(j + 1) * w]);
+            rng::bernoulli_row(key, Stream::Knock, knock, &sc.sum, &mut sc.impacts[j * w..(j + 1) * w]);
         }
         shape.rotate_down(&sc.sum, 1, new);
         let mut full = 0;
@@ -256,23 +433,6 @@ pub(crate) fn half_step(shape: &RowShape, ny: usize, rows: &mut [u64], r: &Resol
             for (n, &x) in new.iter_mut().zip(&sc.pow) {
                 *n |= x;
             }
-        }
-    }
-    if r.knock > 0 {
-        knock_through(shape, ny, r, cap, sc);
-    }
-    if r.sideways > 0 {
-        sideways_draws(ny, w, r, sc);
-        for up in [true, false] {
-            sideways(ny, w, r, up, sc);
-        }
-    }
-    for j in 0..ny {
-        let (src, dst) = (&sc.new[j * w..(j + 1) * w], &mut rows[j * w..(j + 1) * w]);
-        if left {
-            shape.reverse(src, dst);
-        } else {
-            dst.copy_from_slice(src);
         }
     }
 }
@@ -298,6 +458,7 @@ fn hit_row(lf: &[u64], clusters: &[u64], w: usize, ny: usize, j: usize, p: usize
 /// grains that was hit (in the hit grain's row, in the new state, from the hit grain on) and
 /// the far grain of that line flies on, up to the cap, until it touches a grain of its row.
 /// Impacts are handled in row order and, within a row, in flight-frame order.
+#[inline(never)]
 fn knock_through(shape: &RowShape, ny: usize, r: &Resolved, cap: usize, sc: &mut BitScratch) {
     let w = shape.words;
     let nx = shape.nx;
@@ -335,11 +496,91 @@ fn knock_through(shape: &RowShape, ny: usize, r: &Resolved, cap: usize, sc: &mut
     }
 }
 
+/// The sideways moves of a half step: [`sideways_draws`], then [`sideways`] towards +y and
+/// towards -y.
+fn sideways_moves_any(ny: usize, r: &Resolved, sc: &mut BitScratch) {
+    let w = sc.zeros.len();
+    sideways_draws(ny, w, r, sc);
+    for up in [true, false] {
+        sideways(ny, w, r, up, sc);
+    }
+}
+
+/// [`sideways_moves_any`] for rows of `W` words, on fixed-width arrays.
+#[inline(never)]
+fn sideways_moves<const W: usize>(ny: usize, r: &Resolved, sc: &mut BitScratch) {
+    let BitScratch {
+        new,
+        side_up,
+        side_down,
+        keys,
+        ..
+    } = sc;
+    let side = rng::Split::plain(r.sideways);
+    // Draws, as in [`sideways_draws`].
+    for j in 0..ny {
+        let key = keys[j];
+        let row = |jn: Option<usize>| jn.filter(|&jn| jn != j).map(|jn| load::<W>(new, jn));
+        let (above, up_ok) = row(neighbour_row(j, true, ny, r.periodic_y)).map_or(([0; W], 0), |x| (x, u64::MAX));
+        let (below, down_ok) = row(neighbour_row(j, false, ny, r.periodic_y)).map_or(([0; W], 0), |x| (x, u64::MAX));
+        let here = load::<W>(new, j);
+        let mut tried = [0u64; W];
+        for k in 0..W {
+            let t = (here[k] & !above[k] & up_ok) | ((here[k] ^ below[k]) & down_ok);
+            tried[k] = if t != 0 { u64::MAX } else { 0 };
+        }
+        let mut moves = [0u64; W];
+        rng::bernoulli_row(key, Stream::Side, &side, &tried, &mut moves);
+        for k in 0..W {
+            // The direction only matters where a grain moves.
+            let dir = if moves[k] != 0 {
+                rng::word(key, Stream::SideDirection, k, 0)
+            } else {
+                0
+            };
+            side_up[j * W + k] = moves[k] & dir;
+            side_down[j * W + k] = moves[k] & !dir;
+        }
+    }
+    // The two passes, as in [`sideways`].
+    if ny < 2 {
+        return;
+    }
+    for up in [true, false] {
+        let (first, last) = if up { (0, ny - 1) } else { (ny - 1, 0) };
+        let draws: &[u64] = if up { side_up } else { side_down };
+        let first_row = load::<W>(new, first);
+        let mut inc = [0u64; W];
+        for step in 0..ny {
+            let j = if up { step } else { ny - 1 - step };
+            let (next, blocked) = match neighbour_row(j, up, ny, r.periodic_y) {
+                Some(_) if j == last => (first_row, 0),
+                Some(jn) => (load::<W>(new, jn), 0),
+                None => ([0; W], u64::MAX),
+            };
+            let (here, d) = (load::<W>(new, j), load::<W>(draws, j));
+            let mut out = [0u64; W];
+            for k in 0..W {
+                let m = here[k] & !(next[k] | blocked) & d[k];
+                out[k] = (here[k] & !m) | inc[k];
+                inc[k] = m;
+            }
+            new[j * W..(j + 1) * W].copy_from_slice(&out);
+        }
+        if r.periodic_y {
+            for k in 0..W {
+                new[first * W + k] |= inc[k];
+            }
+        }
+    }
+}
+
 /// The sideways draws of every row ([`rng::sideways_draw`]): `side_up` (move towards +y) and
 /// `side_down` (towards -y), drawn once for both passes and only in words where a move can
 /// be tried (the draw is the same either way): towards +y from a grain below an empty cell,
 /// towards -y (after the +y pass) from a cell where rows `j` and `j - 1` differ now (a grain
 /// above an empty cell stays so unless it moves up, a grain below an empty cell may move up).
+#[inline(never)]
 fn sideways_draws(ny: usize, w: usize, r: &Resolved, sc: &mut BitScratch) {
     let none = &sc.zeros[..w];
     let side = rng::Split::plain(r.sideways);
@@ -376,6 +617,7 @@ fn sideways_draws(ny: usize, w: usize, r: &Resolved, sc: &mut BitScratch) {
 /// Simultaneous sideways moves towards +y (`up`) or -y into empty cells, in one pass over the
 /// rows in the direction of the move: a row is read before any grain moves into it, so every
 /// move sees the state before the pass.
+#[inline(never)]
 fn sideways(ny: usize, w: usize, r: &Resolved, up: bool, sc: &mut BitScratch) {
     if ny < 2 {
         return; // no neighbour row, or (periodic) the row itself
