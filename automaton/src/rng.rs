@@ -135,7 +135,7 @@ fn digits(base: u64, p: u32) -> u64 {
 /// only for words with a candidate (`cand[k] != 0`; the others get 0), with `plain =
 /// Split::plain(p)` (the digits worked out once per half step, so the digit loop has no
 /// branch per digit).
-#[inline]
+#[inline(always)]
 pub fn bernoulli_row(row_key: u64, stream: Stream, plain: &Split, cand: &[u64], out: &mut [u64]) {
     let base = row_key.wrapping_add(counter(stream, 0, 0).wrapping_mul(STEP));
     let out = &mut out[..cand.len()];
@@ -241,7 +241,7 @@ impl Split {
 
 /// `out[k] = bernoulli_split(row_key, stream, k, a[k], pa, pb)` for the words with `cand[k]
 /// != 0`, 0 for the others, with `split = Split::new(pa, pb)`.
-#[inline]
+#[inline(always)]
 pub fn bernoulli_split_row(row_key: u64, stream: Stream, a: &[u64], split: &Split, cand: &[u64], out: &mut [u64]) {
     let base = row_key.wrapping_add(counter(stream, 0, 0).wrapping_mul(STEP));
     let n = cand.len();

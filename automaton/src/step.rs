@@ -196,8 +196,44 @@ macro_rules! by_width {
 
 /// One half step of a bit-packed submonolayer `rows` (`ny` rows of `shape.words` words).
 /// `left`: grains fly towards -x in this half step; `t` numbers the half step (random bits).
+///
+/// On x86-64 processors with the x86-64-v3 bit instructions (`andn`, `lzcnt`, `tzcnt`,
+/// `mulx`, AVX2) the same code is compiled a second time with them enabled and chosen at run
+/// time; both give the same bits (integer operations only).
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn half_step(shape: &RowShape, ny: usize, rows: &mut [u64], r: &Resolved, seed: u64, t: u64, left: bool, sc: &mut BitScratch) {
+    #[cfg(target_arch = "x86_64")]
+    if has_v3() {
+        // SAFETY: the processor has the features `half_step_v3` is compiled for.
+        return unsafe { half_step_v3(shape, ny, rows, r, seed, t, left, sc) };
+    }
+    half_step_body(shape, ny, rows, r, seed, t, left, sc);
+}
+
+/// Whether the processor has the features of [`half_step_v3`] (checked once, then cached by
+/// the standard library).
+#[cfg(target_arch = "x86_64")]
+#[inline]
+fn has_v3() -> bool {
+    std::arch::is_x86_feature_detected!("avx2")
+        && std::arch::is_x86_feature_detected!("bmi1")
+        && std::arch::is_x86_feature_detected!("bmi2")
+        && std::arch::is_x86_feature_detected!("lzcnt")
+        && std::arch::is_x86_feature_detected!("popcnt")
+}
+
+/// [`half_step_body`] compiled with the x86-64-v3 bit instructions.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,bmi1,bmi2,lzcnt,popcnt")]
+#[allow(clippy::too_many_arguments)]
+unsafe fn half_step_v3(shape: &RowShape, ny: usize, rows: &mut [u64], r: &Resolved, seed: u64, t: u64, left: bool, sc: &mut BitScratch) {
+    half_step_body(shape, ny, rows, r, seed, t, left, sc);
+}
+
+/// The half step itself, inlined into both [`half_step`] and [`half_step_v3`].
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn half_step_body(shape: &RowShape, ny: usize, rows: &mut [u64], r: &Resolved, seed: u64, t: u64, left: bool, sc: &mut BitScratch) {
     if r.frozen {
         return;
     }
@@ -221,7 +257,7 @@ pub(crate) fn half_step(shape: &RowShape, ny: usize, rows: &mut [u64], r: &Resol
 }
 
 /// `rows` from the flight-frame result `sc.new`.
-#[inline(never)]
+#[inline(always)]
 fn unframe<const W: usize>(shape: &RowShape, ny: usize, rows: &mut [u64], left: bool, sc: &mut BitScratch) {
     for (dst, src) in rows.chunks_exact_mut(W).zip(sc.new.chunks_exact(W)).take(ny) {
         let src: &[u64; W] = src.try_into().expect("W words");
@@ -252,7 +288,7 @@ fn load<const W: usize>(rows: &[u64], j: usize) -> [u64; W] {
 /// ([`obstacles`]), the flying grains and their landing cells into `sc.new`, and the drawn
 /// impacts into `sc.impacts`. The same operations as [`flights_any`], in the same order.
 #[allow(clippy::too_many_arguments)]
-#[inline(never)]
+#[inline(always)]
 fn flights<const W: usize>(
     shape: &RowShape,
     ny: usize,
@@ -458,7 +494,7 @@ fn hit_row(lf: &[u64], clusters: &[u64], w: usize, ny: usize, j: usize, p: usize
 /// grains that was hit (in the hit grain's row, in the new state, from the hit grain on) and
 /// the far grain of that line flies on, up to the cap, until it touches a grain of its row.
 /// Impacts are handled in row order and, within a row, in flight-frame order.
-#[inline(never)]
+#[inline(always)]
 fn knock_through(shape: &RowShape, ny: usize, r: &Resolved, cap: usize, sc: &mut BitScratch) {
     let w = shape.words;
     let nx = shape.nx;
@@ -507,7 +543,7 @@ fn sideways_moves_any(ny: usize, r: &Resolved, sc: &mut BitScratch) {
 }
 
 /// [`sideways_moves_any`] for rows of `W` words, on fixed-width arrays.
-#[inline(never)]
+#[inline(always)]
 fn sideways_moves<const W: usize>(ny: usize, r: &Resolved, sc: &mut BitScratch) {
     let BitScratch {
         new,
@@ -580,7 +616,6 @@ fn sideways_moves<const W: usize>(ny: usize, r: &Resolved, sc: &mut BitScratch) 
 /// be tried (the draw is the same either way): towards +y from a grain below an empty cell,
 /// towards -y (after the +y pass) from a cell where rows `j` and `j - 1` differ now (a grain
 /// above an empty cell stays so unless it moves up, a grain below an empty cell may move up).
-#[inline(never)]
 fn sideways_draws(ny: usize, w: usize, r: &Resolved, sc: &mut BitScratch) {
     let none = &sc.zeros[..w];
     let side = rng::Split::plain(r.sideways);
@@ -617,7 +652,6 @@ fn sideways_draws(ny: usize, w: usize, r: &Resolved, sc: &mut BitScratch) {
 /// Simultaneous sideways moves towards +y (`up`) or -y into empty cells, in one pass over the
 /// rows in the direction of the move: a row is read before any grain moves into it, so every
 /// move sees the state before the pass.
-#[inline(never)]
 fn sideways(ny: usize, w: usize, r: &Resolved, up: bool, sc: &mut BitScratch) {
     if ny < 2 {
         return; // no neighbour row, or (periodic) the row itself
@@ -649,6 +683,58 @@ fn sideways(ny: usize, w: usize, r: &Resolved, up: bool, sc: &mut BitScratch) {
     if r.periodic_y {
         for k in 0..w {
             sc.new[first * w + k] |= sc.pow[k];
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::params::{Activation, FlightCap, Knock, Params, Physical, RuleSet, Sideways, Threshold, YBoundary};
+
+    /// The dispatched half step (on x86-64-v3 processors the copy compiled with their bit
+    /// instructions) and the plain one give the same lattice.
+    #[test]
+    fn dispatched_and_plain_half_steps_agree() {
+        for (nx, y) in [
+            (50, YBoundary::Walls),
+            (533, YBoundary::Walls),
+            (533, YBoundary::Periodic),
+            (1100, YBoundary::Walls),
+        ] {
+            let ny = 6;
+            let shape = RowShape::new(nx);
+            let mut z = nx as u64;
+            let mut rows: Vec<u64> = (0..shape.words * ny)
+                .map(|_| {
+                    z = rng::mix(z);
+                    z & rng::mix(z ^ 1)
+                })
+                .collect();
+            for row in rows.chunks_exact_mut(shape.words) {
+                shape.clean(row);
+            }
+            let params = Params {
+                rule: RuleSet::Physical,
+                physical: Physical {
+                    threshold: Threshold::None,
+                    cap: FlightCap::Cells { cells: 66 },
+                    activation: Activation::Bernoulli { p: 0.8 },
+                    knock: Knock::Bernoulli { p: 0.2 },
+                    lateral: Lateral::Clusters,
+                    sideways: Sideways::Bernoulli { p: 0.1 },
+                },
+                y,
+                seed: 3,
+            };
+            let r = params.resolve();
+            let (mut a, mut b) = (rows.clone(), rows);
+            let (mut sa, mut sb) = (BitScratch::new(shape, ny), BitScratch::new(shape, ny));
+            for t in 0..30 {
+                half_step(&shape, ny, &mut a, &r, 7, t, t % 2 == 1, &mut sa);
+                half_step_body(&shape, ny, &mut b, &r, 7, t, t % 2 == 1, &mut sb);
+                assert_eq!(a, b, "{nx} cells, half step {t}");
+            }
         }
     }
 }
