@@ -52,6 +52,36 @@ pub(crate) struct BitScratch {
     side_down: Vec<u64>,
     /// [`rng::row_key`] of each row for the current half step.
     keys: Vec<u64>,
+    /// The digit masks of the draws (activation and holding, knock, sideways) and the
+    /// probabilities they were worked out for.
+    splits: Option<((u32, u32, u32), Splits)>,
+}
+
+/// The digit masks of a half step's draws.
+#[derive(Clone, Copy)]
+struct Splits {
+    cells: rng::Split,
+    knock: rng::Split,
+    side: rng::Split,
+}
+
+impl BitScratch {
+    /// The digit masks for `r`, worked out when its probabilities change.
+    fn splits(&mut self, r: &Resolved) -> Splits {
+        let probs = (r.activation, r.knock, r.sideways);
+        match self.splits {
+            Some((p, s)) if p == probs => s,
+            _ => {
+                let s = Splits {
+                    cells: rng::Split::new(r.activation, rng::ONE - r.knock),
+                    knock: rng::Split::plain(r.knock),
+                    side: rng::Split::plain(r.sideways),
+                };
+                self.splits = Some((probs, s));
+                s
+            }
+        }
+    }
 }
 
 impl BitScratch {
@@ -79,6 +109,7 @@ impl BitScratch {
             side_up: vec![0; w * ny],
             side_down: vec![0; w * ny],
             keys: vec![0; ny],
+            splits: None,
         }
     }
 }
@@ -244,8 +275,8 @@ fn half_step_body(shape: &RowShape, ny: usize, rows: &mut [u64], r: &Resolved, s
     }
     // Cell draws: activation on grains, holding of lateral contacts (probability 1 without
     // knock-through) on empty cells.
-    let split = rng::Split::new(r.activation, rng::ONE - r.knock);
-    let knock = rng::Split::plain(r.knock);
+    let splits = sc.splits(r);
+    let (split, knock) = (splits.cells, splits.knock);
     by_width!(w, flights, flights_any, shape, ny, rows, r, left, &split, &knock, sc);
     if r.knock > 0 {
         knock_through(shape, ny, r, cap, sc);
@@ -475,6 +506,7 @@ fn flights_any(
 
 /// The row of the grain that stopped a flight in row `j` at cell `p`: row `j` itself, else
 /// the lower, else the upper neighbour whose obstacle grain is there.
+#[inline(always)]
 fn hit_row(lf: &[u64], clusters: &[u64], w: usize, ny: usize, j: usize, p: usize, r: &Resolved) -> Option<usize> {
     if RowShape::get(&lf[j * w..], p) {
         return Some(j);
@@ -545,6 +577,7 @@ fn sideways_moves_any(ny: usize, r: &Resolved, sc: &mut BitScratch) {
 /// [`sideways_moves_any`] for rows of `W` words, on fixed-width arrays.
 #[inline(always)]
 fn sideways_moves<const W: usize>(ny: usize, r: &Resolved, sc: &mut BitScratch) {
+    let side = sc.splits(r).side;
     let BitScratch {
         new,
         side_up,
@@ -552,7 +585,6 @@ fn sideways_moves<const W: usize>(ny: usize, r: &Resolved, sc: &mut BitScratch) 
         keys,
         ..
     } = sc;
-    let side = rng::Split::plain(r.sideways);
     // Draws, as in [`sideways_draws`].
     for j in 0..ny {
         let key = keys[j];
@@ -617,8 +649,8 @@ fn sideways_moves<const W: usize>(ny: usize, r: &Resolved, sc: &mut BitScratch) 
 /// towards -y (after the +y pass) from a cell where rows `j` and `j - 1` differ now (a grain
 /// above an empty cell stays so unless it moves up, a grain below an empty cell may move up).
 fn sideways_draws(ny: usize, w: usize, r: &Resolved, sc: &mut BitScratch) {
+    let side = sc.splits(r).side;
     let none = &sc.zeros[..w];
-    let side = rng::Split::plain(r.sideways);
     for j in 0..ny {
         let key = sc.keys[j];
         let row = |jn: Option<usize>| jn.filter(|&jn| jn != j).map(|jn| &sc.new[jn * w..][..w]);
