@@ -317,15 +317,18 @@ impl RowShape {
     /// (`clear = true`), by whole words; `None` if there is none.
     pub fn next(&self, row: &[u64], from: usize, clear: bool) -> Option<usize> {
         let n = self.words;
+        let flip = if clear { u64::MAX } else { 0 };
+        let valid = |d: usize| if d + 1 == n { self.last } else { u64::MAX };
         let (w0, b0) = (from / 64, from % 64);
-        for step in 0..=n {
-            let d = if w0 + step >= n { w0 + step - n } else { w0 + step };
-            let valid = if d + 1 == n { self.last } else { u64::MAX };
-            let mut x = if clear { !row[d] & valid } else { row[d] };
-            if step == 0 {
-                x &= u64::MAX << b0;
-            } else if step == n {
-                x &= (1u64 << b0).wrapping_sub(1);
+        let x = (row[w0] ^ flip) & valid(w0) & (u64::MAX << b0);
+        if x != 0 {
+            return Some(64 * w0 + x.trailing_zeros() as usize);
+        }
+        // The words after `from`'s, then from word 0 on (back to `from`'s word, below `from`).
+        for d in (w0 + 1..n).chain(0..=w0) {
+            let mut x = (row[d] ^ flip) & valid(d);
+            if d == w0 {
+                x &= (1u64 << b0) - 1;
             }
             if x != 0 {
                 return Some(64 * d + x.trailing_zeros() as usize);
@@ -348,6 +351,147 @@ impl RowShape {
         } else {
             row[i / 64] &= !(1 << (i % 64));
         }
+    }
+}
+
+/// The row operations on fixed-width rows (`[u64; W]` with `W = words`), for the fused
+/// per-row step of [`crate::step`]: with the width a constant every word loop unrolls and the
+/// row stays in registers. Each equals its slice form above (tested).
+impl RowShape {
+    /// [`Self::rotate_up`] by one cell.
+    #[inline(always)]
+    pub fn rot_up1<const W: usize>(&self, s: &[u64; W]) -> [u64; W] {
+        debug_assert_eq!(W, self.words);
+        let top = (s[W - 1] >> ((self.nx - 1) % 64)) & 1;
+        let mut d = [0; W];
+        d[0] = (s[0] << 1) | top;
+        for i in 1..W {
+            d[i] = (s[i] << 1) | (s[i - 1] >> 63);
+        }
+        d[W - 1] &= self.last;
+        d
+    }
+
+    /// [`Self::rotate_down`] by one cell.
+    #[inline(always)]
+    pub fn rot_down1<const W: usize>(&self, s: &[u64; W]) -> [u64; W] {
+        debug_assert_eq!(W, self.words);
+        let mut d = [0; W];
+        for i in 0..W - 1 {
+            d[i] = (s[i] >> 1) | (s[i + 1] << 63);
+        }
+        d[W - 1] = (s[W - 1] >> 1) | ((s[0] & 1) << ((self.nx - 1) % 64));
+        d
+    }
+
+    /// [`Self::rotate_up`] by `k < nx` cells (rows of at most 16 words): word `d` of the result
+    /// is the 64 cells from `64 d - k` of the row shifted up without wrap, ORed with those
+    /// from `64 d + nx - k` (the cells that cross the seam), read from a zero-padded copy.
+    #[inline(always)]
+    pub fn rot_up_w<const W: usize>(&self, s: &[u64; W], k: usize) -> [u64; W] {
+        const PAD: usize = 16;
+        debug_assert!(W <= PAD && k < self.nx);
+        let mut p = [0u64; 3 * PAD + 2];
+        p[PAD..PAD + W].copy_from_slice(s);
+        // The 64 cells from signed cell `start - 64 PAD` of the padded copy.
+        let win = |start: usize| {
+            let (q, b) = (start / 64, (start % 64) as u32);
+            (p[q] >> b) | ((p[q + 1] << 1) << (63 - b))
+        };
+        let (lo, hi) = (64 * PAD - k, 64 * PAD + self.nx - k);
+        let mut d = [0; W];
+        for i in 0..W {
+            d[i] = win(lo + 64 * i) | win(hi + 64 * i);
+        }
+        d[W - 1] &= self.last;
+        d
+    }
+
+    /// `!s` on the valid cells.
+    #[inline(always)]
+    pub fn not_w<const W: usize>(&self, s: &[u64; W]) -> [u64; W] {
+        let mut d = s.map(|x| !x);
+        d[W - 1] &= self.last;
+        d
+    }
+
+    /// [`Self::reverse`].
+    #[inline(always)]
+    pub fn reverse_w<const W: usize>(&self, s: &[u64; W]) -> [u64; W] {
+        debug_assert_eq!(W, self.words);
+        let pad = W * 64 - self.nx;
+        let mut d = [0; W];
+        if pad == 0 {
+            for i in 0..W {
+                d[i] = s[W - 1 - i].reverse_bits();
+            }
+            return d;
+        }
+        let p = pad as u32;
+        let mut a = s[W - 1].reverse_bits();
+        for i in 0..W - 1 {
+            let b = s[W - 2 - i].reverse_bits();
+            d[i] = (a >> p) | (b << (64 - p));
+            a = b;
+        }
+        d[W - 1] = a >> p;
+        d[W - 1] &= self.last;
+        d
+    }
+
+    /// [`Self::cyclic_add`].
+    #[inline(always)]
+    pub fn cyclic_add_w<const W: usize>(&self, a: &[u64; W], b: &[u64; W]) -> [u64; W] {
+        let mut d = [0; W];
+        let mut carry = 0u64;
+        for i in 0..W {
+            let (s1, c1) = a[i].overflowing_add(b[i]);
+            let (s2, c2) = s1.overflowing_add(carry);
+            d[i] = s2;
+            carry = (c1 | c2) as u64;
+        }
+        let mut out = self.carry_out(&mut d, carry);
+        while out {
+            let mut c = 1u64;
+            for w in d.iter_mut() {
+                let (s, o) = w.overflowing_add(c);
+                *w = s;
+                c = o as u64;
+                if c == 0 {
+                    break;
+                }
+            }
+            out = self.carry_out(&mut d, c);
+        }
+        d
+    }
+
+    /// [`Self::window_and`] (`ext` as there).
+    #[inline(always)]
+    pub fn window_and_w<const W: usize>(&self, src: &[u64; W], len: usize, ext: &mut [u64]) -> [u64; W] {
+        let mut d = [0; W];
+        if len < 64 {
+            self.window_and(src, len, &mut d, ext);
+            return d;
+        }
+        debug_assert!(len < self.nx);
+        let valid = |i: usize| if i + 1 == W { self.last } else { u64::MAX };
+        let Some(first) = (0..W).find(|&i| !src[i] & valid(i) != 0) else {
+            return *src;
+        };
+        let mut next = 64 * first + (!src[first] & valid(first)).trailing_zeros() as usize + self.nx;
+        for i in (0..W).rev() {
+            let z = !src[i] & valid(i);
+            let lo = 64 - z.leading_zeros() as usize;
+            let hi = (next - 64 * i) as isize - len as isize;
+            let from_lo = (u64::MAX << (lo & 63)) & ((lo < 64) as u64).wrapping_neg();
+            let to_hi = (u64::MAX >> (63 - hi.clamp(0, 63) as u32)) & ((hi >= 0) as u64).wrapping_neg();
+            d[i] = from_lo & to_hi & valid(i);
+            if z != 0 {
+                next = 64 * i + z.trailing_zeros() as usize;
+            }
+        }
+        d
     }
 }
 
@@ -390,6 +534,76 @@ mod tests {
 
     fn from_bits(shape: &RowShape, r: &[u64]) -> Vec<bool> {
         (0..shape.nx).map(|i| RowShape::get(r, i)).collect()
+    }
+
+    /// A pseudo-random row of `shape` with about 70 % of the cells set.
+    fn random_row(shape: &RowShape, seed: u64) -> Vec<u64> {
+        let mut z = seed;
+        let mut r: Vec<u64> = (0..shape.words)
+            .map(|_| {
+                z = crate::rng::mix(z);
+                let a = z;
+                z = crate::rng::mix(z);
+                a | z
+            })
+            .collect();
+        shape.clean(&mut r);
+        r
+    }
+
+    fn fixed_width<const W: usize>(shape: &RowShape, len: usize, k: usize, seed: u64) -> Result<(), TestCaseError> {
+        let a = random_row(shape, seed);
+        let b = random_row(shape, seed ^ 1);
+        let aw: [u64; W] = a.clone().try_into().unwrap();
+        let bw: [u64; W] = b.clone().try_into().unwrap();
+        let mut d = vec![0; W];
+        let mut ext = vec![0; shape.ext_words()];
+        shape.rotate_up(&a, 1, &mut d);
+        prop_assert_eq!(&shape.rot_up1(&aw)[..], &d[..]);
+        shape.rotate_down(&a, 1, &mut d);
+        prop_assert_eq!(&shape.rot_down1(&aw)[..], &d[..]);
+        shape.rotate_up(&a, k, &mut d);
+        prop_assert_eq!(&shape.rot_up_w(&aw, k)[..], &d[..]);
+        shape.reverse(&a, &mut d);
+        prop_assert_eq!(&shape.reverse_w(&aw)[..], &d[..]);
+        shape.not(&a, &mut d);
+        prop_assert_eq!(&shape.not_w(&aw)[..], &d[..]);
+        // Free cells and single run starts after occupied cells, as the step adds them.
+        let free = shape.not_w(&bw);
+        let mut starts = shape.rot_up1(&bw);
+        for (s, f) in starts.iter_mut().zip(&free) {
+            *s &= f & aw[0];
+        }
+        shape.cyclic_add(&free, &starts, &mut d);
+        prop_assert_eq!(&shape.cyclic_add_w(&free, &starts)[..], &d[..]);
+        if len < shape.nx {
+            shape.window_and(&a, len, &mut d, &mut ext);
+            prop_assert_eq!(&shape.window_and_w(&aw, len, &mut ext)[..], &d[..]);
+        }
+        Ok(())
+    }
+
+    fn fixed_width_case(nx: usize, len: usize, k: usize, seed: u64) -> Result<(), TestCaseError> {
+        let s = RowShape::new(nx);
+        match s.words {
+            1 => fixed_width::<1>(&s, len, k, seed),
+            2 => fixed_width::<2>(&s, len, k, seed),
+            3 => fixed_width::<3>(&s, len, k, seed),
+            4 => fixed_width::<4>(&s, len, k, seed),
+            5 => fixed_width::<5>(&s, len, k, seed),
+            6 => fixed_width::<6>(&s, len, k, seed),
+            7 => fixed_width::<7>(&s, len, k, seed),
+            8 => fixed_width::<8>(&s, len, k, seed),
+            9 => fixed_width::<9>(&s, len, k, seed),
+            10 => fixed_width::<10>(&s, len, k, seed),
+            11 => fixed_width::<11>(&s, len, k, seed),
+            12 => fixed_width::<12>(&s, len, k, seed),
+            13 => fixed_width::<13>(&s, len, k, seed),
+            14 => fixed_width::<14>(&s, len, k, seed),
+            15 => fixed_width::<15>(&s, len, k, seed),
+            16 => fixed_width::<16>(&s, len, k, seed),
+            _ => unreachable!(),
+        }
     }
 
     proptest! {
@@ -450,6 +664,11 @@ mod tests {
             prop_assert_eq!(dst[s.words - 1] & !s.last, 0);
         }
 
+        #[test]
+        fn fixed_width_ops_equal_the_slice_ops(words in 1usize..=16, extra in 0usize..64, len in 1usize..1100, k in 0usize..1100, seed in any::<u64>()) {
+            let nx = 64 * (words - 1) + 1 + extra;
+            fixed_width_case(nx, 1 + len % nx.max(2).min(nx), k % nx, seed)?;
+        }
         #[test]
         fn cyclic_add_fills_runs_across_the_seam(cells in prop::collection::vec(any::<bool>(), 2..200), start in 0usize..200) {
             // One run start at a free cell after an occupied cell; the carry must stop on the

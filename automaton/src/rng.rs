@@ -4,10 +4,12 @@
 //!
 //! The scheme: every probability is quantised to a multiple of 1/64 ([`quantise`]). A word
 //! of 64 Bernoulli lanes is `U < p` lane by lane for six random binary digits `U` per lane,
-//! bit-sliced: digit `b` of all 64 lanes is one uniformly random word (wyhash's multiply-fold
-//! of the counter, one 128-bit multiplication), combined from the lowest set digit of `p`
-//! upwards (`m | r` for a 1 digit, `m & r` for a 0), so a probability costs at most six words
-//! (`6 - trailing_zeros(p)`). Draws are made only for words that hold a cell whose draw is
+//! bit-sliced: digit `b` of all 64 lanes is a uniformly random word `R_b` (wyhash's
+//! multiply-fold of the counter, one 128-bit multiplication) XORed with digit `b` of `p`
+//! (still uniform, so `P(U < p) = p / 64` exactly). From the lowest set digit of `p` upwards
+//! the comparison is the carry `m = maj(m, U_b, p_b)`; with `n = m ^ p_b` this is
+//! `n = (n & R_b) ^ (p_b ^ p_{b+1})`, two operations per digit ([`Split::draw`]). A
+//! probability costs at most six words (`6 - trailing_zeros(p)`). Draws are made only for words that hold a cell whose draw is
 //! read; a draw is the same whether made or not, so skipping changes no result. The
 //! activation of a grain's flight and the holding of a lateral contact (at the floor level)
 //! share one set of digit words ([`bernoulli_split`]): activation is read only on cells of
@@ -115,34 +117,36 @@ pub fn bernoulli(row_key: u64, stream: Stream, w: usize, p: u32) -> u64 {
 }
 
 /// The digit recursion of [`bernoulli`] for `0 < p < 64`, from the counter base of the word
-/// (`word(row_key, stream, w, b) = mum(base + b STEP)`, see `counter`).
+/// (`word(row_key, stream, w, b) = mum(base + b STEP)`, see `counter`): `n = (n & R_b) ^
+/// (p_b ^ p_{b+1})` from `n = p_low = 1` (see the module doc).
 #[inline(always)]
 fn digits(base: u64, p: u32) -> u64 {
     let low = p.trailing_zeros();
-    let mut m = mum(base.wrapping_add((low as u64).wrapping_mul(STEP)));
-    for b in low + 1..6 {
+    let digit = |b: u32| if b < 6 && (p >> b) & 1 == 1 { u64::MAX } else { 0 };
+    let mut n = u64::MAX;
+    for b in low..6 {
         let r = mum(base.wrapping_add((b as u64).wrapping_mul(STEP)));
-        // The digit is the same for every word of a half step: a predictable branch.
-        m = if (p >> b) & 1 == 1 { m | r } else { m & r };
+        n = (n & r) ^ digit(b) ^ digit(b + 1);
     }
-    m
+    n
 }
 
 /// `out[k] = cand[k] & bernoulli(row_key, stream, k, p)` for every word `k` of a row, drawing
-/// only for words with a candidate (`cand[k] != 0`; the others get 0).
-#[inline]
-pub fn bernoulli_row(row_key: u64, stream: Stream, p: u32, cand: &[u64], out: &mut [u64]) {
+/// only for words with a candidate (`cand[k] != 0`; the others get 0), with `plain =
+/// Split::plain(p)` (the digits worked out once per half step, so the digit loop has no
+/// branch per digit).
+#[inline(always)]
+pub fn bernoulli_row(row_key: u64, stream: Stream, plain: &Split, cand: &[u64], out: &mut [u64]) {
+    let base = row_key.wrapping_add(counter(stream, 0, 0).wrapping_mul(STEP));
     let out = &mut out[..cand.len()];
-    match p {
-        0 => out.iter_mut().for_each(|x| *x = 0),
-        ONE.. => out.copy_from_slice(cand),
-        _ => {
-            let mut base = row_key.wrapping_add(counter(stream, 0, 0).wrapping_mul(STEP));
-            for (o, &c) in out.iter_mut().zip(cand) {
-                *o = if c != 0 { c & digits(base, p) } else { 0 };
-                base = base.wrapping_add(NEXT_WORD);
-            }
-        }
+    match plain.low {
+        0 => plain.row_plain::<0>(base, cand, out),
+        1 => plain.row_plain::<1>(base, cand, out),
+        2 => plain.row_plain::<2>(base, cand, out),
+        3 => plain.row_plain::<3>(base, cand, out),
+        4 => plain.row_plain::<4>(base, cand, out),
+        5 => plain.row_plain::<5>(base, cand, out),
+        _ => plain.row_plain::<6>(base, cand, out),
     }
 }
 
@@ -164,41 +168,66 @@ pub fn bernoulli_split(row_key: u64, stream: Stream, w: usize, a: u64, pa: u32, 
 pub struct Split {
     /// First digit word drawn (6: none).
     low: u32,
-    /// Digit `b` of `pb` as a mask (0 for probabilities 0 and 1), and where the digits of
-    /// `pa` and `pb` differ: a lane's digit is `db ^ (a & dx)`.
+    /// Digit `b` of `pb` as a mask (0 for probabilities 0 and 1), and where it differs for
+    /// `pa`: a lane's digit is `db ^ (a & dx)` (the start of the recursion).
     db: [u64; 6],
     dx: [u64; 6],
+    /// The same for `p_b ^ p_{b+1}` (digit 6 is 0), the step of the recursion at digit `b`.
+    step_b: [u64; 6],
+    step_x: [u64; 6],
     /// All lanes of a probability 1 (their digits are 0, so the recursion leaves them 0).
     one_a: u64,
     one_b: u64,
 }
 
 impl Split {
+    /// One probability for every lane: the draws of [`bernoulli`].
+    pub fn plain(p: u32) -> Self {
+        Self::new(p, p)
+    }
+
     pub fn new(pa: u32, pb: u32) -> Self {
         let frac = |p: u32| p > 0 && p < ONE;
         let low = |p: u32| if frac(p) { p.trailing_zeros() } else { 6 };
-        let digit = |p: u32, b: usize| if frac(p) && (p >> b) & 1 == 1 { u64::MAX } else { 0 };
+        let digit = |p: u32, b: usize| if frac(p) && b < 6 && (p >> b) & 1 == 1 { u64::MAX } else { 0 };
+        let step = |p: u32, b: usize| digit(p, b) ^ digit(p, b + 1);
         let one = |p: u32| if p >= ONE { u64::MAX } else { 0 };
         Self {
             low: low(pa).min(low(pb)),
             db: std::array::from_fn(|b| digit(pb, b)),
             dx: std::array::from_fn(|b| digit(pa, b) ^ digit(pb, b)),
+            step_b: std::array::from_fn(|b| step(pb, b)),
+            step_x: std::array::from_fn(|b| step(pa, b) ^ step(pb, b)),
             one_a: one(pa),
             one_b: one(pb),
         }
     }
 
     /// The word from its counter base (see [`bernoulli_row`]) and the lanes of `pa`, with
-    /// `LOW = self.low` (a constant, so the digit loop unrolls).
+    /// `LOW <= self.low` (a constant, so the digit loop unrolls): `n = (n & R_b) ^ (p_b ^
+    /// p_{b+1})` from `n = p_LOW`, lane by lane (see the module doc; below a lane's lowest
+    /// set digit `n` stays 0).
     #[inline(always)]
     fn draw<const LOW: usize>(&self, base: u64, a: u64) -> u64 {
-        let mut m = 0u64;
+        if LOW >= 6 {
+            return (a & self.one_a) | (!a & self.one_b);
+        }
+        let mut n = self.db[LOW] ^ (a & self.dx[LOW]);
         for b in LOW..6 {
             let r = mum(base.wrapping_add((b as u64).wrapping_mul(STEP)));
-            let d = self.db[b] ^ (a & self.dx[b]);
-            m = (m & r) | (d & (m | r));
+            n = (n & r) ^ self.step_b[b] ^ (a & self.step_x[b]);
         }
-        m | (a & self.one_a) | (!a & self.one_b)
+        n | (a & self.one_a) | (!a & self.one_b)
+    }
+
+    /// [`Self::row`] with one probability (`a = 0`, so the digit of every lane is `db`):
+    /// `out[k] = cand[k] & draw`.
+    #[inline(always)]
+    fn row_plain<const LOW: usize>(&self, mut base: u64, cand: &[u64], out: &mut [u64]) {
+        for (o, &c) in out.iter_mut().zip(cand) {
+            *o = if c != 0 { c & self.draw::<LOW>(base, 0) } else { 0 };
+            base = base.wrapping_add(NEXT_WORD);
+        }
     }
 
     #[inline(always)]
@@ -212,7 +241,7 @@ impl Split {
 
 /// `out[k] = bernoulli_split(row_key, stream, k, a[k], pa, pb)` for the words with `cand[k]
 /// != 0`, 0 for the others, with `split = Split::new(pa, pb)`.
-#[inline]
+#[inline(always)]
 pub fn bernoulli_split_row(row_key: u64, stream: Stream, a: &[u64], split: &Split, cand: &[u64], out: &mut [u64]) {
     let base = row_key.wrapping_add(counter(stream, 0, 0).wrapping_mul(STEP));
     let n = cand.len();
@@ -258,7 +287,7 @@ mod tests {
         for p in [0u32, 1, 6, 12, 32, 51, 52, 63, 64] {
             for stream in [Stream::Activation, Stream::Knock, Stream::Hold, Stream::Side] {
                 let mut out = vec![u64::MAX; cand.len()];
-                bernoulli_row(key, stream, p, &cand, &mut out);
+                bernoulli_row(key, stream, &Split::plain(p), &cand, &mut out);
                 for (k, (&o, &c)) in out.iter().zip(&cand).enumerate() {
                     assert_eq!(o, c & bernoulli(key, stream, k, p), "p {p} word {k}");
                 }
