@@ -58,10 +58,16 @@ fn counts(analysis: &Path) -> Result<Vec<(f64, f64)>, CliError> {
     Ok(rows.iter().filter(|r| r.len() >= 2).map(|r| (r[0], r[1])).collect())
 }
 
+/// A summary value for the report table: integers as they are, other numbers (times) to the
+/// millisecond, null as "none".
 fn fmt_opt(v: Option<&Value>) -> String {
     match v {
         Some(Value::Null) | None => "none".into(),
-        Some(Value::Number(n)) => n.to_string(),
+        Some(Value::Number(n)) => match (n.as_i64(), n.as_f64()) {
+            (Some(i), _) => i.to_string(),
+            (None, Some(f)) => format!("{f:.3}"),
+            _ => n.to_string(),
+        },
         Some(Value::String(s)) => s.clone(),
         Some(x) => x.to_string(),
     }
