@@ -76,10 +76,13 @@ fn counter(stream: Stream, w: usize, k: u32) -> u64 {
     ((stream as u64) << 48) ^ ((w as u64) << 8) ^ k as u64
 }
 
+/// The constant of [`mum`] (wyhash's second secret).
+const MUM_K: u64 = 0xe703_7ed1_a0b4_28db;
+
 /// wyhash's multiply-fold of an advanced key.
 #[inline(always)]
 fn mum(s: u64) -> u64 {
-    let t = (s as u128).wrapping_mul((s ^ 0xe703_7ed1_a0b4_28db) as u128);
+    let t = (s as u128).wrapping_mul((s ^ MUM_K) as u128);
     (t >> 64) as u64 ^ t as u64
 }
 
@@ -168,16 +171,22 @@ pub fn bernoulli_split(row_key: u64, stream: Stream, w: usize, a: u64, pa: u32, 
 pub struct Split {
     /// First digit word drawn (6: none).
     low: u32,
-    /// Digit `b` of `pb` as a mask (0 for probabilities 0 and 1), and where it differs for
-    /// `pa`: a lane's digit is `db ^ (a & dx)` (the start of the recursion).
+    /// Digit `b` of `pa` (`pb`) as a mask (0 for probabilities 0 and 1): the start of the
+    /// recursion.
+    da: [u64; 6],
     db: [u64; 6],
-    dx: [u64; 6],
-    /// The same for `p_b ^ p_{b+1}` (digit 6 is 0), the step of the recursion at digit `b`.
+    /// `p_b ^ p_{b+1}` of `pa` (`pb`) as masks (digit 6 is 0), the step of the recursion at
+    /// digit `b`.
+    step_a: [u64; 6],
     step_b: [u64; 6],
-    step_x: [u64; 6],
     /// All lanes of a probability 1 (their digits are 0, so the recursion leaves them 0).
     one_a: u64,
     one_b: u64,
+    /// [`STEP`] and the constant of [`mum`], held as data so that the digit loop advances
+    /// the counter with one addition and keeps the constant in a register (as immediates
+    /// every digit costs a 64-bit constant load and an address computation).
+    step: u64,
+    mum_k: u64,
 }
 
 impl Split {
@@ -194,38 +203,66 @@ impl Split {
         let one = |p: u32| if p >= ONE { u64::MAX } else { 0 };
         Self {
             low: low(pa).min(low(pb)),
+            da: std::array::from_fn(|b| digit(pa, b)),
             db: std::array::from_fn(|b| digit(pb, b)),
-            dx: std::array::from_fn(|b| digit(pa, b) ^ digit(pb, b)),
+            step_a: std::array::from_fn(|b| step(pa, b)),
             step_b: std::array::from_fn(|b| step(pb, b)),
-            step_x: std::array::from_fn(|b| step(pa, b) ^ step(pb, b)),
             one_a: one(pa),
             one_b: one(pb),
+            step: std::hint::black_box(STEP),
+            mum_k: std::hint::black_box(MUM_K),
+        }
+    }
+
+    /// The digit words `R_b` of one word from its counter base (see [`bernoulli_row`]),
+    /// `b >= LOW`, passed to `f(b, R_b)` in order.
+    #[inline(always)]
+    fn words<const LOW: usize>(&self, base: u64, mut f: impl FnMut(usize, u64)) {
+        let mut s = base;
+        for _ in 0..LOW {
+            s = s.wrapping_add(self.step);
+        }
+        for b in LOW..6 {
+            let t = (s as u128).wrapping_mul((s ^ self.mum_k) as u128);
+            f(b, (t >> 64) as u64 ^ t as u64);
+            s = s.wrapping_add(self.step);
         }
     }
 
     /// The word from its counter base (see [`bernoulli_row`]) and the lanes of `pa`, with
     /// `LOW <= self.low` (a constant, so the digit loop unrolls): `n = (n & R_b) ^ (p_b ^
     /// p_{b+1})` from `n = p_LOW`, lane by lane (see the module doc; below a lane's lowest
-    /// set digit `n` stays 0).
+    /// set digit `n` stays 0, and turns 1 at the digit below it). The two probabilities run
+    /// as two recursions on the same digit words, blended at the end.
     #[inline(always)]
     fn draw<const LOW: usize>(&self, base: u64, a: u64) -> u64 {
         if LOW >= 6 {
             return (a & self.one_a) | (!a & self.one_b);
         }
-        let mut n = self.db[LOW] ^ (a & self.dx[LOW]);
-        for b in LOW..6 {
-            let r = mum(base.wrapping_add((b as u64).wrapping_mul(STEP)));
-            n = (n & r) ^ self.step_b[b] ^ (a & self.step_x[b]);
-        }
-        n | (a & self.one_a) | (!a & self.one_b)
+        let (mut na, mut nb) = (self.da[LOW], self.db[LOW]);
+        self.words::<LOW>(base, |b, r| {
+            na = (na & r) ^ self.step_a[b];
+            nb = (nb & r) ^ self.step_b[b];
+        });
+        (a & (na | self.one_a)) | (!a & (nb | self.one_b))
     }
 
-    /// [`Self::row`] with one probability (`a = 0`, so the digit of every lane is `db`):
-    /// `out[k] = cand[k] & draw`.
+    /// [`Self::draw`] with one probability (`a = 0`, so only `pb`).
+    #[inline(always)]
+    fn draw_plain<const LOW: usize>(&self, base: u64) -> u64 {
+        if LOW >= 6 {
+            return self.one_b;
+        }
+        let mut n = self.db[LOW];
+        self.words::<LOW>(base, |b, r| n = (n & r) ^ self.step_b[b]);
+        n | self.one_b
+    }
+
+    /// `out[k] = cand[k] & draw` for one probability.
     #[inline(always)]
     fn row_plain<const LOW: usize>(&self, mut base: u64, cand: &[u64], out: &mut [u64]) {
         for (o, &c) in out.iter_mut().zip(cand) {
-            *o = if c != 0 { c & self.draw::<LOW>(base, 0) } else { 0 };
+            *o = if c != 0 { c & self.draw_plain::<LOW>(base) } else { 0 };
             base = base.wrapping_add(NEXT_WORD);
         }
     }

@@ -279,7 +279,7 @@ fn half_step_body(shape: &RowShape, ny: usize, rows: &mut [u64], r: &Resolved, s
     let (split, knock) = (splits.cells, splits.knock);
     by_width!(w, flights, flights_any, shape, ny, rows, r, left, &split, &knock, sc);
     if r.knock > 0 {
-        knock_through(shape, ny, r, cap, sc);
+        by_width!(w, knock_through_w, knock_through, shape, ny, r, cap, sc);
     }
     if r.sideways > 0 {
         by_width!(w, sideways_moves, sideways_moves_any, ny, r, sc);
@@ -558,6 +558,93 @@ fn knock_through(shape: &RowShape, ny: usize, r: &Resolved, cap: usize, sc: &mut
                 if land != f {
                     RowShape::set(new, f, false);
                     RowShape::set(new, land, true);
+                }
+            }
+        }
+    }
+}
+
+/// First cell at or after `from` (cyclically) of a row of `W` words that is set (`flip =
+/// 0`) or clear (`flip = !0`): [`RowShape::next`] on a fixed-width row.
+#[inline(always)]
+fn next_w<const W: usize>(row: &[u64; W], last: u64, from: usize, flip: u64) -> Option<usize> {
+    let valid = |d: usize| if d + 1 == W { last } else { u64::MAX };
+    let (w0, b0) = (from / 64, from % 64);
+    let x = (row[w0] ^ flip) & valid(w0) & (u64::MAX << b0);
+    if x != 0 {
+        return Some(64 * w0 + x.trailing_zeros() as usize);
+    }
+    // The words after `from`'s, wrapping round, back to `from`'s word below `from`.
+    for i in 1..=W {
+        let d = if w0 + i >= W { w0 + i - W } else { w0 + i };
+        let mut x = (row[d] ^ flip) & valid(d);
+        if i == W {
+            x &= (1u64 << b0) - 1;
+        }
+        if x != 0 {
+            return Some(64 * d + x.trailing_zeros() as usize);
+        }
+    }
+    None
+}
+
+/// [`knock_through`] for rows of `W` words (the same operations on fixed-width rows).
+#[inline(always)]
+fn knock_through_w<const W: usize>(shape: &RowShape, ny: usize, r: &Resolved, cap: usize, sc: &mut BitScratch) {
+    let nx = shape.nx;
+    let last = shape.last;
+    let BitScratch {
+        lf,
+        clusters,
+        new,
+        impacts,
+        ..
+    } = sc;
+    let get = |row: &[u64], i: usize| (row[i / 64] >> (i % 64)) & 1 == 1;
+    let side: Option<&[u64]> = match r.lateral {
+        Lateral::None => None,
+        Lateral::Neighbours => Some(lf),
+        Lateral::Clusters => Some(clusters),
+    };
+    // Cells mod nx without a division (arguments below 2 nx).
+    let wrap = |i: usize| if i >= nx { i - nx } else { i };
+    for j in 0..ny {
+        let (below, above) = (neighbour_row(j, false, ny, r.periodic_y), neighbour_row(j, true, ny, r.periodic_y));
+        for k in 0..W {
+            let mut bits = impacts[j * W + k];
+            while bits != 0 {
+                let p = 64 * k + bits.trailing_zeros() as usize;
+                bits &= bits - 1;
+                // The row of the hit grain, as in [`hit_row`].
+                let h = if get(&lf[j * W..], p) {
+                    j
+                } else {
+                    let Some(side) = side else { continue };
+                    match (
+                        below.filter(|&jn| get(&side[jn * W..], p)),
+                        above.filter(|&jn| get(&side[jn * W..], p)),
+                    ) {
+                        (Some(jn), _) | (None, Some(jn)) => jn,
+                        (None, None) => continue,
+                    }
+                };
+                let row: &mut [u64; W] = (&mut new[h * W..(h + 1) * W]).try_into().expect("W words");
+                if !get(row, p) {
+                    continue; // the hit grain has flown off itself
+                }
+                // Far end of the line: the cell before the first empty one after p.
+                let f = match next_w(row, last, p, u64::MAX) {
+                    Some(e) => wrap(e + nx - 1),
+                    None => wrap(p + nx - 1),
+                };
+                // It flies until the cell before the next grain of its row, at most `cap`.
+                let ahead = next_w(row, last, wrap(f + 1), 0).expect("the far grain itself is set");
+                let dist = wrap(ahead + nx - f);
+                let dist = if dist == 0 { nx } else { dist };
+                let land = wrap(f + (dist - 1).min(cap));
+                if land != f {
+                    row[f / 64] &= !(1u64 << (f % 64));
+                    row[land / 64] |= 1u64 << (land % 64);
                 }
             }
         }
