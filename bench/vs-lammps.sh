@@ -42,6 +42,13 @@ case "$STATE" in
     [ "$N" = 4000 ] || { echo "STATE=gas runs the thesis scene itself: N = 4000" >&2; exit 2; }
     LENGTH=0.4
     GAS=out/bench-gas
+    # A checkpoint of an older sample revision (or scene) does not resume: prepare it again.
+    if [ -f "$GAS/checkpoint.bin" ]; then
+      cp -a "$GAS" "$work/probe"
+      target/release/stripes run "$work/probe/scene.toml" --resume --quiet --out "$work/probe" \
+        --set run.duration=10 > /dev/null 2>&1 || rm -rf "$GAS"
+      rm -rf "$work/probe"
+    fi
     if [ ! -f "$GAS/checkpoint.bin" ]; then
       echo "preparing the gas state: the thesis scene for 10 s in $GAS" >&2
       target/release/stripes run scenes/thesis-reference.toml --quiet --out "$GAS" \

@@ -1,0 +1,40 @@
+//! Prepared samples are cached on disk under [`prepare::sample_key`], which cannot see the
+//! code that prepared them. This test pins the bits of one small prepared sample: a change to
+//! the DEM that moves them fails here, and the fix is to bump `prepare::SAMPLE_REVISION` (so
+//! that every cache prepares its samples afresh) and to pin the new hash.
+
+mod common;
+
+use particles::observe::fnv1a;
+use particles::prepare::{self, SAMPLE_REVISION};
+
+/// `(SAMPLE_REVISION, hash of the sample)` the code last produced.
+const PINNED: (u64, u64) = (2, 0x91e8_4e14_c609_e9f1);
+
+#[test]
+fn prepared_sample_is_pinned_to_the_sample_revision() {
+    // 60 grains relaxed for 0.02 s (2500 steps): every force law and the integrator take part.
+    let scene = common::tray_scene(
+        0.02,
+        0.01,
+        60,
+        "[prepare]\nspeed = 0.05\nduration = 0.02\n[run]\nduration = 0.1\ndt = 8e-6\nseed = 3\n",
+        &[],
+    );
+    let state = prepare::prepare(&scene, |_| {}).unwrap();
+    let mut bytes = Vec::new();
+    for i in 0..state.len() {
+        for c in state.pos[i].iter().chain(std::iter::once(&state.radius[i])) {
+            bytes.extend_from_slice(&c.to_le_bytes());
+        }
+    }
+    let got = (SAMPLE_REVISION, fnv1a(&bytes));
+    assert_eq!(
+        got,
+        PINNED,
+        "the prepared sample changed: bump prepare::SAMPLE_REVISION (now {SAMPLE_REVISION}) so that cached samples of the old \
+         code are not reused, and pin ({}, {:#018x}) here",
+        SAMPLE_REVISION + (got.1 != PINNED.1 && SAMPLE_REVISION == PINNED.0) as u64,
+        got.1
+    );
+}
