@@ -93,7 +93,7 @@ impl NeighborList {
                 if self.anchor.len() != pos.len() {
                     return true;
                 }
-                let limit = 0.25 * self.skin * self.skin;
+                let limit = self.rebuild_distance2(search).unwrap_or(0.0);
                 pos.iter()
                     .zip(&self.anchor)
                     .any(|(x, a)| boundary.min_image(x - a).norm_squared() > limit)

@@ -390,12 +390,9 @@ impl Simulation {
             return Err(format!("{} wall histories for {} slots", walls.len(), self.wall_history.len()));
         }
         self.wall_history = walls;
+        // A fresh list (smallest skin, nothing to carry over), then the checkpoint's springs.
         self.neighbors = NeighborList::default();
-        self.neighbors
-            .build(&self.setup.neighbors, &self.state.pos, &self.state.radius, &self.setup.boundary);
-        self.pair_history = vec![Vec3::zeros(); self.neighbors.partners.len()];
-        self.drift = 0.0;
-        self.built_at = self.steps;
+        self.rebuild_neighbors();
         for &(i, j, h) in pairs {
             let slot = self
                 .neighbors

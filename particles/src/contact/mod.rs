@@ -36,9 +36,7 @@ impl ContactLaw {
     pub fn has_history(&self) -> bool {
         matches!(self.tangential, TangentialLaw::CundallStrack { .. })
     }
-}
 
-impl ContactLaw {
     /// `f(law)` compiled once per combination of tangential and rolling variants (loop
     /// unswitching by hand): a loop over many contacts in `f` then tests the variants once,
     /// not once per contact, and each copy can be optimised for its laws. The arithmetic is
