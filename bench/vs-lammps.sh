@@ -8,6 +8,7 @@
 #   bench/vs-lammps.sh                       # N = 4000, 10000 steps from the lattice at rest
 #   N=16000 STEPS=5000 bench/vs-lammps.sh
 #   STATE=gas bench/vs-lammps.sh             # from the thesis scene's gas (t = 10 s, N = 4000)
+#   ROUNDS=5 bench/vs-lammps.sh              # rounds per thread count (default 3), median ratio
 #
 # STATE=lattice (default): one layer on a lattice at rest on the floor, random vx, vy in
 # +-5 mm/s, no relaxation (prepare.duration = 0). STATE=gas: the state of the thesis scene
@@ -20,6 +21,7 @@ STATE=${STATE:-lattice}
 N=${N:-4000}
 STEPS=${STEPS:-10000}
 THREADS=${THREADS:-"1 2"}
+ROUNDS=${ROUNDS:-3}
 DT=8e-6
 
 if ! command -v lmp > /dev/null; then
@@ -74,21 +76,41 @@ ours() {
 }
 
 json="["
-printf '%8s %8s %8s %18s %18s %8s\n' state N threads "stripes p-steps/s" "LAMMPS p-steps/s" ratio
+# Rounds alternate the two codes, so that both see the same spell of this shared machine (its
+# speed drifts by 25% over minutes); the summary line per thread count is the median of the
+# rounds' ratios, with the median rates.
+printf '%8s %8s %8s %6s %18s %18s %8s\n' state N threads round "stripes p-steps/s" "LAMMPS p-steps/s" ratio
 for T in $THREADS; do
-  summary=$(ours "$T")
-  our_rate=$(python3 -c "import json,sys; print(json.loads(sys.argv[1])['particle_steps_per_s'])" "$summary")
+  rows=""
+  for R in $(seq 1 "$ROUNDS"); do
+    rm -rf "$work/stripes$T"
+    summary=$(ours "$T")
+    our_rate=$(python3 -c "import json,sys; print(json.loads(sys.argv[1])['particle_steps_per_s'])" "$summary")
 
-  OMP_NUM_THREADS=1 mpirun --allow-run-as-root --oversubscribe -np "$T" lmp -in bench/lammps/in.tray \
-    -var data "$work/tray.data" -var steps "$STEPS" -log "$work/lmp$T.log" -screen none > /dev/null \
-    || { tail -3 "$work/lmp$T.log" >&2; exit 1; }
-  loop=$(awk '/^Loop time/ {print $4}' "$work/lmp$T.log" | tail -1)
-  atoms=$(awk '/^ATOMS/ {print $2}' "$work/lmp$T.log" | tail -1)
-  [ "$atoms" = "$N" ] || { echo "LAMMPS lost atoms: $atoms of $N" >&2; exit 1; }
-  lmp_rate=$(python3 -c "print($N * $STEPS / $loop)")
+    OMP_NUM_THREADS=1 mpirun --allow-run-as-root --oversubscribe -np "$T" lmp -in bench/lammps/in.tray \
+      -var data "$work/tray.data" -var steps "$STEPS" -log "$work/lmp$T.log" -screen none > /dev/null \
+      || { tail -3 "$work/lmp$T.log" >&2; exit 1; }
+    loop=$(awk '/^Loop time/ {print $4}' "$work/lmp$T.log" | tail -1)
+    atoms=$(awk '/^ATOMS/ {print $2}' "$work/lmp$T.log" | tail -1)
+    [ "$atoms" = "$N" ] || { echo "LAMMPS lost atoms: $atoms of $N" >&2; exit 1; }
+    lmp_rate=$(python3 -c "print($N * $STEPS / $loop)")
 
-  ratio=$(python3 -c "print($our_rate / $lmp_rate)")
-  printf '%8s %8d %8d %18.4g %18.4g %8.2f\n' "$STATE" "$N" "$T" "$our_rate" "$lmp_rate" "$ratio"
-  json="$json{\"state\":\"$STATE\",\"n\":$N,\"steps\":$STEPS,\"threads\":$T,\"stripes\":$our_rate,\"lammps\":$lmp_rate,\"ratio\":$ratio},"
+    ratio=$(python3 -c "print($our_rate / $lmp_rate)")
+    printf '%8s %8d %8d %6d %18.4g %18.4g %8.2f\n' "$STATE" "$N" "$T" "$R" "$our_rate" "$lmp_rate" "$ratio"
+    rows="$rows $our_rate,$lmp_rate,$ratio"
+  done
+  line=$(python3 - "$STATE" "$N" "$STEPS" "$T" $rows <<'PY'
+import json, statistics, sys
+state, n, steps, t = sys.argv[1], int(sys.argv[2]), int(sys.argv[3]), int(sys.argv[4])
+rounds = [tuple(map(float, r.split(","))) for r in sys.argv[5:]]
+med = [statistics.median(c) for c in zip(*rounds)]
+print(f"{state:>8} {n:8d} {t:8d} {'median':>6} {med[0]:18.4g} {med[1]:18.4g} {med[2]:8.2f}")
+print(json.dumps({"state": state, "n": n, "steps": steps, "threads": t, "rounds": len(rounds),
+                  "stripes": med[0], "lammps": med[1], "ratio": med[2],
+                  "ratios": [r[2] for r in rounds]}))
+PY
+)
+  echo "$line" | head -1
+  json="$json$(echo "$line" | tail -1),"
 done
 echo "${json%,}]"
