@@ -58,12 +58,6 @@ fn verlet_first_half(b: &mut StateBlock, kv: &[f64], kw: &[f64], dt: f64, rotate
         &flat(b.force)[..n],
         &kv[..n],
     );
-    let mut translate = |k: usize| {
-        let half_kick = f[k] * c[k];
-        vh[k] = v[k] + half_kick;
-        x[k] += vh[k] * dt;
-        v[k] = vh[k] + half_kick;
-    };
     if rotate {
         let (w, wh, t, ci) = (
             &mut flat_mut(b.omega)[..n],
@@ -72,13 +66,21 @@ fn verlet_first_half(b: &mut StateBlock, kv: &[f64], kw: &[f64], dt: f64, rotate
             &kw[..n],
         );
         for k in 0..n {
-            translate(k);
+            let half_kick = f[k] * c[k];
+            vh[k] = v[k] + half_kick;
+            x[k] += vh[k] * dt;
+            v[k] = vh[k] + half_kick;
             let half_turn = t[k] * ci[k];
             wh[k] = w[k] + half_turn;
             w[k] = wh[k] + half_turn;
         }
     } else {
-        (0..n).for_each(translate);
+        for k in 0..n {
+            let half_kick = f[k] * c[k];
+            vh[k] = v[k] + half_kick;
+            x[k] += vh[k] * dt;
+            v[k] = vh[k] + half_kick;
+        }
     }
 }
 

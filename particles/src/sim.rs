@@ -207,7 +207,6 @@ impl Simulation {
             overlap_violation: None,
         };
         sim.check_finite()?;
-        sim.kicks.refresh(&sim.state, sim.setup.dt);
         sim.refresh_neighbors();
         sim.check_overlaps()?;
         sim.compute_forces(0.0, false);
@@ -251,7 +250,6 @@ impl Simulation {
         // Stage 1, per block: integrator before the forces, periodic wrap, and the box
         // spanned by this step's displacement velocities (position += vel_half dt).
         // A pinned layer's z = R and v_z = 0 stay exact (its vertical forces are zeros).
-        // (The half-kicks follow a step changed since the last one.)
         self.kicks.refresh(&self.state, dt);
         let blocks = self
             .state
@@ -473,6 +471,7 @@ impl Simulation {
         let wall_stride = planes.len().max(1);
         let (integrator, rotate) = (self.setup.integrator, self.rotate);
         let kick = finish && integrator.has_after_stage();
+        self.kicks.refresh(&self.state, self.setup.dt);
         let bounds = self.container_bounds();
         let list = &self.neighbors;
         let State {
