@@ -32,8 +32,7 @@ pub(crate) struct HalfKicks {
 }
 
 impl HalfKicks {
-    /// Recomputes the coefficients if the step or the number of particles changed (masses
-    /// and inertias are constant during a simulation, like the masses `sim` keeps).
+    /// Recomputes the coefficients if the step or the number of particles changed.
     pub fn refresh(&mut self, s: &State, dt: f64) {
         if self.dt == dt && self.v.len() == 3 * s.len() {
             return;
