@@ -5,82 +5,66 @@
 use crate::state::{State, StateBlock};
 use crate::Vec3;
 
-/// The components of a slice of vectors, `[x0, y0, z0, x1, ...]`.
+/// Velocity Verlet's first stage for the particles of one block, translation with
+/// [`translate_half`] (only x and y when `PLANAR`) and, in the same loop, `spin(k)` for the
+/// rotation of particle `k`; adds each displacement velocity to `span`. The two cases are
+/// separate instances, so the planar test is decided at compile time.
+#[allow(clippy::too_many_arguments)]
 #[inline(always)]
-pub(crate) fn flat(v: &[Vec3]) -> &[f64] {
-    bytemuck::cast_slice(v)
-}
-
-/// [`flat`], mutable.
-#[inline(always)]
-pub(crate) fn flat_mut(v: &mut [Vec3]) -> &mut [f64] {
-    bytemuck::cast_slice_mut(v)
-}
-
-/// Velocity Verlet's half-kick coefficients `c = dt / (2 m)` and `dt / (2 I)` of every
-/// particle, each repeated for its three components: the stages then run as flat loops over
-/// the components of a block, which the compiler vectorises, with the same arithmetic per
-/// component as a loop over particles (so the same bits).
-#[derive(Clone, Debug, Default)]
-pub(crate) struct HalfKicks {
-    /// The step they were computed for.
+fn verlet_first_half<const PLANAR: bool>(
+    pos: &mut [Vec3],
+    vel: &mut [Vec3],
+    vel_half: &mut [Vec3],
+    force: &[Vec3],
+    inv_mass: &[f64],
     dt: f64,
-    /// `dt / (2 m_i)`, three times per particle (s/kg).
-    pub v: Vec<f64>,
-    /// `dt / (2 I_i)`, three times per particle (s/(kg m^2)).
-    pub w: Vec<f64>,
-}
-
-impl HalfKicks {
-    /// Recomputes the coefficients if the step or the number of particles changed.
-    pub fn refresh(&mut self, s: &State, dt: f64) {
-        if self.dt == dt && self.v.len() == 3 * s.len() {
-            return;
-        }
-        let repeat = |inv: &[f64]| inv.iter().flat_map(|&inv| [0.5 * dt * inv; 3]).collect();
-        (self.dt, self.v, self.w) = (dt, repeat(&s.inv_mass), repeat(&s.inv_inertia));
+    span: &mut Span,
+    mut spin: impl FnMut(usize),
+) {
+    let n = pos.len();
+    let (vel, vel_half, force, inv_mass) = (&mut vel[..n], &mut vel_half[..n], &force[..n], &inv_mass[..n]);
+    for k in 0..n {
+        translate_half(
+            &mut pos[k],
+            &mut vel[k],
+            &mut vel_half[k],
+            &force[k],
+            0.5 * dt * inv_mass[k],
+            dt,
+            PLANAR,
+        );
+        span.add(&vel_half[k]);
+        spin(k);
     }
 }
 
-/// Velocity Verlet's first stage over the components of one block: with the half-kick
-/// coefficient `c`, `v_half = v + F c`, `x += v_half dt`, `v = v_half + F c` (the predictor
-/// for the forces), and, when `rotate`, `omega_half = omega + T c_I`, `omega = omega_half +
-/// T c_I`. A pinned layer's vertical components are exact zeros of force and velocity, so
-/// its z and v_z stay exactly as they are.
+/// Velocity Verlet's first half-kick, drift and force predictor for one particle: with
+/// `c = dt / (2 m)`, `v_half = v + F c`, `x += v_half dt`, `v = v_half + F c`; in x and y
+/// only when `planar`.
 #[inline(always)]
-fn verlet_first_half(b: &mut StateBlock, kv: &[f64], kw: &[f64], dt: f64, rotate: bool) {
-    let x = flat_mut(b.pos);
-    let n = x.len();
-    let (v, vh, f, c) = (
-        &mut flat_mut(b.vel)[..n],
-        &mut flat_mut(b.vel_half)[..n],
-        &flat(b.force)[..n],
-        &kv[..n],
-    );
-    if rotate {
-        let (w, wh, t, ci) = (
-            &mut flat_mut(b.omega)[..n],
-            &mut flat_mut(b.omega_half)[..n],
-            &flat(b.torque)[..n],
-            &kw[..n],
-        );
-        for k in 0..n {
-            let half_kick = f[k] * c[k];
-            vh[k] = v[k] + half_kick;
-            x[k] += vh[k] * dt;
-            v[k] = vh[k] + half_kick;
-            let half_turn = t[k] * ci[k];
-            wh[k] = w[k] + half_turn;
-            w[k] = wh[k] + half_turn;
+fn translate_half(x: &mut Vec3, v: &mut Vec3, v_half: &mut Vec3, f: &Vec3, c: f64, dt: f64, planar: bool) {
+    if planar {
+        for a in 0..2 {
+            let half_kick = f[a] * c;
+            v_half[a] = v[a] + half_kick;
+            x[a] += v_half[a] * dt;
+            v[a] = v_half[a] + half_kick; // predictor for the forces
         }
     } else {
-        for k in 0..n {
-            let half_kick = f[k] * c[k];
-            vh[k] = v[k] + half_kick;
-            x[k] += vh[k] * dt;
-            v[k] = vh[k] + half_kick;
-        }
+        let half_kick = f * c;
+        *v_half = *v + half_kick;
+        *x += *v_half * dt;
+        *v = *v_half + half_kick; // predictor for the forces
     }
+}
+
+/// Velocity Verlet's half-kick of the spin and its predictor for one particle: with
+/// `c = dt / (2 I)`, `omega_half = omega + T c`, `omega = omega_half + T c`.
+#[inline(always)]
+fn rotate_half(omega: &mut Vec3, omega_half: &mut Vec3, torque: &Vec3, c: f64) {
+    let half_kick = torque * c;
+    *omega_half = *omega + half_kick;
+    *omega = *omega_half + half_kick;
 }
 
 /// Component-wise bounds of a set of vectors.
@@ -139,28 +123,42 @@ impl Integrator {
     }
 
     /// Stage before the force evaluation for every particle of block `b`: positions to
-    /// `t + dt`, and velocities and spins to where the force evaluation needs them. `kicks`
-    /// are the block's [`HalfKicks`] `(v, w)` (used by velocity Verlet).
+    /// `t + dt`, and velocities and spins to where the force evaluation needs them.
+    ///
+    /// `planar`: the particles move in the x-y plane only (pinned layer, with zero vertical
+    /// force and velocity): velocity Verlet leaves z alone, which is what its arithmetic on
+    /// z would give anyway (adding exact zeros).
     ///
     /// Returns the box `(lo, hi)` spanned by the displacement velocities of this step
-    /// (`position += u dt`), for the neighbour list's drift bound.
+    /// (`position += u dt`), for the neighbour list's drift bound, computed in the same loop.
     #[inline(always)]
-    pub fn before_forces(&self, b: &mut StateBlock, kicks: (&[f64], &[f64]), dt: f64, rotate: bool) -> (Vec3, Vec3) {
+    pub fn before_forces(&self, b: &mut StateBlock, dt: f64, rotate: bool, planar: bool) -> (Vec3, Vec3) {
+        let n = b.pos.len();
+        let (pos, vel, vel_half, force, inv_mass) = (
+            &mut b.pos[..n],
+            &mut b.vel[..n],
+            &mut b.vel_half[..n],
+            &b.force[..n],
+            &b.inv_mass[..n],
+        );
+        let (omega, omega_half, torque, inv_inertia) = (&mut b.omega[..n], &mut b.omega_half[..n], &b.torque[..n], &b.inv_inertia[..n]);
         let mut span = Span::new();
-        match self {
-            Integrator::VelocityVerlet => {
-                verlet_first_half(b, kicks.0, kicks.1, dt, rotate);
-                b.vel_half.iter().for_each(|u| span.add(u));
+        match (self, planar) {
+            // Translation and rotation in one loop (when both are integrated), with the
+            // planar and the non-rotating cases as their own loops.
+            (Integrator::VelocityVerlet, true) if rotate => {
+                verlet_first_half::<true>(pos, vel, vel_half, force, inv_mass, dt, &mut span, |k| {
+                    rotate_half(&mut omega[k], &mut omega_half[k], &torque[k], 0.5 * dt * inv_inertia[k]);
+                })
             }
-            Integrator::Thesis => {
-                let n = b.pos.len();
-                let (pos, vel, vel_half, force, inv_mass) = (
-                    &mut b.pos[..n],
-                    &mut b.vel[..n],
-                    &mut b.vel_half[..n],
-                    &b.force[..n],
-                    &b.inv_mass[..n],
-                );
+            (Integrator::VelocityVerlet, false) if rotate => {
+                verlet_first_half::<false>(pos, vel, vel_half, force, inv_mass, dt, &mut span, |k| {
+                    rotate_half(&mut omega[k], &mut omega_half[k], &torque[k], 0.5 * dt * inv_inertia[k]);
+                })
+            }
+            (Integrator::VelocityVerlet, true) => verlet_first_half::<true>(pos, vel, vel_half, force, inv_mass, dt, &mut span, |_| {}),
+            (Integrator::VelocityVerlet, false) => verlet_first_half::<false>(pos, vel, vel_half, force, inv_mass, dt, &mut span, |_| {}),
+            (Integrator::Thesis, _) => {
                 for k in 0..n {
                     let a = force[k] * inv_mass[k];
                     vel_half[k] += a * dt; // u_{n+1/2} = u_{n-1/2} + dt a_n
@@ -169,7 +167,6 @@ impl Integrator {
                     span.add(&vel_half[k]);
                 }
                 if rotate {
-                    let (omega, torque, inv_inertia) = (&mut b.omega[..n], &b.torque[..n], &b.inv_inertia[..n]);
                     for k in 0..n {
                         omega[k] += torque[k] * (dt * inv_inertia[k]); // eq 3.23
                     }
@@ -188,21 +185,30 @@ impl Integrator {
     }
 
     /// Stage after the force evaluation, for the velocities (or spins) of a block of
-    /// particles, over their components: `half[k]`, the half-step value, becomes the value at
-    /// `t + dt` given the new force (or torque) `rate[k]` and the half-kick coefficient `c[k]`
-    /// ([`HalfKicks`]): `half + rate c` (velocity Verlet; nothing for schemes without an after
+    /// particles: `half[k]`, the half-step value, becomes the value at `t + dt` given the new
+    /// force (or torque) `rate[k]` and inverse mass (or inverse inertia) `inv[k]`:
+    /// `half + rate dt inv / 2` (velocity Verlet; nothing for schemes without an after
     /// stage). [`crate::sim`] runs it on the half-step arrays, out of place, while other
     /// particles still read the predicted velocities.
-    pub fn after_kick(&self, half: &mut [Vec3], rate: &[Vec3], c: &[f64]) {
+    pub fn after_kick(&self, half: &mut [Vec3], rate: &[Vec3], inv: &[f64], dt: f64) {
         match self {
             Integrator::VelocityVerlet => {
-                let half = flat_mut(half);
                 let n = half.len();
-                let (rate, c) = (&flat(rate)[..n], &c[..n]);
+                let (rate, inv) = (&rate[..n], &inv[..n]);
                 for k in 0..n {
-                    half[k] += rate[k] * c[k];
+                    self.kick(&mut half[k], &rate[k], inv[k], dt);
                 }
             }
+            Integrator::Thesis => {}
+        }
+    }
+
+    /// [`Self::after_kick`] for one particle: `half += rate dt inv / 2` (velocity Verlet), so
+    /// that a caller can fuse it with other per-particle work.
+    #[inline(always)]
+    pub fn kick(&self, half: &mut Vec3, rate: &Vec3, inv: f64, dt: f64) {
+        match self {
+            Integrator::VelocityVerlet => *half += rate * (0.5 * dt * inv),
             Integrator::Thesis => {}
         }
     }

@@ -17,7 +17,7 @@
 use crate::boundary::Boundary;
 use crate::contact::{self, ContactGeometry, ContactLaw};
 use crate::forces;
-use crate::integrate::{HalfKicks, Integrator};
+use crate::integrate::Integrator;
 use crate::neighbor::{NeighborList, NeighborSearch};
 use crate::parallel::on_blocks;
 use crate::state::State;
@@ -152,8 +152,6 @@ pub struct Simulation {
     drift: f64,
     /// Completed steps at the last neighbour-list build.
     built_at: u64,
-    /// Velocity Verlet's half-kick coefficients, per component.
-    kicks: HalfKicks,
     /// The worst contact beyond [`MAX_OVERLAP_FRACTION`] at the last force evaluation:
     /// `(particle, partner, overlap, radius)`.
     overlap_violation: Option<(usize, Partner, f64, f64)>,
@@ -203,7 +201,6 @@ impl Simulation {
             records: Vec::new(),
             drift: 0.0,
             built_at: 0,
-            kicks: HalfKicks::default(),
             overlap_violation: None,
         };
         sim.check_finite()?;
@@ -249,15 +246,10 @@ impl Simulation {
         let boundary = self.setup.boundary;
         // Stage 1, per block: integrator before the forces, periodic wrap, and the box
         // spanned by this step's displacement velocities (position += vel_half dt).
-        // A pinned layer's z = R and v_z = 0 stay exact (its vertical forces are zeros).
-        self.kicks.refresh(&self.state, dt);
-        let blocks = self
-            .state
-            .blocks_mut(BLOCK)
-            .into_iter()
-            .zip(self.kicks.v.chunks(3 * BLOCK).zip(self.kicks.w.chunks(3 * BLOCK)));
-        let boxes = on_blocks(blocks.collect(), |(mut b, kicks)| {
-            let span = integrator.before_forces(&mut b, kicks, dt, rotate);
+        // A pinned layer moves in the plane only (z = R and v_z = 0 stay exact either way).
+        let planar = self.setup.vertical == Vertical::Pinned;
+        let boxes = on_blocks(self.state.blocks_mut(BLOCK), |mut b| {
+            let span = integrator.before_forces(&mut b, dt, rotate, planar);
             // One pass per periodic axis (the tray has one): no test of the other axes.
             for (axis, l) in boundary.periodic.iter().enumerate().filter_map(|(k, p)| p.map(|l| (k, l))) {
                 for x in b.pos.iter_mut() {
@@ -469,9 +461,8 @@ impl Simulation {
         let n = self.state.len();
         let planes = forces::wall_planes(&self.setup, self.time);
         let wall_stride = planes.len().max(1);
-        let (integrator, rotate) = (self.setup.integrator, self.rotate);
+        let (dt, integrator, rotate) = (self.setup.dt, self.setup.integrator, self.rotate);
         let kick = finish && integrator.has_after_stage();
-        self.kicks.refresh(&self.state, self.setup.dt);
         let bounds = self.container_bounds();
         let list = &self.neighbors;
         let State {
@@ -483,7 +474,8 @@ impl Simulation {
             vel_half,
             omega_half,
             radius,
-            ..
+            inv_mass,
+            inv_inertia,
         } = &mut self.state;
         let inputs = forces::Inputs {
             setup: &self.setup,
@@ -506,13 +498,12 @@ impl Simulation {
             .chunks_mut(BLOCK)
             .zip(torque.chunks_mut(BLOCK))
             .zip(self.wall_history.chunks_mut(BLOCK * wall_stride))
-            .zip(vel_half.chunks_mut(BLOCK).zip(omega_half.chunks_mut(BLOCK)))
-            .zip(self.kicks.v.chunks(3 * BLOCK).zip(self.kicks.w.chunks(3 * BLOCK)));
+            .zip(vel_half.chunks_mut(BLOCK).zip(omega_half.chunks_mut(BLOCK)));
         for b in 0..n.div_ceil(BLOCK) {
             let (lo, hi) = (list.offsets[b * BLOCK], list.offsets[((b + 1) * BLOCK).min(n)]);
             let (pair, tail) = pair_rest.split_at_mut(hi - lo);
             pair_rest = tail;
-            let ((((force, torque), wall), (vel_half, omega_half)), kicks) = chunks.next().expect("one chunk per block");
+            let (((force, torque), wall), (vel_half, omega_half)) = chunks.next().expect("one chunk per block");
             blocks.push(BlockArrays {
                 first: b * BLOCK,
                 force,
@@ -521,18 +512,18 @@ impl Simulation {
                 wall,
                 vel_half,
                 omega_half,
-                kicks,
             });
         }
 
+        let (inv_mass, inv_inertia) = (&*inv_mass, &*inv_inertia);
         let sums = on_blocks(blocks, |b| {
             let mut sums = forces::gather_block(&inputs, b.first, b.force, b.torque, b.pair, b.wall);
             if finish {
                 let range = b.first..b.first + b.force.len();
                 if kick {
-                    integrator.after_kick(b.vel_half, b.force, b.kicks.0);
+                    integrator.after_kick(b.vel_half, b.force, &inv_mass[range.clone()], dt);
                     if rotate {
-                        integrator.after_kick(b.omega_half, b.torque, b.kicks.1);
+                        integrator.after_kick(b.omega_half, b.torque, &inv_inertia[range.clone()], dt);
                     }
                 }
                 let v = if kick { &*b.vel_half } else { &inputs.vel[range.clone()] };
@@ -607,8 +598,6 @@ struct BlockArrays<'a> {
     wall: &'a mut [Vec3],
     vel_half: &'a mut [Vec3],
     omega_half: &'a mut [Vec3],
-    /// The block's half-kick coefficients `(v, w)` ([`HalfKicks`]).
-    kicks: (&'a [f64], &'a [f64]),
 }
 
 /// True if position, velocity and spin are finite and the position inside `bounds`.
