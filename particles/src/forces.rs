@@ -215,32 +215,32 @@ pub(crate) fn gather_block(
         }
         if plane.support {
             // A pinned grain rests on the floor: the contact is always there, without overlap.
-            wall_pass(inp, plane, w, first, force, torque, wall_history, &mut sums, |k| {
+            wall_pass::<_, true>(inp, plane, w, first, force, torque, wall_history, &mut sums, |k| {
                 Some(ContactGeometry::resting_on_floor(vel[k], omega[k], radius[k], v_wall))
             });
             w += 1;
             continue;
         }
         match plane.kind {
-            PlaneKind::Axis { axis: 0, .. } => wall_pass(inp, plane, w, first, force, torque, wall_history, &mut sums, |k| {
+            PlaneKind::Axis { axis: 0, .. } => wall_pass::<_, false>(inp, plane, w, first, force, torque, wall_history, &mut sums, |k| {
                 if radius[k] - sign * (pos[k].x - origin.x) < 0.0 {
                     return None;
                 }
                 ContactGeometry::<AxisNormal<0>>::axis_wall(pos[k], vel[k], omega[k], radius[k], origin, sign, v_wall)
             }),
-            PlaneKind::Axis { axis: 1, .. } => wall_pass(inp, plane, w, first, force, torque, wall_history, &mut sums, |k| {
+            PlaneKind::Axis { axis: 1, .. } => wall_pass::<_, false>(inp, plane, w, first, force, torque, wall_history, &mut sums, |k| {
                 if radius[k] - sign * (pos[k].y - origin.y) < 0.0 {
                     return None;
                 }
                 ContactGeometry::<AxisNormal<1>>::axis_wall(pos[k], vel[k], omega[k], radius[k], origin, sign, v_wall)
             }),
-            PlaneKind::Axis { .. } => wall_pass(inp, plane, w, first, force, torque, wall_history, &mut sums, |k| {
+            PlaneKind::Axis { .. } => wall_pass::<_, false>(inp, plane, w, first, force, torque, wall_history, &mut sums, |k| {
                 if radius[k] - sign * (pos[k].z - origin.z) < 0.0 {
                     return None;
                 }
                 ContactGeometry::<AxisNormal<2>>::axis_wall(pos[k], vel[k], omega[k], radius[k], origin, sign, v_wall)
             }),
-            PlaneKind::General => wall_pass(inp, plane, w, first, force, torque, wall_history, &mut sums, |k| {
+            PlaneKind::General => wall_pass::<_, false>(inp, plane, w, first, force, torque, wall_history, &mut sums, |k| {
                 ContactGeometry::wall(pos[k], vel[k], omega[k], radius[k], origin, plane.normal, v_wall)
             }),
         }
@@ -256,10 +256,11 @@ pub(crate) fn gather_block(
 
 /// Contacts of the particles `first..first + force.len()` with wall `w` (`plane`), whose
 /// geometry `geometry(k)` gives for particle `first + k`; forces and torques are added to
-/// `force` and `torque`.
+/// `force` and `torque`. `SUPPORT`: the wall is a pinned layer's floor
+/// ([`WallPlane::support`]), decided at compile time.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn wall_pass<N: Normal>(
+fn wall_pass<N: Normal, const SUPPORT: bool>(
     inp: &Inputs,
     plane: &WallPlane,
     w: usize,
@@ -273,18 +274,25 @@ fn wall_pass<N: Normal>(
     let history_on = inp.setup.wall_law.has_history();
     let wall_stride = inp.planes.len().max(1);
     let n = force.len();
+    let torque = &mut torque[..n];
+    let mut acc = WallSums::default();
     inp.setup.wall_law.unswitched(|law| {
-        for k in 0..n {
-            let zeta = &mut wall_history[k * wall_stride + w];
+        for ((k, f), (t, h)) in force
+            .iter_mut()
+            .enumerate()
+            .zip(torque.iter_mut().zip(wall_history.chunks_exact_mut(wall_stride)))
+        {
+            let zeta = &mut h[w];
             let Some(g) = geometry(k) else {
                 if history_on {
                     *zeta = Vec3::zeros();
                 }
                 continue;
             };
-            add_wall_contact(inp, law, plane, w, first + k, &g, zeta, &mut force[k], &mut torque[k], sums);
+            add_wall_contact::<N, SUPPORT>(inp, law, w, first + k, &g, zeta, f, t, &mut acc, sums);
         }
-    })
+    });
+    acc.add_to(plane, sums);
 }
 
 /// Contacts of the particles `first..first + force.len()` with the walls `w` and `w + 1`,
@@ -305,6 +313,7 @@ fn axis_pair_pass<const AXIS: usize>(
     let wall_stride = inp.planes.len().max(1);
     let n = force.len();
     let (p0, p1) = (&inp.planes[w], &inp.planes[w + 1]);
+    let (mut acc0, mut acc1) = (WallSums::default(), WallSums::default());
     let (s0, o0, s1, o1) = (p0.sign(), p0.origin[AXIS], p1.sign(), p1.origin[AXIS]);
     let (pos, radius) = (&inp.pos[first..first + n], &inp.radius[first..first + n]);
     for k in 0..n {
@@ -318,7 +327,7 @@ fn axis_pair_pass<const AXIS: usize>(
             continue;
         }
         let i = first + k;
-        for (wk, plane, apart) in [(w, p0, apart0), (w + 1, p1, apart1)] {
+        for (wk, plane, apart, acc) in [(w, p0, apart0, &mut acc0), (w + 1, p1, apart1, &mut acc1)] {
             let zeta = &mut wall_history[k * wall_stride + wk];
             let g = if apart {
                 None
@@ -334,56 +343,72 @@ fn axis_pair_pass<const AXIS: usize>(
                 )
             };
             match g {
-                Some(g) => add_wall_contact(
-                    inp,
-                    &inp.setup.wall_law,
-                    plane,
-                    wk,
-                    i,
-                    &g,
-                    zeta,
-                    &mut force[k],
-                    &mut torque[k],
-                    sums,
-                ),
+                Some(g) => {
+                    add_wall_contact::<_, false>(inp, &inp.setup.wall_law, wk, i, &g, zeta, &mut force[k], &mut torque[k], acc, sums)
+                }
                 None if history_on => *zeta = Vec3::zeros(),
                 None => {}
             }
         }
     }
+    acc0.add_to(p0, sums);
+    acc1.add_to(p1, sums);
 }
 
-/// Adds the contact `g` of particle `i` with wall `w` (`plane`, history `zeta`) to the
-/// particle's `force` and `torque` and to the block sums.
+/// Sums over the contacts of one wall pass, kept apart from the block's sums so that they
+/// can stay in registers: added to them once per pass ([`WallSums::add_to`]).
+#[derive(Default)]
+struct WallSums {
+    contacts: u64,
+    stored: f64,
+    dissipated: f64,
+    /// Total force of the wall on the particles (N); its power is the wall velocity times it.
+    force: Vec3,
+}
+
+impl WallSums {
+    /// Adds these sums, and the power of wall `plane` on the pass's particles, to `sums`.
+    fn add_to(self, plane: &WallPlane, sums: &mut BlockSums) {
+        sums.wall_contacts += self.contacts;
+        sums.stored += self.stored;
+        sums.dissipated += self.dissipated;
+        sums.injected += self.force.dot(&plane.velocity);
+    }
+}
+
+/// Adds the contact `g` of particle `i` with wall `w` (history `zeta`) to the particle's
+/// `force` and `torque` and to the pass's sums `acc`; the block's `sums` keep overlap
+/// violations and records. `SUPPORT`: the wall is a pinned layer's floor, whose load is
+/// given ([`WallPlane::support`]).
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn add_wall_contact<N: Normal>(
+fn add_wall_contact<N: Normal, const SUPPORT: bool>(
     inp: &Inputs,
     law: &ContactLaw,
-    plane: &WallPlane,
     w: usize,
     i: usize,
     g: &ContactGeometry<N>,
     zeta: &mut Vec3,
     force: &mut Vec3,
     torque: &mut Vec3,
+    acc: &mut WallSums,
     sums: &mut BlockSums,
 ) {
-    let c = if plane.support {
+    let c = if SUPPORT {
         contact::evaluate_with_normal(law, g, inp.load[i], zeta, inp.setup.dt)
     } else {
         contact::evaluate(law, g, zeta, inp.setup.dt)
     };
     *force += c.force;
     *torque += c.torque_i;
-    sums.wall_contacts += 1;
-    if !plane.support {
+    acc.contacts += 1;
+    acc.stored += c.stored_energy;
+    acc.dissipated += c.dissipation_rate;
+    acc.force += c.force;
+    if !SUPPORT {
         // A pinned grain's floor contact has no overlap.
         sums.check_overlap(i, Partner::Wall(w), g.overlap, inp.radius[i]);
     }
-    sums.stored += c.stored_energy;
-    sums.dissipated += c.dissipation_rate;
-    sums.injected += c.force.dot(&plane.velocity);
     if inp.record {
         sums.records
             .push(ContactRecord::new(i, Partner::Wall(w), g, &c, law.tangential.mu()));
