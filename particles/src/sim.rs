@@ -307,20 +307,11 @@ impl Simulation {
             + self.stored_energy
     }
 
-    /// Every position, velocity and spin finite, and every particle inside the container.
+    /// Every position, velocity and spin finite, and every particle inside the container
+    /// ([`is_sound`], the per-step test).
     fn check_finite(&self) -> Result<(), SimError> {
-        let s = &self.state;
-        let bad = (0..s.len()).find(|&i| {
-            let finite = s.pos[i]
-                .iter()
-                .chain(s.vel[i].iter())
-                .chain(s.omega[i].iter())
-                .all(|c| c.is_finite());
-            let inside = self.setup.container.as_ref().is_none_or(|(lo, hi)| {
-                (0..3).all(|k| self.setup.boundary.periodic[k].is_some() || (s.pos[i][k] >= lo[k] && s.pos[i][k] <= hi[k]))
-            });
-            !(finite && inside)
-        });
+        let (s, bounds) = (&self.state, self.container_bounds());
+        let bad = (0..s.len()).find(|&i| !is_sound(&s.pos[i], &s.vel[i], &s.omega[i], &bounds));
         bad.map_or(Ok(()), |i| Err(self.describe_bad(i)))
     }
 

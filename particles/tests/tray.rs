@@ -105,6 +105,15 @@ fn bad_runtime_input_names_the_particle_and_the_step() {
         Err(SimError::InitialOverlap { i: 3, j: 7, .. }) => {}
         other => panic!("expected an overlap of grains 3 and 7, got {other:?}"),
     }
+    // A NaN, and a grain outside the side walls, at the start.
+    let mut st = base.state.clone();
+    st.omega[11].x = f64::NAN;
+    let e = Simulation::new(base.setup.clone(), st).unwrap_err();
+    assert!(matches!(e, SimError::NonFinite { step: 0, particle: 11, .. }), "{e:?}");
+    let mut st = base.state.clone();
+    st.pos[9].y = -0.01;
+    let e = Simulation::new(base.setup.clone(), st).unwrap_err();
+    assert!(matches!(e, SimError::Escaped { step: 0, particle: 9, .. }), "{e:?}");
     // A NaN.
     let mut sim = base.clone();
     sim.step().unwrap();
