@@ -129,10 +129,11 @@ pub struct ContactSpec {
     pub kn: Option<f64>,
     #[serde(default)]
     pub gamma_n: Option<f64>,
-    /// Coulomb coefficient between particles.
+    /// Coulomb coefficient between particles; `inf` (TOML `inf`) for no Coulomb cap.
     #[serde(default = "d_mu")]
     pub friction: f64,
-    /// Coulomb coefficient between particles and walls (floor and sides).
+    /// Coulomb coefficient between particles and walls (floor and sides); `inf` for no
+    /// Coulomb cap (with Haff-Werner: the viscous branch alone, the thesis-like floor).
     #[serde(default = "d_mu")]
     pub wall_friction: f64,
     /// Haff-Werner tangential damping gamma_t (N s/m).
@@ -601,8 +602,16 @@ impl Scene {
             return Err(err("material.poisson", "must lie in (-1, 0.5]"));
         }
         non_negative("material.dissipation", self.material.dissipation)?;
-        non_negative("contact.friction", self.contact.friction)?;
-        non_negative("contact.wall_friction", self.contact.wall_friction)?;
+        // Friction coefficients may be `inf` (the viscous or spring branch alone, uncapped).
+        let friction = |key: &str, x: f64| {
+            if x >= 0.0 {
+                Ok(())
+            } else {
+                Err(err(key, format!("must be >= 0 or inf, got {x}")))
+            }
+        };
+        friction("contact.friction", self.contact.friction)?;
+        friction("contact.wall_friction", self.contact.wall_friction)?;
         non_negative("contact.tangential_damping", self.contact.tangential_damping)?;
         non_negative("contact.rolling_friction", self.contact.rolling_friction)?;
         if self.contact.normal == NormalKind::Linear {
@@ -788,5 +797,30 @@ mod tests {
             .validate()
             .unwrap_err();
         assert_eq!(e.key, "contact.kn");
+        let e = Scene::parse(MINIMAL, &["contact.wall_friction=-0.1".into()], "test")
+            .unwrap()
+            .validate()
+            .unwrap_err();
+        assert_eq!(e.key, "contact.wall_friction");
+    }
+
+    #[test]
+    fn friction_accepts_inf_as_the_uncapped_law() {
+        let s = Scene::parse(MINIMAL, &["contact.wall_friction=inf".into()], "test").unwrap();
+        s.validate().unwrap();
+        let (pair, wall) = s.laws();
+        assert_eq!(
+            wall.tangential,
+            TangentialLaw::HaffWerner {
+                gamma_t: 0.007,
+                mu: f64::INFINITY
+            }
+        );
+        assert_eq!(pair.tangential.mu(), 0.7);
+        let e = Scene::parse(MINIMAL, &["contact.friction=nan".into()], "test")
+            .unwrap()
+            .validate()
+            .unwrap_err();
+        assert_eq!(e.key, "contact.friction");
     }
 }

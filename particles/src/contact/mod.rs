@@ -201,4 +201,30 @@ mod tests {
         assert!(f.normal >= 0.0);
         assert!(f.tangential.norm() <= 0.7 * f.normal * (1.0 + 1e-12));
     }
+
+    #[test]
+    fn infinite_friction_is_the_viscous_branch_alone_even_at_zero_normal_force() {
+        // Haff-Werner with mu = inf (scene `friction = inf`): F_t = -gamma_t v_t whatever F_n,
+        // including a touching contact with no normal force (inf * 0 must not give NaN).
+        let g = sample_geometry(false);
+        let gamma_t = 0.007;
+        let law = TangentialLaw::HaffWerner {
+            gamma_t,
+            mu: f64::INFINITY,
+        };
+        let mut h = Vec3::zeros();
+        for fn_ in [0.0, 1e-9, 1.0] {
+            let t = law.force(&g, fn_, &mut h, 1e-6);
+            assert!((t.force + g.v_t * gamma_t).norm() <= 1e-15, "F_n = {fn_}: {:?}", t.force);
+        }
+        // Cundall-Strack with mu = inf: the spring is never truncated.
+        let law = TangentialLaw::CundallStrack {
+            kt: 500.0,
+            mu: f64::INFINITY,
+        };
+        let mut zeta = Vec3::zeros();
+        let t = law.force(&g, 0.0, &mut zeta, 1e-3);
+        assert!(t.force.iter().all(|c| c.is_finite()) && t.force.norm() > 0.0);
+        assert!((t.force + zeta * 500.0).norm() <= 1e-12 * t.force.norm());
+    }
 }

@@ -10,13 +10,17 @@ pub enum TangentialLaw {
     /// Frictionless (smooth) contact.
     None,
     /// Haff-Werner (eq 3.12): `F_t = -min(gamma_t |v_t|, mu |F_n|) v_t/|v_t|`; `gamma_t` in
-    /// N s/m, `mu` dimensionless. No static friction: `F_t = 0` at `v_t = 0`.
+    /// N s/m, `mu` dimensionless. No static friction: `F_t = 0` at `v_t = 0`. `mu = inf`
+    /// (scene `friction = inf`) is the viscous branch alone, `F_t = -gamma_t v_t`, also at
+    /// zero normal force: the uncapped floor the thesis' single-sphere runs imply (its
+    /// Figs 3.7-3.12 roll without slip far beyond `Gamma = 7 mu / 2`).
     HaffWerner { gamma_t: f64, mu: f64 },
     /// Cundall-Strack (eq 4.32-4.34): a tangential spring of stiffness `k_t` (N/m) stretched
     /// by the integrated tangential contact-point velocity `zeta` (history),
     /// `F_t = -min(k_t |zeta|, mu |F_n|) zeta/|zeta|`. Each step `zeta` is first rotated into
     /// the current tangent plane (keeping its length), then advanced by `v_t dt`, then
-    /// truncated to the Coulomb limit `|zeta| <= mu F_n / k_t` while sliding.
+    /// truncated to the Coulomb limit `|zeta| <= mu F_n / k_t` while sliding. `mu = inf`: the
+    /// spring is never truncated.
     CundallStrack { kt: f64, mu: f64 },
 }
 
@@ -68,10 +72,12 @@ impl TangentialLaw {
             },
             TangentialLaw::HaffWerner { gamma_t, mu } => {
                 // Viscous branch `-gamma_t v_t` while `gamma_t |v_t| <= mu F_n` (compared in
-                // squares, no root); Coulomb branch `-mu F_n v_t/|v_t|` beyond.
+                // squares, no root); Coulomb branch `-mu F_n v_t/|v_t|` beyond. With
+                // `mu = inf` the limit `inf * 0` of a contact at zero normal force is NaN,
+                // which no comparison passes: the second test keeps the viscous branch.
                 let speed2 = g.v_t.norm_squared();
                 let limit = mu * fn_;
-                if gamma_t * gamma_t * speed2 <= limit * limit {
+                if gamma_t * gamma_t * speed2 <= limit * limit || mu == f64::INFINITY {
                     TangentialForce {
                         force: g.v_t * -gamma_t,
                         stored_energy: 0.0,
