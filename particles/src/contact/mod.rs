@@ -88,7 +88,9 @@ pub struct ContactForce {
 ///
 /// Dissipation rate: the power the contact takes from the particles' kinetic energy,
 /// `F_n dxi/dt - F_t . v_t - M_roll . omega_rel`, minus the rate of change of the stored
-/// elastic energy `F_el dxi/dt` (and, for Cundall-Strack, `k_t zeta . dzeta/dt`).
+/// elastic energy `F_el dxi/dt`; for Cundall-Strack the tangential part is the spring's
+/// elastic energy lost to its Coulomb truncation, per step (a stuck spring stores, it does
+/// not dissipate).
 #[inline(always)]
 pub fn evaluate<N: Normal>(law: &ContactLaw, g: &ContactGeometry<N>, history: &mut Vec3, dt: f64) -> ContactForce {
     let n = law.normal.evaluate(g.overlap, g.overlap_rate, g.r_eff);
@@ -217,7 +219,8 @@ mod tests {
             let t = law.force(&g, fn_, &mut h, 1e-6);
             assert!((t.force + g.v_t * gamma_t).norm() <= 1e-15, "F_n = {fn_}: {:?}", t.force);
         }
-        // Cundall-Strack with mu = inf: the spring is never truncated.
+        // Cundall-Strack with mu = inf: the spring is never truncated. From rest it is
+        // half a step's slip at the evaluation, and the history a full step's.
         let law = TangentialLaw::CundallStrack {
             kt: 500.0,
             mu: f64::INFINITY,
@@ -225,6 +228,27 @@ mod tests {
         let mut zeta = Vec3::zeros();
         let t = law.force(&g, 0.0, &mut zeta, 1e-3);
         assert!(t.force.iter().all(|c| c.is_finite()) && t.force.norm() > 0.0);
-        assert!((t.force + zeta * 500.0).norm() <= 1e-12 * t.force.norm());
+        assert!((t.force + g.v_t * (500.0 * 0.5e-3)).norm() <= 1e-12 * t.force.norm());
+        assert!((zeta - g.v_t * 1e-3).norm() <= 1e-12 * zeta.norm());
+    }
+
+    #[test]
+    fn a_stuck_cundall_strack_spring_follows_the_trapezoid_rule() {
+        // Tangential slip at a steady rate u, then at rate -u: the spring is the integral of
+        // the slip, k_t times the trapezoid sum, exactly (no lead of half a step).
+        let mut g = sample_geometry(false);
+        let law = TangentialLaw::CundallStrack { kt: 500.0, mu: 0.7 };
+        let (dt, fn_) = (1e-6, 1.0); // Coulomb limit far away
+        let u = g.v_t;
+        let mut zeta = Vec3::zeros();
+        let mut last = Vec3::zeros();
+        for k in 0..10 {
+            g.v_t = if k < 6 { u } else { -u };
+            last = law.force(&g, fn_, &mut zeta, dt).force;
+        }
+        // Slip: half a step from rest, five steps at u, the step of the switch (half a step
+        // each way, cancelling), three steps at -u: 0.5 + 5 - 3 = 2.5 steps of u.
+        let expected = u * (-500.0 * 2.5 * dt);
+        assert!((last - expected).norm() <= 1e-9 * expected.norm(), "{last} against {expected}");
     }
 }
