@@ -1,8 +1,13 @@
 //! `stripes bench [--quick]`: speed against error of every accuracy-for-speed choice, on the
 //! collision lab and on a small shaken tray (study in `particles::experiment::tradeoff`).
 //!
-//! Writes `bench.md` (the Markdown table), `bench.csv`, `pareto.png` / `pareto.svg` and
-//! `summary.json` (`rows`: `name`, `speed_ratio`, `error` and the other columns).
+//! Also times each friction law (none, Haff-Werner, Haff-Werner with `friction = inf`,
+//! Cundall-Strack) against Haff-Werner in the same run
+//! ([`particles::experiment::tradeoff::friction_laws`]): ratios, never absolute times.
+//!
+//! Writes `bench.md` (the Markdown tables), `bench.csv`, `friction_laws.csv`, `pareto.png` /
+//! `pareto.svg` and `summary.json` (`rows`: `name`, `speed_ratio`, `error` and the other
+//! columns; `friction_laws`: one entry per law).
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -73,9 +78,15 @@ pub fn run(args: Args) -> Result<String, CliError> {
     let pool = rayon::ThreadPoolBuilder::new().num_threads(args.threads).build()?;
     let mut dir = RunDir::create(&args.out, &json!({ "args": &args, "config": &config }))?;
     let t0 = Instant::now();
-    let rows = pool.install(|| tradeoff::run(&config, |name| eprintln!("[{:6.1} s] {name}", t0.elapsed().as_secs_f64())))?;
+    let say = |name: &str| eprintln!("[{:6.1} s] {name}", t0.elapsed().as_secs_f64());
+    let rows = pool.install(|| tradeoff::run(&config, say))?;
+    let laws = pool.install(|| tradeoff::friction_laws(&config, &mut |name: &str| say(name)))?;
 
-    let table = tradeoff::markdown_table(&rows);
+    let table = format!(
+        "{}\n## Friction laws\n\nSpeed of each friction law against Haff-Werner, timed in this run (medians of back-to-back pairs).\n\n{}",
+        tradeoff::markdown_table(&rows),
+        tradeoff::friction_table(&laws)
+    );
     analysis::io::write_atomic(&args.out.join("bench.md"), table.as_bytes())?;
     dir.note_files([args.out.join("bench.md")]);
     let csv_rows: Vec<Vec<f64>> = rows
@@ -116,6 +127,38 @@ pub fn run(args: Args) -> Result<String, CliError> {
         &csv_rows,
     )?;
 
+    let keys: Vec<&str> = tradeoff::friction_law_keys();
+    let law_rows: Vec<Vec<f64>> = laws
+        .iter()
+        .map(|l| {
+            let k = keys.iter().position(|key| *key == l.key).expect("a law of the table");
+            vec![
+                k as f64,
+                l.frequency,
+                l.amplitude,
+                l.dt_auto,
+                l.steps_per_contact_auto,
+                l.speed_same_step,
+                l.speed_auto,
+            ]
+        })
+        .collect();
+    let names: Vec<String> = keys.iter().enumerate().map(|(k, key)| format!("{k}={key}")).collect();
+    let law_column = format!("law({})", names.join(";"));
+    dir.csv(
+        "friction_laws.csv",
+        &[
+            &law_column,
+            "frequency",
+            "amplitude",
+            "dt_auto",
+            "steps_per_contact_auto",
+            "speed_same_step",
+            "speed_auto",
+        ],
+        &law_rows,
+    )?;
+
     let lab: Vec<&Row> = rows.iter().filter(|r| r.study == Study::Collision).collect();
     // The noise floor is not a setting: it stays in the table only.
     let tray: Vec<&Row> = rows.iter().filter(|r| r.study == Study::Tray && r.axis != "noise floor").collect();
@@ -152,5 +195,6 @@ pub fn run(args: Args) -> Result<String, CliError> {
         "wall_s": t0.elapsed().as_secs_f64(),
         "defaults": defaults_on_front,
         "rows": rows,
+        "friction_laws": laws,
     }))
 }

@@ -34,10 +34,12 @@
 //! neighbour skin and rebuild policy) have exactly the reference's error.
 
 mod clock;
+mod friction;
 mod lab;
 mod shaken;
 
 pub use clock::Stopwatch;
+pub use friction::{friction_law_keys, friction_laws, friction_table, LawSpeed};
 pub use lab::matched_linear;
 pub use shaken::{dense_packing, density_distance};
 

@@ -15,8 +15,8 @@ use crate::tray;
 use crate::SimError;
 
 /// What one tray run produced.
-struct TrayRun {
-    wall_s: f64,
+pub(super) struct TrayRun {
+    pub(super) wall_s: f64,
     dt: f64,
     profiles: Vec<Vec<f64>>,
     times: Vec<f64>,
@@ -26,7 +26,13 @@ struct TrayRun {
     mean_d: f64,
 }
 
-fn run_tray(scene: &Scene, s: &Setting, base_state: &State, steps_override: Option<f64>, cpu_time: bool) -> Result<TrayRun, SimError> {
+pub(super) fn run_tray(
+    scene: &Scene,
+    s: &Setting,
+    base_state: &State,
+    steps_override: Option<f64>,
+    cpu_time: bool,
+) -> Result<TrayRun, SimError> {
     let mut setup = tray::setup(scene, tray::drive(scene))?;
     setup.dt = setting_dt(scene, steps_override.or(s.steps))?;
     setup.integrator = s.integrator;
