@@ -69,18 +69,11 @@ pub fn tray_drive(scene: &Scene) -> TrayDrive {
 
 /// A free grain's slide on the scene's tray, from the single-sphere DEM.
 pub fn slide_dem(scene: &Scene) -> Result<SlideMeasure, CliError> {
-    let (_, wall_law) = scene.laws();
     let dt = match scene.run.dt {
         TimeStep::Seconds(dt) => dt,
         TimeStep::Auto(_) => particles::tray::shortest_contact_time(scene) / scene.run.steps_per_contact,
     };
-    let sphere = SphereOnFloor {
-        radius: 0.5 * (scene.particles.radius_min + scene.particles.radius_max),
-        density: scene.material.density,
-        law: wall_law,
-        gravity: GRAVITY,
-        dt,
-    };
+    let sphere = SphereOnFloor::on_scene(scene, 0.5 * (scene.particles.radius_min + scene.particles.radius_max), dt);
     let duration = SLIDE_PERIODS / scene.drive.frequency;
     let every = ((1.0 / scene.drive.frequency) / dt / 400.0).max(1.0) as u64;
     let samples = sphere.shake(scene.drive.amplitude, scene.drive.frequency, duration, every)?;

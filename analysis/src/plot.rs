@@ -70,6 +70,8 @@ pub struct LinePlot {
     pub log_y: bool,
     /// Corner of the legend (upper right unless set with [`LinePlot::legend`]).
     pub legend: LegendCorner,
+    /// Values the y axis must show besides the data (see [`LinePlot::include_y`]).
+    pub y_include: Vec<f64>,
 }
 
 /// Where the legend of a [`LinePlot`] sits.
@@ -146,7 +148,15 @@ impl LinePlot {
             log_x: false,
             log_y: false,
             legend: LegendCorner::UpperRight,
+            y_include: Vec::new(),
         }
+    }
+
+    /// Extends the y axis to show `y` (for example 0, so that nearly equal values are not
+    /// drawn as if they differed a lot).
+    pub fn include_y(mut self, y: f64) -> Self {
+        self.y_include.push(y);
+        self
     }
 
     /// Adds a series.
@@ -192,7 +202,12 @@ impl LinePlot {
         register_font();
         let all: Vec<(f64, f64)> = (0..self.series.len()).flat_map(|k| self.drawable(k)).collect();
         let x = padded(all.iter().map(|p| p.0), self.log_x).unwrap_or(if self.log_x { 0.1..10.0 } else { 0.0..1.0 });
-        let y = padded(all.iter().map(|p| p.1), self.log_y).unwrap_or(if self.log_y { 0.1..10.0 } else { 0.0..1.0 });
+        let extra = self
+            .y_include
+            .iter()
+            .copied()
+            .filter(|&y| y.is_finite() && (!self.log_y || y > 0.0));
+        let y = padded(all.iter().map(|p| p.1).chain(extra), self.log_y).unwrap_or(if self.log_y { 0.1..10.0 } else { 0.0..1.0 });
         let png = with_extension(stem, "png");
         let svg = with_extension(stem, "svg");
         write_png(&png, |root| self.render_axes(root, x.clone(), y.clone()))?;

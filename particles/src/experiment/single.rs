@@ -1,5 +1,39 @@
-//! One sphere on the horizontally shaken plate (thesis 3.3, Table 3.1) and the
+//! One sphere on the horizontally shaken plate (thesis 3.3, Table 3.1, Figs 3.7-3.12), its
+//! steady amplitudes next to the closed forms of rolling and sliding, and the
 //! rolling-friction stopping test (thesis 3.5.2, Fig 3.19).
+//!
+//! # What a free sphere on a shaken floor does
+//!
+//! The floor moves as `x_f = A sin(w t)`, `w = 2 pi nu`; `Gamma = A w^2 / g`. The floor's
+//! only horizontal force on the sphere is the friction `F` at the contact point. With
+//! `I = (2/5) m R^2`, `m dv/dt = F` and `R d(omega_y)/dt = -(5/2) F / m`, so:
+//! - `v + (2/5) R omega_y` never changes (angular momentum about the contact point): from
+//!   rest it stays 0, and the centre velocity is always `v = (2/7) u_c`, where
+//!   `u_c = v - R omega_y` is the contact point's velocity. Rolling friction (a torque
+//!   without a force) breaks this; without it the relation holds in every regime.
+//! - The slip `u_c - v_f` changes at `(7/2) F / m - a_f`.
+//!
+//! **Rolling without slip** (`u_c = v_f`): `v = (2/7) v_f`, so the centre moves 2/7 of the
+//! floor's displacement at every frequency: `x` peak-to-peak `2 (2/7) A`, velocity amplitude
+//! `(2/7) A w`. It needs the friction `F = (2/7) m a_f`, at most `(2/7) m A w^2`, which a
+//! Coulomb floor (`|F| <= mu m g`) gives while `Gamma <= 7 mu / 2` (2.45 for `mu = 0.7`;
+//! nu <= 4.98 Hz at A = 25 mm). An uncapped floor (`friction = inf`) gives it at every
+//! frequency, up to the small slip `F / gamma_t` that Haff-Werner's viscous branch needs.
+//!
+//! **Sliding** (continuous, Coulomb): `F = mu m g sgn(v_f - u_c)`, a square wave, so the
+//! centre's acceleration is `+-mu g` and `v` a triangle wave. By the half-period symmetry
+//! of the steady state, `F` switches sign twice per period, half a period apart: `v` then
+//! climbs by `mu g T/2` from `-V` to `V`, so `V = mu g / (4 nu)`, and `x` moves by the area
+//! of one half-triangle, `x` peak-to-peak `= V T / 4 = mu g / (16 nu^2)`: both independent
+//! of the amplitude and of the phase of the switches. The switches sit where
+//! `u_c = v_f`; with `u_c = (7/2) v` peaking at `(7/2) V` there, the switch phase `theta`
+//! obeys `cos theta = (7/2) V / (A w) = 7 pi mu / (4 Gamma)`, and the slip must keep its new
+//! sign after the switch, `A w^2 sin theta > (7/2) mu g`. Both hold, and the grain slides
+//! all the time, for `Gamma >= (7 mu / 2) sqrt(1 + pi^2 / 4)` (4.56 for `mu = 0.7`; nu >=
+//! 6.8 Hz at 25 mm). (A block that cannot roll obeys the same formulas above
+//! `Gamma >= mu sqrt(1 + pi^2 / 4)`.) Between `7 mu / 2` and that bound the sphere
+//! alternates between rolling and sliding, and its amplitudes lie between the two closed
+//! forms.
 
 use serde::Serialize;
 
@@ -7,8 +41,10 @@ use crate::boundary::Boundary;
 use crate::contact::ContactLaw;
 use crate::integrate::Integrator;
 use crate::neighbor::NeighborSearch;
+use crate::scene::Scene;
 use crate::sim::{Setup, Simulation, Vertical};
 use crate::state::State;
+use crate::tray::GRAVITY;
 use crate::wall::{Motion, Wall};
 use crate::{SimError, Vec3};
 
@@ -24,6 +60,8 @@ pub struct SphereOnFloor {
     pub gravity: f64,
     /// Time step (s).
     pub dt: f64,
+    /// Time integrator.
+    pub integrator: Integrator,
 }
 
 /// One sample of a trajectory (SI units; `omega_y` in rad/s).
@@ -50,6 +88,21 @@ impl SphereOnFloor {
             law,
             gravity: 10.0,
             dt: 8e-6,
+            integrator: Integrator::VelocityVerlet,
+        }
+    }
+
+    /// A sphere of radius `radius` (m) on the floor of `scene`: the scene's particle-wall
+    /// law (after its toggles), grain density, integrator and the tray's gravity, with the
+    /// step `dt` (s).
+    pub fn on_scene(scene: &Scene, radius: f64, dt: f64) -> Self {
+        Self {
+            radius,
+            density: scene.material.density,
+            law: scene.laws().1,
+            gravity: GRAVITY,
+            dt,
+            integrator: scene.run.integrator,
         }
     }
 
@@ -71,7 +124,7 @@ impl SphereOnFloor {
             walls: vec![Wall::new("floor", Vec3::zeros(), Vec3::z(), motion)],
             gravity: Vec3::new(0.0, 0.0, -self.gravity),
             dt: self.dt,
-            integrator: Integrator::VelocityVerlet,
+            integrator: self.integrator,
             boundary: Boundary::open(),
             neighbors: NeighborSearch::AllPairs,
             vertical: Vertical::Free,
@@ -123,6 +176,86 @@ impl SphereOnFloor {
         }
         Ok(out)
     }
+}
+
+/// Steady amplitudes of the sphere's motion along x.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Amplitudes {
+    /// Peak-to-peak displacement of the centre (m).
+    pub x_peak_to_peak: f64,
+    /// Half the peak-to-peak velocity of the centre (m/s).
+    pub vx_amplitude: f64,
+}
+
+impl Amplitudes {
+    /// Rolling without slip (module docs): `x` peak-to-peak `2 (2/7) A`, velocity amplitude
+    /// `(2/7) A w`, for the floor amplitude `amplitude` (m) at `frequency` (Hz).
+    pub fn rolling(amplitude: f64, frequency: f64) -> Self {
+        let w = 2.0 * std::f64::consts::PI * frequency;
+        Self {
+            x_peak_to_peak: 2.0 * (2.0 / 7.0) * amplitude,
+            vx_amplitude: (2.0 / 7.0) * amplitude * w,
+        }
+    }
+
+    /// Continuous Coulomb sliding (module docs): `x` peak-to-peak `mu g / (16 nu^2)`,
+    /// velocity amplitude `mu g / (4 nu)`, for the friction coefficient `mu`, gravity `g`
+    /// (m/s^2) and `frequency` (Hz). Exact for a sphere above [`continuous_sliding_gamma`].
+    pub fn sliding(mu: f64, gravity: f64, frequency: f64) -> Self {
+        Self {
+            x_peak_to_peak: mu * gravity / (16.0 * frequency * frequency),
+            vx_amplitude: mu * gravity / (4.0 * frequency),
+        }
+    }
+}
+
+/// Largest `Gamma = A w^2 / g` at which a sphere on a Coulomb floor rolls without slip:
+/// `7 mu / 2` (2.45 for `mu = 0.7`).
+pub fn rolling_gamma(mu: f64) -> f64 {
+    3.5 * mu
+}
+
+/// Smallest `Gamma` at which a sphere on a Coulomb floor slides all the time:
+/// `(7 mu / 2) sqrt(1 + pi^2 / 4)` (4.56 for `mu = 0.7`; module docs).
+pub fn continuous_sliding_gamma(mu: f64) -> f64 {
+    3.5 * mu * (1.0 + std::f64::consts::PI.powi(2) / 4.0).sqrt()
+}
+
+/// `Gamma = A (2 pi nu)^2 / g` of a drive.
+pub fn gamma(amplitude: f64, frequency: f64, gravity: f64) -> f64 {
+    amplitude * (2.0 * std::f64::consts::PI * frequency).powi(2) / gravity
+}
+
+/// The amplitudes of a shaking run at `frequency` (Hz), measured over its last half: the
+/// means, over the whole periods that end in the last half of the samples, of the
+/// peak-to-peak `x` and half the peak-to-peak `v_x` within each period (per period, so that
+/// a slow drift, from rolling friction for example, does not count as oscillation).
+/// `None` without a whole period in the last half.
+pub fn amplitudes(samples: &[Sample], frequency: f64) -> Option<Amplitudes> {
+    let end = samples.last()?.t;
+    let period = 1.0 / frequency;
+    let first = (0.5 * end / period).ceil() as usize;
+    let last = (end / period + 1e-9).floor() as usize;
+    if last <= first {
+        return None;
+    }
+    let (mut x_sum, mut v_sum) = (0.0, 0.0);
+    for k in first..last {
+        let (t0, t1) = (k as f64 * period, (k + 1) as f64 * period);
+        let within = samples.iter().filter(|s| s.t >= t0 && s.t <= t1);
+        let (mut x_lo, mut x_hi, mut v_lo, mut v_hi) = (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY);
+        for s in within {
+            (x_lo, x_hi) = (x_lo.min(s.x), x_hi.max(s.x));
+            (v_lo, v_hi) = (v_lo.min(s.vx), v_hi.max(s.vx));
+        }
+        x_sum += x_hi - x_lo;
+        v_sum += 0.5 * (v_hi - v_lo);
+    }
+    let n = (last - first) as f64;
+    Some(Amplitudes {
+        x_peak_to_peak: x_sum / n,
+        vx_amplitude: v_sum / n,
+    })
 }
 
 #[cfg(test)]
