@@ -125,6 +125,34 @@ impl Tally {
     }
 }
 
+/// Upper edges of the local area-fraction classes of [`ByDensity`] (the last class is open).
+pub const DENSITY_EDGES: [f64; 5] = [0.2, 0.35, 0.5, 0.65, 0.8];
+
+/// Tallies by the local area fraction at each grain (the 1 mm cell it sits in), in the
+/// classes `[0, 0.2), [0.2, 0.35), ..., [0.8, inf)`. The frustration hypothesis predicts a
+/// slope that falls in magnitude as the local packing rises (crowded grains cannot all roll);
+/// without pair friction it should not depend on the packing.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ByDensity(pub [Tally; DENSITY_EDGES.len() + 1]);
+
+impl ByDensity {
+    /// Adds one instant; `phi` holds the area fraction of `phi.len()` equal cells over `length`.
+    pub fn add_instant(&mut self, grains: &[Grain], phi: &[f64], length: f64, v_tray: f64, floor_speed: f64) {
+        let cells = phi.len();
+        for g in grains {
+            let c = ((g.pos[0].rem_euclid(length) / length * cells as f64) as usize).min(cells - 1);
+            let class = DENSITY_EDGES.iter().take_while(|&&e| phi[c] >= e).count();
+            self.0[class].add(motion(g, v_tray, floor_speed), v_tray, g.vel[0] - v_tray);
+        }
+    }
+
+    /// `(lower edge, upper edge)` of class `k`.
+    pub fn class_range(k: usize) -> (f64, f64) {
+        let lo = if k == 0 { 0.0 } else { DENSITY_EDGES[k - 1] };
+        (lo, DENSITY_EDGES.get(k).copied().unwrap_or(f64::INFINITY))
+    }
+}
+
 /// Tallies inside the dense bands and outside them.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Split {
@@ -211,6 +239,29 @@ mod tests {
         }
         let Split { band, outside } = split;
         assert!((split.relative_slope() - 5.0 / 7.0).abs() < 1e-12);
+        // By local packing: the held grain sits in a cell at 0.7, the rolling one at 0.1.
+        let mut phi = vec![0.1; 100];
+        phi[4] = 0.7;
+        let mut by = ByDensity::default();
+        let v_tray = 0.2;
+        let held = Grain {
+            pos: [0.0045, 0.01, r],
+            vel: [v_tray, 0.0, 0.0],
+            omega: [0.0; 3],
+            radius: r,
+        };
+        let free = Grain {
+            pos: [0.0505, 0.01, r],
+            vel: [v_tray * 2.0 / 7.0, 0.0, 0.0],
+            omega: [0.0, -5.0 / 7.0 * v_tray / r, 0.0],
+            radius: r,
+        };
+        by.add_instant(&[held, free], &phi, 0.1, v_tray, 0.2);
+        assert_eq!(by.0[4].total(), 1, "0.7 is in [0.65, 0.8)");
+        assert_eq!(by.0[4].slope(), 0.0);
+        assert!((by.0[0].slope() + 5.0 / 7.0).abs() < 1e-12);
+        assert_eq!(ByDensity::class_range(0), (0.0, 0.2));
+        assert_eq!(ByDensity::class_range(5), (0.8, f64::INFINITY));
         assert_eq!(band.total(), 20);
         assert!(band.slope().abs() < 1e-15);
         assert!((outside.slope() + 5.0 / 7.0).abs() < 1e-12);

@@ -11,7 +11,7 @@
 use std::path::PathBuf;
 
 use analysis::density::{area_fraction_cells, mean_area_fraction};
-use analysis::mechanism::{Grain, Motion, Split, Tally};
+use analysis::mechanism::{ByDensity, Grain, Motion, Split, Tally};
 use analysis::plot::{LinePlot, Mark};
 use analysis::stripes::{detect, StripeParams};
 use particles::scene::Scene;
@@ -77,6 +77,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
     let every = 1.0 / (nu * args.per_period as f64);
     let bar = progress_bar(samples, args.quiet, "mechanism");
     let mut total = Split::default();
+    let mut by_density = ByDensity::default();
     let mut rows = Vec::new();
     for k in 1..=samples {
         let target = start + k as f64 * every;
@@ -93,8 +94,10 @@ pub fn run(args: Args) -> Result<String, CliError> {
             })
             .collect();
         let x: Vec<f64> = grains.iter().map(|g| g.pos[0]).collect();
-        let stripes = detect(&area_fraction_cells(&x, &radii, l, w, cells), l, &params);
+        let phi = area_fraction_cells(&x, &radii, l, w, cells);
+        let stripes = detect(&phi, l, &params);
         let v_tray = motion.velocity(sim.time).x;
+        by_density.add_instant(&grains, &phi, l, v_tray, floor_speed);
         let mut instant = Split::default();
         instant.add_instant(&grains, &stripes, l, v_tray, floor_speed);
         let group_mean = |inside: bool| -> f64 {
@@ -152,6 +155,52 @@ pub fn run(args: Args) -> Result<String, CliError> {
         Mark::Dashed,
     );
     dir.plot("mechanism", &plot)?;
+    let density_rows: Vec<Vec<f64>> = by_density
+        .0
+        .iter()
+        .enumerate()
+        .map(|(k, t)| {
+            let (lo, hi) = ByDensity::class_range(k);
+            let mut row = vec![lo, hi, t.total() as f64, t.slope()];
+            row.extend(Motion::ALL.iter().map(|&m| t.fraction(m)));
+            row
+        })
+        .collect();
+    dir.csv(
+        "mechanism_by_density.csv",
+        &[
+            "phi_lo",
+            "phi_hi",
+            "grain_instants",
+            "slope",
+            "held",
+            "rolling",
+            "sliding",
+            "airborne",
+        ],
+        &density_rows,
+    )?;
+    let by_phi = LinePlot::new(
+        "Velocity relative to the tray against local packing: u_x = a v_tray",
+        "local area fraction (class centre; 1 mm cells)",
+        "slope a",
+    )
+    .series(
+        "this run",
+        density_rows
+            .iter()
+            .filter(|r| r[2] >= 100.0)
+            .map(|r| (if r[1].is_finite() { 0.5 * (r[0] + r[1]) } else { r[0] + 0.05 }, r[3]))
+            .collect(),
+        Mark::LinePoints,
+    )
+    .series(
+        "rolling without slip: -5/7",
+        vec![(0.0, -5.0 / 7.0), (0.9, -5.0 / 7.0)],
+        Mark::Dashed,
+    )
+    .series("held by the floor: 0", vec![(0.0, 0.0), (0.9, 0.0)], Mark::Dashed);
+    dir.plot("mechanism_by_density", &by_phi)?;
 
     let fractions = |t: &Tally| -> serde_json::Value {
         let mut m = serde_json::Map::new();
@@ -173,6 +222,10 @@ pub fn run(args: Args) -> Result<String, CliError> {
         "band": fractions(&total.band),
         "outside": fractions(&total.outside),
         "relative_slope": total.relative_slope(),
+        "by_density": density_rows
+            .iter()
+            .map(|r| json!({ "phi_lo": r[0], "phi_hi": if r[1].is_finite() { json!(r[1]) } else { json!(null) }, "grain_instants": r[2], "slope": r[3] }))
+            .collect::<Vec<_>>(),
         "relative_slope_hypothesis": 5.0 / 7.0,
     });
     dir.finish(summary)
