@@ -19,7 +19,7 @@
 
 use crate::contact::{self, AxisNormal, ContactGeometry, ContactLaw, Normal};
 use crate::neighbor::NeighborList;
-use crate::sim::{ContactRecord, Partner, Setup, Vertical, MAX_OVERLAP_FRACTION};
+use crate::setup::{ContactRecord, Partner, Setup, Vertical, MAX_OVERLAP_FRACTION};
 use crate::Vec3;
 
 /// How the geometry of a wall contact is computed.

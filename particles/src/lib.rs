@@ -10,6 +10,7 @@
 //! - [`boundary`]: periodic images;
 //! - [`integrate`]: time integrators (velocity Verlet, and the thesis' scheme);
 //! - `forces`: one force evaluation, gathered per particle in fixed blocks;
+//! - [`setup`]: what defines the dynamics (laws, walls, step, boundaries), and contact records;
 //! - [`sim`]: the only module that knows the order of the stages of a time step;
 //! - `parallel`: deterministic block parallelism (results independent of the thread count);
 //! - [`lammps`]: LAMMPS data files of a state;
@@ -31,8 +32,10 @@ pub mod observe;
 mod parallel;
 pub mod prepare;
 pub mod scene;
+pub mod setup;
 pub mod sim;
 pub mod state;
+pub mod timescale;
 pub mod tray;
 pub mod wall;
 

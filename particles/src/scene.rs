@@ -9,7 +9,6 @@ use serde::{Deserialize, Serialize};
 use crate::contact::{ContactLaw, NormalLaw, RollingLaw, TangentialLaw};
 use crate::integrate::Integrator;
 use crate::material::{mix, Material};
-use crate::SimError;
 
 /// A scene. Sections mirror the TOML tables.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -210,7 +209,7 @@ pub struct Run {
     /// Time step (s), or `"auto"`.
     pub dt: TimeStep,
     /// Fewest steps per contact time `dt = "auto"` may give (the least accepted for an
-    /// explicit dt is [`MIN_STEPS_PER_CONTACT`]).
+    /// explicit dt is [`crate::timescale::MIN_STEPS_PER_CONTACT`]).
     #[serde(default = "d_steps_per_contact")]
     pub steps_per_contact: f64,
     /// Largest accepted error of the restitution coefficients (eps_n, eps_t; absolute) for
@@ -344,42 +343,6 @@ impl AutomatonSpec {
 /// Default `run.restitution_tolerance`, picked from the speed-against-error front of
 /// `stripes bench` (see the README's section on it).
 pub const DEFAULT_RESTITUTION_TOLERANCE: f64 = 1e-2;
-
-/// Fewest steps per contact time an explicit dt may give (the thesis uses 15-20, sec 3.5.1).
-pub const MIN_STEPS_PER_CONTACT: f64 = 8.0;
-
-/// Refuses a step `dt` (s) that resolves the contact time `contact_time` (s), or the half
-/// period `spring_half_period` (s) of a stuck tangential spring, with fewer than `minimum`
-/// steps ([`MIN_STEPS_PER_CONTACT`] for a tray); `dt_field` and `spring_field` name the keys
-/// to blame. The one check of the tray's scenes and the collision lab.
-pub fn check_step_resolution(
-    dt: f64,
-    minimum: f64,
-    contact_time: f64,
-    spring_half_period: Option<f64>,
-    dt_field: &str,
-    spring_field: &str,
-) -> Result<(), SimError> {
-    if contact_time / dt < minimum {
-        return Err(SimError::TimeStepTooLarge {
-            field: dt_field.into(),
-            dt,
-            contact_time,
-            steps_per_contact: contact_time / dt,
-            minimum,
-        });
-    }
-    match spring_half_period {
-        Some(half) if half / dt < minimum => Err(SimError::TangentialSpringTooStiff {
-            field: spring_field.into(),
-            dt,
-            half_period: half,
-            steps: half / dt,
-            minimum,
-        }),
-        _ => Ok(()),
-    }
-}
 
 fn d_density() -> f64 {
     2500.0

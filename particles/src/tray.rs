@@ -5,7 +5,8 @@ use crate::contact::tangential::sphere_tangential_mass;
 use crate::contact::TangentialLaw;
 use crate::experiment::step_control;
 use crate::neighbor::NeighborSearch;
-use crate::scene::{check_step_resolution, Scene, TimeStep, MIN_STEPS_PER_CONTACT};
+use crate::scene::{Scene, TimeStep};
+pub use crate::timescale::{check_step_resolution, max_impact_speed, shortest_contact_time, shortest_spring_half_period, MIN_STEPS_PER_CONTACT};
 use crate::sim::{Setup, Vertical};
 use crate::wall::{Motion, Wall};
 use crate::{SimError, Vec3};
@@ -24,32 +25,6 @@ pub const MAX_SKIN: f64 = 2.0;
 
 /// Gravitational acceleration of the tray scenes (m/s^2, SPEC section 2).
 pub const GRAVITY: f64 = 10.0;
-
-/// Largest impact speed expected in a scene (m/s): the tray's peak speed `2 pi nu A`, the
-/// speed at which a side wall or a grain carried by the floor can hit a grain at rest. At
-/// least 0.1 m/s, so that a tray at rest still gets a finite step.
-pub fn max_impact_speed(scene: &Scene) -> f64 {
-    (2.0 * std::f64::consts::PI * scene.drive.frequency * scene.drive.amplitude).max(0.1)
-}
-
-/// Shortest contact time of the scene (s): the undamped time (eq 3.19, or `pi sqrt(m/k)`)
-/// of two of the smallest grains meeting at [`max_impact_speed`]; contact time grows with
-/// size, and a pair is shorter than a grain on a wall.
-pub fn shortest_contact_time(scene: &Scene) -> f64 {
-    let (pair, _) = scene.laws();
-    let r = scene.particles.radius_min;
-    let m = scene.material().sphere_mass(r);
-    pair.normal.undamped_contact_time(0.5 * m, 0.5 * r, max_impact_speed(scene))
-}
-
-/// Stuck half period `pi sqrt(m_t / k_t)` (s) of the Cundall-Strack spring between two of
-/// the smallest grains (the fastest tangential oscillation of the scene), `None` without a
-/// tangential spring.
-pub fn shortest_spring_half_period(scene: &Scene) -> Option<f64> {
-    let (pair, _) = scene.laws();
-    let m = scene.material().sphere_mass(scene.particles.radius_min);
-    pair.tangential.spring_half_period(sphere_tangential_mass(0.5 * m))
-}
 
 /// The time step of a scene (s): explicit, or error-controlled for `dt = "auto"` (the
 /// coarsest step meeting `run.restitution_tolerance`, no coarser than

@@ -29,7 +29,7 @@ use crate::contact::{geometry::tangential_velocity, ContactLaw};
 use crate::integrate::Integrator;
 use crate::neighbor::NeighborSearch;
 use crate::observe;
-use crate::scene::check_step_resolution;
+use crate::timescale::check_step_resolution;
 use crate::sim::{Setup, Simulation, Vertical};
 use crate::state::State;
 use crate::wall::{Motion, Wall};
