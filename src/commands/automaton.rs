@@ -12,17 +12,15 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use automaton::mapping::{self, FreeParams};
+use automaton::mapping::FreeParams;
 use automaton::{Automaton, Direction};
-use particles::prepare;
 use particles::scene::{AutomatonRule, Scene};
 use serde::Serialize;
 use serde_json::{json, Value};
 
-use crate::cellular::{self, Cells, StateWriter};
+use crate::cellular::{self, evolve, load_scene, setup, Cells};
 use crate::commands::analyze;
 use crate::output::{progress_bar, CliError, RunDir};
-use indicatif::ProgressBar;
 
 /// Rule set chosen on the command line.
 #[derive(clap::ValueEnum, Clone, Copy, Debug, Serialize, PartialEq, Eq)]
@@ -66,7 +64,13 @@ pub struct Args {
 
 pub fn run(args: Args) -> Result<String, CliError> {
     if !args.calibrate.is_empty() {
-        return super::calibrate::run(&args);
+        return super::calibrate::run(&super::calibrate::Calibration {
+            runs: args.calibrate.clone(),
+            out: args.out.clone(),
+            overrides: args.overrides.clone(),
+            samples: args.samples.clone(),
+            quiet: args.quiet,
+        });
     }
     let path = args.scene.clone().ok_or("a scene file is needed")?;
     let scene = load_scene(&path, &args.overrides)?;
@@ -76,118 +80,12 @@ pub fn run(args: Args) -> Result<String, CliError> {
     simulate(&args, &path, scene)
 }
 
-/// Loads and checks a scene, including its [automaton] table.
-pub(crate) fn load_scene(path: &Path, overrides: &[String]) -> Result<Scene, CliError> {
-    let scene = Scene::load(path, overrides)?;
-    scene.validate()?;
-    scene.automaton.validate()?;
-    Ok(scene)
-}
-
 fn rule_of(args_rule: Option<Rule>, scene: &Scene) -> AutomatonRule {
     match args_rule {
         Some(Rule::Strict) => AutomatonRule::Strict,
         Some(Rule::Physical) => AutomatonRule::Physical,
         None => scene.automaton.rule,
     }
-}
-
-/// The result of one automaton run on a scene (before analysis).
-pub(crate) struct Outcome {
-    pub periods: u64,
-    pub half_steps: u64,
-    pub stepping_s: f64,
-    pub cells: Cells,
-    pub mass: (u64, u64),
-}
-
-/// Runs the automaton from `lattice` for the scene's duration, writing `snapshots.bin` into
-/// `out` if given; calls `frame` with every state.
-pub(crate) fn evolve(
-    scene: &Scene,
-    lattice: automaton::Lattice,
-    params: automaton::Params,
-    snapshots: Option<&Path>,
-    radius: f64,
-    bar: &ProgressBar,
-    mut frame: impl FnMut(f64, &automaton::Lattice),
-) -> Result<Outcome, CliError> {
-    let cells = Cells::of(scene);
-    let nu = scene.drive.frequency;
-    let periods = (scene.run.duration * nu).round().max(1.0) as u64;
-    let m0 = lattice.mass();
-    let mut writer = match snapshots {
-        Some(p) => Some(StateWriter::create(
-            p,
-            cells,
-            scene.tray.length,
-            scene.tray.width,
-            m0 as usize,
-            radius,
-            scene.particles.radius_min + scene.particles.radius_max,
-        )?),
-        None => None,
-    };
-    let mut a = Automaton::new(lattice, params, Direction::Plus)?;
-    if let Some(w) = writer.as_mut() {
-        w.push(0.0, 0.0, a.lattice())?;
-    }
-    frame(0.0, a.lattice());
-    bar.set_length(periods);
-    let mut stepping = 0.0;
-    for k in 1..=periods {
-        let t0 = Instant::now();
-        a.period();
-        stepping += t0.elapsed().as_secs_f64();
-        let t = 0.25 / nu + (k - 1) as f64 / nu;
-        if let Some(w) = writer.as_mut() {
-            w.push(t, scene.drive.amplitude, a.lattice())?;
-        }
-        frame(t, a.lattice());
-        bar.set_position(k);
-    }
-    if let Some(w) = writer.as_mut() {
-        w.sync()?;
-    }
-    let m1 = a.lattice().mass();
-    if m1 != m0 {
-        return Err(format!("automaton lost grains: {m0} -> {m1}").into());
-    }
-    Ok(Outcome {
-        periods,
-        half_steps: a.half_steps(),
-        stepping_s: stepping,
-        cells,
-        mass: (m0, m1),
-    })
-}
-
-/// Everything the automaton takes from a scene and its sample.
-pub(crate) struct Setup {
-    pub lattice: automaton::Lattice,
-    pub slide_dem: mapping::SlideMeasure,
-    pub slide_coulomb: mapping::SlideMeasure,
-    pub displaced: usize,
-    pub stacked: usize,
-    /// Radius written for every grain: sqrt(<r^2>) of the sample (same projected area).
-    pub radius: f64,
-}
-
-pub(crate) fn setup(scene: &Scene, samples: &Path, quiet: bool) -> Result<Setup, CliError> {
-    let b = progress_bar(1000, quiet, "prepare");
-    let (state, _) = prepare::load_or_prepare(scene, samples, |f| b.set_position((f * 1000.0) as u64))?;
-    b.finish_and_clear();
-    let pos: Vec<[f64; 2]> = state.pos.iter().map(|p| [p.x, p.y]).collect();
-    let (lattice, displaced, stacked) = cellular::lattice_from_positions(&Cells::of(scene), scene.tray.length, &pos);
-    let r2 = state.radius.iter().map(|r| r * r).sum::<f64>() / state.radius.len().max(1) as f64;
-    Ok(Setup {
-        lattice,
-        slide_dem: cellular::slide_dem(scene)?,
-        slide_coulomb: mapping::coulomb_slide(&cellular::tray_drive(scene), 6, 20000),
-        displaced,
-        stacked,
-        radius: r2.sqrt(),
-    })
 }
 
 /// Reads the analysis summary keys shared with `stripes analyze`.

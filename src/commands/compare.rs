@@ -14,7 +14,8 @@ use particles::prepare::sample_key;
 use serde::Serialize;
 use serde_json::{json, Value};
 
-use super::automaton::{analysis_keys, analyze_dir, load_scene};
+use super::automaton::{analysis_keys, analyze_dir};
+use crate::cellular::load_scene;
 use super::{automaton, run};
 use crate::output::{CliError, RunDir};
 
