@@ -23,7 +23,6 @@ use std::time::Instant;
 use analysis::snapshot::{Header, SnapshotWriter};
 use automaton::{Automaton, Direction};
 use indicatif::ProgressBar;
-use particles::prepare;
 use automaton::mapping::{self, FreeParams, SlideMeasure, TrayDrive};
 use automaton::{Lateral, Lattice, Params, RuleSet, YBoundary};
 use particles::experiment::single::SphereOnFloor;
@@ -314,7 +313,7 @@ pub struct Setup {
 
 pub fn setup(scene: &Scene, samples: &Path, quiet: bool) -> Result<Setup, CliError> {
     let b = progress_bar(1000, quiet, "prepare");
-    let (state, _) = prepare::load_or_prepare(scene, samples, |f| b.set_position((f * 1000.0) as u64))?;
+    let (state, _) = crate::samples::load_or_prepare(scene, samples, |f| b.set_position((f * 1000.0) as u64))?;
     b.finish_and_clear();
     let pos: Vec<[f64; 2]> = state.pos.iter().map(|p| [p.x, p.y]).collect();
     let (lattice, displaced, stacked) = lattice_from_positions(&Cells::of(scene), scene.tray.length, &pos);

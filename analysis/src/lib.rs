@@ -23,6 +23,7 @@ pub mod density;
 pub mod input;
 pub mod io;
 pub mod lammps;
+pub mod lammps_data;
 pub mod msd;
 pub mod plot;
 pub mod report;

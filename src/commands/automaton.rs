@@ -18,6 +18,7 @@ use particles::scene::{AutomatonRule, Scene};
 use serde::Serialize;
 use serde_json::{json, Value};
 
+use crate::clock::Stopwatch;
 use crate::cellular::{self, evolve, load_scene, setup, Cells};
 use crate::commands::analyze;
 use crate::output::{progress_bar, CliError, RunDir};
@@ -189,7 +190,7 @@ fn bench(args: &Args, path: &Path, scene: &Scene) -> Result<String, CliError> {
         for _ in 0..100 {
             a.half_step();
         }
-        let (start, cpu0, mut steps) = (Instant::now(), thread_cpu_seconds(), 0u64);
+        let (start, watch, mut steps) = (Instant::now(), Stopwatch::start(true), 0u64);
         while start.elapsed().as_secs_f64() < args.bench_seconds {
             for _ in 0..1000 {
                 a.half_step();
@@ -199,10 +200,7 @@ fn bench(args: &Args, path: &Path, scene: &Scene) -> Result<String, CliError> {
         let wall = start.elapsed().as_secs_f64();
         // On a shared machine the wall clock counts other processes' time slices too; the
         // thread's own CPU time measures one core's throughput.
-        let cpu = match (cpu0, thread_cpu_seconds()) {
-            (Some(a), Some(b)) if b > a => b - a,
-            _ => wall,
-        };
+        let cpu = watch.seconds();
         let cells_per_step = (cells.nx * cells.ny) as f64;
         let cell_rate = cells_per_step * steps as f64 / cpu;
         let grain_rate = lattice.mass() as f64 * steps as f64 / cpu;
@@ -227,12 +225,4 @@ fn bench(args: &Args, path: &Path, scene: &Scene) -> Result<String, CliError> {
         "cases": cases,
         "flight_cap_cells": (slide.displacement / cells.dx).round(),
     }))
-}
-
-/// CPU time of the calling thread (s), from `/proc/thread-self/schedstat` (Linux); `None`
-/// elsewhere.
-fn thread_cpu_seconds() -> Option<f64> {
-    let text = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
-    let ns: f64 = text.split_whitespace().next()?.parse().ok()?;
-    Some(ns * 1e-9)
 }

@@ -33,21 +33,20 @@
 //! 1 nm, compared with the reference itself). Settings that do not change a single bit (the
 //! neighbour skin and rebuild policy) have exactly the reference's error.
 
-mod clock;
 mod lab;
 mod shaken;
 
-pub use clock::Stopwatch;
+pub use crate::clock::Stopwatch;
 pub use lab::matched_linear;
-pub use shaken::{dense_packing, density_distance};
+pub use shaken::dense_packing;
 
 use serde::Serialize;
 
-use crate::integrate::Integrator;
-use crate::scene::Scene;
-use crate::scene::DEFAULT_RESTITUTION_TOLERANCE;
-use crate::tray;
-use crate::SimError;
+use particles::integrate::Integrator;
+use particles::scene::Scene;
+use particles::scene::DEFAULT_RESTITUTION_TOLERANCE;
+use particles::tray;
+use particles::SimError;
 
 /// Which study a row belongs to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -377,7 +376,7 @@ pub fn markdown_table(rows: &[Row]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::experiment::closed_form::linear_dashpot;
+    use particles::experiment::closed_form::linear_dashpot;
 
     fn row(study: Study, speed: f64, error: f64) -> Row {
         Row {
@@ -425,6 +424,7 @@ mod tests {
 
     #[test]
     fn identical_profiles_have_zero_distance() {
+        use super::shaken::density_distance;
         let a = vec![vec![0.2, 0.3, 0.1]; 3];
         assert_eq!(density_distance(&a, &a, 0.2), 0.0);
         let mut b = a.clone();

@@ -4,15 +4,15 @@ use analysis::density::area_fraction_cells;
 use analysis::stripes::{detect, onset, StripeParams};
 
 use super::{base_scene, failed, matched_linear, setting_dt, with, Config, Row, Setting, Stopwatch, Study, THESIS_DT};
-use crate::experiment::step_control::{self, REFERENCE_STEPS};
-use crate::integrate::Integrator;
-use crate::neighbor::NeighborSearch;
-use crate::prepare::initial_state;
-use crate::scene::Scene;
-use crate::sim::Simulation;
-use crate::state::State;
-use crate::tray;
-use crate::SimError;
+use particles::experiment::step_control::{self, REFERENCE_STEPS};
+use particles::integrate::Integrator;
+use particles::neighbor::NeighborSearch;
+use particles::prepare::initial_state;
+use particles::scene::Scene;
+use particles::sim::Simulation;
+use particles::state::State;
+use particles::tray;
+use particles::SimError;
 
 /// What one tray run produced.
 struct TrayRun {
@@ -37,7 +37,7 @@ fn run_tray(scene: &Scene, s: &Setting, base_state: &State, steps_override: Opti
     for &i in &order {
         let nudge = if s.perturbed && i == 0 { 1e-9 } else { 0.0 };
         state.push(
-            base_state.pos[i] + crate::Vec3::new(nudge, 0.0, 0.0),
+            base_state.pos[i] + particles::Vec3::new(nudge, 0.0, 0.0),
             base_state.vel[i],
             base_state.omega[i],
             base_state.radius[i],

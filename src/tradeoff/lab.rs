@@ -1,14 +1,14 @@
-//! The collision-lab half of the study: the probe impacts of [`crate::experiment::step_control`]
+//! The collision-lab half of the study: the probe impacts of [`particles::experiment::step_control`]
 //! under every setting, against the converged reference.
 
 use super::{base_scene, failed, setting_dt, with, Config, Row, Setting, Stopwatch, Study, THESIS_DT};
-use crate::contact::{NormalLaw, TangentialLaw};
-use crate::experiment::closed_form::{gamma_for_damping_ratio, linear_dashpot};
-use crate::experiment::step_control::{self, REFERENCE_STEPS};
-use crate::integrate::Integrator;
-use crate::scene::{Scene, DEFAULT_RESTITUTION_TOLERANCE};
-use crate::tray;
-use crate::SimError;
+use particles::contact::{NormalLaw, TangentialLaw};
+use particles::experiment::closed_form::{gamma_for_damping_ratio, linear_dashpot};
+use particles::experiment::step_control::{self, REFERENCE_STEPS};
+use particles::integrate::Integrator;
+use particles::scene::{Scene, DEFAULT_RESTITUTION_TOLERANCE};
+use particles::tray;
+use particles::SimError;
 
 /// A linear spring-dashpot with the same head-on restitution `eps` and contact duration
 /// `t_c` (s) as the given impact of effective mass `m_eff` (kg) at `v` (m/s): the damping
@@ -32,7 +32,7 @@ pub fn matched_linear(m_eff: f64, eps: f64, t_c: f64, v: f64) -> (f64, f64) {
 }
 
 /// Probe impacts of a setting, with the Hertz law replaced by `linear` if given.
-fn lab_probes(scene: &Scene, s: &Setting, dt: f64, elastic: bool) -> Vec<crate::experiment::collide::Collision> {
+fn lab_probes(scene: &Scene, s: &Setting, dt: f64, elastic: bool) -> Vec<particles::experiment::collide::Collision> {
     let (mut pair, mut wall) = scene.laws();
     if elastic {
         for law in [&mut pair, &mut wall] {
@@ -41,7 +41,7 @@ fn lab_probes(scene: &Scene, s: &Setting, dt: f64, elastic: bool) -> Vec<crate::
                 NormalLaw::Linear { kn, .. } => NormalLaw::Linear { kn, gamma_n: 0.0 },
             };
             law.tangential = TangentialLaw::None;
-            law.rolling = crate::contact::RollingLaw::None;
+            law.rolling = particles::contact::RollingLaw::None;
         }
     }
     let r = scene.particles.radius_min;
@@ -98,8 +98,8 @@ fn lab_row(
     base: &Scene,
     s: &Setting,
     config: &Config,
-    reference: &[crate::experiment::collide::CollisionResult],
-    ref_probes: &[crate::experiment::collide::Collision],
+    reference: &[particles::experiment::collide::CollisionResult],
+    ref_probes: &[particles::experiment::collide::Collision],
 ) -> Result<Row, SimError> {
     {
         let scene = with(base, &s.overrides)?;
@@ -110,7 +110,7 @@ fn lab_row(
         // of a long run at equal cost per step; the cost per step of each integrator and law
         // is timed in the tray rows). The lab's own time is reported as `wall_s`.
         let ref_results = step_control::run_all(ref_probes)?;
-        let rate = |r: &[crate::experiment::collide::CollisionResult]| {
+        let rate = |r: &[particles::experiment::collide::CollisionResult]| {
             r.iter().map(|x| x.steps as f64).sum::<f64>() / r.iter().map(|x| x.t_c).sum::<f64>()
         };
         let clock = Stopwatch::start(config.cpu_time);
