@@ -21,16 +21,17 @@ use std::path::Path;
 use std::time::Instant;
 
 use analysis::snapshot::{Header, SnapshotWriter};
-use automaton::{Automaton, Direction};
-use indicatif::ProgressBar;
 use automaton::mapping::{self, FreeParams, SlideMeasure, TrayDrive};
-use automaton::{Lateral, Lattice, Params, RuleSet, YBoundary};
+use automaton::{Automaton, Direction};
+use automaton::{Lattice, Params, RuleSet, YBoundary};
+use indicatif::ProgressBar;
 use particles::experiment::single::SphereOnFloor;
-use particles::scene::{AutomatonLateral, AutomatonRule, Scene, TimeStep};
+use particles::scene::{Scene, TimeStep};
 use particles::tray::GRAVITY;
 use serde::Serialize;
 
 use crate::output::{progress_bar, CliError};
+use crate::scene_file::SceneFile;
 
 /// Periods of the single-sphere run behind the flight cap.
 pub const SLIDE_PERIODS: f64 = 4.0;
@@ -46,8 +47,9 @@ pub struct Cells {
 }
 
 impl Cells {
-    pub fn of(scene: &Scene) -> Self {
-        let d = scene
+    pub fn of(file: &SceneFile) -> Self {
+        let scene = &file.dem;
+        let d = file
             .automaton
             .cell
             .unwrap_or(scene.particles.radius_min + scene.particles.radius_max);
@@ -74,10 +76,10 @@ pub fn tray_drive(scene: &Scene) -> TrayDrive {
 
 /// A free grain's slide on the scene's tray, from the single-sphere DEM.
 pub fn slide_dem(scene: &Scene) -> Result<SlideMeasure, CliError> {
-    let (_, wall_law) = scene.laws();
+    let (_, wall_law) = scene.laws()?;
     let dt = match scene.run.dt {
         TimeStep::Seconds(dt) => dt,
-        TimeStep::Auto(_) => particles::tray::shortest_contact_time(scene) / scene.run.steps_per_contact,
+        TimeStep::Auto(_) => particles::tray::shortest_contact_time(scene)? / scene.run.steps_per_contact,
     };
     let sphere = SphereOnFloor {
         radius: 0.5 * (scene.particles.radius_min + scene.particles.radius_max),
@@ -133,31 +135,11 @@ pub fn lattice_from_positions(cells: &Cells, length: f64, pos: &[[f64; 2]]) -> (
     (Lattice::from_heights(nx, ny, &h).expect("sizes match"), displaced, stacked)
 }
 
-/// The free parameters of a scene's `[automaton]` table.
-pub fn free_params(scene: &Scene) -> FreeParams {
-    let a = &scene.automaton;
-    FreeParams {
-        activation: a.stochastic.then_some(a.activation),
-        knock_speed: a.knock.then_some(a.knock_speed),
-        sideways: a.sideways.then_some(a.sideways_probability),
-        lateral: match a.lateral {
-            AutomatonLateral::None => Lateral::None,
-            AutomatonLateral::Neighbours => Lateral::Neighbours,
-            AutomatonLateral::Clusters => Lateral::Clusters,
-        },
-        threshold: a.threshold,
-        flight_cap: a.flight_cap,
-    }
-}
-
 /// The automaton's parameters for a scene, given the measured slide.
-pub fn params(scene: &Scene, rule: AutomatonRule, slide: &SlideMeasure, free: &FreeParams) -> Params {
-    let cells = Cells::of(scene);
+pub fn params(file: &SceneFile, rule: RuleSet, slide: &SlideMeasure, free: &FreeParams) -> Params {
+    let (scene, cells) = (&file.dem, Cells::of(file));
     Params {
-        rule: match rule {
-            AutomatonRule::Strict => RuleSet::Strict,
-            AutomatonRule::Physical => RuleSet::Physical,
-        },
+        rule,
         physical: mapping::physical(&tray_drive(scene), slide, cells.dx, free),
         y: if scene.toggles.walls {
             YBoundary::Walls
@@ -223,11 +205,10 @@ impl StateWriter {
 }
 
 /// Loads and checks a scene, including its [automaton] table.
-pub fn load_scene(path: &Path, overrides: &[String]) -> Result<Scene, CliError> {
-    let scene = Scene::load(path, overrides)?;
-    scene.validate()?;
-    scene.automaton.validate()?;
-    Ok(scene)
+pub fn load_scene(path: &Path, overrides: &[String]) -> Result<SceneFile, CliError> {
+    let file = crate::scene_file::load(path, overrides)?;
+    file.validate()?;
+    Ok(file)
 }
 
 /// The result of one automaton run on a scene (before analysis).
@@ -242,7 +223,7 @@ pub struct Outcome {
 /// Runs the automaton from `lattice` for the scene's duration, writing `snapshots.bin` into
 /// `out` if given; calls `frame` with every state.
 pub fn evolve(
-    scene: &Scene,
+    file: &SceneFile,
     lattice: automaton::Lattice,
     params: automaton::Params,
     snapshots: Option<&Path>,
@@ -250,7 +231,7 @@ pub fn evolve(
     bar: &ProgressBar,
     mut frame: impl FnMut(f64, &automaton::Lattice),
 ) -> Result<Outcome, CliError> {
-    let cells = Cells::of(scene);
+    let (scene, cells) = (&file.dem, Cells::of(file));
     let nu = scene.drive.frequency;
     let periods = (scene.run.duration * nu).round().max(1.0) as u64;
     let m0 = lattice.mass();
@@ -311,12 +292,13 @@ pub struct Setup {
     pub radius: f64,
 }
 
-pub fn setup(scene: &Scene, samples: &Path, quiet: bool) -> Result<Setup, CliError> {
+pub fn setup(file: &SceneFile, samples: &Path, quiet: bool) -> Result<Setup, CliError> {
+    let scene = &file.dem;
     let b = progress_bar(1000, quiet, "prepare");
     let (state, _) = crate::samples::load_or_prepare(scene, samples, |f| b.set_position((f * 1000.0) as u64))?;
     b.finish_and_clear();
     let pos: Vec<[f64; 2]> = state.pos.iter().map(|p| [p.x, p.y]).collect();
-    let (lattice, displaced, stacked) = lattice_from_positions(&Cells::of(scene), scene.tray.length, &pos);
+    let (lattice, displaced, stacked) = lattice_from_positions(&Cells::of(file), scene.tray.length, &pos);
     let r2 = state.radius.iter().map(|r| r * r).sum::<f64>() / state.radius.len().max(1) as f64;
     Ok(Setup {
         lattice,
@@ -327,4 +309,3 @@ pub fn setup(scene: &Scene, samples: &Path, quiet: bool) -> Result<Setup, CliErr
         radius: r2.sqrt(),
     })
 }
-

@@ -11,6 +11,7 @@ mod commands;
 mod observers;
 mod output;
 mod samples;
+mod scene_file;
 mod sweep;
 mod tradeoff;
 

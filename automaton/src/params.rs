@@ -15,6 +15,22 @@ pub enum RuleSet {
     Physical,
 }
 
+impl RuleSet {
+    /// Every name, as scene files and the command line write it.
+    pub const NAMES: &'static [&'static str] = &["strict", "physical"];
+}
+
+impl std::str::FromStr for RuleSet {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "strict" => Ok(RuleSet::Strict),
+            "physical" => Ok(RuleSet::Physical),
+            _ => Err(format!("unknown rule set `{s}`, expected one of {}", Self::NAMES.join(", "))),
+        }
+    }
+}
+
 /// Sliding threshold: grains slide on the tray only when its peak acceleration
 /// `A (2 pi nu)^2` exceeds what floor friction can transmit, `mu g`.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -67,7 +83,7 @@ pub enum Knock {
 
 /// Contacts with the neighbouring rows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case", tag = "kind")]
+#[serde(rename_all = "kebab-case")]
 pub enum Lateral {
     /// A grain is stopped only by grains in its own row.
     None,

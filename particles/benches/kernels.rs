@@ -86,11 +86,11 @@ fn tray_step(c: &mut Criterion) {
     for (name, jumping) in [("step 3D", "true"), ("step pinned 2D", "false")] {
         let scene = scene(&[&format!("toggles.jumping={jumping}")]);
         let setup = tray::setup(&scene, tray::drive(&scene)).expect("valid setup");
-        let mut sim = Simulation::new(setup, initial_state(&scene)).expect("valid start");
+        let mut sim = Simulation::new(setup, initial_state(&scene).expect("valid sample")).expect("valid start");
         group.bench_function(name, |b| b.iter(|| sim.step().expect("the tray runs")));
     }
     let scene = scene(&[]);
-    let state = initial_state(&scene);
+    let state = initial_state(&scene).expect("valid sample");
     let boundary = tray::setup(&scene, tray::drive(&scene)).expect("valid setup").boundary;
     for skin in [0.0, 0.2e-3, 0.5e-3] {
         let search = NeighborSearch::verlet(skin);

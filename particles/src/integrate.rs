@@ -98,7 +98,7 @@ impl Span {
 }
 
 /// Integration scheme.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Integrator {
     /// Velocity Verlet for translation and rotation (default). Positions advance with the
@@ -107,6 +107,7 @@ pub enum Integrator {
     /// the half-step one (which lags by `dt/2` and makes restitution only first order).
     /// Second order for dissipative contacts, symplectic for conservative ones, and exact
     /// conservation of linear and angular momentum.
+    #[default]
     VelocityVerlet,
     /// The thesis' scheme (sec 3.5.1): Verlet positions (eq 3.26, written in its leapfrog
     /// form), velocities from the central-difference estimator eq 3.27, Euler rotation
@@ -114,7 +115,21 @@ pub enum Integrator {
     Thesis,
 }
 
+impl std::str::FromStr for Integrator {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "velocity-verlet" => Ok(Integrator::VelocityVerlet),
+            "thesis" => Ok(Integrator::Thesis),
+            _ => Err(format!("unknown integrator `{s}`, expected one of {}", Self::NAMES.join(", "))),
+        }
+    }
+}
+
 impl Integrator {
+    /// Every name, as scene files and the command line write it.
+    pub const NAMES: &'static [&'static str] = &["velocity-verlet", "thesis"];
+
     /// Prepares the first step after the initial force evaluation.
     pub fn start(&self, s: &mut State, dt: f64) {
         match self {

@@ -24,7 +24,6 @@ pub fn reference(scene: &Scene) -> Scene {
     s.toggles = Toggles::default();
     // A ceiling changes nothing for grains relaxing at rest on the floor.
     s.tray.height = None;
-    s.automaton = Default::default();
     s.drive.amplitude = 0.0;
     s.run.duration = s.prepare.duration;
     s.run.threads = 0;
@@ -48,7 +47,7 @@ pub fn sample_key(scene: &Scene) -> u64 {
 }
 
 /// The grains on their lattice, before relaxation.
-pub fn initial_state(scene: &Scene) -> State {
+pub fn initial_state(scene: &Scene) -> Result<State, SimError> {
     let mut rng = ChaCha8Rng::seed_from_u64(scene.run.seed);
     let p = &scene.particles;
     let n = p.count;
@@ -69,7 +68,7 @@ pub fn initial_state(scene: &Scene) -> State {
     sites.extend(top.iter().take(n - full).map(|&k| full + k));
     sites.sort_unstable();
     let material = scene.material();
-    let (_, wall_law) = reference(scene).laws();
+    let (_, wall_law) = reference(scene).laws()?;
     let dy = if ny > 1 {
         (scene.tray.width - 2.0 * p.radius_max * 1.05) / (ny - 1) as f64
     } else {
@@ -99,7 +98,7 @@ pub fn initial_state(scene: &Scene) -> State {
         );
         state.push(Vec3::new(x, y, z), v, Vec3::zeros(), r, m);
     }
-    state
+    Ok(state)
 }
 
 /// Prepares the sample of `scene`: lattice, random velocities, relaxation, zeroed velocities.
@@ -108,7 +107,7 @@ pub fn prepare(scene: &Scene, mut progress: impl FnMut(f64)) -> Result<State, Si
     let reference = reference(scene);
     let setup = tray::setup(&reference, Motion::Fixed)?;
     let steps = (reference.prepare.duration / setup.dt).round() as u64;
-    let mut sim = Simulation::new(setup, initial_state(scene))?;
+    let mut sim = Simulation::new(setup, initial_state(scene)?)?;
     for k in 0..steps {
         sim.step()?;
         if k % 1000 == 0 {

@@ -52,19 +52,18 @@ pub fn max_impact_speed(scene: &Scene) -> f64 {
 /// Shortest contact time of the scene (s): the undamped time (eq 3.19, or `pi sqrt(m/k)`)
 /// of two of the smallest grains meeting at [`max_impact_speed`]; contact time grows with
 /// size, and a pair is shorter than a grain on a wall.
-pub fn shortest_contact_time(scene: &Scene) -> f64 {
-    let (pair, _) = scene.laws();
+pub fn shortest_contact_time(scene: &Scene) -> Result<f64, SimError> {
+    let (pair, _) = scene.laws()?;
     let r = scene.particles.radius_min;
     let m = scene.material().sphere_mass(r);
-    pair.normal.undamped_contact_time(0.5 * m, 0.5 * r, max_impact_speed(scene))
+    Ok(pair.normal.undamped_contact_time(0.5 * m, 0.5 * r, max_impact_speed(scene)))
 }
 
 /// Stuck half period `pi sqrt(m_t / k_t)` (s) of the Cundall-Strack spring between two of
 /// the smallest grains (the fastest tangential oscillation of the scene), `None` without a
 /// tangential spring.
-pub fn shortest_spring_half_period(scene: &Scene) -> Option<f64> {
-    let (pair, _) = scene.laws();
+pub fn shortest_spring_half_period(scene: &Scene) -> Result<Option<f64>, SimError> {
+    let (pair, _) = scene.laws()?;
     let m = scene.material().sphere_mass(scene.particles.radius_min);
-    pair.tangential.spring_half_period(sphere_tangential_mass(0.5 * m))
+    Ok(pair.tangential.spring_half_period(sphere_tangential_mass(0.5 * m)))
 }
-

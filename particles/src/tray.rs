@@ -6,8 +6,10 @@ use crate::contact::TangentialLaw;
 use crate::experiment::step_control;
 use crate::neighbor::NeighborSearch;
 use crate::scene::{Scene, TimeStep};
-pub use crate::timescale::{check_step_resolution, max_impact_speed, shortest_contact_time, shortest_spring_half_period, MIN_STEPS_PER_CONTACT};
 use crate::sim::{Setup, Vertical};
+pub use crate::timescale::{
+    check_step_resolution, max_impact_speed, shortest_contact_time, shortest_spring_half_period, MIN_STEPS_PER_CONTACT,
+};
 use crate::wall::{Motion, Wall};
 use crate::{SimError, Vec3};
 
@@ -39,8 +41,8 @@ pub fn time_step(scene: &Scene) -> Result<f64, SimError> {
     check_step_resolution(
         dt,
         MIN_STEPS_PER_CONTACT,
-        shortest_contact_time(scene),
-        shortest_spring_half_period(scene),
+        shortest_contact_time(scene)?,
+        shortest_spring_half_period(scene)?,
         "run.dt",
         "contact.tangential_stiffness",
     )?;
@@ -70,7 +72,7 @@ pub fn drive(scene: &Scene) -> Motion {
 /// Dynamics of a (validated) scene, with the tray driven by `motion` (use
 /// [`Motion::Fixed`] for sample preparation).
 pub fn setup(scene: &Scene, motion: Motion) -> Result<Setup, SimError> {
-    let (pair_law, wall_law) = scene.laws();
+    let (pair_law, wall_law) = scene.laws()?;
     let (l, w, h) = (scene.tray.length, scene.tray.width, scene.tray.height.unwrap_or(f64::INFINITY));
     let mut walls = vec![Wall::new("floor", Vec3::zeros(), Vec3::z(), motion)];
     if scene.toggles.walls {
@@ -105,14 +107,14 @@ pub fn setup(scene: &Scene, motion: Motion) -> Result<Setup, SimError> {
 /// between grains. The viscous friction force `-gamma_t v_t` is integrated explicitly: above
 /// 1 it reverses the slip within one step (it overshoots zero slip), above 2 the overshoot
 /// grows every step and the force chatters at the Coulomb limit.
-pub fn viscous_friction_ratio(scene: &Scene, dt: f64) -> Option<f64> {
-    let (pair, _) = scene.laws();
+pub fn viscous_friction_ratio(scene: &Scene, dt: f64) -> Result<Option<f64>, SimError> {
+    let (pair, _) = scene.laws()?;
     match pair.tangential {
         TangentialLaw::HaffWerner { gamma_t, mu } if gamma_t > 0.0 && mu > 0.0 => {
             let m = scene.material().sphere_mass(scene.particles.radius_min);
-            Some(gamma_t * dt / sphere_tangential_mass(0.5 * m))
+            Ok(Some(gamma_t * dt / sphere_tangential_mass(0.5 * m)))
         }
-        _ => None,
+        _ => Ok(None),
     }
 }
 
@@ -123,9 +125,9 @@ pub fn viscous_friction_ratio(scene: &Scene, dt: f64) -> Option<f64> {
 /// for what that costs); at the thesis step of
 /// 8e-6 s the ratio is 2.4, and the tangential restitution of the smallest grains at the
 /// tray's peak speed is off by a factor 2 (`stripes bench`).
-pub fn warnings(scene: &Scene, dt: f64) -> Vec<String> {
+pub fn warnings(scene: &Scene, dt: f64) -> Result<Vec<String>, SimError> {
     let mut out = Vec::new();
-    if let Some(ratio) = viscous_friction_ratio(scene, dt) {
+    if let Some(ratio) = viscous_friction_ratio(scene, dt)? {
         if ratio > 2.0 {
             let what = "is unstable at this step: the friction force chatters at the Coulomb limit instead of stopping the slip";
             out.push(format!(
@@ -134,5 +136,5 @@ pub fn warnings(scene: &Scene, dt: f64) -> Vec<String> {
             ));
         }
     }
-    out
+    Ok(out)
 }

@@ -13,24 +13,18 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use automaton::mapping::FreeParams;
+use automaton::RuleSet;
 use automaton::{Automaton, Direction};
-use particles::scene::{AutomatonRule, Scene};
 use serde::Serialize;
 use serde_json::{json, Value};
 
-use crate::clock::Stopwatch;
 use crate::cellular::{self, evolve, load_scene, setup, Cells};
+use crate::clock::Stopwatch;
 use crate::commands::analyze;
 use crate::output::{progress_bar, CliError, RunDir};
+use crate::scene_file::SceneFile;
 
-/// Rule set chosen on the command line.
-#[derive(clap::ValueEnum, Clone, Copy, Debug, Serialize, PartialEq, Eq)]
-pub enum Rule {
-    Strict,
-    Physical,
-}
-
-#[derive(clap::Args, Debug, Serialize)]
+#[derive(clap::Args, Debug, Default, Serialize)]
 pub struct Args {
     /// Scene file (TOML), the same as for `stripes run` (optional table [automaton]).
     #[arg(required_unless_present = "calibrate")]
@@ -42,8 +36,8 @@ pub struct Args {
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub overrides: Vec<String>,
     /// Rule set (default: the scene's automaton.rule, itself `physical` by default).
-    #[arg(long, value_enum)]
-    pub rule: Option<Rule>,
+    #[arg(long, value_parser = rule_parser())]
+    pub rule: Option<RuleSet>,
     /// Directory of prepared samples, shared with `stripes run`.
     #[arg(long, default_value = "out/samples")]
     pub samples: PathBuf,
@@ -74,19 +68,17 @@ pub fn run(args: Args) -> Result<String, CliError> {
         });
     }
     let path = args.scene.clone().ok_or("a scene file is needed")?;
-    let scene = load_scene(&path, &args.overrides)?;
+    let file = load_scene(&path, &args.overrides)?;
     if args.bench {
-        return bench(&args, &path, &scene);
+        return bench(&args, &path, &file);
     }
-    simulate(&args, &path, scene)
+    simulate(&args, &path, file)
 }
 
-fn rule_of(args_rule: Option<Rule>, scene: &Scene) -> AutomatonRule {
-    match args_rule {
-        Some(Rule::Strict) => AutomatonRule::Strict,
-        Some(Rule::Physical) => AutomatonRule::Physical,
-        None => scene.automaton.rule,
-    }
+/// `--rule`: the automaton's own rule-set type, by its scene-file names.
+fn rule_parser() -> impl clap::builder::TypedValueParser<Value = RuleSet> {
+    use clap::builder::TypedValueParser as _;
+    clap::builder::PossibleValuesParser::new(RuleSet::NAMES).map(|s| s.parse::<RuleSet>().expect("one of the names"))
 }
 
 /// Reads the analysis summary keys shared with `stripes analyze`.
@@ -110,21 +102,22 @@ pub(crate) fn analyze_dir(dir: &Path) -> Result<String, CliError> {
     })
 }
 
-fn simulate(args: &Args, path: &Path, scene: Scene) -> Result<String, CliError> {
+fn simulate(args: &Args, path: &Path, file: SceneFile) -> Result<String, CliError> {
+    let scene = &file.dem;
     let name = path
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "scene".into());
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from(format!("out/automaton-{name}")));
-    let mut dir = RunDir::create(&out, &json!({ "args": args, "scene": &scene }))?;
-    analysis::io::write_atomic(&out.join("scene.toml"), toml::to_string(&scene)?.as_bytes())?;
-    let rule = rule_of(args.rule, &scene);
-    let s = setup(&scene, &args.samples, args.quiet)?;
-    let free: FreeParams = cellular::free_params(&scene);
-    let params = cellular::params(&scene, rule, &s.slide_dem, &free);
+    let mut dir = RunDir::create(&out, &json!({ "args": args, "scene": &file }))?;
+    analysis::io::write_atomic(&out.join("scene.toml"), file.to_toml()?.as_bytes())?;
+    let rule = args.rule.unwrap_or(file.automaton.rule);
+    let s = setup(&file, &args.samples, args.quiet)?;
+    let free: FreeParams = file.automaton.free_params();
+    let params = cellular::params(&file, rule, &s.slide_dem, &free);
     let wall = Instant::now();
     let b = progress_bar(1, args.quiet, "automaton");
-    let outcome = evolve(&scene, s.lattice, params, Some(&out.join("snapshots.bin")), s.radius, &b, |_, _| ())?;
+    let outcome = evolve(&file, s.lattice, params, Some(&out.join("snapshots.bin")), s.radius, &b, |_, _| ())?;
     b.finish_and_clear();
     let wall_s = wall.elapsed().as_secs_f64();
     let analysis_line = analyze_dir(&out)?;
@@ -142,8 +135,8 @@ fn simulate(args: &Args, path: &Path, scene: Scene) -> Result<String, CliError> 
         "displaced_to_free_cell": s.displaced,
         "stacked": s.stacked,
         "mapping": {
-            "tray_acceleration": cellular::tray_drive(&scene).tray_acceleration(),
-            "friction_acceleration": cellular::tray_drive(&scene).friction_acceleration(),
+            "tray_acceleration": cellular::tray_drive(scene).tray_acceleration(),
+            "friction_acceleration": cellular::tray_drive(scene).friction_acceleration(),
             "slide_dem": s.slide_dem,
             "slide_coulomb_block": s.slide_coulomb,
             "flight_cap_cells": (s.slide_dem.displacement / c.dx).round(),
@@ -163,10 +156,11 @@ fn simulate(args: &Args, path: &Path, scene: Scene) -> Result<String, CliError> 
 
 /// Speed on the scene's tray: a random layer of the scene's grain count, `strict` and
 /// `physical`, each for about `bench_seconds`.
-fn bench(args: &Args, path: &Path, scene: &Scene) -> Result<String, CliError> {
+fn bench(args: &Args, path: &Path, file: &SceneFile) -> Result<String, CliError> {
+    let scene = &file.dem;
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from("out/automaton-bench"));
     let mut dir = RunDir::create(&out, &json!({ "args": args, "scene": scene }))?;
-    let cells = Cells::of(scene);
+    let cells = Cells::of(file);
     // Grain positions from a SplitMix64 stream of the scene's seed.
     let mut s = scene.run.seed;
     let mut uniform = || {
@@ -183,8 +177,8 @@ fn bench(args: &Args, path: &Path, scene: &Scene) -> Result<String, CliError> {
     let slide = cellular::slide_dem(scene)?;
     let mut rows = Vec::new();
     let mut cases = serde_json::Map::new();
-    for (name, rule) in [("strict", AutomatonRule::Strict), ("physical", AutomatonRule::Physical)] {
-        let params = cellular::params(scene, rule, &slide, &cellular::free_params(scene));
+    for (name, rule) in [("strict", RuleSet::Strict), ("physical", RuleSet::Physical)] {
+        let params = cellular::params(file, rule, &slide, &file.automaton.free_params());
         let mut a = Automaton::new(lattice.clone(), params, Direction::Plus)?;
         // Warm up, then time batches until the budget is spent.
         for _ in 0..100 {

@@ -7,8 +7,8 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
-use analysis::plot::{LegendCorner, LinePlot, Mark};
 use crate::tradeoff::{self, Config, Row, Study};
+use analysis::plot::{LegendCorner, LinePlot, Mark};
 use serde::Serialize;
 use serde_json::json;
 

@@ -120,7 +120,7 @@ pub fn run(args: &Calibration) -> Result<String, CliError> {
         &json!({ "args": args, "activations": ACTIVATIONS, "knock_speeds": KNOCK_SPEEDS }),
     )?;
     struct RunData {
-        scene: particles::scene::Scene,
+        scene: crate::scene_file::SceneFile,
         dem: Metrics,
         setup: cellular::Setup,
     }
@@ -147,10 +147,10 @@ pub fn run(args: &Calibration) -> Result<String, CliError> {
                 scene.automaton.activation = p;
                 scene.automaton.knock = true;
                 scene.automaton.knock_speed = v;
-                let params = cellular::params(&scene, scene.automaton.rule, &r.setup.slide_dem, &cellular::free_params(&scene));
+                let params = cellular::params(&scene, scene.automaton.rule, &r.setup.slide_dem, &scene.automaton.free_params());
                 let n = r.setup.lattice.mass() as usize;
                 let radii = vec![r.setup.radius; n];
-                let mut meter = Meter::new(scene.tray.length, scene.tray.width, &radii);
+                let mut meter = Meter::new(scene.dem.tray.length, scene.dem.tray.width, &radii);
                 let cells = Cells::of(&scene);
                 let mut x = Vec::with_capacity(n);
                 let hidden = indicatif::ProgressBar::hidden();

@@ -21,7 +21,7 @@ use serde_json::json;
 use crate::observers::{ContactMeans, Progress, Recorder, RecorderPlan};
 use crate::output::{progress_bar, CliError, RunDir};
 
-#[derive(clap::Args, Debug, Serialize)]
+#[derive(clap::Args, Debug, Default, Serialize)]
 pub struct Args {
     /// Scene file (TOML), e.g. scenes/thesis-reference.toml.
     pub scene: PathBuf,
@@ -65,7 +65,7 @@ fn checkpoint_fingerprint(scene: &Scene) -> Result<u64, CliError> {
 }
 
 pub fn run(args: Args) -> Result<String, CliError> {
-    let scene = Scene::load(&args.scene, &args.overrides)?;
+    let scene = crate::scene_file::load(&args.scene, &args.overrides)?.dem;
     scene.validate()?;
     let threads = scene.run.threads;
     let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build()?;
@@ -86,7 +86,7 @@ fn run_in_pool(args: Args, scene: Scene) -> Result<String, CliError> {
     // Everything that can be checked is checked before the (possibly long) preparation.
     let setup = tray::setup(&scene, tray::drive(&scene))?;
     let dt = setup.dt;
-    let warnings = tray::warnings(&scene, dt);
+    let warnings = tray::warnings(&scene, dt)?;
     for w in &warnings {
         eprintln!("warning: {w}");
     }
@@ -161,7 +161,11 @@ fn run_in_pool(args: Args, scene: Scene) -> Result<String, CliError> {
     };
     let start_steps = sim.steps;
     let wall_clock = Instant::now();
-    let stepping = match advance(&mut sim, total, &mut [&mut contacts, &mut recorder, &mut Progress(&bar), &mut killer]) {
+    let stepping = match advance(
+        &mut sim,
+        total,
+        &mut [&mut contacts, &mut recorder, &mut Progress(&bar), &mut killer],
+    ) {
         Ok(seconds) => seconds,
         Err(e) => {
             // Keep everything written so far: the snapshots up to now and the last checkpoint.
@@ -172,7 +176,12 @@ fn run_in_pool(args: Args, scene: Scene) -> Result<String, CliError> {
             } else {
                 "no checkpoint was due yet".to_string()
             };
-            return Err(format!("{e}; the {} snapshots so far are in {} and {kept}", recorder.frames, snap_path.display()).into());
+            return Err(format!(
+                "{e}; the {} snapshots so far are in {} and {kept}",
+                recorder.frames,
+                snap_path.display()
+            )
+            .into());
         }
     };
     recorder.writer.sync()?;
@@ -199,7 +208,7 @@ fn run_in_pool(args: Args, scene: Scene) -> Result<String, CliError> {
         "stepping_s": stepping,
         "particle_steps_per_s": (stepped as f64 * s.len() as f64) / stepping.max(1e-12),
         "threads": rayon::current_num_threads(),
-        "steps_per_contact": tray::shortest_contact_time(&scene) / dt,
+        "steps_per_contact": tray::shortest_contact_time(&scene)? / dt,
         "snapshots": frames,
         "sample_cached": cached,
         "sample_key": format!("{:016x}", prepare::sample_key(&scene)),

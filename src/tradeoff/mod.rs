@@ -263,7 +263,7 @@ impl Setting {
 /// The time step of a setting's scene: its steps per contact, or the scene's own step.
 pub(crate) fn setting_dt(scene: &Scene, steps: Option<f64>) -> Result<f64, SimError> {
     match steps {
-        Some(s) => Ok(tray::shortest_contact_time(scene) / s),
+        Some(s) => Ok(tray::shortest_contact_time(scene)? / s),
         None => tray::time_step(scene),
     }
 }

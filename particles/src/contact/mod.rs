@@ -6,6 +6,7 @@
 //! partner, eq 3.17-3.18). Per-contact history (the Cundall-Strack spring) is passed in
 //! separately from the parameters.
 
+pub mod choice;
 pub mod geometry;
 pub mod normal;
 pub mod rolling;

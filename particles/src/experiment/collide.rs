@@ -29,9 +29,9 @@ use crate::contact::{geometry::tangential_velocity, ContactLaw};
 use crate::integrate::Integrator;
 use crate::neighbor::NeighborSearch;
 use crate::observe;
-use crate::timescale::check_step_resolution;
 use crate::sim::{Setup, Simulation, Vertical};
 use crate::state::State;
+use crate::timescale::check_step_resolution;
 use crate::wall::{Motion, Wall};
 use crate::{SimError, Vec3};
 

@@ -74,11 +74,11 @@ pub fn probes(pair: ContactLaw, wall: ContactLaw, radius: f64, mass: f64, v: f64
 }
 
 /// The probes of a scene at `steps` per shortest contact time.
-pub fn scene_probes(scene: &Scene, steps: f64, integrator: Integrator) -> Vec<Collision> {
-    let (pair, wall) = scene.laws();
+pub fn scene_probes(scene: &Scene, steps: f64, integrator: Integrator) -> Result<Vec<Collision>, SimError> {
+    let (pair, wall) = scene.laws()?;
     let r = scene.particles.radius_min;
-    let dt = timescale::shortest_contact_time(scene) / steps;
-    probes(
+    let dt = timescale::shortest_contact_time(scene)? / steps;
+    Ok(probes(
         pair,
         wall,
         r,
@@ -86,7 +86,7 @@ pub fn scene_probes(scene: &Scene, steps: f64, integrator: Integrator) -> Vec<Co
         timescale::max_impact_speed(scene),
         dt,
         integrator,
-    )
+    ))
 }
 
 /// Runs every probe.
@@ -121,14 +121,14 @@ pub fn choose(scene: &Scene, tolerance: f64, min_steps: f64) -> Result<StepChoic
         });
     }
     let integrator = Integrator::VelocityVerlet;
-    let reference = run_all(&scene_probes(scene, REFERENCE_STEPS, integrator))?;
-    let t_c = timescale::shortest_contact_time(scene);
+    let reference = run_all(&scene_probes(scene, REFERENCE_STEPS, integrator)?)?;
+    let t_c = timescale::shortest_contact_time(scene)?;
     let mut best = f64::INFINITY;
     let candidates = std::iter::once(min_steps).chain(CANDIDATE_STEPS.iter().copied().filter(|&s| s > min_steps));
     for s in candidates {
         // A step so coarse that a probe overshoots the overlap limit fails the tolerance;
         // a finer one may not (the reference itself failing stops the search above).
-        let Ok(results) = run_all(&scene_probes(scene, s, integrator)) else {
+        let Ok(results) = run_all(&scene_probes(scene, s, integrator)?) else {
             continue;
         };
         let err = restitution_error(&results, &reference);
