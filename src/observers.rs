@@ -106,7 +106,7 @@ impl Observer for Recorder {
         if sim.time >= (self.snap_time)(self.frames) - 0.5 * sim.setup.dt {
             self.snapshot(sim)?;
         }
-        if sim.steps % self.every == 0 || sim.steps == self.last {
+        if sim.steps.is_multiple_of(self.every) || sim.steps == self.last {
             self.checkpoint(sim)?;
         }
         Ok(())
@@ -143,7 +143,7 @@ pub struct Progress<'a>(pub &'a ProgressBar);
 
 impl Observer for Progress<'_> {
     fn observe(&mut self, sim: &Simulation) -> Result<(), ObserverError> {
-        if sim.steps % 1000 == 0 {
+        if sim.steps.is_multiple_of(1000) {
             self.0.set_position(sim.steps);
         }
         Ok(())

@@ -115,4 +115,39 @@ seed = 1
         let e = parse(SCENE, &["run.durration=5".into()], "s/base.toml").unwrap_err();
         assert_eq!(e.key, "--set run.durration=5", "{e}");
     }
+
+    /// Dotted keys of a TOML table (`table.key`), nested tables walked.
+    fn keys(prefix: &str, table: &toml::Table, out: &mut Vec<String>) {
+        for (k, v) in table {
+            let key = if prefix.is_empty() { k.clone() } else { format!("{prefix}.{k}") };
+            match v {
+                toml::Value::Table(t) => keys(&key, t, out),
+                _ => out.push(key),
+            }
+        }
+    }
+
+    #[test]
+    fn every_scene_key_is_documented() {
+        // Every optional key set (and off its default where a default is left out of the
+        // written scene), so that the written scene holds every key the parser accepts.
+        let set = [
+            "box.height=0.1",
+            "contact.kn=1e3",
+            "contact.gamma_n=0.1",
+            "contact.tangential_stiffness=300",
+            "run.restitution_tolerance=1e-3",
+            "run.integrator=thesis",
+            "automaton.cell=1e-3",
+            "automaton.activation=0.5",
+        ];
+        let file = parse(SCENE, &set.map(String::from), "test").unwrap();
+        let doc: toml::Table = toml::from_str(&file.to_toml().unwrap()).unwrap();
+        let mut all = Vec::new();
+        keys("", &doc, &mut all);
+        assert!(all.len() > 40, "{all:?}");
+        let docs = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/scenes.md")).unwrap();
+        let missing: Vec<&String> = all.iter().filter(|k| !docs.contains(&format!("`{k}`"))).collect();
+        assert!(missing.is_empty(), "docs/scenes.md does not document {missing:?}");
+    }
 }

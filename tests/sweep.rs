@@ -133,7 +133,7 @@ fn a_tiny_sweep_runs_through_gnu_parallel() {
     let dir = tmp("parallel");
     let samples = tmp("parallel-samples");
     let bin = env!("CARGO_BIN_EXE_stripes");
-    // Exactly the README's recipe: one shard per parallel task, then collect.
+    // Exactly the recipe of docs/guide.md: one shard per parallel task, then collect.
     let script = format!(
         "parallel --will-cite --halt now,fail=1 -j 2 '{bin} phase-map {} {} --out {} --sample-cache {} --jobs 1 --shard {{}}/4 > /dev/null' ::: 0 1 2 3",
         scene().display(),

@@ -154,6 +154,15 @@ pub struct Params {
     pub seed: u64,
 }
 
+/// Which half step runs: the run's seed and the half step's number `t` (they key the random
+/// bits), and whether grains fly towards -x.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Tick {
+    pub seed: u64,
+    pub t: u64,
+    pub left: bool,
+}
+
 /// The resolved per-half-step numbers both update paths use.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) struct Resolved {

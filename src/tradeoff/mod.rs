@@ -304,22 +304,33 @@ pub fn run(config: &Config, mut progress: impl FnMut(&str)) -> Result<Vec<Row>, 
 /// A row for a setting the method refused or that failed while running: the error says why.
 pub(crate) fn failed(s: &Setting, study: Study, e: SimError) -> Row {
     Row {
-        name: s.name.clone(),
-        study,
-        axis: s.axis.into(),
-        speed_ratio: f64::NAN,
-        error: f64::NAN,
-        wall_s: f64::NAN,
-        dt: f64::NAN,
         steps_per_contact: s.steps.unwrap_or(f64::NAN),
-        eps_error: None,
-        energy_error: None,
-        density_distance: None,
-        stripes: None,
-        onset_s: None,
-        neighbor_builds: None,
-        on_front: false,
         outcome: format!("refused: {e}"),
+        ..Row::blank(s.name.clone(), study, s.axis)
+    }
+}
+
+impl Row {
+    /// A row that measured nothing yet: numbers NaN, optional measures absent, off the front.
+    pub(crate) fn blank(name: String, study: Study, axis: &str) -> Row {
+        Row {
+            name,
+            study,
+            axis: axis.into(),
+            speed_ratio: f64::NAN,
+            error: f64::NAN,
+            wall_s: f64::NAN,
+            dt: f64::NAN,
+            steps_per_contact: f64::NAN,
+            eps_error: None,
+            energy_error: None,
+            density_distance: None,
+            stripes: None,
+            onset_s: None,
+            neighbor_builds: None,
+            on_front: false,
+            outcome: String::new(),
+        }
     }
 }
 
@@ -380,22 +391,12 @@ mod tests {
 
     fn row(study: Study, speed: f64, error: f64) -> Row {
         Row {
-            name: format!("{speed} {error}"),
-            study,
-            axis: "time step".into(),
             speed_ratio: speed,
             error,
             wall_s: 1.0,
             dt: 1.0,
             steps_per_contact: 1.0,
-            eps_error: None,
-            energy_error: None,
-            density_distance: None,
-            stripes: None,
-            onset_s: None,
-            neighbor_builds: None,
-            on_front: false,
-            outcome: String::new(),
+            ..Row::blank(format!("{speed} {error}"), study, "time step")
         }
     }
 

@@ -80,6 +80,29 @@ pub struct Collision {
     pub integrator: Integrator,
 }
 
+impl Collision {
+    /// Two equal spheres of radius `radius` (m) and density `density` (kg/m^3), without
+    /// spin, meeting with `impact` under `law`, at `steps` steps per contact time, with
+    /// velocity Verlet.
+    pub fn equal_spheres(law: ContactLaw, radius: f64, density: f64, impact: Impact, steps: f64) -> Self {
+        let m = density * 4.0 / 3.0 * std::f64::consts::PI * radius.powi(3);
+        Collision {
+            law,
+            r1: radius,
+            m1: m,
+            omega1: Vec3::zeros(),
+            target: Target::Sphere {
+                r: radius,
+                m,
+                omega: Vec3::zeros(),
+            },
+            impact,
+            step: StepSize::PerContact(steps),
+            integrator: Integrator::VelocityVerlet,
+        }
+    }
+}
+
 /// Outcome of a collision. Serialises to the JSON of SPEC section 5.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct CollisionResult {
