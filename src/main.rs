@@ -56,6 +56,9 @@ enum Command {
     Automaton(commands::automaton::Args),
     /// DEM and automaton on the same scene and sample, analysed alike: report.md.
     Compare(commands::compare::Args),
+    /// Held, rolling and sliding grains inside and outside the dense bands of a finished run,
+    /// continued from its checkpoint (thesis 3.4, 3.5).
+    Mechanism(commands::mechanism::Args),
     /// Speed against error of every accuracy-for-speed choice (time step, Young's modulus,
     /// integrator, 2D/3D, normal law, neighbour skin): Markdown table and Pareto plot.
     Bench(commands::bench::Args),
@@ -76,6 +79,7 @@ fn main() -> ExitCode {
         Command::Automaton(a) => commands::automaton::run(a),
         Command::Compare(a) => commands::compare::run(a),
         Command::Bench(a) => commands::bench::run(a),
+        Command::Mechanism(a) => commands::mechanism::run(a),
     };
     match result {
         Ok(summary) => {

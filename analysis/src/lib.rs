@@ -10,6 +10,7 @@
 //! - [`autocorr`]: autocorrelation (eq 3.32);
 //! - [`tracer`]: tracer trajectory and phase space;
 //! - [`segregation`]: radius distribution inside stripes against the whole layer;
+//! - [`mechanism`]: held, rolling and sliding grains inside and outside bands (thesis 3.4);
 //! - [`classify`]: the phase of a run, `nothing | stripes | gas`, with its metrics;
 //! - [`report`]: all of the above for one run;
 //! - [`input`], [`snapshot`], [`lammps`]: reading runs (DEM and automaton snapshots, LAMMPS dumps);
@@ -24,6 +25,7 @@ pub mod input;
 pub mod io;
 pub mod lammps;
 pub mod lammps_data;
+pub mod mechanism;
 pub mod msd;
 pub mod plot;
 pub mod report;

@@ -121,6 +121,12 @@ fn padded(values: impl Iterator<Item = f64>, log: bool) -> Option<Range<f64>> {
 }
 
 /// Short tick labels: plain for moderate magnitudes, scientific otherwise.
+/// [`tick`] on an axis spanning `span`: a tick within `1e-9 span` of zero is zero (the mesh's
+/// accumulated round-off drew `-1.11e-16` where 0 was meant).
+fn tick_on(v: f64, span: f64) -> String {
+    tick(if v.abs() <= 1e-9 * span.abs() { 0.0 } else { v })
+}
+
 fn tick(v: f64) -> String {
     let a = v.abs();
     if v == 0.0 {
@@ -234,6 +240,8 @@ impl LinePlot {
             .y_label_area_size(95)
             .build_cartesian_2d(x, y)
             .map_err(perr)?;
+        let (xr, yr) = (chart.x_range(), chart.y_range());
+        let (x_span, y_span) = (xr.end - xr.start, yr.end - yr.start);
         chart
             .configure_mesh()
             .x_desc(&self.x_label)
@@ -242,8 +250,8 @@ impl LinePlot {
             .y_labels(10)
             .label_style((FAMILY, 16))
             .axis_desc_style((FAMILY, 19))
-            .x_label_formatter(&|v| tick(*v))
-            .y_label_formatter(&|v| tick(*v))
+            .x_label_formatter(&|v| tick_on(*v, x_span))
+            .y_label_formatter(&|v| tick_on(*v, y_span))
             .light_line_style(RGBColor(235, 235, 235))
             .draw()
             .map_err(perr)?;
@@ -569,6 +577,8 @@ mod tests {
         assert_eq!(tick(0.25), "0.25");
         assert_eq!(tick(0.0), "0");
         assert_eq!(tick(1e5), "1e5");
+        assert_eq!(tick_on(-1.11e-16, 0.9), "0", "round-off at zero");
+        assert_eq!(tick_on(-1e-7, 1e-6), "-1e-7", "small values on a small axis stay");
     }
 
     #[test]

@@ -19,7 +19,9 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::autocorr;
-use crate::classify::{cell_std, classify, random_layer_sigma, Classification, ClassifyParams, Phase};
+use crate::classify::{
+    cell_std, classify, persistence_window, random_layer_sigma, time_average, Classification, ClassifyParams, Evidence, Phase,
+};
 use crate::density::{add_area_fraction_cells, mean_area_fraction};
 use crate::msd::{fit_plateau, half_msd, median_spacing, MsdPoint, Plateau};
 use crate::segregation::{RadiusBins, RadiusDistribution, RadiusTally};
@@ -152,6 +154,7 @@ pub struct Summary {
     pub contrast: f64,
     pub mobility: f64,
     pub tail_stripe_count: usize,
+    pub stationary_stripe_count: usize,
     pub classify_params: ClassifyParams,
     pub msd_plateau_before: Option<f64>,
     pub msd_plateau_before_stderr: Option<f64>,
@@ -185,6 +188,7 @@ impl Report {
             contrast: self.classification.contrast,
             mobility: self.classification.mobility,
             tail_stripe_count: self.classification.tail_stripe_count,
+            stationary_stripe_count: self.classification.stationary_stripe_count,
             classify_params: self.classification.params,
             msd_plateau_before: self.plateau_before.map(|p| p.value),
             msd_plateau_before_stderr: self.plateau_before.map(|p| p.stderr),
@@ -438,7 +442,17 @@ impl Analyzer {
         } else {
             (2.0 * tail_d.iter().sum::<f64>() / tail_d.len() as f64).sqrt() / self.mean_d
         };
-        let classification = classify(contrast, mobility, tail_count, self.opts.classify);
+        let stationary = persistence_window(&self.times, tail_from, self.period, self.opts.classify.persistence_periods)
+            .map_or(0, |from| detect(&time_average(&self.map[from..]), l, &self.params).len());
+        let classification = classify(
+            Evidence {
+                contrast,
+                mobility,
+                tail_stripe_count: tail_count,
+                stationary_stripe_count: stationary,
+            },
+            self.opts.classify,
+        );
 
         // Plateaus of D.
         let (before, after) = match onset_s {

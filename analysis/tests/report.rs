@@ -208,3 +208,62 @@ mod invariance {
         }
     }
 }
+
+/// Regression (issue: the classifier called the DEM's three stationary bands at packing 0.46
+/// `gas`, contrast 1.89): bands that hold their places for many periods while the grains
+/// between them are a gas are `stripes`, at a contrast below 2. The same bands redrawn at a
+/// random place every period (short-lived bands) are `gas`, and the frozen layer `nothing`.
+#[test]
+fn stationary_bands_between_mobile_grains_are_stripes_short_lived_bands_a_gas() {
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(11);
+    let (k, band) = (4, 0.016);
+    let bands = jammed_banded_layer(k, 0.05, band, 0.76, 0.34, 6);
+    let gap = L / k as f64 - band;
+    // Band of grain x (index of the band whose centre is within band/2), if any.
+    let home = |x: f64, offset: f64| -> (usize, bool) {
+        let u = (x - offset + 0.5 * band).rem_euclid(L);
+        let j = (u / (L / k as f64)) as usize;
+        (j.min(k - 1), u - j as f64 * L / k as f64 <= band)
+    };
+    // Grains of the bands jitter by 0.2 mm; grains between them are redrawn anywhere in
+    // their own gap every period (a gas). `shift` moves the whole pattern.
+    let step = |shift: f64, rng: &mut rand_chacha::ChaCha8Rng| Layer {
+        x: bands
+            .x
+            .iter()
+            .map(|&x| {
+                let (j, inside) = home(x, 0.05);
+                let x = if inside {
+                    x + rng.gen_range(-2e-4..2e-4)
+                } else {
+                    0.05 + j as f64 * L / k as f64 + 0.5 * band + rng.gen_range(0.0..gap)
+                };
+                (x + shift).rem_euclid(L)
+            })
+            .collect(),
+        y: bands.y.clone(),
+        r: bands.r.clone(),
+    };
+    let stationary: Vec<Frame> = (0..40).map(|i| frame(i as f64 * T, &step(0.0, &mut rng))).collect();
+    let r = analyze(&header(&bands), &stationary, &Options::default()).unwrap();
+    let c = r.classification;
+    assert!(c.contrast < 2.0, "the case the old rule missed: contrast {}", c.contrast);
+    assert!(c.mobility > 1.0, "grains between bands are mobile: {}", c.mobility);
+    assert_eq!(c.stationary_stripe_count, k, "{c:?}");
+    assert_eq!(c.phase, Phase::Stripes, "{c:?}");
+    // Short-lived bands: the same pattern at a random place each period.
+    let moving: Vec<Frame> = (0..40)
+        .map(|i| frame(i as f64 * T, &step(rng.gen_range(0.0..L), &mut rng)))
+        .collect();
+    let r = analyze(&header(&bands), &moving, &Options::default()).unwrap();
+    let c = r.classification;
+    assert_eq!(c.stationary_stripe_count, 0, "{c:?}");
+    assert_eq!(c.phase, Phase::Gas, "{c:?}");
+    // Frozen: nothing, even though the bands hold their places.
+    let frozen: Vec<Frame> = (0..40).map(|i| frame(i as f64 * T, &bands)).collect();
+    let r = analyze(&header(&bands), &frozen, &Options::default()).unwrap();
+    assert_eq!(r.classification.phase, Phase::Nothing);
+    // Fewer than ten periods cannot show persistence: only the contrast rule remains.
+    let r = analyze(&header(&bands), &stationary[..8], &Options::default()).unwrap();
+    assert_eq!(r.classification.stationary_stripe_count, 0);
+}

@@ -24,7 +24,7 @@ pub struct Args {
     /// Cell width of the density map (m); the area fraction is averaged exactly per cell.
     #[arg(long, default_value_t = 1e-3)]
     pub cell: f64,
-    /// Stripe threshold on the area fraction (default: 1.5 x the layer's mean).
+    /// Stripe threshold on the area fraction (default: 1.5 x the layer's mean, at most halfway from the mean to the jammed 0.82)
     #[arg(long)]
     pub threshold: Option<f64>,
     /// Minimum stripe width (m; default: five mean grain diameters).
@@ -59,6 +59,10 @@ pub struct Args {
     /// Classifier: at or above this contrast (x random layer), with stripes, the phase is `stripes`.
     #[arg(long, default_value_t = 2.0)]
     pub contrast_min: f64,
+    /// Classifier: drive periods over which a band must hold its place (in the time-averaged
+    /// profile) to count as a stationary stripe, whatever the contrast.
+    #[arg(long, default_value_t = 10.0)]
+    pub persistence_periods: f64,
 }
 
 impl Default for Args {
@@ -80,6 +84,7 @@ impl Default for Args {
             plateau_after: None,
             mobility_min: analysis::classify::ClassifyParams::default().mobility_min,
             contrast_min: analysis::classify::ClassifyParams::default().contrast_min,
+            persistence_periods: analysis::classify::ClassifyParams::default().persistence_periods,
         }
     }
 }
@@ -114,6 +119,10 @@ impl Args {
         };
         o.classify.mobility_min = self.mobility_min;
         o.classify.contrast_min = self.contrast_min;
+        if !(self.persistence_periods.is_finite() && self.persistence_periods > 0.0) {
+            return Err(format!("--persistence-periods must be a positive number, got {}", self.persistence_periods).into());
+        }
+        o.classify.persistence_periods = self.persistence_periods;
         Ok(o)
     }
 }

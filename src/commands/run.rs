@@ -56,7 +56,7 @@ pub struct Args {
 /// What a checkpoint must match to be resumed: the scene and its sample, except the keys that
 /// do not change the trajectory (`run.threads`, `run.checkpoint_interval`) or only say where
 /// it stops (`run.duration`, so a finished run can be extended with `--resume`).
-fn checkpoint_fingerprint(scene: &Scene) -> Result<u64, CliError> {
+pub(crate) fn checkpoint_fingerprint(scene: &Scene) -> Result<u64, CliError> {
     let mut s = scene.clone();
     s.run.threads = 0;
     s.run.checkpoint_interval = 0.0;

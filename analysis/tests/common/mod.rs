@@ -61,6 +61,14 @@ impl Grid {
 /// Adds grains by random sequential addition until the region `[a, a + len)` (periodic)
 /// reaches the projected area fraction `phi`. Grains never overlap one another.
 pub fn fill(layer: &mut Layer, rng: &mut ChaCha8Rng, a: f64, len: f64, phi: f64) {
+    fill_with(layer, rng, a, len, phi, false)
+}
+
+/// [`fill`], but with `overlap` the grains sit at independent uniform positions and may
+/// overlap: how a synthetic band reaches the area fraction of a jammed DEM band (0.75),
+/// beyond the 0.55 at which random sequential addition of disks jams. The projected area
+/// the analysis reads is the same either way.
+pub fn fill_with(layer: &mut Layer, rng: &mut ChaCha8Rng, a: f64, len: f64, phi: f64, overlap: bool) {
     let mut grid = Grid::of(layer);
     let target = phi * len * W;
     let mut area = 0.0;
@@ -69,7 +77,7 @@ pub fn fill(layer: &mut Layer, rng: &mut ChaCha8Rng, a: f64, len: f64, phi: f64)
         let r = rng.gen_range(RMIN..RMAX);
         let x = (a + rng.gen_range(0.0..len)).rem_euclid(L);
         let y = rng.gen_range(r..W - r);
-        if grid.free(layer, x, y, r) {
+        if overlap || grid.free(layer, x, y, r) {
             grid.push(layer, x, y, r);
             area += std::f64::consts::PI * r * r;
             misses = 0;
@@ -107,6 +115,16 @@ pub fn random_layer(n: usize, seed: u64) -> Layer {
 /// `k` dense bands (area fraction `dense`, width `band` m) centred at
 /// `offset + j L / k`, on a sparse background (area fraction `sparse`).
 pub fn banded_layer(k: usize, offset: f64, band: f64, dense: f64, sparse: f64, seed: u64) -> Layer {
+    banded_layer_with(k, offset, band, dense, sparse, seed, false)
+}
+
+/// [`banded_layer`] whose bands may be as dense as a jammed DEM band: grains in the bands
+/// at independent positions ([`fill_with`] with `overlap`).
+pub fn jammed_banded_layer(k: usize, offset: f64, band: f64, dense: f64, sparse: f64, seed: u64) -> Layer {
+    banded_layer_with(k, offset, band, dense, sparse, seed, true)
+}
+
+fn banded_layer_with(k: usize, offset: f64, band: f64, dense: f64, sparse: f64, seed: u64, overlap: bool) -> Layer {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let mut layer = Layer {
         x: Vec::new(),
@@ -116,7 +134,7 @@ pub fn banded_layer(k: usize, offset: f64, band: f64, dense: f64, sparse: f64, s
     for j in 0..k {
         let c = offset + j as f64 * L / k as f64;
         // Keep RMAX clear of the band edges so grains stay inside.
-        fill(&mut layer, &mut rng, c - 0.5 * band + RMAX, band - 2.0 * RMAX, dense);
+        fill_with(&mut layer, &mut rng, c - 0.5 * band + RMAX, band - 2.0 * RMAX, dense, overlap);
     }
     for j in 0..k {
         let start = offset + j as f64 * L / k as f64 + 0.5 * band + RMAX;
