@@ -17,15 +17,21 @@
 //! - Sliding threshold `A (2 pi nu)^2 > mu_wall g`; knock probability from the DEM's peak
 //!   sliding speed.
 
+use std::path::Path;
+use std::time::Instant;
+
 use analysis::snapshot::{Header, SnapshotWriter};
 use automaton::mapping::{self, FreeParams, SlideMeasure, TrayDrive};
-use automaton::{Lateral, Lattice, Params, RuleSet, YBoundary};
+use automaton::{Automaton, Direction};
+use automaton::{Lattice, Params, RuleSet, YBoundary};
+use indicatif::ProgressBar;
 use particles::experiment::single::SphereOnFloor;
-use particles::scene::{AutomatonLateral, AutomatonRule, Scene, TimeStep};
+use particles::scene::{Scene, TimeStep};
 use particles::tray::GRAVITY;
 use serde::Serialize;
 
-use crate::output::CliError;
+use crate::output::{progress_bar, CliError};
+use crate::scene_file::SceneFile;
 
 /// Periods of the single-sphere run behind the flight cap.
 pub const SLIDE_PERIODS: f64 = 4.0;
@@ -41,8 +47,9 @@ pub struct Cells {
 }
 
 impl Cells {
-    pub fn of(scene: &Scene) -> Self {
-        let d = scene
+    pub fn of(file: &SceneFile) -> Self {
+        let scene = &file.dem;
+        let d = file
             .automaton
             .cell
             .unwrap_or(scene.particles.radius_min + scene.particles.radius_max);
@@ -71,9 +78,9 @@ pub fn tray_drive(scene: &Scene) -> TrayDrive {
 pub fn slide_dem(scene: &Scene) -> Result<SlideMeasure, CliError> {
     let dt = match scene.run.dt {
         TimeStep::Seconds(dt) => dt,
-        TimeStep::Auto(_) => particles::tray::shortest_contact_time(scene) / scene.run.steps_per_contact,
+        TimeStep::Auto(_) => particles::tray::shortest_contact_time(scene)? / scene.run.steps_per_contact,
     };
-    let sphere = SphereOnFloor::on_scene(scene, 0.5 * (scene.particles.radius_min + scene.particles.radius_max), dt);
+    let sphere = SphereOnFloor::on_scene(scene, 0.5 * (scene.particles.radius_min + scene.particles.radius_max), dt)?;
     let duration = SLIDE_PERIODS / scene.drive.frequency;
     let every = ((1.0 / scene.drive.frequency) / dt / 400.0).max(1.0) as u64;
     let samples = sphere.shake(scene.drive.amplitude, scene.drive.frequency, duration, every)?;
@@ -121,31 +128,11 @@ pub fn lattice_from_positions(cells: &Cells, length: f64, pos: &[[f64; 2]]) -> (
     (Lattice::from_heights(nx, ny, &h).expect("sizes match"), displaced, stacked)
 }
 
-/// The free parameters of a scene's `[automaton]` table.
-pub fn free_params(scene: &Scene) -> FreeParams {
-    let a = &scene.automaton;
-    FreeParams {
-        activation: a.stochastic.then_some(a.activation),
-        knock_speed: a.knock.then_some(a.knock_speed),
-        sideways: a.sideways.then_some(a.sideways_probability),
-        lateral: match a.lateral {
-            AutomatonLateral::None => Lateral::None,
-            AutomatonLateral::Neighbours => Lateral::Neighbours,
-            AutomatonLateral::Clusters => Lateral::Clusters,
-        },
-        threshold: a.threshold,
-        flight_cap: a.flight_cap,
-    }
-}
-
 /// The automaton's parameters for a scene, given the measured slide.
-pub fn params(scene: &Scene, rule: AutomatonRule, slide: &SlideMeasure, free: &FreeParams) -> Params {
-    let cells = Cells::of(scene);
+pub fn params(file: &SceneFile, rule: RuleSet, slide: &SlideMeasure, free: &FreeParams) -> Params {
+    let (scene, cells) = (&file.dem, Cells::of(file));
     Params {
-        rule: match rule {
-            AutomatonRule::Strict => RuleSet::Strict,
-            AutomatonRule::Physical => RuleSet::Physical,
-        },
+        rule,
         physical: mapping::physical(&tray_drive(scene), slide, cells.dx, free),
         y: if scene.toggles.walls {
             YBoundary::Walls
@@ -208,4 +195,110 @@ impl StateWriter {
     pub fn sync(&mut self) -> Result<(), CliError> {
         Ok(self.writer.sync()?)
     }
+}
+
+/// Loads and checks a scene, including its [automaton] table.
+pub fn load_scene(path: &Path, overrides: &[String]) -> Result<SceneFile, CliError> {
+    let file = crate::scene_file::load(path, overrides)?;
+    file.validate()?;
+    Ok(file)
+}
+
+/// The result of one automaton run on a scene (before analysis).
+pub struct Outcome {
+    pub periods: u64,
+    pub half_steps: u64,
+    pub stepping_s: f64,
+    pub cells: Cells,
+    pub mass: (u64, u64),
+}
+
+/// Runs the automaton from `lattice` for the scene's duration, writing `snapshots.bin` into
+/// `out` if given; calls `frame` with every state.
+pub fn evolve(
+    file: &SceneFile,
+    lattice: automaton::Lattice,
+    params: automaton::Params,
+    snapshots: Option<&Path>,
+    radius: f64,
+    bar: &ProgressBar,
+    mut frame: impl FnMut(f64, &automaton::Lattice),
+) -> Result<Outcome, CliError> {
+    let (scene, cells) = (&file.dem, Cells::of(file));
+    let nu = scene.drive.frequency;
+    let periods = (scene.run.duration * nu).round().max(1.0) as u64;
+    let m0 = lattice.mass();
+    let mut writer = match snapshots {
+        Some(p) => Some(StateWriter::create(
+            p,
+            cells,
+            scene.tray.length,
+            scene.tray.width,
+            m0 as usize,
+            radius,
+            scene.particles.radius_min + scene.particles.radius_max,
+        )?),
+        None => None,
+    };
+    let mut a = Automaton::new(lattice, params, Direction::Plus)?;
+    if let Some(w) = writer.as_mut() {
+        w.push(0.0, 0.0, a.lattice())?;
+    }
+    frame(0.0, a.lattice());
+    bar.set_length(periods);
+    let mut stepping = 0.0;
+    for k in 1..=periods {
+        let t0 = Instant::now();
+        a.period();
+        stepping += t0.elapsed().as_secs_f64();
+        let t = 0.25 / nu + (k - 1) as f64 / nu;
+        if let Some(w) = writer.as_mut() {
+            w.push(t, scene.drive.amplitude, a.lattice())?;
+        }
+        frame(t, a.lattice());
+        bar.set_position(k);
+    }
+    if let Some(w) = writer.as_mut() {
+        w.sync()?;
+    }
+    let m1 = a.lattice().mass();
+    if m1 != m0 {
+        return Err(format!("automaton lost grains: {m0} -> {m1}").into());
+    }
+    Ok(Outcome {
+        periods,
+        half_steps: a.half_steps(),
+        stepping_s: stepping,
+        cells,
+        mass: (m0, m1),
+    })
+}
+
+/// Everything the automaton takes from a scene and its sample.
+pub struct Setup {
+    pub lattice: automaton::Lattice,
+    pub slide_dem: mapping::SlideMeasure,
+    pub slide_coulomb: mapping::SlideMeasure,
+    pub displaced: usize,
+    pub stacked: usize,
+    /// Radius written for every grain: sqrt(<r^2>) of the sample (same projected area).
+    pub radius: f64,
+}
+
+pub fn setup(file: &SceneFile, samples: &Path, quiet: bool) -> Result<Setup, CliError> {
+    let scene = &file.dem;
+    let b = progress_bar(1000, quiet, "prepare");
+    let (state, _) = crate::samples::load_or_prepare(scene, samples, |f| b.set_position((f * 1000.0) as u64))?;
+    b.finish_and_clear();
+    let pos: Vec<[f64; 2]> = state.pos.iter().map(|p| [p.x, p.y]).collect();
+    let (lattice, displaced, stacked) = lattice_from_positions(&Cells::of(file), scene.tray.length, &pos);
+    let r2 = state.radius.iter().map(|r| r * r).sum::<f64>() / state.radius.len().max(1) as f64;
+    Ok(Setup {
+        lattice,
+        slide_dem: slide_dem(scene)?,
+        slide_coulomb: mapping::coulomb_slide(&tray_drive(scene), 6, 20000),
+        displaced,
+        stacked,
+        radius: r2.sqrt(),
+    })
 }

@@ -6,9 +6,14 @@
 //! (`config.json`) and `summary.json`, and prints that summary as the last line of stdout.
 
 mod cellular;
+mod clock;
 mod commands;
+mod observers;
 mod output;
+mod samples;
+mod scene_file;
 mod sweep;
+mod tradeoff;
 
 use std::process::ExitCode;
 

@@ -52,6 +52,7 @@ impl SweepArgs {
         sweep: &Sweep,
         report: impl Fn(&Path, &Sweep) -> Result<Value, CliError>,
     ) -> Result<String, CliError> {
+        check_jobs(sweep)?;
         store(root, sweep)?;
         let parallel = self
             .jobs
@@ -133,18 +134,31 @@ impl std::str::FromStr for Shard {
     }
 }
 
-/// Parses `LO:HI:N` into N evenly spaced values (N = 1 gives LO).
+/// Parses `LO:HI:N` into N evenly spaced values (N = 1 gives LO). Errors name the option
+/// `--what` and say what is wrong: the shape, a number, LO above HI, or N = 0.
 pub fn parse_range(s: &str, what: &str) -> Result<Vec<f64>, String> {
     let parts: Vec<&str> = s.split(':').collect();
-    let bad = || format!("--{what} wants LO:HI:N, e.g. 5:29:7, got `{s}`");
     if parts.len() != 3 {
-        return Err(bad());
+        return Err(format!("--{what} wants LO:HI:N, e.g. 5:29:7, got `{s}`"));
     }
-    let lo: f64 = parts[0].trim().parse().map_err(|_| bad())?;
-    let hi: f64 = parts[1].trim().parse().map_err(|_| bad())?;
-    let n: usize = parts[2].trim().parse().map_err(|_| bad())?;
-    if n == 0 || !lo.is_finite() || !hi.is_finite() || hi < lo {
-        return Err(bad());
+    let number = |p: &str, name: &str| -> Result<f64, String> {
+        match p.trim().parse::<f64>() {
+            Ok(x) if x.is_finite() => Ok(x),
+            _ => Err(format!("--{what} {s}: {name} `{p}` is not a finite number")),
+        }
+    };
+    let (lo, hi) = (number(parts[0], "LO")?, number(parts[1], "HI")?);
+    let n: usize = parts[2]
+        .trim()
+        .parse()
+        .map_err(|_| format!("--{what} {s}: N `{}` is not a whole number of points", parts[2]))?;
+    if n == 0 {
+        return Err(format!("--{what} {s}: N = 0 asks for no points; N must be at least 1"));
+    }
+    if hi < lo {
+        return Err(format!(
+            "--{what} {s}: LO = {lo} is above HI = {hi}; write the range from low to high"
+        ));
     }
     Ok((0..n)
         .map(|k| if n == 1 { lo } else { lo + (hi - lo) * k as f64 / (n - 1) as f64 })
@@ -303,41 +317,60 @@ pub fn unfinished_section(root: &Path, sweep: &Sweep) -> String {
     md
 }
 
+/// Every override of a job: the sweep's, the job's, and one thread per job (jobs are the
+/// parallel unit, and results do not depend on threads).
+fn job_overrides(sweep: &Sweep, job: &Job) -> Vec<String> {
+    let mut overrides = sweep.overrides.clone();
+    overrides.extend(job.overrides.iter().cloned());
+    overrides.push("run.threads=1".into());
+    overrides
+}
+
+/// Checks the scene of every job (the sweep's scene with the job's overrides) before any job
+/// starts, so a bad value fails the sweep at once, naming the job and the key, instead of
+/// failing its jobs one by one after others have run.
+pub fn check_jobs(sweep: &Sweep) -> Result<(), CliError> {
+    for job in &sweep.jobs {
+        let blame = |e: &dyn std::fmt::Display| format!("job `{}` ({} of the sweep): {e}", job.id, sweep.kind);
+        let file = crate::scene_file::load(&sweep.scene, &job_overrides(sweep, job)).map_err(|e| blame(&e))?;
+        file.validate().map_err(|e| blame(&e))?;
+        if let particles::scene::TimeStep::Seconds(_) = file.dem.run.dt {
+            particles::tray::time_step(&file.dem).map_err(|e| blame(&e))?;
+        }
+    }
+    Ok(())
+}
+
 /// Runs one job: the model into `jobs/<id>/run`, the shared analysis into `jobs/<id>/analysis`,
 /// then `result.json` (labels + the analysis summary), atomically and last.
 fn run_job(root: &Path, sweep: &Sweep, job: &Job, samples: &Path) -> Result<(), CliError> {
+    use crate::commands::{analyze, automaton, run};
     let dir = job_dir(root, job);
-    let mut overrides = sweep.overrides.clone();
-    overrides.extend(job.overrides.iter().cloned());
-    // One thread per job: jobs are the parallel unit, and results do not depend on threads.
-    overrides.push("run.threads=1".into());
     let run_dir = dir.join("run");
+    let overrides = job_overrides(sweep, job);
     let model_summary = match job.model {
-        Model::Dem => {
-            let mut argv: Vec<String> = vec![sweep.scene.display().to_string(), "--quiet".into()];
-            argv.extend(["--out".into(), run_dir.display().to_string()]);
-            argv.extend(["--samples".into(), samples.display().to_string()]);
-            for o in &overrides {
-                argv.extend(["--set".into(), o.clone()]);
-            }
-            crate::commands::run::run(parse_args(&argv)?)?
-        }
-        Model::Automaton => {
-            let mut argv: Vec<String> = vec![sweep.scene.display().to_string(), "--quiet".into()];
-            argv.extend(["--out".into(), run_dir.display().to_string()]);
-            argv.extend(["--samples".into(), samples.display().to_string()]);
-            for o in &overrides {
-                argv.extend(["--set".into(), o.clone()]);
-            }
-            crate::commands::automaton::run(parse_args(&argv)?)?
-        }
+        Model::Dem => run::run(run::Args {
+            scene: sweep.scene.clone(),
+            out: Some(run_dir.clone()),
+            overrides,
+            samples: samples.to_path_buf(),
+            quiet: true,
+            ..run::Args::default()
+        })?,
+        Model::Automaton => automaton::run(automaton::Args {
+            scene: Some(sweep.scene.clone()),
+            out: Some(run_dir.clone()),
+            overrides,
+            samples: samples.to_path_buf(),
+            quiet: true,
+            ..automaton::Args::default()
+        })?,
     };
-    let analysis_argv = [
-        run_dir.display().to_string(),
-        "--out".into(),
-        dir.join("analysis").display().to_string(),
-    ];
-    let analysis = crate::commands::analyze::run(parse_args(&analysis_argv)?)?;
+    let analysis = analyze::run(analyze::Args {
+        input: run_dir,
+        out: Some(dir.join("analysis")),
+        ..analyze::Args::default()
+    })?;
     let model: Value = serde_json::from_str(&model_summary)?;
     let analysis: Value = serde_json::from_str(&analysis)?;
     let mut result = serde_json::Map::new();
@@ -353,17 +386,6 @@ fn run_job(root: &Path, sweep: &Sweep, job: &Job, samples: &Path) -> Result<(), 
     );
     analysis::io::write_json_atomic(&dir.join("result.json"), &Value::Object(result))?;
     Ok(())
-}
-
-/// Builds a subcommand's arguments from an argument list, exactly as the command line would.
-fn parse_args<A: clap::Args>(argv: &[String]) -> Result<A, CliError> {
-    #[derive(clap::Parser)]
-    struct Wrap<B: clap::Args> {
-        #[command(flatten)]
-        args: B,
-    }
-    let parsed = <Wrap<A> as clap::Parser>::try_parse_from(std::iter::once("stripes".to_string()).chain(argv.iter().cloned()))?;
-    Ok(parsed.args)
 }
 
 /// The results present, in job order, with the job each belongs to.
@@ -382,7 +404,7 @@ pub fn results(root: &Path, sweep: &Sweep) -> Result<Vec<(Job, Value)>, CliError
 /// The "Scale: ..." line of a sweep's report: scene, N, box, packing, duration, samples per
 /// `unit` (cell, configuration) and how many jobs have finished.
 pub fn scale_line(sweep: &Sweep, finished: usize, unit: &str) -> Result<String, CliError> {
-    let scene = particles::scene::Scene::load(&sweep.scene, &sweep.overrides)?;
+    let scene = crate::scene_file::load(&sweep.scene, &sweep.overrides)?.dem;
     let samples = sweep
         .jobs
         .iter()
@@ -424,7 +446,12 @@ mod tests {
         assert_eq!(parse_range("5:29:4", "frequency").unwrap(), vec![5.0, 13.0, 21.0, 29.0]);
         assert_eq!(parse_range("0.01:0.01:1", "amplitude").unwrap(), vec![0.01]);
         assert!(parse_range("5:29", "frequency").is_err());
-        assert!(parse_range("29:5:3", "frequency").is_err());
+        let e = parse_range("29:5:3", "frequency").unwrap_err();
+        assert!(e.contains("--frequency") && e.contains("LO = 29 is above HI = 5"), "{e}");
+        let e = parse_range("5:29:0", "amplitude").unwrap_err();
+        assert!(e.contains("--amplitude") && e.contains("N = 0"), "{e}");
+        let e = parse_range("5:x:3", "frequency").unwrap_err();
+        assert!(e.contains("HI `x`"), "{e}");
         assert_eq!("1/4".parse::<Shard>().unwrap(), Shard { index: 1, count: 4 });
         assert!("4/4".parse::<Shard>().is_err());
         assert!("x/2".parse::<Shard>().is_err());

@@ -133,7 +133,7 @@ fn a_tiny_sweep_runs_through_gnu_parallel() {
     let dir = tmp("parallel");
     let samples = tmp("parallel-samples");
     let bin = env!("CARGO_BIN_EXE_stripes");
-    // Exactly the README's recipe: one shard per parallel task, then collect.
+    // Exactly the recipe of docs/guide.md: one shard per parallel task, then collect.
     let script = format!(
         "parallel --will-cite --halt now,fail=1 -j 2 '{bin} phase-map {} {} --out {} --sample-cache {} --jobs 1 --shard {{}}/4 > /dev/null' ::: 0 1 2 3",
         scene().display(),
@@ -205,12 +205,13 @@ fn a_sweep_whose_jobs_fail_still_writes_a_report_naming_each_error() {
     let out = tmp("failing");
     let samples = tmp("failing-samples");
     let _ = std::fs::remove_dir_all(&out);
-    // A step far above the contact-time bound: every job stops before its first step.
+    // A ceiling below the grains' centres: every scene is valid (checked before any job
+    // starts), but every job stops at its start, when the grains are found outside the box.
     let o = stripes()
         .arg("phase-map")
         .arg(scene())
         .args(TINY)
-        .args(["--set", "run.dt=1e-3", "--out"])
+        .args(["--set", "box.height=1e-4", "--out"])
         .arg(&out)
         .arg("--sample-cache")
         .arg(&samples)
@@ -222,7 +223,7 @@ fn a_sweep_whose_jobs_fail_still_writes_a_report_naming_each_error() {
     let report = std::fs::read_to_string(out.join("report.md")).unwrap();
     assert!(report.contains("## Jobs that stopped with an error"), "{report}");
     assert_eq!(report.matches("stopped: ").count(), 4, "{report}");
-    assert!(report.contains("run.dt"), "{report}");
+    assert!(report.contains("left the box"), "{report}");
     let errors = std::fs::read_dir(out.join("jobs"))
         .unwrap()
         .filter(|e| e.as_ref().unwrap().path().join("error.txt").exists())
@@ -230,4 +231,53 @@ fn a_sweep_whose_jobs_fail_still_writes_a_report_naming_each_error() {
     assert_eq!(errors, 4);
     let _ = std::fs::remove_dir_all(&out);
     let _ = std::fs::remove_dir_all(&samples);
+}
+
+#[test]
+fn every_job_and_every_range_is_checked_before_any_job_starts() {
+    let (out, samples) = (tmp("preflight"), tmp("preflight-samples"));
+    let run = |extra: &[&str]| {
+        let o = stripes()
+            .arg("phase-map")
+            .arg(scene())
+            .args([
+                "--set",
+                "particles.count=60",
+                "--set",
+                "box.length=0.006",
+                "--set",
+                "run.duration=0.1",
+            ])
+            .args(["--model", "dem", "--quiet"])
+            .args(extra)
+            .arg("--out")
+            .arg(&out)
+            .arg("--sample-cache")
+            .arg(&samples)
+            .output()
+            .unwrap();
+        assert!(!o.status.success(), "accepted {extra:?}");
+        let err = String::from_utf8_lossy(&o.stderr).into_owned();
+        assert!(
+            !out.join("jobs").exists() && !samples.exists(),
+            "a job started before the check: {err}"
+        );
+        err
+    };
+    // A step far above the contact-time bound in every job: the sweep stops before the first.
+    let err = run(&["--frequency", "10:20:2", "--amplitude", "0.005:0.025:2", "--set", "run.dt=1e-3"]);
+    assert!(
+        err.contains("job `") && err.contains("run.dt") && !err.contains("job(s) failed"),
+        "{err}"
+    );
+    // Two of four jobs with a negative amplitude: named by job and key.
+    let err = run(&["--frequency", "10:20:2", "--amplitude=-0.01:0.01:2"]);
+    assert!(err.contains("job `") && err.contains("drive.amplitude"), "{err}");
+    let err = run(&["--frequency", "29:5:3", "--amplitude", "0.01:0.02:2"]);
+    assert!(
+        err.contains("--frequency 29:5:3") && err.contains("LO = 29 is above HI = 5"),
+        "{err}"
+    );
+    let err = run(&["--frequency", "5:29:3", "--amplitude", "0.01:0.02:0"]);
+    assert!(err.contains("--amplitude 0.01:0.02:0") && err.contains("N = 0"), "{err}");
 }

@@ -24,6 +24,7 @@ pub mod density;
 pub mod input;
 pub mod io;
 pub mod lammps;
+pub mod lammps_data;
 pub mod mechanism;
 pub mod msd;
 pub mod plot;

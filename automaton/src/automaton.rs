@@ -1,7 +1,7 @@
 //! The automaton: a lattice, its parameters, the half-step counter and preallocated buffers.
 
 use crate::lattice::{Lattice, Storage};
-use crate::params::{Params, Resolved};
+use crate::params::{Params, Resolved, Tick};
 use crate::scalar::{self, ScalarScratch};
 use crate::step::{self, BitScratch};
 
@@ -82,11 +82,15 @@ impl Automaton {
     /// One half period: flights, knock-through, sideways moves, resting.
     pub fn half_step(&mut self) {
         let left = self.direction() == Direction::Minus;
-        let (t, seed) = (self.half_steps, self.params.seed);
+        let tick = Tick {
+            seed: self.params.seed,
+            t: self.half_steps,
+            left,
+        };
         let l = &mut self.lattice;
         match &mut l.storage {
-            Storage::Bits(rows) => step::half_step(&l.shape, l.ny, rows, &self.resolved, seed, t, left, &mut self.bits),
-            Storage::Heights(h) => scalar::half_step(l.nx, l.ny, h, &self.resolved, seed, t, left, &mut self.bytes),
+            Storage::Bits(rows) => step::half_step(&l.shape, l.ny, rows, &self.resolved, tick, &mut self.bits),
+            Storage::Heights(h) => scalar::half_step(l.nx, l.ny, h, &self.resolved, tick, &mut self.bytes),
         }
         self.half_steps += 1;
     }

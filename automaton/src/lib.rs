@@ -25,8 +25,10 @@ pub mod mapping;
 pub mod params;
 mod rng;
 mod scalar;
+pub mod spec;
 mod step;
 
 pub use automaton::{Automaton, Direction};
 pub use lattice::Lattice;
 pub use params::{Activation, FlightCap, Knock, Lateral, Params, Physical, RuleSet, Sideways, Threshold, YBoundary};
+pub use spec::Spec;

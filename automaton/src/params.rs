@@ -15,6 +15,22 @@ pub enum RuleSet {
     Physical,
 }
 
+impl RuleSet {
+    /// Every name, as scene files and the command line write it.
+    pub const NAMES: &'static [&'static str] = &["strict", "physical"];
+}
+
+impl std::str::FromStr for RuleSet {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "strict" => Ok(RuleSet::Strict),
+            "physical" => Ok(RuleSet::Physical),
+            _ => Err(format!("unknown rule set `{s}`, expected one of {}", Self::NAMES.join(", "))),
+        }
+    }
+}
+
 /// Sliding threshold: grains slide on the tray only when its peak acceleration
 /// `A (2 pi nu)^2` exceeds what floor friction can transmit, `mu g`.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -67,7 +83,7 @@ pub enum Knock {
 
 /// Contacts with the neighbouring rows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case", tag = "kind")]
+#[serde(rename_all = "kebab-case")]
 pub enum Lateral {
     /// A grain is stopped only by grains in its own row.
     None,
@@ -136,6 +152,15 @@ pub struct Params {
     pub y: YBoundary,
     /// Seed of the counter-based random bits.
     pub seed: u64,
+}
+
+/// Which half step runs: the run's seed and the half step's number `t` (they key the random
+/// bits), and whether grains fly towards -x.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Tick {
+    pub seed: u64,
+    pub t: u64,
+    pub left: bool,
 }
 
 /// The resolved per-half-step numbers both update paths use.

@@ -21,7 +21,7 @@
 //!    Applied in sweeps of increasing `i` until every slope is at most 1; each move lowers
 //!    `sum h^2` by at least 2, so this ends.
 
-use crate::params::{Lateral, Resolved};
+use crate::params::{Lateral, Resolved, Tick};
 use crate::rng::{self, Stream};
 use crate::step::neighbour_row;
 
@@ -50,8 +50,8 @@ fn bit(key: u64, stream: Stream, i: usize, p: u32) -> bool {
 }
 
 /// One half step on heights `h` (index `j * nx + i`).
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn half_step(nx: usize, ny: usize, h: &mut [u8], r: &Resolved, seed: u64, t: u64, left: bool, sc: &mut ScalarScratch) {
+pub(crate) fn half_step(nx: usize, ny: usize, h: &mut [u8], r: &Resolved, tick: Tick, sc: &mut ScalarScratch) {
+    let Tick { seed, t, left } = tick;
     let map = |i: usize| if left { nx - 1 - i } else { i };
     for j in 0..ny {
         for i in 0..nx {

@@ -22,7 +22,7 @@
 #![allow(clippy::needless_range_loop)]
 
 use crate::bits::RowShape;
-use crate::params::{Lateral, Resolved};
+use crate::params::{Lateral, Resolved, Tick};
 use crate::rng::{self, Stream};
 
 /// Buffers of the bit-parallel step (no allocation per step).
@@ -142,20 +142,15 @@ pub(crate) fn neighbour_row(j: usize, up: bool, ny: usize, periodic: bool) -> Op
 /// draw on the row's grains, the holding draw on its empty cells (the only cells where a
 /// lateral contact is tested), in one set of digit words; words without grains or lateral
 /// contacts are not drawn (the draw is the same either way).
-#[allow(clippy::too_many_arguments)]
 fn obstacles(
     shape: &RowShape,
-    lf: &[u64],
-    clusters: &[u64],
-    ny: usize,
-    j: usize,
+    (lf, clusters): (&[u64], &[u64]),
+    (ny, j): (usize, usize),
     r: &Resolved,
-    key: u64,
-    split: &rng::Split,
-    o: &mut [u64],
-    side_cells: &mut [u64],
-    cells: &mut [u64],
+    (key, split): (u64, &rng::Split),
+    out: RowCells,
 ) {
+    let RowCells { o, side_cells, cells } = out;
     let w = shape.words;
     let lrow = &lf[j * w..(j + 1) * w];
     o.copy_from_slice(lrow);
@@ -184,6 +179,14 @@ fn obstacles(
         // A lateral contact that does not hold is no obstacle.
         *o &= !(s & !c);
     }
+}
+
+/// What [`obstacles`] writes for one row: the obstacles `o`, the lateral-contact cells
+/// tested, and the row's cell draws.
+struct RowCells<'a> {
+    o: &'a mut [u64],
+    side_cells: &'a mut [u64],
+    cells: &'a mut [u64],
 }
 
 /// `clusters = L & (rot_up(L, 1) | rot_down(L, 1))` row by row.
@@ -231,14 +234,13 @@ macro_rules! by_width {
 /// On x86-64 processors with the x86-64-v3 bit instructions (`andn`, `lzcnt`, `tzcnt`,
 /// `mulx`, AVX2) the same code is compiled a second time with them enabled and chosen at run
 /// time; both give the same bits (integer operations only).
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn half_step(shape: &RowShape, ny: usize, rows: &mut [u64], r: &Resolved, seed: u64, t: u64, left: bool, sc: &mut BitScratch) {
+pub(crate) fn half_step(shape: &RowShape, ny: usize, rows: &mut [u64], r: &Resolved, tick: Tick, sc: &mut BitScratch) {
     #[cfg(target_arch = "x86_64")]
     if has_v3() {
         // SAFETY: the processor has the features `half_step_v3` is compiled for.
-        return unsafe { half_step_v3(shape, ny, rows, r, seed, t, left, sc) };
+        return unsafe { half_step_v3(shape, ny, rows, r, tick, sc) };
     }
-    half_step_body(shape, ny, rows, r, seed, t, left, sc);
+    half_step_body(shape, ny, rows, r, tick, sc);
 }
 
 /// Whether the processor has the features of [`half_step_v3`] (checked once, then cached by
@@ -256,15 +258,14 @@ fn has_v3() -> bool {
 /// [`half_step_body`] compiled with the x86-64-v3 bit instructions.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,bmi1,bmi2,lzcnt,popcnt")]
-#[allow(clippy::too_many_arguments)]
-unsafe fn half_step_v3(shape: &RowShape, ny: usize, rows: &mut [u64], r: &Resolved, seed: u64, t: u64, left: bool, sc: &mut BitScratch) {
-    half_step_body(shape, ny, rows, r, seed, t, left, sc);
+unsafe fn half_step_v3(shape: &RowShape, ny: usize, rows: &mut [u64], r: &Resolved, tick: Tick, sc: &mut BitScratch) {
+    half_step_body(shape, ny, rows, r, tick, sc);
 }
 
 /// The half step itself, inlined into both [`half_step`] and [`half_step_v3`].
-#[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn half_step_body(shape: &RowShape, ny: usize, rows: &mut [u64], r: &Resolved, seed: u64, t: u64, left: bool, sc: &mut BitScratch) {
+fn half_step_body(shape: &RowShape, ny: usize, rows: &mut [u64], r: &Resolved, tick: Tick, sc: &mut BitScratch) {
+    let Tick { seed, t, left } = tick;
     if r.frozen {
         return;
     }
@@ -276,8 +277,7 @@ fn half_step_body(shape: &RowShape, ny: usize, rows: &mut [u64], r: &Resolved, s
     // Cell draws: activation on grains, holding of lateral contacts (probability 1 without
     // knock-through) on empty cells.
     let splits = sc.splits(r);
-    let (split, knock) = (splits.cells, splits.knock);
-    by_width!(w, flights, flights_any, shape, ny, rows, r, left, &split, &knock, sc);
+    by_width!(w, flights, flights_any, shape, ny, rows, r, left, &splits, sc);
     if r.knock > 0 {
         by_width!(w, knock_through_w, knock_through, shape, ny, r, cap, sc);
     }
@@ -318,18 +318,9 @@ fn load<const W: usize>(rows: &[u64], j: usize) -> [u64; W] {
 /// clusters), then per row, in one pass over fixed-width arrays, the obstacles and cell draws
 /// ([`obstacles`]), the flying grains and their landing cells into `sc.new`, and the drawn
 /// impacts into `sc.impacts`. The same operations as [`flights_any`], in the same order.
-#[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn flights<const W: usize>(
-    shape: &RowShape,
-    ny: usize,
-    rows: &[u64],
-    r: &Resolved,
-    left: bool,
-    split: &rng::Split,
-    knock: &rng::Split,
-    sc: &mut BitScratch,
-) {
+fn flights<const W: usize>(shape: &RowShape, ny: usize, rows: &[u64], r: &Resolved, left: bool, splits: &Splits, sc: &mut BitScratch) {
+    let (split, knock) = (&splits.cells, &splits.knock);
     let nx = shape.nx;
     let cap = r.cap.min(nx);
     let BitScratch {
@@ -415,17 +406,8 @@ fn flights<const W: usize>(
 }
 
 /// [`flights`] for rows of any width, one word loop per operation.
-#[allow(clippy::too_many_arguments)]
-fn flights_any(
-    shape: &RowShape,
-    ny: usize,
-    rows: &[u64],
-    r: &Resolved,
-    left: bool,
-    split: &rng::Split,
-    knock: &rng::Split,
-    sc: &mut BitScratch,
-) {
+fn flights_any(shape: &RowShape, ny: usize, rows: &[u64], r: &Resolved, left: bool, splits: &Splits, sc: &mut BitScratch) {
+    let (split, knock) = (&splits.cells, &splits.knock);
     let w = shape.words;
     // Flight frame.
     for j in 0..ny {
@@ -442,19 +424,12 @@ fn flights_any(
     }
     for j in 0..ny {
         let key = sc.keys[j];
-        obstacles(
-            shape,
-            &sc.lf,
-            &sc.clusters,
-            ny,
-            j,
-            r,
-            key,
-            split,
-            &mut sc.o,
-            &mut sc.tmp,
-            &mut sc.cells,
-        );
+        let out = RowCells {
+            o: &mut sc.o,
+            side_cells: &mut sc.tmp,
+            cells: &mut sc.cells,
+        };
+        obstacles(shape, (&sc.lf, &sc.clusters), (ny, j), r, (key, split), out);
         shape.not(&sc.o, &mut sc.free);
         let lrow = &sc.lf[j * w..(j + 1) * w];
         shape.rotate_down(&sc.free, 1, &mut sc.f1);
@@ -850,8 +825,13 @@ mod tests {
             let (mut a, mut b) = (rows.clone(), rows);
             let (mut sa, mut sb) = (BitScratch::new(shape, ny), BitScratch::new(shape, ny));
             for t in 0..30 {
-                half_step(&shape, ny, &mut a, &r, 7, t, t % 2 == 1, &mut sa);
-                half_step_body(&shape, ny, &mut b, &r, 7, t, t % 2 == 1, &mut sb);
+                let tick = Tick {
+                    seed: 7,
+                    t,
+                    left: t % 2 == 1,
+                };
+                half_step(&shape, ny, &mut a, &r, tick, &mut sa);
+                half_step_body(&shape, ny, &mut b, &r, tick, &mut sb);
                 assert_eq!(a, b, "{nx} cells, half step {t}");
             }
         }

@@ -16,15 +16,20 @@ use particles::tray;
 use particles::Vec3;
 
 fn geometry() -> ContactGeometry {
+    use particles::contact::geometry::Sphere;
     ContactGeometry::pair(
-        Vec3::zeros(),
-        Vec3::new(6.9e-4, 0.5e-4, -0.2e-4),
-        Vec3::new(0.1, -0.02, 0.03),
-        Vec3::new(-0.05, 0.01, 0.0),
-        Vec3::new(10.0, -5.0, 2.0),
-        Vec3::new(-3.0, 4.0, 7.0),
-        4e-4,
-        3e-4,
+        Sphere {
+            x: Vec3::zeros(),
+            v: Vec3::new(0.1, -0.02, 0.03),
+            w: Vec3::new(10.0, -5.0, 2.0),
+            r: 4e-4,
+        },
+        Sphere {
+            x: Vec3::new(6.9e-4, 0.5e-4, -0.2e-4),
+            v: Vec3::new(-0.05, 0.01, 0.0),
+            w: Vec3::new(-3.0, 4.0, 7.0),
+            r: 3e-4,
+        },
     )
     .expect("the grains overlap")
 }
@@ -86,11 +91,11 @@ fn tray_step(c: &mut Criterion) {
     for (name, jumping) in [("step 3D", "true"), ("step pinned 2D", "false")] {
         let scene = scene(&[&format!("toggles.jumping={jumping}")]);
         let setup = tray::setup(&scene, tray::drive(&scene)).expect("valid setup");
-        let mut sim = Simulation::new(setup, initial_state(&scene)).expect("valid start");
+        let mut sim = Simulation::new(setup, initial_state(&scene).expect("valid sample")).expect("valid start");
         group.bench_function(name, |b| b.iter(|| sim.step().expect("the tray runs")));
     }
     let scene = scene(&[]);
-    let state = initial_state(&scene);
+    let state = initial_state(&scene).expect("valid sample");
     let boundary = tray::setup(&scene, tray::drive(&scene)).expect("valid setup").boundary;
     for skin in [0.0, 0.2e-3, 0.5e-3] {
         let search = NeighborSearch::verlet(skin);

@@ -5,11 +5,12 @@ use particles::tray;
 use std::time::Instant;
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
-    let scene = Scene::load(std::path::Path::new("scenes/thesis-reference.toml"), &args).unwrap();
+    let text = std::fs::read_to_string("scenes/thesis-reference.toml").unwrap();
+    let scene = Scene::parse(&text, &args, "scenes/thesis-reference.toml").unwrap();
     scene.validate().unwrap();
     let setup = tray::setup(&scene, tray::drive(&scene)).unwrap();
-    println!("dt {:e}, t_c {:e}", setup.dt, tray::shortest_contact_time(&scene));
-    let mut sim = Simulation::new(setup, initial_state(&scene)).unwrap();
+    println!("dt {:e}, t_c {:e}", setup.dt, tray::shortest_contact_time(&scene).unwrap());
+    let mut sim = Simulation::new(setup, initial_state(&scene).unwrap()).unwrap();
     let steps = 5000;
     let t0 = Instant::now();
     for _ in 0..steps {

@@ -105,3 +105,12 @@ impl fmt::Display for SimError {
 }
 
 impl std::error::Error for SimError {}
+
+impl From<crate::scene::SceneError> for SimError {
+    fn from(e: crate::scene::SceneError) -> Self {
+        SimError::InvalidParameter {
+            field: e.key,
+            message: e.message,
+        }
+    }
+}

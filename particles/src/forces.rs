@@ -17,9 +17,10 @@
 //! - gravity uses masses computed once (no division per step);
 //! - per-contact history is only reset when the law has history (Cundall-Strack).
 
+use crate::contact::geometry::Sphere;
 use crate::contact::{self, AxisNormal, ContactGeometry, ContactLaw, Normal};
 use crate::neighbor::NeighborList;
-use crate::sim::{ContactRecord, Partner, Setup, Vertical, MAX_OVERLAP_FRACTION};
+use crate::setup::{ContactRecord, Partner, Setup, Vertical, MAX_OVERLAP_FRACTION};
 use crate::Vec3;
 
 /// How the geometry of a wall contact is computed.
@@ -164,7 +165,19 @@ pub(crate) fn gather_block(
             let (i, j) = (i as usize, j as usize);
             let xi = pos[i];
             let d = setup.boundary.min_image(xi - pos[j]);
-            let Some(g) = ContactGeometry::pair(xi, xi - d, vel[i], vel[j], omega[i], omega[j], radius[i], radius[j]) else {
+            let a = Sphere {
+                x: xi,
+                v: vel[i],
+                w: omega[i],
+                r: radius[i],
+            };
+            let b = Sphere {
+                x: xi - d,
+                v: vel[j],
+                w: omega[j],
+                r: radius[j],
+            };
+            let Some(g) = ContactGeometry::pair(a, b) else {
                 if pair_history_on {
                     *zeta = Vec3::zeros();
                 }
@@ -193,6 +206,12 @@ pub(crate) fn gather_block(
         &omega[first..first + n],
         &radius[first..first + n],
     );
+    let out = &mut BlockOut {
+        first,
+        force,
+        torque,
+        wall_history,
+    };
     let mut w = 0;
     while w < inp.planes.len() {
         let plane = &inp.planes[w];
@@ -206,73 +225,90 @@ pub(crate) fn gather_block(
         };
         if pair {
             match plane.kind {
-                PlaneKind::Axis { axis: 0, .. } => axis_pair_pass::<0>(inp, w, first, force, torque, wall_history, &mut sums),
-                PlaneKind::Axis { axis: 1, .. } => axis_pair_pass::<1>(inp, w, first, force, torque, wall_history, &mut sums),
-                _ => axis_pair_pass::<2>(inp, w, first, force, torque, wall_history, &mut sums),
+                PlaneKind::Axis { axis: 0, .. } => axis_pair_pass::<0>(inp, w, out, &mut sums),
+                PlaneKind::Axis { axis: 1, .. } => axis_pair_pass::<1>(inp, w, out, &mut sums),
+                _ => axis_pair_pass::<2>(inp, w, out, &mut sums),
             }
             w += 2;
             continue;
         }
         if plane.support {
             // A pinned grain rests on the floor: the contact is always there, without overlap.
-            wall_pass::<_, true>(inp, plane, w, first, force, torque, wall_history, &mut sums, |k| {
+            wall_pass::<_, true>(inp, (w, plane), out, &mut sums, |k| {
                 Some(ContactGeometry::resting_on_floor(vel[k], omega[k], radius[k], v_wall))
             });
             w += 1;
             continue;
         }
         match plane.kind {
-            PlaneKind::Axis { axis: 0, .. } => wall_pass::<_, false>(inp, plane, w, first, force, torque, wall_history, &mut sums, |k| {
+            PlaneKind::Axis { axis: 0, .. } => wall_pass::<_, false>(inp, (w, plane), out, &mut sums, |k| {
                 if radius[k] - sign * (pos[k].x - origin.x) < 0.0 {
                     return None;
                 }
                 ContactGeometry::<AxisNormal<0>>::axis_wall(pos[k], vel[k], omega[k], radius[k], origin, sign, v_wall)
             }),
-            PlaneKind::Axis { axis: 1, .. } => wall_pass::<_, false>(inp, plane, w, first, force, torque, wall_history, &mut sums, |k| {
+            PlaneKind::Axis { axis: 1, .. } => wall_pass::<_, false>(inp, (w, plane), out, &mut sums, |k| {
                 if radius[k] - sign * (pos[k].y - origin.y) < 0.0 {
                     return None;
                 }
                 ContactGeometry::<AxisNormal<1>>::axis_wall(pos[k], vel[k], omega[k], radius[k], origin, sign, v_wall)
             }),
-            PlaneKind::Axis { .. } => wall_pass::<_, false>(inp, plane, w, first, force, torque, wall_history, &mut sums, |k| {
+            PlaneKind::Axis { .. } => wall_pass::<_, false>(inp, (w, plane), out, &mut sums, |k| {
                 if radius[k] - sign * (pos[k].z - origin.z) < 0.0 {
                     return None;
                 }
                 ContactGeometry::<AxisNormal<2>>::axis_wall(pos[k], vel[k], omega[k], radius[k], origin, sign, v_wall)
             }),
-            PlaneKind::General => wall_pass::<_, false>(inp, plane, w, first, force, torque, wall_history, &mut sums, |k| {
+            PlaneKind::General => wall_pass::<_, false>(inp, (w, plane), out, &mut sums, |k| {
                 ContactGeometry::wall(pos[k], vel[k], omega[k], radius[k], origin, plane.normal, v_wall)
             }),
         }
         w += 1;
     }
     if pinned {
-        for f in force.iter_mut() {
+        for f in out.force.iter_mut() {
             f.z = 0.0;
         }
     }
     sums
 }
 
-/// Contacts of the particles `first..first + force.len()` with wall `w` (`plane`), whose
-/// geometry `geometry(k)` gives for particle `first + k`; forces and torques are added to
-/// `force` and `torque`. `SUPPORT`: the wall is a pinned layer's floor
-/// ([`WallPlane::support`]), decided at compile time.
-#[allow(clippy::too_many_arguments)]
+/// The per-particle outputs of one block: forces and torques of the particles
+/// `first..first + force.len()`, and their wall histories (`walls.len().max(1)` each).
+struct BlockOut<'a> {
+    first: usize,
+    force: &'a mut [Vec3],
+    torque: &'a mut [Vec3],
+    wall_history: &'a mut [Vec3],
+}
+
+impl BlockOut<'_> {
+    /// `(first, force, torque, wall_history)`.
+    #[inline(always)]
+    fn parts(&mut self) -> (usize, &mut [Vec3], &mut [Vec3], &mut [Vec3]) {
+        (self.first, self.force, self.torque, self.wall_history)
+    }
+}
+
+/// Whether wall contacts keep a history, and how many wall histories each particle has.
+#[inline(always)]
+fn wall_histories(inp: &Inputs) -> (bool, usize) {
+    (inp.setup.wall_law.has_history(), inp.planes.len().max(1))
+}
+
+/// Contacts of the block's particles with wall `w` (`plane`), whose geometry `geometry(k)`
+/// gives for particle `first + k`; forces and torques are added to the block's. `SUPPORT`:
+/// the wall is a pinned layer's floor ([`WallPlane::support`]), decided at compile time.
 #[inline(always)]
 fn wall_pass<N: Normal, const SUPPORT: bool>(
     inp: &Inputs,
-    plane: &WallPlane,
-    w: usize,
-    first: usize,
-    force: &mut [Vec3],
-    torque: &mut [Vec3],
-    wall_history: &mut [Vec3],
+    (w, plane): (usize, &WallPlane),
+    out: &mut BlockOut,
     sums: &mut BlockSums,
     geometry: impl Fn(usize) -> Option<ContactGeometry<N>>,
 ) {
-    let history_on = inp.setup.wall_law.has_history();
-    let wall_stride = inp.planes.len().max(1);
+    let (first, force, torque, wall_history) = out.parts();
+    let (history_on, wall_stride) = wall_histories(inp);
     let n = force.len();
     let torque = &mut torque[..n];
     let mut acc = WallSums::default();
@@ -289,7 +325,13 @@ fn wall_pass<N: Normal, const SUPPORT: bool>(
                 }
                 continue;
             };
-            add_wall_contact::<N, SUPPORT>(inp, law, w, first + k, &g, zeta, f, t, &mut acc, sums);
+            let grain = Grain {
+                i: first + k,
+                zeta,
+                force: f,
+                torque: t,
+            };
+            add_wall_contact::<N, SUPPORT>(inp, law, w, &g, grain, &mut acc, sums);
         }
     });
     acc.add_to(plane, sums);
@@ -300,17 +342,9 @@ fn wall_pass<N: Normal, const SUPPORT: bool>(
 /// first, and only a grain touching one of them reads anything else; per particle, the
 /// walls in order.
 #[inline(always)]
-fn axis_pair_pass<const AXIS: usize>(
-    inp: &Inputs,
-    w: usize,
-    first: usize,
-    force: &mut [Vec3],
-    torque: &mut [Vec3],
-    wall_history: &mut [Vec3],
-    sums: &mut BlockSums,
-) {
-    let history_on = inp.setup.wall_law.has_history();
-    let wall_stride = inp.planes.len().max(1);
+fn axis_pair_pass<const AXIS: usize>(inp: &Inputs, w: usize, out: &mut BlockOut, sums: &mut BlockSums) {
+    let (first, force, torque, wall_history) = out.parts();
+    let (history_on, wall_stride) = wall_histories(inp);
     let n = force.len();
     let (p0, p1) = (&inp.planes[w], &inp.planes[w + 1]);
     let (mut acc0, mut acc1) = (WallSums::default(), WallSums::default());
@@ -344,7 +378,13 @@ fn axis_pair_pass<const AXIS: usize>(
             };
             match g {
                 Some(g) => {
-                    add_wall_contact::<_, false>(inp, &inp.setup.wall_law, wk, i, &g, zeta, &mut force[k], &mut torque[k], acc, sums)
+                    let grain = Grain {
+                        i,
+                        zeta,
+                        force: &mut force[k],
+                        torque: &mut torque[k],
+                    };
+                    add_wall_contact::<_, false>(inp, &inp.setup.wall_law, wk, &g, grain, acc, sums)
                 }
                 None if history_on => *zeta = Vec3::zeros(),
                 None => {}
@@ -376,24 +416,30 @@ impl WallSums {
     }
 }
 
+/// One particle of a wall contact: its index, its spring history with the wall, and where
+/// its force and torque are summed.
+struct Grain<'a> {
+    i: usize,
+    zeta: &'a mut Vec3,
+    force: &'a mut Vec3,
+    torque: &'a mut Vec3,
+}
+
 /// Adds the contact `g` of particle `i` with wall `w` (history `zeta`) to the particle's
 /// `force` and `torque` and to the pass's sums `acc`; the block's `sums` keep overlap
 /// violations and records. `SUPPORT`: the wall is a pinned layer's floor, whose load is
 /// given ([`WallPlane::support`]).
-#[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn add_wall_contact<N: Normal, const SUPPORT: bool>(
     inp: &Inputs,
     law: &ContactLaw,
     w: usize,
-    i: usize,
     g: &ContactGeometry<N>,
-    zeta: &mut Vec3,
-    force: &mut Vec3,
-    torque: &mut Vec3,
+    grain: Grain,
     acc: &mut WallSums,
     sums: &mut BlockSums,
 ) {
+    let Grain { i, zeta, force, torque } = grain;
     let c = if SUPPORT {
         contact::evaluate_with_normal(law, g, inp.load[i], zeta, inp.setup.dt)
     } else {

@@ -9,19 +9,17 @@ use crate::Vec3;
 /// [`translate_half`] (only x and y when `PLANAR`) and, in the same loop, `spin(k)` for the
 /// rotation of particle `k`; adds each displacement velocity to `span`. The two cases are
 /// separate instances, so the planar test is decided at compile time.
-#[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn verlet_first_half<const PLANAR: bool>(
     pos: &mut [Vec3],
     vel: &mut [Vec3],
     vel_half: &mut [Vec3],
-    force: &[Vec3],
-    inv_mass: &[f64],
-    dt: f64,
+    kick: Kick,
     span: &mut Span,
     mut spin: impl FnMut(usize),
 ) {
     let n = pos.len();
+    let Kick { force, inv_mass, dt } = kick;
     let (vel, vel_half, force, inv_mass) = (&mut vel[..n], &mut vel_half[..n], &force[..n], &inv_mass[..n]);
     for k in 0..n {
         let u = translate_half(
@@ -36,6 +34,15 @@ fn verlet_first_half<const PLANAR: bool>(
         span.add(&u);
         spin(k);
     }
+}
+
+/// What kicks a block's velocities: the forces (N) and inverse masses (1/kg) of its
+/// particles, and the step (s).
+#[derive(Clone, Copy)]
+struct Kick<'a> {
+    force: &'a [Vec3],
+    inv_mass: &'a [f64],
+    dt: f64,
 }
 
 /// Velocity Verlet's first half-kick, drift and force predictor for one particle: with
@@ -98,7 +105,7 @@ impl Span {
 }
 
 /// Integration scheme.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Integrator {
     /// Velocity Verlet for translation and rotation (default). Positions advance with the
@@ -107,6 +114,7 @@ pub enum Integrator {
     /// the half-step one (which lags by `dt/2` and makes restitution only first order).
     /// Second order for dissipative contacts, symplectic for conservative ones, and exact
     /// conservation of linear and angular momentum.
+    #[default]
     VelocityVerlet,
     /// The thesis' scheme (sec 3.5.1): Verlet positions (eq 3.26, written in its leapfrog
     /// form), velocities from the central-difference estimator eq 3.27, Euler rotation
@@ -114,7 +122,21 @@ pub enum Integrator {
     Thesis,
 }
 
+impl std::str::FromStr for Integrator {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "velocity-verlet" => Ok(Integrator::VelocityVerlet),
+            "thesis" => Ok(Integrator::Thesis),
+            _ => Err(format!("unknown integrator `{s}`, expected one of {}", Self::NAMES.join(", "))),
+        }
+    }
+}
+
 impl Integrator {
+    /// Every name, as scene files and the command line write it.
+    pub const NAMES: &'static [&'static str] = &["velocity-verlet", "thesis"];
+
     /// Prepares the first step after the initial force evaluation.
     pub fn start(&self, s: &mut State, dt: f64) {
         match self {
@@ -149,21 +171,18 @@ impl Integrator {
         );
         let (omega, omega_half, torque, inv_inertia) = (&mut b.omega[..n], &mut b.omega_half[..n], &b.torque[..n], &b.inv_inertia[..n]);
         let mut span = Span::new();
+        let kick = Kick { force, inv_mass, dt };
         match (self, planar) {
             // Translation and rotation in one loop (when both are integrated), with the
             // planar and the non-rotating cases as their own loops.
-            (Integrator::VelocityVerlet, true) if rotate => {
-                verlet_first_half::<true>(pos, vel, vel_half, force, inv_mass, dt, &mut span, |k| {
-                    rotate_half(&mut omega[k], &mut omega_half[k], &torque[k], 0.5 * dt * inv_inertia[k]);
-                })
-            }
-            (Integrator::VelocityVerlet, false) if rotate => {
-                verlet_first_half::<false>(pos, vel, vel_half, force, inv_mass, dt, &mut span, |k| {
-                    rotate_half(&mut omega[k], &mut omega_half[k], &torque[k], 0.5 * dt * inv_inertia[k]);
-                })
-            }
-            (Integrator::VelocityVerlet, true) => verlet_first_half::<true>(pos, vel, vel_half, force, inv_mass, dt, &mut span, |_| {}),
-            (Integrator::VelocityVerlet, false) => verlet_first_half::<false>(pos, vel, vel_half, force, inv_mass, dt, &mut span, |_| {}),
+            (Integrator::VelocityVerlet, true) if rotate => verlet_first_half::<true>(pos, vel, vel_half, kick, &mut span, |k| {
+                rotate_half(&mut omega[k], &mut omega_half[k], &torque[k], 0.5 * dt * inv_inertia[k]);
+            }),
+            (Integrator::VelocityVerlet, false) if rotate => verlet_first_half::<false>(pos, vel, vel_half, kick, &mut span, |k| {
+                rotate_half(&mut omega[k], &mut omega_half[k], &torque[k], 0.5 * dt * inv_inertia[k]);
+            }),
+            (Integrator::VelocityVerlet, true) => verlet_first_half::<true>(pos, vel, vel_half, kick, &mut span, |_| {}),
+            (Integrator::VelocityVerlet, false) => verlet_first_half::<false>(pos, vel, vel_half, kick, &mut span, |_| {}),
             (Integrator::Thesis, _) => {
                 for k in 0..n {
                     let a = force[k] * inv_mass[k];

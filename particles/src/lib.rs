@@ -10,10 +10,12 @@
 //! - [`boundary`]: periodic images;
 //! - [`integrate`]: time integrators (velocity Verlet, and the thesis' scheme);
 //! - `forces`: one force evaluation, gathered per particle in fixed blocks;
+//! - [`setup`]: what defines the dynamics (laws, walls, step, boundaries), and contact records;
 //! - [`sim`]: the only module that knows the order of the stages of a time step;
 //! - `parallel`: deterministic block parallelism (results independent of the thread count);
-//! - [`lammps`]: LAMMPS data files of a state;
 //! - [`observe`]: energy, momentum and angular momentum of a state;
+//! - [`observer`]: [`observer::advance`] steps a run and hands it to observers after every
+//!   step; they, outside this crate, write files (this crate knows no file format);
 //! - [`experiment`]: the collision lab, the single sphere on the shaken plate, contact-time
 //!   and eccentricity studies.
 
@@ -24,15 +26,17 @@ pub mod error;
 pub mod experiment;
 mod forces;
 pub mod integrate;
-pub mod lammps;
 pub mod material;
 pub mod neighbor;
 pub mod observe;
+pub mod observer;
 mod parallel;
 pub mod prepare;
 pub mod scene;
+pub mod setup;
 pub mod sim;
 pub mod state;
+pub mod timescale;
 pub mod tray;
 pub mod wall;
 

@@ -2,9 +2,10 @@
 
 use serde::{Deserialize, Serialize};
 
-/// Constants of one material. SI units throughout.
+/// Constants of one material. SI units throughout. The default is the thesis' glass beads
+/// (Table 3.3), and every missing key of a scene's `[material]` takes its value from it.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, default)]
 pub struct Material {
     /// Mass density rho, kg/m^3.
     pub density: f64,
@@ -14,6 +15,17 @@ pub struct Material {
     pub poisson: f64,
     /// Dissipative constant A of the viscoelastic law (eq 3.8), s.
     pub dissipation: f64,
+}
+
+impl Default for Material {
+    fn default() -> Self {
+        Self {
+            density: 2500.0,
+            young: 1e6,
+            poisson: 0.3,
+            dissipation: 8.5e-6,
+        }
+    }
 }
 
 impl Material {

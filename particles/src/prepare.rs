@@ -24,7 +24,6 @@ pub fn reference(scene: &Scene) -> Scene {
     s.toggles = Toggles::default();
     // A ceiling changes nothing for grains relaxing at rest on the floor.
     s.tray.height = None;
-    s.automaton = Default::default();
     s.drive.amplitude = 0.0;
     s.run.duration = s.prepare.duration;
     s.run.threads = 0;
@@ -48,7 +47,7 @@ pub fn sample_key(scene: &Scene) -> u64 {
 }
 
 /// The grains on their lattice, before relaxation.
-pub fn initial_state(scene: &Scene) -> State {
+pub fn initial_state(scene: &Scene) -> Result<State, SimError> {
     let mut rng = ChaCha8Rng::seed_from_u64(scene.run.seed);
     let p = &scene.particles;
     let n = p.count;
@@ -69,7 +68,7 @@ pub fn initial_state(scene: &Scene) -> State {
     sites.extend(top.iter().take(n - full).map(|&k| full + k));
     sites.sort_unstable();
     let material = scene.material();
-    let (_, wall_law) = reference(scene).laws();
+    let (_, wall_law) = reference(scene).laws()?;
     let dy = if ny > 1 {
         (scene.tray.width - 2.0 * p.radius_max * 1.05) / (ny - 1) as f64
     } else {
@@ -99,7 +98,7 @@ pub fn initial_state(scene: &Scene) -> State {
         );
         state.push(Vec3::new(x, y, z), v, Vec3::zeros(), r, m);
     }
-    state
+    Ok(state)
 }
 
 /// Prepares the sample of `scene`: lattice, random velocities, relaxation, zeroed velocities.
@@ -108,7 +107,7 @@ pub fn prepare(scene: &Scene, mut progress: impl FnMut(f64)) -> Result<State, Si
     let reference = reference(scene);
     let setup = tray::setup(&reference, Motion::Fixed)?;
     let steps = (reference.prepare.duration / setup.dt).round() as u64;
-    let mut sim = Simulation::new(setup, initial_state(scene))?;
+    let mut sim = Simulation::new(setup, initial_state(scene)?)?;
     for k in 0..steps {
         sim.step()?;
         if k % 1000 == 0 {
@@ -126,103 +125,4 @@ pub fn prepare(scene: &Scene, mut progress: impl FnMut(f64)) -> Result<State, Si
         state.torque[i] = Vec3::zeros();
     }
     Ok(state)
-}
-
-/// Loads the sample of `scene` from `dir` (file `sample-<key>.bin`, see [`sample_key`]) or
-/// prepares and stores it. Returns the state and whether it came from the cache.
-pub fn load_or_prepare(scene: &Scene, dir: &std::path::Path, progress: impl FnMut(f64)) -> Result<(State, bool), String> {
-    let key = sample_key(scene);
-    let path = dir.join(format!("sample-{key:016x}.bin"));
-    // Jobs of a sweep running in parallel threads often need the same sample: one prepares
-    // it while the others wait for it, then load it from the cache.
-    static BUSY: std::sync::Mutex<Vec<(u64, std::sync::Arc<std::sync::Mutex<()>>)>> = std::sync::Mutex::new(Vec::new());
-    let lock = {
-        let mut busy = BUSY.lock().unwrap_or_else(|e| e.into_inner());
-        match busy.iter().find(|(k, _)| *k == key) {
-            Some((_, l)) => l.clone(),
-            None => {
-                let l = std::sync::Arc::new(std::sync::Mutex::new(()));
-                busy.push((key, l.clone()));
-                l
-            }
-        }
-    };
-    let _guard = lock.lock().unwrap_or_else(|e| e.into_inner());
-    if let Ok(bytes) = std::fs::read(&path) {
-        let state = decode_sample(&bytes).map_err(|e| format!("{}: {e}", path.display()))?;
-        return Ok((state, true));
-    }
-    let state = prepare(scene, progress).map_err(|e| format!("sample preparation: {e}"))?;
-    std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
-    let bytes = encode_sample(&state);
-    analysis::io::write_atomic(&path, &bytes).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
-    // Return what a later run will load, bit for bit (the stored mass gives back the inverse
-    // mass only to within an ulp), so a fresh and a cached sample run identically.
-    Ok((decode_sample(&bytes).expect("a sample just encoded decodes"), false))
-}
-
-const SAMPLE_MAGIC: &[u8; 8] = b"STRPSMP1";
-
-/// Binary sample: magic, `u64` N, then per grain position (3 `f64`), radius, mass.
-fn encode_sample(s: &State) -> Vec<u8> {
-    let mut w = crate::checkpoint::Writer::default();
-    w.0.extend_from_slice(SAMPLE_MAGIC);
-    w.u64(s.len() as u64);
-    for i in 0..s.len() {
-        w.vec3(&s.pos[i]);
-        w.f64(s.radius[i]);
-        w.f64(s.mass(i));
-    }
-    w.0
-}
-
-fn decode_sample(bytes: &[u8]) -> Result<State, String> {
-    if bytes.len() < 16 || &bytes[..8] != SAMPLE_MAGIC {
-        return Err("not a stripes sample file".into());
-    }
-    let mut r = crate::checkpoint::Reader::new(&bytes[8..]);
-    let n = r.u64()? as usize;
-    let mut s = State::default();
-    for _ in 0..n {
-        let (pos, radius, mass) = (r.vec3()?, r.f64()?, r.f64()?);
-        s.push(pos, Vec3::zeros(), Vec3::zeros(), radius, mass);
-    }
-    Ok(s)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn fresh_sample_equals_cached_sample_bit_for_bit() {
-        // Regression: the in-memory sample of the run that prepared it differed from the
-        // cached file by an ulp in the inverse mass, so that first run did not reproduce.
-        let text = r#"
-            [box]
-            length = 0.01
-            width = 0.005
-            [drive]
-            frequency = 20.0
-            amplitude = 0.025
-            [particles]
-            count = 20
-            radius_min = 0.25e-3
-            radius_max = 0.5e-3
-            [prepare]
-            duration = 0.01
-            [run]
-            duration = 0.1
-            dt = 8e-6
-            seed = 3
-        "#;
-        let scene = Scene::parse(text, &[], "test").unwrap();
-        let dir = std::env::temp_dir().join(format!("stripes-sample-{}", std::process::id()));
-        let (fresh, cached) = load_or_prepare(&scene, &dir, |_| ()).unwrap();
-        assert!(!cached);
-        let (again, cached) = load_or_prepare(&scene, &dir, |_| ()).unwrap();
-        assert!(cached);
-        assert_eq!(fresh, again);
-        std::fs::remove_dir_all(dir).unwrap();
-    }
 }

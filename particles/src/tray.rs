@@ -5,8 +5,11 @@ use crate::contact::tangential::sphere_tangential_mass;
 use crate::contact::TangentialLaw;
 use crate::experiment::step_control;
 use crate::neighbor::NeighborSearch;
-use crate::scene::{check_step_resolution, Scene, TimeStep, MIN_STEPS_PER_CONTACT};
+use crate::scene::{Scene, TimeStep};
 use crate::sim::{Setup, Vertical};
+pub use crate::timescale::{
+    check_step_resolution, max_impact_speed, shortest_contact_time, shortest_spring_half_period, MIN_STEPS_PER_CONTACT,
+};
 use crate::wall::{Motion, Wall};
 use crate::{SimError, Vec3};
 
@@ -25,32 +28,6 @@ pub const MAX_SKIN: f64 = 2.0;
 /// Gravitational acceleration of the tray scenes (m/s^2, SPEC section 2).
 pub const GRAVITY: f64 = 10.0;
 
-/// Largest impact speed expected in a scene (m/s): the tray's peak speed `2 pi nu A`, the
-/// speed at which a side wall or a grain carried by the floor can hit a grain at rest. At
-/// least 0.1 m/s, so that a tray at rest still gets a finite step.
-pub fn max_impact_speed(scene: &Scene) -> f64 {
-    (2.0 * std::f64::consts::PI * scene.drive.frequency * scene.drive.amplitude).max(0.1)
-}
-
-/// Shortest contact time of the scene (s): the undamped time (eq 3.19, or `pi sqrt(m/k)`)
-/// of two of the smallest grains meeting at [`max_impact_speed`]; contact time grows with
-/// size, and a pair is shorter than a grain on a wall.
-pub fn shortest_contact_time(scene: &Scene) -> f64 {
-    let (pair, _) = scene.laws();
-    let r = scene.particles.radius_min;
-    let m = scene.material().sphere_mass(r);
-    pair.normal.undamped_contact_time(0.5 * m, 0.5 * r, max_impact_speed(scene))
-}
-
-/// Stuck half period `pi sqrt(m_t / k_t)` (s) of the Cundall-Strack spring between two of
-/// the smallest grains (the fastest tangential oscillation of the scene), `None` without a
-/// tangential spring.
-pub fn shortest_spring_half_period(scene: &Scene) -> Option<f64> {
-    let (pair, _) = scene.laws();
-    let m = scene.material().sphere_mass(scene.particles.radius_min);
-    pair.tangential.spring_half_period(sphere_tangential_mass(0.5 * m))
-}
-
 /// The time step of a scene (s): explicit, or error-controlled for `dt = "auto"` (the
 /// coarsest step meeting `run.restitution_tolerance`, no coarser than
 /// `shortest_contact_time / run.steps_per_contact`; see
@@ -64,8 +41,8 @@ pub fn time_step(scene: &Scene) -> Result<f64, SimError> {
     check_step_resolution(
         dt,
         MIN_STEPS_PER_CONTACT,
-        shortest_contact_time(scene),
-        shortest_spring_half_period(scene),
+        shortest_contact_time(scene)?,
+        shortest_spring_half_period(scene)?,
         "run.dt",
         "contact.tangential_stiffness",
     )?;
@@ -95,7 +72,7 @@ pub fn drive(scene: &Scene) -> Motion {
 /// Dynamics of a (validated) scene, with the tray driven by `motion` (use
 /// [`Motion::Fixed`] for sample preparation).
 pub fn setup(scene: &Scene, motion: Motion) -> Result<Setup, SimError> {
-    let (pair_law, wall_law) = scene.laws();
+    let (pair_law, wall_law) = scene.laws()?;
     let (l, w, h) = (scene.tray.length, scene.tray.width, scene.tray.height.unwrap_or(f64::INFINITY));
     let mut walls = vec![Wall::new("floor", Vec3::zeros(), Vec3::z(), motion)];
     if scene.toggles.walls {
@@ -130,14 +107,14 @@ pub fn setup(scene: &Scene, motion: Motion) -> Result<Setup, SimError> {
 /// between grains. The viscous friction force `-gamma_t v_t` is integrated explicitly: above
 /// 1 it reverses the slip within one step (it overshoots zero slip), above 2 the overshoot
 /// grows every step and the force chatters at the Coulomb limit.
-pub fn viscous_friction_ratio(scene: &Scene, dt: f64) -> Option<f64> {
-    let (pair, _) = scene.laws();
+pub fn viscous_friction_ratio(scene: &Scene, dt: f64) -> Result<Option<f64>, SimError> {
+    let (pair, _) = scene.laws()?;
     match pair.tangential {
         TangentialLaw::HaffWerner { gamma_t, mu } if gamma_t > 0.0 && mu > 0.0 => {
             let m = scene.material().sphere_mass(scene.particles.radius_min);
-            Some(gamma_t * dt / sphere_tangential_mass(0.5 * m))
+            Ok(Some(gamma_t * dt / sphere_tangential_mass(0.5 * m)))
         }
-        _ => None,
+        _ => Ok(None),
     }
 }
 
@@ -148,9 +125,9 @@ pub fn viscous_friction_ratio(scene: &Scene, dt: f64) -> Option<f64> {
 /// for what that costs); at the thesis step of
 /// 8e-6 s the ratio is 2.4, and the tangential restitution of the smallest grains at the
 /// tray's peak speed is off by a factor 2 (`stripes bench`).
-pub fn warnings(scene: &Scene, dt: f64) -> Vec<String> {
+pub fn warnings(scene: &Scene, dt: f64) -> Result<Vec<String>, SimError> {
     let mut out = Vec::new();
-    if let Some(ratio) = viscous_friction_ratio(scene, dt) {
+    if let Some(ratio) = viscous_friction_ratio(scene, dt)? {
         if ratio > 2.0 {
             let what = "is unstable at this step: the friction force chatters at the Coulomb limit instead of stopping the slip";
             out.push(format!(
@@ -159,5 +136,5 @@ pub fn warnings(scene: &Scene, dt: f64) -> Vec<String> {
             ));
         }
     }
-    out
+    Ok(out)
 }

@@ -14,31 +14,34 @@ pub enum Motion {
 }
 
 impl Motion {
-    /// Displacement from the rest position at time `t` (m).
-    pub fn displacement(&self, t: f64) -> Vec3 {
+    /// `(direction, amplitude, angular frequency w, phase w t)` of a harmonic motion at
+    /// time `t`; `None` at rest.
+    fn harmonic(&self, t: f64) -> Option<(Vec3, f64, f64, f64)> {
         match *self {
-            Motion::Fixed => Vec3::zeros(),
-            Motion::Harmonic {
-                amplitude,
-                frequency,
-                direction,
-            } => direction * (amplitude * (2.0 * PI * frequency * t).sin()),
-        }
-    }
-
-    /// Velocity at time `t` (m/s).
-    pub fn velocity(&self, t: f64) -> Vec3 {
-        match *self {
-            Motion::Fixed => Vec3::zeros(),
+            Motion::Fixed => None,
             Motion::Harmonic {
                 amplitude,
                 frequency,
                 direction,
             } => {
                 let w = 2.0 * PI * frequency;
-                direction * (amplitude * w * (w * t).cos())
+                Some((direction, amplitude, w, w * t))
             }
         }
+    }
+
+    /// Displacement from the rest position at time `t` (m).
+    pub fn displacement(&self, t: f64) -> Vec3 {
+        self.harmonic(t).map_or(Vec3::zeros(), |(direction, amplitude, _, phase)| {
+            direction * (amplitude * phase.sin())
+        })
+    }
+
+    /// Velocity at time `t` (m/s).
+    pub fn velocity(&self, t: f64) -> Vec3 {
+        self.harmonic(t).map_or(Vec3::zeros(), |(direction, amplitude, w, phase)| {
+            direction * (amplitude * w * phase.cos())
+        })
     }
 
     /// Peak acceleration (m/s^2).

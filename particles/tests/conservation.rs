@@ -173,7 +173,7 @@ proptest! {
              [run]\nduration = 0.1\ndt = 4e-6\nseed = {seed}\n"
         );
         let scene = common::tray_scene(0.01, 0.008, 40, &toggles, &[]);
-        let mut sim = Simulation::new(tray::setup(&scene, tray::drive(&scene)).unwrap(), initial_state(&scene)).unwrap();
+        let mut sim = Simulation::new(tray::setup(&scene, tray::drive(&scene)).unwrap(), initial_state(&scene).unwrap()).unwrap();
         let n = sim.state.len();
         for _ in 0..2500 {
             sim.step().unwrap();

@@ -314,13 +314,13 @@ fn the_energy_ledger_of_a_long_shaken_run_closes() {
     // misses by 4e-3: the Haff-Werner viscous branch is unstable there for the smallest
     // grains (gamma_t dt / m_t = 2.4), and the run says so (`tray::warnings`).
     let scene = common::tray_scene(0.006, 0.01, 60, "[run]\nduration = 0.1\ndt = 4e-6\nseed = 7\n", &[]);
-    assert!(tray::warnings(&scene, 4e-6).is_empty());
-    let at_thesis_dt = tray::warnings(&scene, 8e-6);
+    assert!(tray::warnings(&scene, 4e-6).unwrap().is_empty());
+    let at_thesis_dt = tray::warnings(&scene, 8e-6).unwrap();
     assert!(
         at_thesis_dt.len() == 1 && at_thesis_dt[0].contains("contact.tangential_damping"),
         "{at_thesis_dt:?}"
     );
-    let mut sim = Simulation::new(tray::setup(&scene, tray::drive(&scene)).unwrap(), initial_state(&scene)).unwrap();
+    let mut sim = Simulation::new(tray::setup(&scene, tray::drive(&scene)).unwrap(), initial_state(&scene).unwrap()).unwrap();
     let e0 = sim.total_energy();
     let steps = (0.1 / 4e-6) as u64;
     for _ in 0..steps {

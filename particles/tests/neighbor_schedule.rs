@@ -26,7 +26,7 @@ fn run(search: Option<NeighborSearch>, speed: f64, overrides: &[&str]) -> (Vec<u
     if let Some(search) = search {
         setup.neighbors = search;
     }
-    let mut sim = Simulation::new(setup, initial_state(&scene)).unwrap();
+    let mut sim = Simulation::new(setup, initial_state(&scene).unwrap()).unwrap();
     let mut pair_contact_steps = 0;
     for _ in 0..4000 {
         sim.step().unwrap();

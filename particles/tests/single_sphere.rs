@@ -18,12 +18,13 @@ const AMPLITUDE: f64 = 0.025;
 fn grain(overrides: &[&str]) -> (Scene, SphereOnFloor) {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/thesis-reference.toml");
     let o: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
-    let scene = Scene::load(&path, &o).unwrap();
+    let text = std::fs::read_to_string(&path).unwrap();
+    let scene = Scene::parse(&text, &o, "thesis-reference").unwrap();
     scene.validate().unwrap();
     let TimeStep::Seconds(dt) = scene.run.dt else {
         panic!("the thesis scene has an explicit step")
     };
-    let mut g = SphereOnFloor::on_scene(&scene, scene.particles.radius_max, dt);
+    let mut g = SphereOnFloor::on_scene(&scene, scene.particles.radius_max, dt).unwrap();
     g.law.rolling = RollingLaw::None;
     (scene, g)
 }

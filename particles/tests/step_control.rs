@@ -22,7 +22,7 @@ fn scene(overrides: &[&str]) -> Scene {
 #[test]
 fn the_chosen_step_meets_the_tolerance_and_a_coarser_one_does_not() {
     let s = scene(&[]);
-    let reference = run_all(&scene_probes(&s, REFERENCE_STEPS, Integrator::VelocityVerlet)).unwrap();
+    let reference = run_all(&scene_probes(&s, REFERENCE_STEPS, Integrator::VelocityVerlet).unwrap()).unwrap();
     for tol in [3e-2, 1e-2, 1e-3] {
         let c = choose(&s, tol, 8.0).unwrap();
         println!(
@@ -33,7 +33,7 @@ fn the_chosen_step_meets_the_tolerance_and_a_coarser_one_does_not() {
         assert!((c.dt - c.contact_time / c.steps_per_contact).abs() < 1e-18);
         // The measured error is what the probes give at that step.
         let at = restitution_error(
-            &run_all(&scene_probes(&s, c.steps_per_contact, Integrator::VelocityVerlet)).unwrap(),
+            &run_all(&scene_probes(&s, c.steps_per_contact, Integrator::VelocityVerlet).unwrap()).unwrap(),
             &reference,
         );
         assert_eq!(at, c.restitution_error);
@@ -48,7 +48,7 @@ fn the_chosen_step_meets_the_tolerance_and_a_coarser_one_does_not() {
 
 #[test]
 fn auto_uses_the_tolerance_and_never_fewer_than_steps_per_contact() {
-    let t_c = tray::shortest_contact_time(&scene(&[]));
+    let t_c = tray::shortest_contact_time(&scene(&[])).unwrap();
     let default = tray::time_step(&scene(&[])).unwrap();
     assert_eq!(t_c / default, 25.0, "thesis material at the default tolerance 1e-2");
     let floored = tray::time_step(&scene(&["run.steps_per_contact=40"])).unwrap();

@@ -13,7 +13,7 @@ fn run(threads: usize, overrides: &[&str]) -> (Vec<u8>, String) {
     let scene = common::tray_scene(0.04, 0.02, 400, "[run]\nduration = 0.1\ndt = 8e-6\nseed = 11\n", overrides);
     let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
     pool.install(|| {
-        let mut sim = Simulation::new(tray::setup(&scene, tray::drive(&scene)).unwrap(), initial_state(&scene)).unwrap();
+        let mut sim = Simulation::new(tray::setup(&scene, tray::drive(&scene)).unwrap(), initial_state(&scene).unwrap()).unwrap();
         for _ in 0..1500 {
             sim.step().unwrap();
         }

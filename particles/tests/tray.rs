@@ -17,7 +17,7 @@ fn scene(overrides: &[&str]) -> Scene {
 
 fn tray_sim(overrides: &[&str]) -> Simulation {
     let s = scene(overrides);
-    Simulation::new(tray::setup(&s, tray::drive(&s)).unwrap(), initial_state(&s)).unwrap()
+    Simulation::new(tray::setup(&s, tray::drive(&s)).unwrap(), initial_state(&s).unwrap()).unwrap()
 }
 
 /// Two grains colliding obliquely on the floor at `x0` (m) in a periodic tray.

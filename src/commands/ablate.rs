@@ -167,7 +167,7 @@ fn jobs(configs: &[Config], model: Model, samples: usize, seed: u64) -> Vec<Job>
 }
 
 pub fn run(args: Args) -> Result<String, CliError> {
-    let scene = particles::scene::Scene::load(&args.scene, &args.sweep.overrides)?;
+    let scene = crate::scene_file::load(&args.scene, &args.sweep.overrides)?.dem;
     scene.validate()?;
     let mut all = Vec::new();
     if matches!(

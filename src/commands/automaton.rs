@@ -12,26 +12,19 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use automaton::mapping::{self, FreeParams};
+use automaton::mapping::FreeParams;
+use automaton::RuleSet;
 use automaton::{Automaton, Direction};
-use particles::prepare;
-use particles::scene::{AutomatonRule, Scene};
 use serde::Serialize;
 use serde_json::{json, Value};
 
-use crate::cellular::{self, Cells, StateWriter};
+use crate::cellular::{self, evolve, load_scene, setup, Cells};
+use crate::clock::Stopwatch;
 use crate::commands::analyze;
 use crate::output::{progress_bar, CliError, RunDir};
-use indicatif::ProgressBar;
+use crate::scene_file::SceneFile;
 
-/// Rule set chosen on the command line.
-#[derive(clap::ValueEnum, Clone, Copy, Debug, Serialize, PartialEq, Eq)]
-pub enum Rule {
-    Strict,
-    Physical,
-}
-
-#[derive(clap::Args, Debug, Serialize)]
+#[derive(clap::Args, Debug, Default, Serialize)]
 pub struct Args {
     /// Scene file (TOML), the same as for `stripes run` (optional table [automaton]).
     #[arg(required_unless_present = "calibrate")]
@@ -43,8 +36,8 @@ pub struct Args {
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub overrides: Vec<String>,
     /// Rule set (default: the scene's automaton.rule, itself `physical` by default).
-    #[arg(long, value_enum)]
-    pub rule: Option<Rule>,
+    #[arg(long, value_parser = rule_parser())]
+    pub rule: Option<RuleSet>,
     /// Directory of prepared samples, shared with `stripes run`.
     #[arg(long, default_value = "out/samples")]
     pub samples: PathBuf,
@@ -66,128 +59,26 @@ pub struct Args {
 
 pub fn run(args: Args) -> Result<String, CliError> {
     if !args.calibrate.is_empty() {
-        return super::calibrate::run(&args);
+        return super::calibrate::run(&super::calibrate::Calibration {
+            runs: args.calibrate.clone(),
+            out: args.out.clone(),
+            overrides: args.overrides.clone(),
+            samples: args.samples.clone(),
+            quiet: args.quiet,
+        });
     }
     let path = args.scene.clone().ok_or("a scene file is needed")?;
-    let scene = load_scene(&path, &args.overrides)?;
+    let file = load_scene(&path, &args.overrides)?;
     if args.bench {
-        return bench(&args, &path, &scene);
+        return bench(&args, &path, &file);
     }
-    simulate(&args, &path, scene)
+    simulate(&args, &path, file)
 }
 
-/// Loads and checks a scene, including its [automaton] table.
-pub(crate) fn load_scene(path: &Path, overrides: &[String]) -> Result<Scene, CliError> {
-    let scene = Scene::load(path, overrides)?;
-    scene.validate()?;
-    scene.automaton.validate()?;
-    Ok(scene)
-}
-
-fn rule_of(args_rule: Option<Rule>, scene: &Scene) -> AutomatonRule {
-    match args_rule {
-        Some(Rule::Strict) => AutomatonRule::Strict,
-        Some(Rule::Physical) => AutomatonRule::Physical,
-        None => scene.automaton.rule,
-    }
-}
-
-/// The result of one automaton run on a scene (before analysis).
-pub(crate) struct Outcome {
-    pub periods: u64,
-    pub half_steps: u64,
-    pub stepping_s: f64,
-    pub cells: Cells,
-    pub mass: (u64, u64),
-}
-
-/// Runs the automaton from `lattice` for the scene's duration, writing `snapshots.bin` into
-/// `out` if given; calls `frame` with every state.
-pub(crate) fn evolve(
-    scene: &Scene,
-    lattice: automaton::Lattice,
-    params: automaton::Params,
-    snapshots: Option<&Path>,
-    radius: f64,
-    bar: &ProgressBar,
-    mut frame: impl FnMut(f64, &automaton::Lattice),
-) -> Result<Outcome, CliError> {
-    let cells = Cells::of(scene);
-    let nu = scene.drive.frequency;
-    let periods = (scene.run.duration * nu).round().max(1.0) as u64;
-    let m0 = lattice.mass();
-    let mut writer = match snapshots {
-        Some(p) => Some(StateWriter::create(
-            p,
-            cells,
-            scene.tray.length,
-            scene.tray.width,
-            m0 as usize,
-            radius,
-            scene.particles.radius_min + scene.particles.radius_max,
-        )?),
-        None => None,
-    };
-    let mut a = Automaton::new(lattice, params, Direction::Plus)?;
-    if let Some(w) = writer.as_mut() {
-        w.push(0.0, 0.0, a.lattice())?;
-    }
-    frame(0.0, a.lattice());
-    bar.set_length(periods);
-    let mut stepping = 0.0;
-    for k in 1..=periods {
-        let t0 = Instant::now();
-        a.period();
-        stepping += t0.elapsed().as_secs_f64();
-        let t = 0.25 / nu + (k - 1) as f64 / nu;
-        if let Some(w) = writer.as_mut() {
-            w.push(t, scene.drive.amplitude, a.lattice())?;
-        }
-        frame(t, a.lattice());
-        bar.set_position(k);
-    }
-    if let Some(w) = writer.as_mut() {
-        w.sync()?;
-    }
-    let m1 = a.lattice().mass();
-    if m1 != m0 {
-        return Err(format!("automaton lost grains: {m0} -> {m1}").into());
-    }
-    Ok(Outcome {
-        periods,
-        half_steps: a.half_steps(),
-        stepping_s: stepping,
-        cells,
-        mass: (m0, m1),
-    })
-}
-
-/// Everything the automaton takes from a scene and its sample.
-pub(crate) struct Setup {
-    pub lattice: automaton::Lattice,
-    pub slide_dem: mapping::SlideMeasure,
-    pub slide_coulomb: mapping::SlideMeasure,
-    pub displaced: usize,
-    pub stacked: usize,
-    /// Radius written for every grain: sqrt(<r^2>) of the sample (same projected area).
-    pub radius: f64,
-}
-
-pub(crate) fn setup(scene: &Scene, samples: &Path, quiet: bool) -> Result<Setup, CliError> {
-    let b = progress_bar(1000, quiet, "prepare");
-    let (state, _) = prepare::load_or_prepare(scene, samples, |f| b.set_position((f * 1000.0) as u64))?;
-    b.finish_and_clear();
-    let pos: Vec<[f64; 2]> = state.pos.iter().map(|p| [p.x, p.y]).collect();
-    let (lattice, displaced, stacked) = cellular::lattice_from_positions(&Cells::of(scene), scene.tray.length, &pos);
-    let r2 = state.radius.iter().map(|r| r * r).sum::<f64>() / state.radius.len().max(1) as f64;
-    Ok(Setup {
-        lattice,
-        slide_dem: cellular::slide_dem(scene)?,
-        slide_coulomb: mapping::coulomb_slide(&cellular::tray_drive(scene), 6, 20000),
-        displaced,
-        stacked,
-        radius: r2.sqrt(),
-    })
+/// `--rule`: the automaton's own rule-set type, by its scene-file names.
+fn rule_parser() -> impl clap::builder::TypedValueParser<Value = RuleSet> {
+    use clap::builder::TypedValueParser as _;
+    clap::builder::PossibleValuesParser::new(RuleSet::NAMES).map(|s| s.parse::<RuleSet>().expect("one of the names"))
 }
 
 /// Reads the analysis summary keys shared with `stripes analyze`.
@@ -211,21 +102,22 @@ pub(crate) fn analyze_dir(dir: &Path) -> Result<String, CliError> {
     })
 }
 
-fn simulate(args: &Args, path: &Path, scene: Scene) -> Result<String, CliError> {
+fn simulate(args: &Args, path: &Path, file: SceneFile) -> Result<String, CliError> {
+    let scene = &file.dem;
     let name = path
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "scene".into());
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from(format!("out/automaton-{name}")));
-    let mut dir = RunDir::create(&out, &json!({ "args": args, "scene": &scene }))?;
-    analysis::io::write_atomic(&out.join("scene.toml"), toml::to_string(&scene)?.as_bytes())?;
-    let rule = rule_of(args.rule, &scene);
-    let s = setup(&scene, &args.samples, args.quiet)?;
-    let free: FreeParams = cellular::free_params(&scene);
-    let params = cellular::params(&scene, rule, &s.slide_dem, &free);
+    let mut dir = RunDir::create(&out, &json!({ "args": args, "scene": &file }))?;
+    analysis::io::write_atomic(&out.join("scene.toml"), file.to_toml()?.as_bytes())?;
+    let rule = args.rule.unwrap_or(file.automaton.rule);
+    let s = setup(&file, &args.samples, args.quiet)?;
+    let free: FreeParams = file.automaton.free_params();
+    let params = cellular::params(&file, rule, &s.slide_dem, &free);
     let wall = Instant::now();
     let b = progress_bar(1, args.quiet, "automaton");
-    let outcome = evolve(&scene, s.lattice, params, Some(&out.join("snapshots.bin")), s.radius, &b, |_, _| ())?;
+    let outcome = evolve(&file, s.lattice, params, Some(&out.join("snapshots.bin")), s.radius, &b, |_, _| ())?;
     b.finish_and_clear();
     let wall_s = wall.elapsed().as_secs_f64();
     let analysis_line = analyze_dir(&out)?;
@@ -243,8 +135,8 @@ fn simulate(args: &Args, path: &Path, scene: Scene) -> Result<String, CliError> 
         "displaced_to_free_cell": s.displaced,
         "stacked": s.stacked,
         "mapping": {
-            "tray_acceleration": cellular::tray_drive(&scene).tray_acceleration(),
-            "friction_acceleration": cellular::tray_drive(&scene).friction_acceleration(),
+            "tray_acceleration": cellular::tray_drive(scene).tray_acceleration(),
+            "friction_acceleration": cellular::tray_drive(scene).friction_acceleration(),
             "slide_dem": s.slide_dem,
             "slide_coulomb_block": s.slide_coulomb,
             "flight_cap_cells": (s.slide_dem.displacement / c.dx).round(),
@@ -264,10 +156,11 @@ fn simulate(args: &Args, path: &Path, scene: Scene) -> Result<String, CliError> 
 
 /// Speed on the scene's tray: a random layer of the scene's grain count, `strict` and
 /// `physical`, each for about `bench_seconds`.
-fn bench(args: &Args, path: &Path, scene: &Scene) -> Result<String, CliError> {
+fn bench(args: &Args, path: &Path, file: &SceneFile) -> Result<String, CliError> {
+    let scene = &file.dem;
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from("out/automaton-bench"));
     let mut dir = RunDir::create(&out, &json!({ "args": args, "scene": scene }))?;
-    let cells = Cells::of(scene);
+    let cells = Cells::of(file);
     // Grain positions from a SplitMix64 stream of the scene's seed.
     let mut s = scene.run.seed;
     let mut uniform = || {
@@ -284,14 +177,14 @@ fn bench(args: &Args, path: &Path, scene: &Scene) -> Result<String, CliError> {
     let slide = cellular::slide_dem(scene)?;
     let mut rows = Vec::new();
     let mut cases = serde_json::Map::new();
-    for (name, rule) in [("strict", AutomatonRule::Strict), ("physical", AutomatonRule::Physical)] {
-        let params = cellular::params(scene, rule, &slide, &cellular::free_params(scene));
+    for (name, rule) in [("strict", RuleSet::Strict), ("physical", RuleSet::Physical)] {
+        let params = cellular::params(file, rule, &slide, &file.automaton.free_params());
         let mut a = Automaton::new(lattice.clone(), params, Direction::Plus)?;
         // Warm up, then time batches until the budget is spent.
         for _ in 0..100 {
             a.half_step();
         }
-        let (start, cpu0, mut steps) = (Instant::now(), thread_cpu_seconds(), 0u64);
+        let (start, watch, mut steps) = (Instant::now(), Stopwatch::start(true), 0u64);
         while start.elapsed().as_secs_f64() < args.bench_seconds {
             for _ in 0..1000 {
                 a.half_step();
@@ -301,10 +194,7 @@ fn bench(args: &Args, path: &Path, scene: &Scene) -> Result<String, CliError> {
         let wall = start.elapsed().as_secs_f64();
         // On a shared machine the wall clock counts other processes' time slices too; the
         // thread's own CPU time measures one core's throughput.
-        let cpu = match (cpu0, thread_cpu_seconds()) {
-            (Some(a), Some(b)) if b > a => b - a,
-            _ => wall,
-        };
+        let cpu = watch.seconds();
         let cells_per_step = (cells.nx * cells.ny) as f64;
         let cell_rate = cells_per_step * steps as f64 / cpu;
         let grain_rate = lattice.mass() as f64 * steps as f64 / cpu;
@@ -329,12 +219,4 @@ fn bench(args: &Args, path: &Path, scene: &Scene) -> Result<String, CliError> {
         "cases": cases,
         "flight_cap_cells": (slide.displacement / cells.dx).round(),
     }))
-}
-
-/// CPU time of the calling thread (s), from `/proc/thread-self/schedstat` (Linux); `None`
-/// elsewhere.
-fn thread_cpu_seconds() -> Option<f64> {
-    let text = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
-    let ns: f64 = text.split_whitespace().next()?.parse().ok()?;
-    Some(ns * 1e-9)
 }

@@ -1,5 +1,5 @@
 //! `stripes bench [--quick]`: speed against error of every accuracy-for-speed choice, on the
-//! collision lab and on a small shaken tray (study in `particles::experiment::tradeoff`).
+//! collision lab and on a small shaken tray (study in `crate::tradeoff`).
 //!
 //! Also times each friction law (none, Haff-Werner, Haff-Werner with `friction = inf`,
 //! Cundall-Strack) against Haff-Werner in the same run
@@ -12,8 +12,8 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
+use crate::tradeoff::{self, Config, Row, Study};
 use analysis::plot::{LegendCorner, LinePlot, Mark};
-use particles::experiment::tradeoff::{self, Config, Row, Study};
 use serde::Serialize;
 use serde_json::json;
 

@@ -20,8 +20,7 @@ use analysis::snapshot::read_snapshots;
 use analysis::stripes::{detect, StripeParams};
 use serde_json::json;
 
-use super::automaton::{evolve, load_scene, setup, Args};
-use crate::cellular::{self, Cells};
+use crate::cellular::{self, evolve, load_scene, setup, Cells};
 use crate::output::{CliError, RunDir};
 
 /// Activation probabilities of the grid.
@@ -100,19 +99,33 @@ pub fn errors(dem: &Metrics, model: &Metrics) -> (f64, f64) {
     ((sq / n as f64).sqrt(), e_contrast)
 }
 
-pub fn run(args: &Args) -> Result<String, CliError> {
+/// What `stripes automaton --calibrate` was asked for.
+#[derive(Debug, serde::Serialize)]
+pub struct Calibration {
+    /// DEM run directories (each with scene.toml and snapshots.bin).
+    pub runs: Vec<std::path::PathBuf>,
+    /// Output directory (default: out/automaton-calibration).
+    pub out: Option<std::path::PathBuf>,
+    /// `--set` overrides applied to every run's scene.
+    pub overrides: Vec<String>,
+    /// Directory of prepared samples.
+    pub samples: std::path::PathBuf,
+    pub quiet: bool,
+}
+
+pub fn run(args: &Calibration) -> Result<String, CliError> {
     let out = args.out.clone().unwrap_or_else(|| "out/automaton-calibration".into());
     let mut dir = RunDir::create(
         &out,
         &json!({ "args": args, "activations": ACTIVATIONS, "knock_speeds": KNOCK_SPEEDS }),
     )?;
     struct RunData {
-        scene: particles::scene::Scene,
+        scene: crate::scene_file::SceneFile,
         dem: Metrics,
-        setup: super::automaton::Setup,
+        setup: cellular::Setup,
     }
     let mut runs = Vec::new();
-    for d in &args.calibrate {
+    for d in &args.runs {
         let scene = load_scene(&d.join("scene.toml"), &args.overrides)?;
         let dem = dem_metrics(&d.join("snapshots.bin"))?;
         let setup = setup(&scene, &args.samples, args.quiet)?;
@@ -134,10 +147,10 @@ pub fn run(args: &Args) -> Result<String, CliError> {
                 scene.automaton.activation = p;
                 scene.automaton.knock = true;
                 scene.automaton.knock_speed = v;
-                let params = cellular::params(&scene, scene.automaton.rule, &r.setup.slide_dem, &cellular::free_params(&scene));
+                let params = cellular::params(&scene, scene.automaton.rule, &r.setup.slide_dem, &scene.automaton.free_params());
                 let n = r.setup.lattice.mass() as usize;
                 let radii = vec![r.setup.radius; n];
-                let mut meter = Meter::new(scene.tray.length, scene.tray.width, &radii);
+                let mut meter = Meter::new(scene.dem.tray.length, scene.dem.tray.width, &radii);
                 let cells = Cells::of(&scene);
                 let mut x = Vec::with_capacity(n);
                 let hidden = indicatif::ProgressBar::hidden();
@@ -177,7 +190,7 @@ pub fn run(args: &Args) -> Result<String, CliError> {
         dir.plot(&format!("calibration_run{}", k + 1), &plot)?;
     }
     dir.finish(json!({
-        "runs": args.calibrate.iter().map(|p| p.display().to_string()).collect::<Vec<_>>(),
+        "runs": args.runs.iter().map(|p| p.display().to_string()).collect::<Vec<_>>(),
         "grid_points": rows.len(),
         "best": { "activation": p, "knock_speed": v, "loss": loss },
         "fit": per_run,

@@ -2,8 +2,8 @@
 
 use std::path::PathBuf;
 
-use clap::ValueEnum;
-use particles::contact::{ContactLaw, NormalLaw, RollingLaw, TangentialLaw};
+use particles::contact::choice::{LawChoice, LawParameters, Missing, NormalKind, RollingKind, TangentialKind};
+use particles::contact::ContactLaw;
 use particles::experiment::collide::{Collision, Impact, StepSize, Target};
 use particles::integrate::Integrator;
 use particles::material::Material;
@@ -12,49 +12,28 @@ use serde::Serialize;
 
 use crate::output::{parse_vec3, CliError, RunDir};
 
-#[derive(Clone, Copy, Debug, ValueEnum, Serialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Normal {
-    /// Viscoelastic Hertz, eq 3.8 (uses --young, --poisson, --dissipation).
-    Hertz,
-    /// Linear spring-dashpot, eq 4.21 (uses --kn, --gamma-n).
-    Linear,
-}
-
-#[derive(Clone, Copy, Debug, ValueEnum, Serialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Tangential {
-    None,
-    /// eq 3.12 (uses --gamma-t, --mu).
-    HaffWerner,
-    /// eq 4.32-4.34 (uses --kt, --mu).
-    CundallStrack,
-}
-
-#[derive(Clone, Copy, Debug, ValueEnum, Serialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Rolling {
-    None,
-    /// eq 3.15 (uses --mu-r).
-    BrilliantovPoschel,
-}
-
-#[derive(Clone, Copy, Debug, ValueEnum, Serialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum IntegratorArg {
-    VelocityVerlet,
-    Thesis,
+/// A parser of one law-slot kind by its scene-file names (the same type the scene uses).
+fn kind<K: std::str::FromStr<Err = String> + Clone + Send + Sync + 'static>(
+    names: &'static [&'static str],
+) -> impl clap::builder::TypedValueParser<Value = K> {
+    use clap::builder::TypedValueParser as _;
+    clap::builder::PossibleValuesParser::new(names).map(|s| s.parse::<K>().expect("one of the names"))
 }
 
 /// Options of `stripes collide`. SI units. Defaults: the thesis' glass beads (Table 3.1).
 #[derive(clap::Args, Debug, Serialize)]
 pub struct Args {
-    #[arg(long, value_enum, default_value = "hertz")]
-    pub normal: Normal,
-    #[arg(long, value_enum, default_value = "none")]
-    pub tangential: Tangential,
-    #[arg(long, value_enum, default_value = "none")]
-    pub rolling: Rolling,
+    /// Normal law: hertz (eq 3.8; --young, --poisson, --dissipation) or linear (eq 4.21;
+    /// --kn, --gamma-n).
+    #[arg(long, value_parser = kind::<NormalKind>(NormalKind::NAMES), default_value = "hertz")]
+    pub normal: NormalKind,
+    /// Tangential law: none, haff-werner (eq 3.12; --gamma-t, --mu) or cundall-strack
+    /// (eq 4.32-4.34; --kt, --mu).
+    #[arg(long, value_parser = kind::<TangentialKind>(TangentialKind::NAMES), default_value = "none")]
+    pub tangential: TangentialKind,
+    /// Rolling law: none or brilliantov-poschel (eq 3.15; --mu-r).
+    #[arg(long, value_parser = kind::<RollingKind>(RollingKind::NAMES), default_value = "none")]
+    pub rolling: RollingKind,
     /// Radius of sphere 1 (m).
     #[arg(long, default_value_t = 5e-4)]
     pub r1: f64,
@@ -121,59 +100,54 @@ pub struct Args {
     /// Steps per estimated (undamped) contact time.
     #[arg(long, default_value_t = 1000.0)]
     pub steps_per_contact: f64,
-    #[arg(long, value_enum, default_value = "velocity-verlet")]
-    pub integrator: IntegratorArg,
+    /// Time integrator: velocity-verlet or thesis (sec 3.5.1).
+    #[arg(long, value_parser = kind::<Integrator>(Integrator::NAMES), default_value = "velocity-verlet")]
+    pub integrator: Integrator,
     /// Output directory.
     #[arg(long, default_value = "out/collide")]
     pub out: PathBuf,
 }
 
 impl Args {
-    /// The contact law these options describe; missing parameters are errors.
+    /// The contact law these options describe, built by the same function as a scene's
+    /// laws; missing or bad parameters are errors naming the option.
     pub fn law(&self) -> Result<ContactLaw, CliError> {
-        let normal = match self.normal {
-            Normal::Hertz => {
-                let m = Material {
-                    density: self.rho,
-                    young: self.young,
-                    poisson: self.poisson,
-                    dissipation: self.dissipation,
-                };
-                if !(m.young > 0.0 && m.poisson > -1.0 && m.poisson < 0.5 + 1e-12 && m.dissipation >= 0.0) {
-                    return Err("--young must be > 0, --poisson in (-1, 0.5], --dissipation >= 0".into());
-                }
-                NormalLaw::hertz(m.reduced_modulus(), m.dissipation)
-            }
-            Normal::Linear => {
-                let kn = self.kn.ok_or("--normal linear needs --kn (N/m)")?;
-                if !(kn > 0.0 && self.gamma_n >= 0.0) {
-                    return Err("--kn must be > 0 and --gamma-n >= 0".into());
-                }
-                NormalLaw::Linear { kn, gamma_n: self.gamma_n }
-            }
+        let m = Material {
+            density: self.rho,
+            young: self.young,
+            poisson: self.poisson,
+            dissipation: self.dissipation,
         };
+        if self.normal == NormalKind::Hertz && !(m.young > 0.0 && m.poisson > -1.0 && m.poisson < 0.5 + 1e-12 && m.dissipation >= 0.0) {
+            return Err("--young must be > 0, --poisson in (-1, 0.5], --dissipation >= 0".into());
+        }
+        if self.normal == NormalKind::Linear && !(self.kn.is_none_or(|kn| kn > 0.0) && self.gamma_n >= 0.0) {
+            return Err("--kn must be > 0 and --gamma-n >= 0".into());
+        }
         if self.mu < 0.0 {
             return Err("--mu must be >= 0".into());
         }
-        let tangential = match self.tangential {
-            Tangential::None => TangentialLaw::None,
-            Tangential::HaffWerner => TangentialLaw::HaffWerner {
-                gamma_t: self.gamma_t,
-                mu: self.mu,
-            },
-            Tangential::CundallStrack => {
-                let kt = self.kt.ok_or("--tangential cundall-strack needs --kt (N/m)")?;
-                TangentialLaw::CundallStrack { kt, mu: self.mu }
+        let choice = LawChoice {
+            normal: self.normal,
+            tangential: self.tangential,
+            rolling: self.rolling,
+        };
+        let parameters = LawParameters {
+            reduced_modulus: m.reduced_modulus(),
+            dissipation: m.dissipation,
+            kn: self.kn,
+            gamma_n: self.gamma_n,
+            mu: self.mu,
+            gamma_t: self.gamma_t,
+            kt: self.kt,
+            mu_r: self.mu_r,
+        };
+        choice.build(&parameters).map_err(|missing| {
+            match missing {
+                Missing::Kn => "--normal linear needs --kn (N/m)",
+                Missing::Kt => "--tangential cundall-strack needs --kt (N/m)",
             }
-        };
-        let rolling = match self.rolling {
-            Rolling::None => RollingLaw::None,
-            Rolling::BrilliantovPoschel => RollingLaw::BrilliantovPoschel { mu_r: self.mu_r },
-        };
-        Ok(ContactLaw {
-            normal,
-            tangential,
-            rolling,
+            .into()
         })
     }
 
@@ -204,10 +178,7 @@ impl Args {
                 Some(dt) => StepSize::Dt(dt),
                 None => StepSize::PerContact(self.steps_per_contact),
             },
-            integrator: match self.integrator {
-                IntegratorArg::VelocityVerlet => Integrator::VelocityVerlet,
-                IntegratorArg::Thesis => Integrator::Thesis,
-            },
+            integrator: self.integrator,
         })
     }
 }

@@ -14,8 +14,9 @@ use particles::prepare::sample_key;
 use serde::Serialize;
 use serde_json::{json, Value};
 
-use super::automaton::{analysis_keys, analyze_dir, load_scene};
+use super::automaton::{analysis_keys, analyze_dir};
 use super::{automaton, run};
+use crate::cellular::load_scene;
 use crate::output::{CliError, RunDir};
 
 #[derive(clap::Args, Debug, Serialize)]
@@ -74,26 +75,27 @@ fn fmt_opt(v: Option<&Value>) -> String {
 }
 
 pub fn run(args: Args) -> Result<String, CliError> {
-    let scene = load_scene(&args.scene, &args.overrides)?;
+    let file = load_scene(&args.scene, &args.overrides)?;
+    let scene = &file.dem;
     let name = args
         .scene
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "scene".into());
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from(format!("out/compare-{name}")));
-    let mut dir = RunDir::create(&out, &json!({ "args": &args, "scene": &scene }))?;
+    let mut dir = RunDir::create(&out, &json!({ "args": &args, "scene": &file }))?;
 
     // 1. DEM.
     let dem_dir = match &args.dem_run {
         Some(d) => {
             stage(args.quiet, 1, &format!("DEM: reusing {}", d.display()));
-            let dem_scene = load_scene(&d.join("scene.toml"), &[])?;
-            if sample_key(&dem_scene) != sample_key(&scene) {
+            let dem_scene = load_scene(&d.join("scene.toml"), &[])?.dem;
+            if sample_key(&dem_scene) != sample_key(scene) {
                 return Err(format!(
                     "--dem-run {}: its sample ({:016x}) is not the scene's ({:016x}); both models must start from the same sample",
                     d.display(),
                     sample_key(&dem_scene),
-                    sample_key(&scene)
+                    sample_key(scene)
                 )
                 .into());
             }
@@ -186,7 +188,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
         "Same scene and same prepared sample (key `{:016x}`), same analysis (`stripes analyze`: exact area fraction in 1 mm cells, \
          stripes above 1.5 x the mean area fraction and at least five mean diameters wide, the analysis defaults). {} grains on a {} m x {} m tray, \
          {} Hz, {} m, {} s.\n\n",
-        sample_key(&scene),
+        sample_key(scene),
         scene.particles.count,
         scene.tray.length,
         scene.tray.width,
@@ -244,7 +246,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
     dir.note_files([report]);
     dir.finish(json!({
         "scene": args.scene.display().to_string(),
-        "sample_key": format!("{:016x}", sample_key(&scene)),
+        "sample_key": format!("{:016x}", sample_key(scene)),
         "dem_run": dem_dir.display().to_string(),
         "dem": { "analysis": dem_keys, "particle_steps_per_s": dem_speed, "wall_s": dem_wall },
         "automaton": { "analysis": auto_keys, "cell_updates_per_s": auto_speed, "wall_s": auto_wall },

@@ -14,9 +14,8 @@ use analysis::density::{area_fraction_cells, mean_area_fraction};
 use analysis::mechanism::{ByDensity, Grain, Motion, Split, Tally};
 use analysis::plot::{LinePlot, Mark};
 use analysis::stripes::{detect, StripeParams};
-use particles::scene::Scene;
 use particles::sim::Simulation;
-use particles::{prepare, tray};
+use particles::tray;
 use serde::Serialize;
 use serde_json::json;
 
@@ -48,7 +47,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
         return Err("--periods and --per-period must be at least 1".into());
     }
     let scene_path = args.run.join("scene.toml");
-    let scene = Scene::load(&scene_path, &[])?;
+    let scene = crate::scene_file::load(&scene_path, &[])?.dem;
     scene.validate()?;
     let ckpt_path = args.run.join("checkpoint.bin");
     let bytes =
@@ -58,7 +57,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
 
     let setup = tray::setup(&scene, tray::drive(&scene))?;
     let dt = setup.dt;
-    let (state, _) = prepare::load_or_prepare(&scene, &args.samples, |_| {})?;
+    let (state, _) = crate::samples::load_or_prepare(&scene, &args.samples, |_| {})?;
     let mut sim = Simulation::new(setup, state)?;
     sim.restore(&bytes, super::run::checkpoint_fingerprint(&scene)?)
         .map_err(|e| format!("{}: {e}", ckpt_path.display()))?;

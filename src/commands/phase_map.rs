@@ -90,7 +90,7 @@ pub fn jobs(freqs: &[f64], amps: &[f64], models: &[Model], samples: usize, seed:
 pub fn run(args: Args) -> Result<String, CliError> {
     let freqs = sweep::parse_range(&args.frequency, "frequency")?;
     let amps = sweep::parse_range(&args.amplitude, "amplitude")?;
-    let scene = particles::scene::Scene::load(&args.scene, &args.sweep.overrides)?;
+    let scene = crate::scene_file::load(&args.scene, &args.sweep.overrides)?.dem;
     scene.validate()?;
     let sweep = Sweep {
         kind: "phase-map".into(),

@@ -8,8 +8,9 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
-use analysis::snapshot::{Header, SnapshotWriter};
+use analysis::snapshot::Header;
 use particles::observe;
+use particles::observer::{advance, ObserverError};
 use particles::prepare;
 use particles::scene::Scene;
 use particles::sim::Simulation;
@@ -17,9 +18,10 @@ use particles::tray;
 use serde::Serialize;
 use serde_json::json;
 
+use crate::observers::{ContactMeans, Progress, Recorder, RecorderPlan};
 use crate::output::{progress_bar, CliError, RunDir};
 
-#[derive(clap::Args, Debug, Serialize)]
+#[derive(clap::Args, Debug, Default, Serialize)]
 pub struct Args {
     /// Scene file (TOML), e.g. scenes/thesis-reference.toml.
     pub scene: PathBuf,
@@ -63,7 +65,7 @@ pub(crate) fn checkpoint_fingerprint(scene: &Scene) -> Result<u64, CliError> {
 }
 
 pub fn run(args: Args) -> Result<String, CliError> {
-    let scene = Scene::load(&args.scene, &args.overrides)?;
+    let scene = crate::scene_file::load(&args.scene, &args.overrides)?.dem;
     scene.validate()?;
     let threads = scene.run.threads;
     let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build()?;
@@ -84,14 +86,14 @@ fn run_in_pool(args: Args, scene: Scene) -> Result<String, CliError> {
     // Everything that can be checked is checked before the (possibly long) preparation.
     let setup = tray::setup(&scene, tray::drive(&scene))?;
     let dt = setup.dt;
-    let warnings = tray::warnings(&scene, dt);
+    let warnings = tray::warnings(&scene, dt)?;
     for w in &warnings {
         eprintln!("warning: {w}");
     }
 
     // Sample: prepared once per (population, box, material, seed), shared by every run.
     let bar = progress_bar(1000, args.quiet, "prepare");
-    let (state, cached) = prepare::load_or_prepare(&scene, &args.samples, |f| bar.set_position((f * 1000.0) as u64))?;
+    let (state, cached) = crate::samples::load_or_prepare(&scene, &args.samples, |f| bar.set_position((f * 1000.0) as u64))?;
     bar.finish_and_clear();
     let mut sim = Simulation::new(setup, state)?;
     let fingerprint = checkpoint_fingerprint(&scene)?;
@@ -102,98 +104,90 @@ fn run_in_pool(args: Args, scene: Scene) -> Result<String, CliError> {
     };
     let snap_path = out.join("snapshots.bin");
     let ckpt_path = out.join("checkpoint.bin");
-    let (mut writer, mut frames) = if args.resume {
+    let frames = if args.resume {
         let bytes = std::fs::read(&ckpt_path).map_err(|e| format!("--resume: cannot read {}: {e}", ckpt_path.display()))?;
-        let frames = sim
-            .restore(&bytes, fingerprint)
-            .map_err(|e| format!("--resume: {}: {e}", ckpt_path.display()))?;
-        (SnapshotWriter::open_append(&snap_path, header.clone(), frames)?, frames)
+        sim.restore(&bytes, fingerprint)
+            .map_err(|e| format!("--resume: {}: {e}", ckpt_path.display()))?
     } else {
-        (SnapshotWriter::create(&snap_path, header.clone())?, 0)
+        0
     };
     if let Some(path) = &args.lammps_data {
         let title = format!("stripes {} at t = {} s, {} grains", args.scene.display(), sim.time, sim.state.len());
-        let text = particles::lammps::data_file(&sim.state, scene.material.density, scene.tray.length, scene.tray.width, &title);
-        analysis::io::write_atomic(path, text.as_bytes())?;
-    }
-    let vtk_dir = out.join("vtk");
-    if args.vtk {
-        std::fs::create_dir_all(&vtk_dir)?;
-    }
-    let snapshot = |sim: &Simulation, writer: &mut SnapshotWriter, frames: &mut u64| -> Result<(), CliError> {
+        let mut grains = analysis::lammps_data::Grains::default();
         let s = &sim.state;
-        writer.push(
-            sim.time,
-            s.pos.iter().map(|p| [p.x, p.y, p.z]),
-            s.vel.iter().map(|v| [v.x, v.y, v.z]),
-        )?;
-        if args.vtk {
-            let frame = analysis::snapshot::Frame {
-                time: sim.time,
-                pos: s.pos.iter().map(|p| [p.x, p.y, p.z]).collect(),
-                vel: s.vel.iter().map(|v| [v.x, v.y, v.z]).collect(),
-            };
-            analysis::vtk::write_vtk(&vtk_dir.join(format!("frame_{:05}.vtk", *frames)), &header, &frame)?;
+        for i in 0..s.len() {
+            let v = |x: &particles::Vec3| [x.x, x.y, x.z];
+            grains.push(v(&s.pos[i]), v(&s.vel[i]), v(&s.omega[i]), s.radius[i]);
         }
-        *frames += 1;
-        Ok(())
-    };
-    if frames == 0 {
-        snapshot(&sim, &mut writer, &mut frames)?;
+        let text = analysis::lammps_data::data_file(&grains, scene.material.density, scene.tray.length, scene.tray.width, &title);
+        analysis::io::write_atomic(path, text.as_bytes())?;
     }
 
     // Snapshot k >= 1 at the turning point x_tray = +A of each period (sin = 1):
     // t_k = 1/(4 nu) + (k - 1) / (s nu), taken at the nearest step.
     let (nu, per) = (scene.drive.frequency, scene.run.snapshots_per_period as f64);
-    let snap_time = |k: u64| 0.25 / nu + (k - 1) as f64 / (per * nu);
     let total = (scene.run.duration / dt).round() as u64;
-    let ckpt_every = if scene.run.checkpoint_interval > 0.0 {
-        ((scene.run.checkpoint_interval / dt).round() as u64).max(1)
-    } else {
-        u64::MAX
-    };
+    let mut recorder = Recorder::open(RecorderPlan {
+        header,
+        snapshots: snap_path.clone(),
+        frames,
+        snap_time: Box::new(move |k: u64| 0.25 / nu + (k - 1) as f64 / (per * nu)),
+        vtk: args.vtk.then(|| out.join("vtk")),
+        checkpoint: ckpt_path.clone(),
+        fingerprint,
+        every: if scene.run.checkpoint_interval > 0.0 {
+            ((scene.run.checkpoint_interval / dt).round() as u64).max(1)
+        } else {
+            u64::MAX
+        },
+        last: total,
+    })?;
+    if recorder.frames == 0 {
+        recorder.snapshot(&sim)?;
+    }
     let bar = progress_bar(total, args.quiet, "run");
     bar.set_position(sim.steps);
-    let (mut stepping, mut pair_sum, mut wall_sum, mut counted) = (0.0, 0.0, 0.0, 0u64);
-    let start_steps = sim.steps;
-    let wall_clock = Instant::now();
-    while sim.steps < total {
-        let t0 = Instant::now();
-        if let Err(e) = sim.step() {
-            // Keep everything written so far: the snapshots up to now and the last checkpoint.
-            writer.sync()?;
-            bar.abandon();
-            let kept = if ckpt_path.exists() {
-                format!("the last checkpoint is {}", ckpt_path.display())
-            } else {
-                "no checkpoint was due yet".to_string()
-            };
-            return Err(format!("{e}; the {frames} snapshots so far are in {} and {kept}", snap_path.display()).into());
-        }
-        stepping += t0.elapsed().as_secs_f64();
-        pair_sum += sim.contacts.0 as f64;
-        wall_sum += sim.contacts.1 as f64;
-        counted += 1;
-        if sim.time >= snap_time(frames) - 0.5 * dt {
-            snapshot(&sim, &mut writer, &mut frames)?;
-        }
-        if sim.steps % ckpt_every == 0 || sim.steps == total {
-            writer.sync()?;
-            analysis::io::write_atomic(&ckpt_path, &sim.checkpoint(fingerprint, frames))?;
-        }
-        if sim.steps % 1000 == 0 {
-            bar.set_position(sim.steps);
-        }
-        if args.stop_after.is_some_and(|n| sim.steps >= n) {
+    let mut contacts = ContactMeans::default();
+    let stop_after = args.stop_after;
+    let mut killer = |sim: &Simulation| -> Result<(), ObserverError> {
+        if stop_after.is_some_and(|n| sim.steps >= n) {
             // As `kill -9` would: no final checkpoint, and buffered snapshot bytes are lost
             // (`exit` runs no destructors), so a resume starts from the last due checkpoint.
             bar.abandon();
             eprintln!("killed after {} steps as asked (--stop-after); continue with --resume", sim.steps);
             std::process::exit(137);
         }
-    }
-    writer.sync()?;
+        Ok(())
+    };
+    let start_steps = sim.steps;
+    let wall_clock = Instant::now();
+    let stepping = match advance(
+        &mut sim,
+        total,
+        &mut [&mut contacts, &mut recorder, &mut Progress(&bar), &mut killer],
+    ) {
+        Ok(seconds) => seconds,
+        Err(e) => {
+            // Keep everything written so far: the snapshots up to now and the last checkpoint.
+            recorder.writer.sync()?;
+            bar.abandon();
+            let kept = if ckpt_path.exists() {
+                format!("the last checkpoint is {}", ckpt_path.display())
+            } else {
+                "no checkpoint was due yet".to_string()
+            };
+            return Err(format!(
+                "{e}; the {} snapshots so far are in {} and {kept}",
+                recorder.frames,
+                snap_path.display()
+            )
+            .into());
+        }
+    };
+    recorder.writer.sync()?;
     bar.finish_and_clear();
+    let frames = recorder.frames;
+    let (pair_mean, wall_mean) = contacts.means();
     let s = &sim.state;
     let stepped = sim.steps - start_steps;
     let energy = json!({
@@ -214,12 +208,12 @@ fn run_in_pool(args: Args, scene: Scene) -> Result<String, CliError> {
         "stepping_s": stepping,
         "particle_steps_per_s": (stepped as f64 * s.len() as f64) / stepping.max(1e-12),
         "threads": rayon::current_num_threads(),
-        "steps_per_contact": tray::shortest_contact_time(&scene) / dt,
+        "steps_per_contact": tray::shortest_contact_time(&scene)? / dt,
         "snapshots": frames,
         "sample_cached": cached,
         "sample_key": format!("{:016x}", prepare::sample_key(&scene)),
         "energy": energy,
-        "contacts": { "pair_mean": pair_sum / counted.max(1) as f64, "wall_mean": wall_sum / counted.max(1) as f64 },
+        "contacts": { "pair_mean": pair_mean, "wall_mean": wall_mean },
         "neighbor_builds": sim.neighbor_builds(),
         "state_hash": format!("{:016x}", observe::state_hash(s)),
         "warnings": warnings,

@@ -126,7 +126,7 @@ struct Shaken {
 }
 
 pub fn run(args: Args) -> Result<String, CliError> {
-    let mut scene = Scene::load(&args.scene, &args.overrides)?;
+    let mut scene = crate::scene_file::load(&args.scene, &args.overrides)?.dem;
     if let Some(a) = args.amplitude {
         scene.drive.amplitude = a;
     }
@@ -171,7 +171,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
         };
         let every = ((1.0 / f) / dt / 200.0).max(1.0) as u64; // about 200 samples per period
         for &m in &rolling_frictions {
-            let mut grain = SphereOnFloor::on_scene(&at, radius, dt);
+            let mut grain = SphereOnFloor::on_scene(&at, radius, dt)?;
             grain.law.rolling = if m > 0.0 {
                 RollingLaw::BrilliantovPoschel { mu_r: m }
             } else {
@@ -386,7 +386,7 @@ fn stopping_test(dir: &mut RunDir, args: &Args, scene: &Scene, radius: f64) -> R
     let mut stop_rows: Vec<Vec<f64>> = Vec::new();
     let stop_every = (0.01 / dt).max(1.0) as u64;
     for &mu_r in &args.stop_mu_r {
-        let mut grain = SphereOnFloor::on_scene(scene, radius, dt);
+        let mut grain = SphereOnFloor::on_scene(scene, radius, dt)?;
         grain.law.rolling = if mu_r > 0.0 {
             RollingLaw::BrilliantovPoschel { mu_r }
         } else {

@@ -27,14 +27,24 @@ pub struct ContactGeometry<N: Normal = Vec3> {
     pub r_eff: f64,
 }
 
+/// One sphere of a contact: centre `x` (m), velocity `v` (m/s), spin `w` (rad/s), radius
+/// `r` (m).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sphere {
+    pub x: Vec3,
+    pub v: Vec3,
+    pub w: Vec3,
+    pub r: f64,
+}
+
 impl ContactGeometry {
     /// Geometry of two spheres; `None` when they are apart (or coincide). Exact touching
     /// (`xi = 0`) counts as contact, so a dashpot's force jump `gamma dxi/dt` at the onset of
     /// an impact that starts touching is seen by the first force evaluation.
-    /// `xj` must already be the periodic image nearest to `xi`.
-    #[allow(clippy::too_many_arguments)]
+    /// `b.x` must already be the periodic image nearest to `a.x`.
     #[inline]
-    pub fn pair(xi: Vec3, xj: Vec3, vi: Vec3, vj: Vec3, wi: Vec3, wj: Vec3, ri: f64, rj: f64) -> Option<Self> {
+    pub fn pair(a: Sphere, b: Sphere) -> Option<Self> {
+        let (xi, xj, vi, vj, wi, wj, ri, rj) = (a.x, b.x, a.v, b.v, a.w, b.w, a.r, b.r);
         let d = xi - xj;
         let dist2 = d.norm_squared();
         let sum = ri + rj;
@@ -52,8 +62,7 @@ impl ContactGeometry {
             vi - vj,
             arm_i * wi + arm_j * wj,
             wi - wj,
-            arm_i,
-            arm_j,
+            (arm_i, arm_j),
             ri * rj / sum,
         ))
     }
@@ -73,15 +82,15 @@ impl ContactGeometry {
             vi - v_wall,
             arm_i * wi,
             wi,
-            arm_i,
-            f64::INFINITY,
+            (arm_i, f64::INFINITY),
             ri,
         ))
     }
 
-    #[allow(clippy::too_many_arguments)]
+    /// `arms`: the lever arms `(a_i, a_j)` of the contact point.
     #[inline]
-    fn from_parts(n: Vec3, overlap: f64, v_rel: Vec3, spin_sum: Vec3, omega_rel: Vec3, arm_i: f64, arm_j: f64, r_eff: f64) -> Self {
+    fn from_parts(n: Vec3, overlap: f64, v_rel: Vec3, spin_sum: Vec3, omega_rel: Vec3, arms: (f64, f64), r_eff: f64) -> Self {
+        let (arm_i, arm_j) = arms;
         let v_t = tangential_velocity(n, v_rel, spin_sum);
         Self {
             n,
@@ -337,17 +346,14 @@ mod tests {
 
     #[test]
     fn pair_normal_points_from_j_to_i() {
-        let g = ContactGeometry::pair(
-            Vec3::new(1.5e-3, 0.0, 0.0),
-            Vec3::zeros(),
-            Vec3::new(-1.0, 0.0, 0.0),
-            Vec3::zeros(),
-            Vec3::zeros(),
-            Vec3::zeros(),
-            1e-3,
-            1e-3,
-        )
-        .unwrap();
+        let z = Vec3::zeros();
+        let a = Sphere {
+            x: Vec3::new(1.5e-3, 0.0, 0.0),
+            v: Vec3::new(-1.0, 0.0, 0.0),
+            w: z,
+            r: 1e-3,
+        };
+        let g = ContactGeometry::pair(a, Sphere { x: z, v: z, w: z, r: 1e-3 }).unwrap();
         assert_eq!(g.n, Vec3::x());
         assert!((g.overlap - 0.5e-3).abs() < 1e-15);
         assert_eq!(g.overlap_rate, 1.0); // approaching: overlap grows
@@ -357,8 +363,14 @@ mod tests {
     #[test]
     fn separated_and_coincident_pairs_have_no_contact() {
         let z = Vec3::zeros();
-        assert!(ContactGeometry::pair(Vec3::new(2.0 + 1e-12, 0.0, 0.0), z, z, z, z, z, 1.0, 1.0).is_none());
-        assert!(ContactGeometry::pair(Vec3::new(2.0, 0.0, 0.0), z, z, z, z, z, 1.0, 1.0).is_some());
-        assert!(ContactGeometry::pair(z, z, z, z, z, z, 1.0, 1.0).is_none());
+        let at = |x: f64| Sphere {
+            x: Vec3::new(x, 0.0, 0.0),
+            v: z,
+            w: z,
+            r: 1.0,
+        };
+        assert!(ContactGeometry::pair(at(2.0 + 1e-12), at(0.0)).is_none());
+        assert!(ContactGeometry::pair(at(2.0), at(0.0)).is_some());
+        assert!(ContactGeometry::pair(at(0.0), at(0.0)).is_none());
     }
 }

@@ -6,6 +6,7 @@
 //! partner, eq 3.17-3.18). Per-contact history (the Cundall-Strack spring) is passed in
 //! separately from the parameters.
 
+pub mod choice;
 pub mod geometry;
 pub mod normal;
 pub mod rolling;
@@ -158,6 +159,10 @@ mod tests {
         }
     }
 
+    fn sphere(x: Vec3, v: Vec3, w: Vec3, r: f64) -> geometry::Sphere {
+        geometry::Sphere { x, v, w, r }
+    }
+
     fn sample_geometry(swap: bool) -> ContactGeometry {
         let (ri, rj) = (4e-4, 3e-4);
         let xi = Vec3::new(0.0, 0.0, 0.0);
@@ -167,9 +172,9 @@ mod tests {
         let wi = Vec3::new(10.0, -5.0, 2.0);
         let wj = Vec3::new(-3.0, 4.0, 7.0);
         if swap {
-            ContactGeometry::pair(xj, xi, vj, vi, wj, wi, rj, ri).unwrap()
+            ContactGeometry::pair(sphere(xj, vj, wj, rj), sphere(xi, vi, wi, ri)).unwrap()
         } else {
-            ContactGeometry::pair(xi, xj, vi, vj, wi, wj, ri, rj).unwrap()
+            ContactGeometry::pair(sphere(xi, vi, wi, ri), sphere(xj, vj, wj, rj)).unwrap()
         }
     }
 

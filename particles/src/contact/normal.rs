@@ -14,6 +14,15 @@ pub enum NormalLaw {
 }
 
 impl NormalLaw {
+    /// The same law without its dissipative part (`A = 0`, or `gamma_n = 0`): pure Hertz
+    /// (eq 3.29) or an undamped spring.
+    pub fn elastic(&self) -> Self {
+        match *self {
+            NormalLaw::Hertz { reduced_modulus, .. } => NormalLaw::hertz(reduced_modulus, 0.0),
+            NormalLaw::Linear { kn, .. } => NormalLaw::Linear { kn, gamma_n: 0.0 },
+        }
+    }
+
     /// Hertz law from the reduced modulus `Y/(1-nu^2)` (Pa) and the dissipative constant `A` (s).
     pub fn hertz(reduced_modulus: f64, dissipation: f64) -> Self {
         NormalLaw::Hertz {

@@ -29,9 +29,9 @@ use crate::contact::{geometry::tangential_velocity, ContactLaw};
 use crate::integrate::Integrator;
 use crate::neighbor::NeighborSearch;
 use crate::observe;
-use crate::scene::check_step_resolution;
 use crate::sim::{Setup, Simulation, Vertical};
 use crate::state::State;
+use crate::timescale::check_step_resolution;
 use crate::wall::{Motion, Wall};
 use crate::{SimError, Vec3};
 
@@ -78,6 +78,29 @@ pub struct Collision {
     pub impact: Impact,
     pub step: StepSize,
     pub integrator: Integrator,
+}
+
+impl Collision {
+    /// Two equal spheres of radius `radius` (m) and density `density` (kg/m^3), without
+    /// spin, meeting with `impact` under `law`, at `steps` steps per contact time, with
+    /// velocity Verlet.
+    pub fn equal_spheres(law: ContactLaw, radius: f64, density: f64, impact: Impact, steps: f64) -> Self {
+        let m = density * 4.0 / 3.0 * std::f64::consts::PI * radius.powi(3);
+        Collision {
+            law,
+            r1: radius,
+            m1: m,
+            omega1: Vec3::zeros(),
+            target: Target::Sphere {
+                r: radius,
+                m,
+                omega: Vec3::zeros(),
+            },
+            impact,
+            step: StepSize::PerContact(steps),
+            integrator: Integrator::VelocityVerlet,
+        }
+    }
 }
 
 /// Outcome of a collision. Serialises to the JSON of SPEC section 5.

@@ -4,10 +4,9 @@
 
 use serde::Serialize;
 
-use super::collide::{Collision, Impact, StepSize, Target};
+use super::collide::{Collision, Impact};
 use crate::contact::{ContactLaw, NormalLaw, RollingLaw, TangentialLaw};
-use crate::integrate::Integrator;
-use crate::{SimError, Vec3};
+use crate::SimError;
 
 /// Base point of the sweeps (Fig 3.5): R = 0.5 mm, Y = 1e6 Pa, nu = 0.3, rho = 2500 kg/m^3,
 /// A = 8.5e-6 s, v = 0.002 m/s.
@@ -49,25 +48,13 @@ pub struct ContactTimeRow {
 
 impl ContactTimeCase {
     fn collision(&self, steps: f64) -> Collision {
-        let m = self.density * 4.0 / 3.0 * std::f64::consts::PI * self.radius.powi(3);
-        Collision {
-            law: ContactLaw {
-                normal: NormalLaw::hertz(self.young / (1.0 - self.poisson * self.poisson), self.dissipation),
-                tangential: TangentialLaw::None,
-                rolling: RollingLaw::None,
-            },
-            r1: self.radius,
-            m1: m,
-            omega1: Vec3::zeros(),
-            target: Target::Sphere {
-                r: self.radius,
-                m,
-                omega: Vec3::zeros(),
-            },
-            impact: Impact::Components { vn: self.speed, vt: 0.0 },
-            step: StepSize::PerContact(steps),
-            integrator: Integrator::VelocityVerlet,
-        }
+        let law = ContactLaw {
+            normal: NormalLaw::hertz(self.young / (1.0 - self.poisson * self.poisson), self.dissipation),
+            tangential: TangentialLaw::None,
+            rolling: RollingLaw::None,
+        };
+        let impact = Impact::Components { vn: self.speed, vt: 0.0 };
+        Collision::equal_spheres(law, self.radius, self.density, impact, steps)
     }
 
     fn row(&self, parameter: &'static str, value: f64, steps: f64) -> Result<ContactTimeRow, SimError> {

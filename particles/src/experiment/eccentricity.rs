@@ -3,10 +3,9 @@
 
 use serde::Serialize;
 
-use super::collide::{Collision, Impact, StepSize, Target};
+use super::collide::{Collision, Impact};
 use crate::contact::{ContactLaw, NormalLaw, RollingLaw, TangentialLaw};
-use crate::integrate::Integrator;
-use crate::{SimError, Vec3};
+use crate::SimError;
 
 /// Two identical spheres of radius `radius` (m) and density `density` (kg/m^3) colliding at
 /// relative speed `speed` (m/s) under `law`.
@@ -35,21 +34,8 @@ pub struct EccentricPoint {
 impl EccentricStudy {
     /// Runs one impact at eccentricity `e` with `steps` steps per contact time.
     pub fn point(&self, e: f64, steps: f64) -> Result<EccentricPoint, SimError> {
-        let m = self.density * 4.0 / 3.0 * std::f64::consts::PI * self.radius.powi(3);
-        let c = Collision {
-            law: self.law,
-            r1: self.radius,
-            m1: m,
-            omega1: Vec3::zeros(),
-            target: Target::Sphere {
-                r: self.radius,
-                m,
-                omega: Vec3::zeros(),
-            },
-            impact: Impact::Eccentric { v: self.speed, e },
-            step: StepSize::PerContact(steps),
-            integrator: Integrator::VelocityVerlet,
-        };
+        let impact = Impact::Eccentric { v: self.speed, e };
+        let c = Collision::equal_spheres(self.law, self.radius, self.density, impact, steps);
         let r = c.run()?;
         let eq_4_16 = if e > 0.0 {
             r.phi.cos() - r.phi.sin() / (1.0 / (e * e) - 1.0).sqrt()

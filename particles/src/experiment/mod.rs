@@ -7,4 +7,3 @@ pub mod contact_time;
 pub mod eccentricity;
 pub mod single;
 pub mod step_control;
-pub mod tradeoff;

@@ -95,15 +95,15 @@ impl SphereOnFloor {
     /// A sphere of radius `radius` (m) on the floor of `scene`: the scene's particle-wall
     /// law (after its toggles), grain density, integrator and the tray's gravity, with the
     /// step `dt` (s).
-    pub fn on_scene(scene: &Scene, radius: f64, dt: f64) -> Self {
-        Self {
+    pub fn on_scene(scene: &Scene, radius: f64, dt: f64) -> Result<Self, SimError> {
+        Ok(Self {
             radius,
             density: scene.material.density,
-            law: scene.laws().1,
+            law: scene.laws()?.1,
             gravity: GRAVITY,
             dt,
             integrator: scene.run.integrator,
-        }
+        })
     }
 
     /// Mass (kg).

@@ -3,10 +3,10 @@
 //!
 //! The probes are the hardest impacts a scene can produce: two of its smallest grains (the
 //! shortest contact) and one smallest grain against the floor, meeting at the scene's largest
-//! impact speed `v = 2 pi nu A` ([`crate::tray::max_impact_speed`]), once head-on and once at
+//! impact speed `v = 2 pi nu A` ([`crate::timescale::max_impact_speed`]), once head-on and once at
 //! 45 degrees (`v_n = v_t = v / sqrt 2`), each with the scene's own contact laws (friction and
 //! rolling resistance included). Every probe runs with the same time step
-//! `dt = t_c / s`, `t_c` = [`crate::tray::shortest_contact_time`], exactly as the tray would.
+//! `dt = t_c / s`, `t_c` = [`crate::timescale::shortest_contact_time`], exactly as the tray would.
 //!
 //! The restitution error of a step is the largest absolute deviation of `eps_n` (eq 4.2) and
 //! `eps_t` (tangential contact-point velocity ratio) over the probes from the same probes at
@@ -17,11 +17,11 @@ use crate::contact::ContactLaw;
 use crate::experiment::collide::{Collision, CollisionResult, Impact, StepSize, Target};
 use crate::integrate::Integrator;
 use crate::scene::Scene;
-use crate::tray;
+use crate::timescale;
 use crate::{SimError, Vec3};
 
 /// Steps per contact tried, coarsest first (the lab accepts no fewer than 5; the tray
-/// accepts no fewer than [`crate::scene::MIN_STEPS_PER_CONTACT`]).
+/// accepts no fewer than [`crate::timescale::MIN_STEPS_PER_CONTACT`]).
 pub const CANDIDATE_STEPS: [f64; 17] = [
     8.0, 10.0, 12.0, 15.0, 20.0, 25.0, 30.0, 40.0, 50.0, 70.0, 100.0, 140.0, 200.0, 300.0, 500.0, 700.0, 1000.0,
 ];
@@ -74,19 +74,19 @@ pub fn probes(pair: ContactLaw, wall: ContactLaw, radius: f64, mass: f64, v: f64
 }
 
 /// The probes of a scene at `steps` per shortest contact time.
-pub fn scene_probes(scene: &Scene, steps: f64, integrator: Integrator) -> Vec<Collision> {
-    let (pair, wall) = scene.laws();
+pub fn scene_probes(scene: &Scene, steps: f64, integrator: Integrator) -> Result<Vec<Collision>, SimError> {
+    let (pair, wall) = scene.laws()?;
     let r = scene.particles.radius_min;
-    let dt = tray::shortest_contact_time(scene) / steps;
-    probes(
+    let dt = timescale::shortest_contact_time(scene)? / steps;
+    Ok(probes(
         pair,
         wall,
         r,
         scene.material().sphere_mass(r),
-        tray::max_impact_speed(scene),
+        timescale::max_impact_speed(scene),
         dt,
         integrator,
-    )
+    ))
 }
 
 /// Runs every probe.
@@ -121,14 +121,14 @@ pub fn choose(scene: &Scene, tolerance: f64, min_steps: f64) -> Result<StepChoic
         });
     }
     let integrator = Integrator::VelocityVerlet;
-    let reference = run_all(&scene_probes(scene, REFERENCE_STEPS, integrator))?;
-    let t_c = tray::shortest_contact_time(scene);
+    let reference = run_all(&scene_probes(scene, REFERENCE_STEPS, integrator)?)?;
+    let t_c = timescale::shortest_contact_time(scene)?;
     let mut best = f64::INFINITY;
     let candidates = std::iter::once(min_steps).chain(CANDIDATE_STEPS.iter().copied().filter(|&s| s > min_steps));
     for s in candidates {
         // A step so coarse that a probe overshoots the overlap limit fails the tolerance;
         // a finer one may not (the reference itself failing stops the search above).
-        let Ok(results) = run_all(&scene_probes(scene, s, integrator)) else {
+        let Ok(results) = run_all(&scene_probes(scene, s, integrator)?) else {
             continue;
         };
         let err = restitution_error(&results, &reference);

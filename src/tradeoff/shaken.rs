@@ -4,15 +4,15 @@ use analysis::density::area_fraction_cells;
 use analysis::stripes::{detect, onset, StripeParams};
 
 use super::{base_scene, failed, matched_linear, setting_dt, with, Config, Row, Setting, Stopwatch, Study, THESIS_DT};
-use crate::experiment::step_control::{self, REFERENCE_STEPS};
-use crate::integrate::Integrator;
-use crate::neighbor::NeighborSearch;
-use crate::prepare::initial_state;
-use crate::scene::Scene;
-use crate::sim::Simulation;
-use crate::state::State;
-use crate::tray;
-use crate::SimError;
+use particles::experiment::step_control::{self, REFERENCE_STEPS};
+use particles::integrate::Integrator;
+use particles::neighbor::NeighborSearch;
+use particles::prepare::initial_state;
+use particles::scene::Scene;
+use particles::sim::Simulation;
+use particles::state::State;
+use particles::tray;
+use particles::SimError;
 
 /// What one tray run produced.
 pub(super) struct TrayRun {
@@ -43,7 +43,7 @@ pub(super) fn run_tray(
     for &i in &order {
         let nudge = if s.perturbed && i == 0 { 1e-9 } else { 0.0 };
         state.push(
-            base_state.pos[i] + crate::Vec3::new(nudge, 0.0, 0.0),
+            base_state.pos[i] + particles::Vec3::new(nudge, 0.0, 0.0),
             base_state.vel[i],
             base_state.omega[i],
             base_state.radius[i],
@@ -102,13 +102,13 @@ pub fn density_distance(a: &[Vec<f64>], b: &[Vec<f64>], mean_phi: f64) -> f64 {
 /// The tray study.
 pub(super) fn tray_study(config: &Config, progress: &mut impl FnMut(&str)) -> Result<Vec<Row>, SimError> {
     let base = base_scene(config.tray_count, config.tray_duration);
-    let state = initial_state(&base);
-    let thesis_steps = tray::shortest_contact_time(&base) / THESIS_DT;
+    let state = initial_state(&base)?;
+    let thesis_steps = tray::shortest_contact_time(&base)? / THESIS_DT;
     let auto = with(&base, &["run.dt=\"auto\"".into()])?;
     let default_dt = tray::time_step(&auto)?;
-    let default_steps = tray::shortest_contact_time(&base) / default_dt;
+    let default_steps = tray::shortest_contact_time(&base)? / default_dt;
     // Linear law matched as in the lab.
-    let reference_lab = step_control::run_all(&step_control::scene_probes(&base, REFERENCE_STEPS, Integrator::VelocityVerlet))?;
+    let reference_lab = step_control::run_all(&step_control::scene_probes(&base, REFERENCE_STEPS, Integrator::VelocityVerlet)?)?;
     let r = base.particles.radius_min;
     let (kn, gamma_n) = matched_linear(
         0.5 * base.material().sphere_mass(r),
@@ -219,7 +219,7 @@ fn tray_row(
             error: distance,
             wall_s: run.wall_s,
             dt: run.dt,
-            steps_per_contact: tray::shortest_contact_time(&scene) / run.dt,
+            steps_per_contact: tray::shortest_contact_time(&scene)? / run.dt,
             eps_error: None,
             energy_error: Some(run.ledger_error),
             density_distance: Some(distance),
@@ -251,7 +251,7 @@ pub fn dense_packing(steps: u64, cpu_time: bool) -> Result<Row, SimError> {
     let throughput = |count: usize| -> Result<(f64, Simulation), SimError> {
         let scene = with(&base_scene(4000, 1.0), &[format!("particles.count={count}")])?;
         let setup = tray::setup(&scene, tray::drive(&scene))?;
-        let mut sim = Simulation::new(setup, initial_state(&scene))?;
+        let mut sim = Simulation::new(setup, initial_state(&scene)?)?;
         let t0 = Stopwatch::start(cpu_time);
         for _ in 0..steps {
             sim.step()?;
@@ -262,7 +262,7 @@ pub fn dense_packing(steps: u64, cpu_time: bool) -> Result<Row, SimError> {
     let e_start = {
         let scene = with(&base_scene(4000, 1.0), &["particles.count=8000".into()])?;
         let setup = tray::setup(&scene, tray::drive(&scene))?;
-        Simulation::new(setup, initial_state(&scene))?.total_energy()
+        Simulation::new(setup, initial_state(&scene)?)?.total_energy()
     };
     let (rate, sim) = throughput(8000)?;
     let packing = with(&base_scene(4000, 1.0), &["particles.count=8000".into()])?.packing();

@@ -18,11 +18,11 @@ use serde::Serialize;
 
 use super::shaken::run_tray;
 use super::{base_scene, with, Config, Setting};
-use crate::prepare::initial_state;
-use crate::scene::Scene;
-use crate::state::State;
-use crate::tray;
-use crate::SimError;
+use particles::prepare::initial_state;
+use particles::scene::Scene;
+use particles::state::State;
+use particles::tray;
+use particles::SimError;
 
 /// Stiffness (N/m) of the Cundall-Strack row: the value of the quick-scene runs of issue 16.
 pub const CUNDALL_STRACK_KT: f64 = 50.0;
@@ -130,7 +130,7 @@ pub fn friction_laws(config: &Config, progress: &mut impl FnMut(&str)) -> Result
 
 /// [`friction_laws`] on one scene.
 fn at_drive(base: &Scene, config: &Config, progress: &mut impl FnMut(&str)) -> Result<Vec<LawSpeed>, SimError> {
-    let state = initial_state(base);
+    let state = initial_state(base)?;
     let pairs = config.tray_repeats.max(MIN_PAIRS);
     let auto = |overrides: &[String]| -> Result<Scene, SimError> {
         let mut o = overrides.to_vec();
@@ -139,7 +139,7 @@ fn at_drive(base: &Scene, config: &Config, progress: &mut impl FnMut(&str)) -> R
     };
     let laws = laws();
     let hw_auto = auto(&laws[0].2)?;
-    let t_c = tray::shortest_contact_time(base);
+    let t_c = tray::shortest_contact_time(base)?;
     let common_steps = t_c / tray::time_step(&hw_auto)?;
     let same_step = |name: &str| Setting::new(name, "friction law").steps(common_steps);
     let own_step = |name: &str| Setting::new(name, "friction law");

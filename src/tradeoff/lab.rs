@@ -1,14 +1,14 @@
-//! The collision-lab half of the study: the probe impacts of [`crate::experiment::step_control`]
+//! The collision-lab half of the study: the probe impacts of [`particles::experiment::step_control`]
 //! under every setting, against the converged reference.
 
 use super::{base_scene, failed, setting_dt, with, Config, Row, Setting, Stopwatch, Study, THESIS_DT};
-use crate::contact::{NormalLaw, TangentialLaw};
-use crate::experiment::closed_form::{gamma_for_damping_ratio, linear_dashpot};
-use crate::experiment::step_control::{self, REFERENCE_STEPS};
-use crate::integrate::Integrator;
-use crate::scene::{Scene, DEFAULT_RESTITUTION_TOLERANCE};
-use crate::tray;
-use crate::SimError;
+use particles::contact::TangentialLaw;
+use particles::experiment::closed_form::{gamma_for_damping_ratio, linear_dashpot};
+use particles::experiment::step_control::{self, REFERENCE_STEPS};
+use particles::integrate::Integrator;
+use particles::scene::{Scene, DEFAULT_RESTITUTION_TOLERANCE};
+use particles::tray;
+use particles::SimError;
 
 /// A linear spring-dashpot with the same head-on restitution `eps` and contact duration
 /// `t_c` (s) as the given impact of effective mass `m_eff` (kg) at `v` (m/s): the damping
@@ -32,20 +32,17 @@ pub fn matched_linear(m_eff: f64, eps: f64, t_c: f64, v: f64) -> (f64, f64) {
 }
 
 /// Probe impacts of a setting, with the Hertz law replaced by `linear` if given.
-fn lab_probes(scene: &Scene, s: &Setting, dt: f64, elastic: bool) -> Vec<crate::experiment::collide::Collision> {
-    let (mut pair, mut wall) = scene.laws();
+fn lab_probes(scene: &Scene, s: &Setting, dt: f64, elastic: bool) -> Result<Vec<particles::experiment::collide::Collision>, SimError> {
+    let (mut pair, mut wall) = scene.laws()?;
     if elastic {
         for law in [&mut pair, &mut wall] {
-            law.normal = match law.normal {
-                NormalLaw::Hertz { reduced_modulus, .. } => NormalLaw::hertz(reduced_modulus, 0.0),
-                NormalLaw::Linear { kn, .. } => NormalLaw::Linear { kn, gamma_n: 0.0 },
-            };
+            law.normal = law.normal.elastic();
             law.tangential = TangentialLaw::None;
-            law.rolling = crate::contact::RollingLaw::None;
+            law.rolling = particles::contact::RollingLaw::None;
         }
     }
     let r = scene.particles.radius_min;
-    step_control::probes(
+    Ok(step_control::probes(
         pair,
         wall,
         r,
@@ -53,14 +50,14 @@ fn lab_probes(scene: &Scene, s: &Setting, dt: f64, elastic: bool) -> Vec<crate::
         tray::max_impact_speed(scene),
         dt,
         s.integrator,
-    )
+    ))
 }
 
 /// The collision-lab study.
 pub(super) fn collision_study(config: &Config, progress: &mut impl FnMut(&str)) -> Result<Vec<Row>, SimError> {
     let base = base_scene(config.tray_count, config.tray_duration);
-    let t_c = tray::shortest_contact_time(&base);
-    let reference = step_control::run_all(&step_control::scene_probes(&base, REFERENCE_STEPS, Integrator::VelocityVerlet))?;
+    let t_c = tray::shortest_contact_time(&base)?;
+    let reference = step_control::run_all(&step_control::scene_probes(&base, REFERENCE_STEPS, Integrator::VelocityVerlet)?)?;
     // The linear law matched to the reference's head-on pair impact.
     let r = base.particles.radius_min;
     let m_eff = 0.5 * base.material().sphere_mass(r);
@@ -83,7 +80,7 @@ pub(super) fn collision_study(config: &Config, progress: &mut impl FnMut(&str)) 
     settings.push(Setting::matched_linear(kn, gamma_n, thesis_steps));
     settings.push(Setting::default_step(default_steps));
 
-    let ref_probes = lab_probes(&base, &settings[0], setting_dt(&base, settings[0].steps)?, false);
+    let ref_probes = lab_probes(&base, &settings[0], setting_dt(&base, settings[0].steps)?, false)?;
     let mut rows = Vec::new();
     for s in &settings {
         let row = lab_row(&base, s, config, &reference, &ref_probes).unwrap_or_else(|e| failed(s, Study::Collision, e));
@@ -98,19 +95,19 @@ fn lab_row(
     base: &Scene,
     s: &Setting,
     config: &Config,
-    reference: &[crate::experiment::collide::CollisionResult],
-    ref_probes: &[crate::experiment::collide::Collision],
+    reference: &[particles::experiment::collide::CollisionResult],
+    ref_probes: &[particles::experiment::collide::Collision],
 ) -> Result<Row, SimError> {
     {
         let scene = with(base, &s.overrides)?;
         let dt = setting_dt(&scene, s.steps)?;
-        let probes = lab_probes(&scene, s, dt, false);
+        let probes = lab_probes(&scene, s, dt, false)?;
         // The lab's impacts last microseconds and their time is dominated by setting each
         // one up, so the speed ratio counts steps per simulated second (the wall-time ratio
         // of a long run at equal cost per step; the cost per step of each integrator and law
         // is timed in the tray rows). The lab's own time is reported as `wall_s`.
         let ref_results = step_control::run_all(ref_probes)?;
-        let rate = |r: &[crate::experiment::collide::CollisionResult]| {
+        let rate = |r: &[particles::experiment::collide::CollisionResult]| {
             r.iter().map(|x| x.steps as f64).sum::<f64>() / r.iter().map(|x| x.t_c).sum::<f64>()
         };
         let clock = Stopwatch::start(config.cpu_time);
@@ -123,7 +120,7 @@ fn lab_row(
         let wall = clock.seconds();
         let speed_ratio = rate(&ref_results) / rate(&results);
         let eps_error = step_control::restitution_error(&results, reference);
-        let elastic = step_control::run_all(&lab_probes(&scene, s, dt, true))?;
+        let elastic = step_control::run_all(&lab_probes(&scene, s, dt, true)?)?;
         let energy_error = elastic
             .iter()
             .map(|r| (r.energy_after - r.energy_before).abs() / r.energy_before)
@@ -137,7 +134,7 @@ fn lab_row(
             error: eps_error,
             wall_s: wall / reps as f64,
             dt,
-            steps_per_contact: tray::shortest_contact_time(&scene) / dt,
+            steps_per_contact: tray::shortest_contact_time(&scene)? / dt,
             eps_error: Some(eps_error),
             energy_error: Some(energy_error),
             density_distance: None,

@@ -33,23 +33,22 @@
 //! 1 nm, compared with the reference itself). Settings that do not change a single bit (the
 //! neighbour skin and rebuild policy) have exactly the reference's error.
 
-mod clock;
 mod friction;
 mod lab;
 mod shaken;
 
-pub use clock::Stopwatch;
-pub use friction::{friction_law_keys, friction_laws, friction_table, LawSpeed};
+pub use crate::clock::Stopwatch;
+pub use friction::{friction_law_keys, friction_laws, friction_table};
 pub use lab::matched_linear;
-pub use shaken::{dense_packing, density_distance};
+pub use shaken::dense_packing;
 
 use serde::Serialize;
 
-use crate::integrate::Integrator;
-use crate::scene::Scene;
-use crate::scene::DEFAULT_RESTITUTION_TOLERANCE;
-use crate::tray;
-use crate::SimError;
+use particles::integrate::Integrator;
+use particles::scene::Scene;
+use particles::scene::DEFAULT_RESTITUTION_TOLERANCE;
+use particles::tray;
+use particles::SimError;
 
 /// Which study a row belongs to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -266,7 +265,7 @@ impl Setting {
 /// The time step of a setting's scene: its steps per contact, or the scene's own step.
 pub(crate) fn setting_dt(scene: &Scene, steps: Option<f64>) -> Result<f64, SimError> {
     match steps {
-        Some(s) => Ok(tray::shortest_contact_time(scene) / s),
+        Some(s) => Ok(tray::shortest_contact_time(scene)? / s),
         None => tray::time_step(scene),
     }
 }
@@ -307,22 +306,33 @@ pub fn run(config: &Config, mut progress: impl FnMut(&str)) -> Result<Vec<Row>, 
 /// A row for a setting the method refused or that failed while running: the error says why.
 pub(crate) fn failed(s: &Setting, study: Study, e: SimError) -> Row {
     Row {
-        name: s.name.clone(),
-        study,
-        axis: s.axis.into(),
-        speed_ratio: f64::NAN,
-        error: f64::NAN,
-        wall_s: f64::NAN,
-        dt: f64::NAN,
         steps_per_contact: s.steps.unwrap_or(f64::NAN),
-        eps_error: None,
-        energy_error: None,
-        density_distance: None,
-        stripes: None,
-        onset_s: None,
-        neighbor_builds: None,
-        on_front: false,
         outcome: format!("refused: {e}"),
+        ..Row::blank(s.name.clone(), study, s.axis)
+    }
+}
+
+impl Row {
+    /// A row that measured nothing yet: numbers NaN, optional measures absent, off the front.
+    pub(crate) fn blank(name: String, study: Study, axis: &str) -> Row {
+        Row {
+            name,
+            study,
+            axis: axis.into(),
+            speed_ratio: f64::NAN,
+            error: f64::NAN,
+            wall_s: f64::NAN,
+            dt: f64::NAN,
+            steps_per_contact: f64::NAN,
+            eps_error: None,
+            energy_error: None,
+            density_distance: None,
+            stripes: None,
+            onset_s: None,
+            neighbor_builds: None,
+            on_front: false,
+            outcome: String::new(),
+        }
     }
 }
 
@@ -379,26 +389,16 @@ pub fn markdown_table(rows: &[Row]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::experiment::closed_form::linear_dashpot;
+    use particles::experiment::closed_form::linear_dashpot;
 
     fn row(study: Study, speed: f64, error: f64) -> Row {
         Row {
-            name: format!("{speed} {error}"),
-            study,
-            axis: "time step".into(),
             speed_ratio: speed,
             error,
             wall_s: 1.0,
             dt: 1.0,
             steps_per_contact: 1.0,
-            eps_error: None,
-            energy_error: None,
-            density_distance: None,
-            stripes: None,
-            onset_s: None,
-            neighbor_builds: None,
-            on_front: false,
-            outcome: String::new(),
+            ..Row::blank(format!("{speed} {error}"), study, "time step")
         }
     }
 
@@ -427,6 +427,7 @@ mod tests {
 
     #[test]
     fn identical_profiles_have_zero_distance() {
+        use super::shaken::density_distance;
         let a = vec![vec![0.2, 0.3, 0.1]; 3];
         assert_eq!(density_distance(&a, &a, 0.2), 0.0);
         let mut b = a.clone();

@@ -1,4 +1,5 @@
-//! Timing of the speed-against-error study.
+//! On-CPU timing of one thread, for the speed measurements (`stripes bench`, `stripes
+//! automaton --bench`).
 
 use std::time::Instant;
 
@@ -6,7 +7,7 @@ use std::time::Instant;
 /// `/proc/thread-self/schedstat`, nanoseconds), falling back to wall time where that file
 /// is missing. On a shared machine, wall time mostly measures the neighbours' load; the
 /// on-CPU time of the one worker thread is the wall time the same work takes on an idle
-/// core. (With more than one worker thread, use wall time: see [`Config::cpu_time`].)
+/// core. (With more than one worker thread, use wall time: see `tradeoff::Config::cpu_time`.)
 #[derive(Clone, Copy, Debug)]
 pub struct Stopwatch {
     cpu: bool,
@@ -38,10 +39,5 @@ impl Stopwatch {
             (true, Some(now)) if now > self.start_cpu => now - self.start_cpu,
             _ => self.wall.elapsed().as_secs_f64(),
         }
-    }
-
-    /// True if this stopwatch measures on-CPU time.
-    pub fn is_cpu(&self) -> bool {
-        self.cpu
     }
 }

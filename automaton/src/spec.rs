@@ -1,0 +1,160 @@
+//! `[automaton]`: the automaton's table of a scene file (`stripes automaton`, thesis 3.1). The
+//! flight cap and the sliding threshold follow from the scene's `[drive]`, floor friction and
+//! mean diameter; the keys here switch ingredients and hold the free parameters that
+//! `stripes automaton --calibrate` fits. The DEM never sees this table.
+
+use serde::{Deserialize, Serialize};
+
+use crate::mapping::FreeParams;
+use crate::params::{Lateral, RuleSet};
+
+/// The `[automaton]` table; every key is optional.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Spec {
+    /// `physical` (default) or `strict`.
+    pub rule: RuleSet,
+    /// Nothing moves unless `A (2 pi nu)^2 > mu g`.
+    pub threshold: bool,
+    /// Flights end after the free grain's sliding displacement per half period.
+    pub flight_cap: bool,
+    /// Stochastic flights: each grain flies in a half period with probability `activation`.
+    pub stochastic: bool,
+    /// Activation probability per half period, in [0, 1].
+    pub activation: f64,
+    /// Knock-through along lines of touching grains.
+    pub knock: bool,
+    /// Knock-through speed scale v_knock (m/s): the far grain is knocked loose (and a
+    /// lateral contact yields) with probability `1 - exp(-(v / v_knock)^2)`, v the peak
+    /// sliding speed relative to the tray.
+    pub knock_speed: f64,
+    /// Which grains of the neighbouring rows (y) stop a flight: `none`, `neighbours` (all),
+    /// `clusters` (those touching an x-neighbour, default).
+    pub lateral: Lateral,
+    /// Sideways (y) moves.
+    pub sideways: bool,
+    /// Probability per half period of a sideways move, in [0, 1].
+    pub sideways_probability: f64,
+    /// Cell length (m); absent: the mean grain diameter.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cell: Option<f64>,
+}
+
+impl Default for Spec {
+    fn default() -> Self {
+        Self {
+            rule: RuleSet::Physical,
+            threshold: true,
+            flight_cap: true,
+            stochastic: true,
+            activation: 0.8,
+            knock: true,
+            knock_speed: 7.0,
+            lateral: Lateral::Clusters,
+            sideways: true,
+            sideways_probability: 0.1,
+            cell: None,
+        }
+    }
+}
+
+/// A bad value in the table, naming its dotted key.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SpecError {
+    pub key: String,
+    pub message: String,
+}
+
+impl std::fmt::Display for SpecError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "scene `{}`: {}", self.key, self.message)
+    }
+}
+
+impl std::error::Error for SpecError {}
+
+impl Spec {
+    /// Whether every key holds its default.
+    pub fn is_default(&self) -> bool {
+        *self == Self::default()
+    }
+
+    /// Checks the values; errors name the key.
+    pub fn validate(&self) -> Result<(), SpecError> {
+        let err = |key: &str, message: String| SpecError { key: key.into(), message };
+        for (key, p) in [
+            ("automaton.activation", self.activation),
+            ("automaton.sideways_probability", self.sideways_probability),
+        ] {
+            if !(0.0..=1.0).contains(&p) {
+                return Err(err(key, format!("must lie in [0, 1], got {p}")));
+            }
+        }
+        if !(self.knock_speed.is_finite() && self.knock_speed > 0.0) {
+            return Err(err(
+                "automaton.knock_speed",
+                format!("must be a positive speed (m/s), got {}", self.knock_speed),
+            ));
+        }
+        if let Some(c) = self.cell {
+            if !(c.is_finite() && c > 0.0) {
+                return Err(err("automaton.cell", format!("must be a positive length (m), got {c}")));
+            }
+        }
+        Ok(())
+    }
+
+    /// The free parameters this table sets (ingredients switched off are `None`).
+    pub fn free_params(&self) -> FreeParams {
+        FreeParams {
+            activation: self.stochastic.then_some(self.activation),
+            knock_speed: self.knock.then_some(self.knock_speed),
+            sideways: self.sideways.then_some(self.sideways_probability),
+            lateral: self.lateral,
+            threshold: self.threshold,
+            flight_cap: self.flight_cap,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bad_values_name_their_key() {
+        for (spec, key) in [
+            (
+                Spec {
+                    activation: 1.5,
+                    ..Spec::default()
+                },
+                "automaton.activation",
+            ),
+            (
+                Spec {
+                    sideways_probability: -0.1,
+                    ..Spec::default()
+                },
+                "automaton.sideways_probability",
+            ),
+            (
+                Spec {
+                    knock_speed: 0.0,
+                    ..Spec::default()
+                },
+                "automaton.knock_speed",
+            ),
+            (
+                Spec {
+                    cell: Some(-1e-3),
+                    ..Spec::default()
+                },
+                "automaton.cell",
+            ),
+        ] {
+            assert_eq!(spec.validate().unwrap_err().key, key);
+        }
+        Spec::default().validate().unwrap();
+    }
+}

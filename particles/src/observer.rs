@@ -1,0 +1,63 @@
+//! Observers: how code outside the physics sees a run. The physics crate knows no file
+//! format; [`advance`] steps a [`Simulation`] and hands it, read-only, to each observer after
+//! every step. An observer decides itself whether it is due (a snapshot at the next phase, a
+//! checkpoint every so many steps, a thermo row at its interval) and does its work: the
+//! formats live with the observers (the `stripes` crate and `analysis`), not here.
+//!
+//! Observers run in the order given, after the step and before the next one, so an observer
+//! always sees the state at `sim.time` with the forces of that state.
+
+use std::time::Instant;
+
+use crate::sim::Simulation;
+use crate::SimError;
+
+/// Error of an observer (e.g. a file that cannot be written): a message for the user.
+pub type ObserverError = Box<dyn std::error::Error + Send + Sync>;
+
+/// Something that looks at a running simulation after every step.
+pub trait Observer {
+    /// Called after each step with the simulation at its new time. Cheap when not due.
+    fn observe(&mut self, sim: &Simulation) -> Result<(), ObserverError>;
+}
+
+impl<F: FnMut(&Simulation) -> Result<(), ObserverError>> Observer for F {
+    fn observe(&mut self, sim: &Simulation) -> Result<(), ObserverError> {
+        self(sim)
+    }
+}
+
+/// Why [`advance`] stopped before `until`.
+#[derive(Debug)]
+pub enum Stop {
+    /// The physics refused a step (non-finite value, escaped grain, excessive overlap).
+    Sim(SimError),
+    /// An observer failed.
+    Observer(ObserverError),
+}
+
+impl std::fmt::Display for Stop {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Stop::Sim(e) => write!(f, "{e}"),
+            Stop::Observer(e) => write!(f, "{e}"),
+        }
+    }
+}
+
+impl std::error::Error for Stop {}
+
+/// Steps `sim` until it has completed `until` steps, calling every observer after each step.
+/// Returns the wall-clock seconds spent in the steps themselves (not in the observers).
+pub fn advance(sim: &mut Simulation, until: u64, observers: &mut [&mut dyn Observer]) -> Result<f64, Stop> {
+    let mut stepping = 0.0;
+    while sim.steps < until {
+        let t0 = Instant::now();
+        sim.step().map_err(Stop::Sim)?;
+        stepping += t0.elapsed().as_secs_f64();
+        for o in observers.iter_mut() {
+            o.observe(sim).map_err(Stop::Observer)?;
+        }
+    }
+    Ok(stepping)
+}

@@ -1,0 +1,342 @@
+//! Scene files: the complete description of a shaken-tray run, in TOML.
+//!
+//! Every key has a documented unit and a default written once (the `Default` impls below and
+//! the `run` constants); unknown keys are errors. Any key can be overridden from the command
+//! line as `--set dotted.key=value` ([`overrides`]). [`Scene::validate`] checks every value
+//! and names the offending key in its error; [`Scene::laws`] builds the contact laws whole.
+//! Every key is listed in `docs/scenes.md` (a test keeps the two in step).
+
+pub mod overrides;
+mod run;
+
+pub use run::{AutoDt, Run, TimeStep, DEFAULT_CHECKPOINT_INTERVAL, DEFAULT_RESTITUTION_TOLERANCE, DEFAULT_STEPS_PER_CONTACT};
+
+use serde::{Deserialize, Serialize};
+
+use crate::contact::choice::{LawChoice, LawParameters, Missing, NormalKind, RollingKind, TangentialKind};
+use crate::contact::{ContactLaw, RollingLaw, TangentialLaw};
+use crate::material::{mix, Material};
+
+/// A scene. Sections mirror the TOML tables.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    #[serde(rename = "box")]
+    pub tray: TrayBox,
+    pub drive: Drive,
+    pub particles: Particles,
+    /// `[material]`: grains and walls (the thesis uses one material for both, Table 3.3).
+    #[serde(default)]
+    pub material: Material,
+    #[serde(default)]
+    pub contact: ContactSpec,
+    #[serde(default)]
+    pub toggles: Toggles,
+    #[serde(default)]
+    pub prepare: Prepare,
+    pub run: Run,
+}
+
+/// `[box]`: the tray. x is periodic; y has side walls (or is periodic with `toggles.walls = false`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TrayBox {
+    /// Length along the shaking direction x (m), periodic.
+    pub length: f64,
+    /// Width across, y (m).
+    pub width: f64,
+    /// Optional ceiling (m) for the escape check: a grain above it stops the run. Absent by
+    /// default: the thesis' box is 0.1 m high but "open in positive direction" (sec 3.5.3),
+    /// so a grain thrown higher simply falls back. The floor and the side walls always
+    /// confine: a grain below the floor or outside the walls has escaped.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub height: Option<f64>,
+}
+
+/// `[drive]`: tray motion `x_tray(t) = amplitude sin(2 pi frequency t)`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Drive {
+    /// Hz.
+    pub frequency: f64,
+    /// m.
+    pub amplitude: f64,
+}
+
+/// `[particles]`: the population, radii uniform in `[radius_min, radius_max]`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Particles {
+    pub count: usize,
+    /// m.
+    pub radius_min: f64,
+    /// m.
+    pub radius_max: f64,
+}
+
+/// `[contact]`: one slot per sub-model, and their parameters (Table 3.3). Particle pairs and
+/// particle-wall contacts use the same slots; only the Coulomb coefficient differs.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ContactSpec {
+    pub normal: NormalKind,
+    pub tangential: TangentialKind,
+    pub rolling: RollingKind,
+    /// Linear law: stiffness k_n (N/m), needed by `normal = "linear"`.
+    pub kn: Option<f64>,
+    /// Linear law: damping gamma_n (kg/s); absent: 0.
+    pub gamma_n: Option<f64>,
+    /// Coulomb coefficient between particles; `inf` (TOML `inf`) for no Coulomb cap.
+    pub friction: f64,
+    /// Coulomb coefficient between particles and walls (floor and sides); `inf` for no
+    /// Coulomb cap (with Haff-Werner: the viscous branch alone, the thesis-like floor).
+    pub wall_friction: f64,
+    /// Haff-Werner tangential damping gamma_t (N s/m).
+    pub tangential_damping: f64,
+    /// Cundall-Strack tangential stiffness k_t (N/m), needed by `tangential = "cundall-strack"`.
+    pub tangential_stiffness: Option<f64>,
+    /// Brilliantov-Pöschel rolling friction mu_r (s).
+    pub rolling_friction: f64,
+}
+
+impl Default for ContactSpec {
+    fn default() -> Self {
+        Self {
+            normal: NormalKind::Hertz,
+            tangential: TangentialKind::HaffWerner,
+            rolling: RollingKind::BrilliantovPoschel,
+            kn: None,
+            gamma_n: None,
+            friction: 0.7,
+            wall_friction: 0.7,
+            tangential_damping: 0.007,
+            tangential_stiffness: None,
+            rolling_friction: 8.5e-6,
+        }
+    }
+}
+
+/// `[toggles]`: the ablations of thesis 3.5.4 plus rolling friction. Each is one edit of a
+/// law slot ([`Toggles::apply`]) or of the tray ([`crate::tray::setup`]), never a code path
+/// of the physics of its own.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Toggles {
+    /// Particle-particle friction (off: the pair's tangential slot is `none`; the floor still
+    /// drives).
+    pub friction: bool,
+    /// Vertical motion (off: particles pinned to z = R, a 2D model, eq 3.28).
+    pub jumping: bool,
+    /// Particle-particle normal dissipation (off: the pair's normal law is elastic, pure
+    /// Hertz, eq 3.29).
+    pub dissipation: bool,
+    /// Side walls at y = 0 and y = W (off: periodic in y).
+    pub walls: bool,
+    /// Rolling friction (off: both rolling slots are `none`, as `contact.rolling = "none"`).
+    pub rolling: bool,
+}
+
+impl Default for Toggles {
+    fn default() -> Self {
+        Self {
+            friction: true,
+            jumping: true,
+            dissipation: true,
+            walls: true,
+            rolling: true,
+        }
+    }
+}
+
+impl Toggles {
+    /// The one place where toggles change contact laws; each toggle is one slot edit.
+    pub fn apply(&self, pair: &mut ContactLaw, wall: &mut ContactLaw) {
+        if !self.friction {
+            pair.tangential = TangentialLaw::None;
+        }
+        if !self.dissipation {
+            pair.normal = pair.normal.elastic();
+        }
+        if !self.rolling {
+            pair.rolling = RollingLaw::None;
+            wall.rolling = RollingLaw::None;
+        }
+    }
+}
+
+/// `[prepare]`: sample preparation (thesis 3.5.3).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Prepare {
+    /// Initial random velocities vx, vy uniform in `[-speed, speed]` (m/s).
+    pub speed: f64,
+    /// Relaxation time without shaking (s).
+    pub duration: f64,
+}
+
+impl Default for Prepare {
+    fn default() -> Self {
+        Self {
+            speed: 0.005,
+            duration: 10.0,
+        }
+    }
+}
+
+/// A scene error, naming the key (or, for a file that does not parse, the file or the
+/// `--set` override to blame).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneError {
+    /// Dotted key, the file, or `--set KEY=VALUE`.
+    pub key: String,
+    pub message: String,
+}
+
+impl std::fmt::Display for SceneError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "scene `{}`: {}", self.key, self.message)
+    }
+}
+
+impl std::error::Error for SceneError {}
+
+pub(crate) fn err(key: &str, message: impl Into<String>) -> SceneError {
+    SceneError {
+        key: key.into(),
+        message: message.into(),
+    }
+}
+
+impl Scene {
+    /// Parses a scene from TOML text with `--set`-style overrides applied first. `origin`
+    /// names the source in messages; an error an override causes names the override.
+    pub fn parse(text: &str, overrides: &[String], origin: &str) -> Result<Self, SceneError> {
+        overrides::parse(text, overrides, origin, |doc| {
+            Scene::deserialize(toml::Value::Table(doc)).map_err(|e| e.to_string())
+        })
+    }
+
+    /// Checks every value. Errors name the key.
+    pub fn validate(&self) -> Result<(), SceneError> {
+        let check = |key: &str, x: f64, ok: bool, what: &str| {
+            if ok {
+                Ok(())
+            } else {
+                Err(err(key, format!("must be {what}, got {x}")))
+            }
+        };
+        let positive = |key: &str, x: f64| check(key, x, x.is_finite() && x > 0.0, "a positive number");
+        let non_negative = |key: &str, x: f64| check(key, x, x.is_finite() && x >= 0.0, ">= 0");
+        // Friction coefficients may be `inf` (the viscous or spring branch alone, uncapped).
+        let friction = |key: &str, x: f64| check(key, x, x >= 0.0, ">= 0 or inf");
+        positive("box.length", self.tray.length)?;
+        positive("box.width", self.tray.width)?;
+        if let Some(h) = self.tray.height {
+            positive("box.height", h)?;
+        }
+        positive("drive.frequency", self.drive.frequency)?;
+        non_negative("drive.amplitude", self.drive.amplitude)?;
+        if self.particles.count == 0 {
+            return Err(err("particles.count", "must be at least 1"));
+        }
+        positive("particles.radius_min", self.particles.radius_min)?;
+        positive("particles.radius_max", self.particles.radius_max)?;
+        if self.particles.radius_max < self.particles.radius_min {
+            return Err(err("particles.radius_max", "must be >= particles.radius_min"));
+        }
+        if 2.0 * self.particles.radius_max > self.tray.width.min(self.tray.length) {
+            return Err(err("particles.radius_max", "a particle does not fit in the box"));
+        }
+        positive("material.density", self.material.density)?;
+        positive("material.young", self.material.young)?;
+        if !(self.material.poisson > -1.0 && self.material.poisson <= 0.5) {
+            return Err(err("material.poisson", "must lie in (-1, 0.5]"));
+        }
+        non_negative("material.dissipation", self.material.dissipation)?;
+        let c = &self.contact;
+        friction("contact.friction", c.friction)?;
+        friction("contact.wall_friction", c.wall_friction)?;
+        non_negative("contact.tangential_damping", c.tangential_damping)?;
+        non_negative("contact.rolling_friction", c.rolling_friction)?;
+        non_negative("contact.gamma_n", c.gamma_n.unwrap_or(0.0))?;
+        if let Some(kn) = c.kn {
+            positive("contact.kn", kn)?;
+        }
+        if let Some(kt) = c.tangential_stiffness {
+            positive("contact.tangential_stiffness", kt)?;
+        }
+        self.laws()?;
+        non_negative("prepare.speed", self.prepare.speed)?;
+        non_negative("prepare.duration", self.prepare.duration)?;
+        positive("run.duration", self.run.duration)?;
+        if let TimeStep::Seconds(dt) = self.run.dt {
+            positive("run.dt", dt)?;
+        }
+        positive("run.steps_per_contact", self.run.steps_per_contact)?;
+        positive("run.restitution_tolerance", self.run.restitution_tolerance)?;
+        if self.run.snapshots_per_period == 0 {
+            return Err(err("run.snapshots_per_period", "must be at least 1"));
+        }
+        non_negative("run.checkpoint_interval", self.run.checkpoint_interval)?;
+        // Packing: the layer must fit on the floor.
+        let phi = self.packing();
+        if phi > 0.9 {
+            return Err(err(
+                "particles.count",
+                format!("2D packing fraction {phi:.2} does not fit in one layer (max 0.9)"),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Expected projected area of the grains, `N pi <r^2>` (m^2).
+    pub fn projected_area(&self) -> f64 {
+        let (a, b) = (self.particles.radius_min, self.particles.radius_max);
+        self.particles.count as f64 * std::f64::consts::PI * (a * a + a * b + b * b) / 3.0
+    }
+
+    /// Expected 2D packing fraction `N pi <r^2> / (L W)` (thesis: about 0.23).
+    pub fn packing(&self) -> f64 {
+        self.projected_area() / (self.tray.length * self.tray.width)
+    }
+
+    /// Material of grains and walls.
+    pub fn material(&self) -> Material {
+        self.material
+    }
+
+    /// Contact laws `(particle-particle, particle-wall)`, built whole from the slots and
+    /// their parameters, then edited by the toggles ([`Toggles::apply`]). A slot whose
+    /// parameter is missing is an error naming the key.
+    pub fn laws(&self) -> Result<(ContactLaw, ContactLaw), SceneError> {
+        let c = &self.contact;
+        let (reduced_modulus, dissipation) = mix(&self.material, &self.material);
+        let choice = LawChoice {
+            normal: c.normal,
+            tangential: c.tangential,
+            rolling: c.rolling,
+        };
+        let build = |mu: f64| {
+            let parameters = LawParameters {
+                reduced_modulus,
+                dissipation,
+                kn: c.kn,
+                gamma_n: c.gamma_n.unwrap_or(0.0),
+                mu,
+                gamma_t: c.tangential_damping,
+                kt: c.tangential_stiffness,
+                mu_r: c.rolling_friction,
+            };
+            choice.build(&parameters).map_err(|m| match m {
+                Missing::Kn => err("contact.kn", "needed by normal = \"linear\""),
+                Missing::Kt => err("contact.tangential_stiffness", "needed by tangential = \"cundall-strack\""),
+            })
+        };
+        let (mut pair, mut wall) = (build(c.friction)?, build(c.wall_friction)?);
+        self.toggles.apply(&mut pair, &mut wall);
+        Ok((pair, wall))
+    }
+}
+
+#[cfg(test)]
+mod tests;

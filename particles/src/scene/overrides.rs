@@ -1,0 +1,95 @@
+//! `--set dotted.key=value` overrides: the one parser of them, for every command and for
+//! every table of a scene file (the DEM's and the automaton's).
+//!
+//! A value is read as a TOML value (number, bool, string, array, `inf`) or, failing that, as
+//! a bare string, so `--set contact.rolling=none` needs no quotes. An error is blamed on what
+//! caused it: the scene file when the file alone is wrong, else the first override after
+//! which the scene no longer reads (`scene `--set run.durration=5`: unknown field ...`).
+
+use super::{err, SceneError};
+
+/// Applies `key=value` to a TOML document; errors name the override.
+pub fn apply(doc: &mut toml::Table, assignment: &str) -> Result<(), SceneError> {
+    let blame = format!("--set {assignment}");
+    let (key, raw) = assignment
+        .split_once('=')
+        .ok_or_else(|| err(&blame, "an override must look like dotted.key=value"))?;
+    let key = key.trim();
+    let value = match toml::from_str::<toml::Table>(&format!("v = {}", raw.trim())) {
+        Ok(mut t) => t.remove("v").unwrap_or_else(|| toml::Value::String(raw.trim().to_string())),
+        Err(_) => toml::Value::String(raw.trim().to_string()),
+    };
+    let parts: Vec<&str> = key.split('.').collect();
+    if parts.iter().any(|p| p.is_empty()) {
+        return Err(err(&blame, format!("empty component in dotted key `{key}`")));
+    }
+    let (last, tables) = parts.split_last().expect("split yields at least one part");
+    let mut table = doc;
+    for part in tables {
+        let entry = table
+            .entry(part.to_string())
+            .or_insert_with(|| toml::Value::Table(toml::Table::new()));
+        table = entry
+            .as_table_mut()
+            .ok_or_else(|| err(&blame, format!("`{part}` is a value, not a table")))?;
+    }
+    table.insert(last.to_string(), value);
+    Ok(())
+}
+
+/// Parses `text` (named `origin` in messages), applies `overrides` in order and reads the
+/// document with `read`. A failure of `read` is blamed on the file if the file alone fails
+/// the same way, else on the first override after which it does.
+pub fn parse<T>(text: &str, overrides: &[String], origin: &str, read: impl Fn(toml::Table) -> Result<T, String>) -> Result<T, SceneError> {
+    let file: toml::Table = toml::from_str(text).map_err(|e| err(origin, format!("not valid TOML: {e}")))?;
+    let mut doc = file.clone();
+    for o in overrides {
+        apply(&mut doc, o)?;
+    }
+    let message = match read(doc) {
+        Ok(t) => return Ok(t),
+        Err(message) => message,
+    };
+    let mut partial = file;
+    let mut culprit = origin.to_string();
+    for k in 0..=overrides.len() {
+        if k > 0 {
+            apply(&mut partial, &overrides[k - 1])?;
+        }
+        if read(partial.clone()).err().as_ref() == Some(&message) {
+            if k > 0 {
+                culprit = format!("--set {}", overrides[k - 1]);
+            }
+            break;
+        }
+    }
+    Err(err(&culprit, message))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn read(doc: toml::Table) -> Result<toml::Table, String> {
+        match doc.keys().find(|k| k.as_str() != "a") {
+            Some(k) => Err(format!("unknown field `{k}`")),
+            None => Ok(doc),
+        }
+    }
+
+    #[test]
+    fn values_nest_and_errors_name_the_override_not_the_file() {
+        let doc = parse("a = { b = 1 }", &["a.c=inf".into(), "a.d=none".into()], "s.toml", read).unwrap();
+        assert_eq!(doc["a"]["c"].as_float(), Some(f64::INFINITY));
+        assert_eq!(doc["a"]["d"].as_str(), Some("none"));
+        let e = parse("a = 1", &["a=2".into(), "durration=5".into()], "s.toml", read).unwrap_err();
+        assert_eq!(e.key, "--set durration=5");
+        assert!(e.to_string().contains("unknown field `durration`"), "{e}");
+        let e = parse("b = 1", &["a=2".into()], "s.toml", read).unwrap_err();
+        assert_eq!(e.key, "s.toml", "the file's own error names the file");
+        let e = parse("a = 1", &["a.b=2".into()], "s.toml", read).unwrap_err();
+        assert_eq!(e.key, "--set a.b=2");
+        let e = parse("a = 1", &["novalue".into()], "s.toml", read).unwrap_err();
+        assert_eq!(e.key, "--set novalue");
+    }
+}

@@ -1,0 +1,151 @@
+//! The observers of a tray run ([`particles::observer`]): what `stripes run` writes and shows
+//! while the DEM steps. The physics hands each of them the simulation after every step; the
+//! file formats they write belong to `analysis` (snapshots, VTK) or are the simulation's own
+//! checkpoint bytes.
+//!
+//! - [`Recorder`]: snapshots at the drive's turning points (and VTK frames with `--vtk`), and
+//!   checkpoints at `run.checkpoint_interval`. One observer, because a checkpoint records
+//!   how many snapshots are in the file and must follow them.
+//! - [`ContactMeans`]: mean live contacts per step, for the summary.
+//! - [`Progress`]: the progress bar.
+
+use std::path::PathBuf;
+
+use analysis::snapshot::{Frame, Header, SnapshotWriter};
+use indicatif::ProgressBar;
+use particles::observer::{Observer, ObserverError};
+use particles::sim::Simulation;
+
+/// Positions as plain arrays, the analysis' frame type.
+fn plain(v: &[particles::Vec3]) -> impl Iterator<Item = [f64; 3]> + '_ {
+    v.iter().map(|p| [p.x, p.y, p.z])
+}
+
+/// Snapshots, VTK frames and checkpoints of one run directory.
+pub struct Recorder {
+    pub writer: SnapshotWriter,
+    header: Header,
+    /// Snapshots written so far (frame 0 at t = 0 included).
+    pub frames: u64,
+    /// Time of snapshot `k >= 1`.
+    snap_time: Box<dyn Fn(u64) -> f64>,
+    /// `Some(dir)`: also write every snapshot as `dir/frame_NNNNN.vtk`.
+    vtk: Option<PathBuf>,
+    /// Checkpoint file, its fingerprint, and the steps between checkpoints; a checkpoint is
+    /// also written at step `last`.
+    pub checkpoint: PathBuf,
+    fingerprint: u64,
+    every: u64,
+    last: u64,
+}
+
+/// Where and when a [`Recorder`] writes.
+pub struct RecorderPlan {
+    pub header: Header,
+    pub snapshots: PathBuf,
+    /// Snapshots already in the file (a resumed run appends after them).
+    pub frames: u64,
+    pub snap_time: Box<dyn Fn(u64) -> f64>,
+    pub vtk: Option<PathBuf>,
+    pub checkpoint: PathBuf,
+    pub fingerprint: u64,
+    pub every: u64,
+    pub last: u64,
+}
+
+impl Recorder {
+    /// Opens the snapshot file (appending when `plan.frames > 0`) and the VTK directory.
+    pub fn open(plan: RecorderPlan) -> Result<Self, ObserverError> {
+        let writer = if plan.frames > 0 {
+            SnapshotWriter::open_append(&plan.snapshots, plan.header.clone(), plan.frames)?
+        } else {
+            SnapshotWriter::create(&plan.snapshots, plan.header.clone())?
+        };
+        if let Some(dir) = &plan.vtk {
+            std::fs::create_dir_all(dir)?;
+        }
+        Ok(Self {
+            writer,
+            header: plan.header,
+            frames: plan.frames,
+            snap_time: plan.snap_time,
+            vtk: plan.vtk,
+            checkpoint: plan.checkpoint,
+            fingerprint: plan.fingerprint,
+            every: plan.every,
+            last: plan.last,
+        })
+    }
+
+    /// Writes a snapshot of the current state now.
+    pub fn snapshot(&mut self, sim: &Simulation) -> Result<(), ObserverError> {
+        let s = &sim.state;
+        self.writer.push(sim.time, plain(&s.pos), plain(&s.vel))?;
+        if let Some(dir) = &self.vtk {
+            let frame = Frame {
+                time: sim.time,
+                pos: plain(&s.pos).collect(),
+                vel: plain(&s.vel).collect(),
+            };
+            analysis::vtk::write_vtk(&dir.join(format!("frame_{:05}.vtk", self.frames)), &self.header, &frame)?;
+        }
+        self.frames += 1;
+        Ok(())
+    }
+
+    /// Writes the checkpoint after the snapshots it counts.
+    fn checkpoint(&mut self, sim: &Simulation) -> Result<(), ObserverError> {
+        self.writer.sync()?;
+        analysis::io::write_atomic(&self.checkpoint, &sim.checkpoint(self.fingerprint, self.frames))?;
+        Ok(())
+    }
+}
+
+impl Observer for Recorder {
+    fn observe(&mut self, sim: &Simulation) -> Result<(), ObserverError> {
+        if sim.time >= (self.snap_time)(self.frames) - 0.5 * sim.setup.dt {
+            self.snapshot(sim)?;
+        }
+        if sim.steps.is_multiple_of(self.every) || sim.steps == self.last {
+            self.checkpoint(sim)?;
+        }
+        Ok(())
+    }
+}
+
+/// Sums of the live contacts over the steps observed.
+#[derive(Default)]
+pub struct ContactMeans {
+    pair: f64,
+    wall: f64,
+    steps: u64,
+}
+
+impl ContactMeans {
+    /// `(pair, wall)` means per step.
+    pub fn means(&self) -> (f64, f64) {
+        let n = self.steps.max(1) as f64;
+        (self.pair / n, self.wall / n)
+    }
+}
+
+impl Observer for ContactMeans {
+    fn observe(&mut self, sim: &Simulation) -> Result<(), ObserverError> {
+        self.pair += sim.contacts.0 as f64;
+        self.wall += sim.contacts.1 as f64;
+        self.steps += 1;
+        Ok(())
+    }
+}
+
+/// The progress bar, moved every 1000 steps.
+pub struct Progress<'a>(pub &'a ProgressBar);
+
+impl Observer for Progress<'_> {
+    fn observe(&mut self, sim: &Simulation) -> Result<(), ObserverError> {
+        if sim.steps.is_multiple_of(1000) {
+            self.0.set_position(sim.steps);
+        }
+        Ok(())
+    }
+}
