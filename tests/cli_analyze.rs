@@ -173,3 +173,63 @@ fn unreadable_inputs_and_bad_options_are_named() {
     assert!(!ok && stderr.contains("--plateau-before"), "{stderr}");
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// Writes a run directory like `stripes run`'s: `config.json` with the drive frequency and
+/// `snapshots.bin` with a t = 0 frame and then one frame per period at the turning point.
+fn small_run(name: &str, frames: u64) -> PathBuf {
+    let dir = temp_dir(name);
+    let (r, base) = layer();
+    let header = Header {
+        length: L,
+        width: W,
+        radii: r.clone(),
+    };
+    let mut w = SnapshotWriter::create(&dir.join("snapshots.bin"), header).unwrap();
+    for f in 0..frames {
+        let t = if f == 0 { 0.0 } else { 0.25 * T + (f - 1) as f64 * T };
+        let pos = frame(&base, f);
+        w.push(t, pos.into_iter(), std::iter::repeat([0.0; 3]).take(r.len())).unwrap();
+    }
+    w.sync().unwrap();
+    std::fs::write(
+        dir.join("config.json"),
+        format!("{{\"scene\": {{\"drive\": {{\"frequency\": {}}}}}}}", 1.0 / T),
+    )
+    .unwrap();
+    dir
+}
+
+/// Issue 19, point 1: a cut `snapshots.bin` is analysed with a warning that names the whole
+/// frames read, and the period comes from the run's metadata, not from the snapshot spacing
+/// (which, with a t = 0 frame a quarter period early, is T / 4 for two frames).
+#[test]
+fn a_cut_snapshot_file_warns_and_keeps_the_drive_period() {
+    let run = small_run("cut", 5);
+    let snap = run.join("snapshots.bin");
+    let header_len = 32 + 8 * 2100;
+    let frame_len = 8 + 24 * 2100;
+    let f = std::fs::OpenOptions::new().write(true).open(&snap).unwrap();
+    f.set_len((header_len + 2 * frame_len + frame_len / 2) as u64).unwrap();
+    let (ok, stdout, stderr) = stripes(&["analyze", run.to_str().unwrap()]);
+    assert!(ok, "{stderr}");
+    assert!(stderr.contains("cut off") && stderr.contains("the 2 whole frames"), "{stderr}");
+    let s = summary_of(&stdout, &run.join("analysis"));
+    assert_eq!(s["frames"], 2);
+    assert!((s["period_s"].as_f64().unwrap() - T).abs() < 1e-12, "{s}");
+    assert!(s["period_source"].as_str().unwrap().contains("metadata"), "{s}");
+    assert!(s["warnings"][0].as_str().unwrap().contains("2 whole frames"), "{s}");
+    std::fs::remove_dir_all(run).unwrap();
+}
+
+/// Issue 19, point 2: one frame gives no phase, and says why.
+#[test]
+fn one_frame_gets_no_phase() {
+    let run = small_run("one", 1);
+    let (ok, stdout, stderr) = stripes(&["analyze", run.to_str().unwrap()]);
+    assert!(ok, "{stderr}");
+    let s = summary_of(&stdout, &run.join("analysis"));
+    assert!(s["phase"].is_null(), "{s}");
+    assert!(s["phase_note"].as_str().unwrap().contains("too few frames"), "{s}");
+    assert!(stderr.contains("too few frames"), "{stderr}");
+    std::fs::remove_dir_all(run).unwrap();
+}

@@ -9,11 +9,16 @@
 //!   exactly like a DEM run, and displacements between frames are whole cells;
 //! - a LAMMPS / LIGGGHTS text dump ([`crate::lammps`]), recognised by its first line
 //!   `ITEM: TIMESTEP`; its time is `timestep * dt`.
+//!
+//! A snapshot file cut inside a frame, or a dump cut inside a frame (a killed run), is read up
+//! to its last complete frame, with a warning in [`Run::warnings`]. The drive period comes
+//! from the run's own metadata when there is any: `config.json` beside `snapshots.bin`
+//! (written by `stripes run` and `stripes automaton`) holds `scene.drive.frequency`.
 
 use std::io::Read;
 use std::path::{Path, PathBuf};
 
-use crate::snapshot::{read_snapshots, Frame, Header};
+use crate::snapshot::{read_snapshots_counting, Frame, Header};
 
 /// The kind of input found at a path.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
@@ -32,6 +37,23 @@ pub struct Run {
     pub kind: InputKind,
     pub header: Header,
     pub frames: Vec<Frame>,
+    /// The drive period (s) from the run's metadata (`config.json`: `1 / scene.drive.frequency`),
+    /// None without metadata.
+    pub period: Option<f64>,
+    /// LAMMPS dumps: the velocity columns used (the others read as zero).
+    pub velocity_columns: Option<Vec<String>>,
+    /// Problems that did not stop the reading (a cut-off file).
+    pub warnings: Vec<String>,
+}
+
+/// The drive period `1 / scene.drive.frequency` (s) from the `config.json` beside `file`, if
+/// there is one with a positive frequency.
+pub fn metadata_period(file: &Path) -> Option<f64> {
+    let config = file.parent()?.join("config.json");
+    let text = std::fs::read_to_string(config).ok()?;
+    let v: serde_json::Value = serde_json::from_str(&text).ok()?;
+    let f = v.get("scene")?.get("drive")?.get("frequency")?.as_f64()?;
+    (f.is_finite() && f > 0.0).then(|| 1.0 / f)
 }
 
 /// Loads a run directory, a `snapshots.bin` file or a LAMMPS dump; `dt` (s) converts LAMMPS
@@ -47,11 +69,22 @@ pub fn load(path: &Path, dt: f64) -> Result<Run, String> {
     let got = std::fs::File::open(&file)
         .and_then(|mut f| f.read(&mut head))
         .map_err(|e| format!("cannot read {}: {e}", file.display()))?;
+    let mut warnings = Vec::new();
+    let mut velocity_columns = None;
     let (kind, header, frames) = if head[..got].starts_with(b"STRPSNP1") {
-        let (h, f) = read_snapshots(&file).map_err(|e| format!("cannot read {}: {e}", file.display()))?;
+        let (h, f, rest) = read_snapshots_counting(&file).map_err(|e| format!("cannot read {}: {e}", file.display()))?;
+        if rest > 0 {
+            warnings.push(format!(
+                "{} is cut off: it ends {rest} bytes into a frame; analysing the {} whole frames before it",
+                file.display(),
+                f.len()
+            ));
+        }
         (InputKind::Snapshots, h, f)
     } else if String::from_utf8_lossy(&head[..got]).trim_start().starts_with("ITEM:") {
-        let (h, f) = crate::lammps::read_dump(&file, dt)?;
+        let (h, f, notes) = crate::lammps::read_dump_noting(&file, dt)?;
+        warnings.extend(notes.warnings);
+        velocity_columns = Some(notes.velocity_columns);
         (InputKind::LammpsDump, h, f)
     } else {
         return Err(format!(
@@ -73,10 +106,17 @@ pub fn load(path: &Path, dt: f64) -> Result<Run, String> {
             ));
         }
     }
+    let period = match kind {
+        InputKind::Snapshots => metadata_period(&file),
+        InputKind::LammpsDump => None,
+    };
     Ok(Run {
         file,
         kind,
         header,
         frames,
+        period,
+        velocity_columns,
+        warnings,
     })
 }

@@ -18,8 +18,8 @@
 //! ```
 //! as written by `dump ID all custom EVERY FILE id radius x y z vx vy vz`. Columns may come
 //! in any order; required are `id`, `radius` and a position per axis (`x`, or the unwrapped
-//! `xu`, or the scaled `xs`, likewise for y and z). `vx vy vz` are optional (zero when
-//! absent). Atoms are sorted by id, so grain `k` of every frame is the same atom.
+//! `xu`, or the scaled `xs`, likewise for y and z). `vx`, `vy`, `vz` are each optional (zero
+//! when absent; any subset is used). Atoms are sorted by id, so grain `k` of every frame is the same atom.
 //!
 //! Conventions: the box length `L = xhi - xlo` (periodic x) and width `W = yhi - ylo` come
 //! from the first frame's `BOX BOUNDS`; positions are shifted to `x - xlo`, `y - ylo` so
@@ -49,7 +49,8 @@ struct Columns {
     id: usize,
     radius: usize,
     pos: [PosCol; 3],
-    vel: Option<[usize; 3]>,
+    /// `vx`, `vy`, `vz`, each optional (zero when absent).
+    vel: [Option<usize>; 3],
     count: usize,
 }
 
@@ -68,16 +69,11 @@ fn columns(names: &[&str], ctx: &str) -> Result<Columns, String> {
             ))
         }
     };
-    let vel = match (find("vx"), find("vy"), find("vz")) {
-        (Some(a), Some(b), Some(c)) => Some([a, b, c]),
-        (None, None, None) => None,
-        _ => return Err(format!("{ctx}: `ITEM: ATOMS` has some but not all of vx, vy, vz")),
-    };
     Ok(Columns {
         id: need("id")?,
         radius: need("radius")?,
         pos: [axis("x")?, axis("y")?, axis("z")?],
-        vel,
+        vel: [find("vx"), find("vy"), find("vz")],
         count: names.len(),
     })
 }
@@ -87,97 +83,175 @@ struct RawFrame {
     step: u64,
     bounds: [[f64; 2]; 3],
     atoms: Vec<(u64, f64, [f64; 3], [f64; 3])>,
+    /// Velocity columns present in this frame.
+    vel: [bool; 3],
 }
 
-/// Reads every frame of a LAMMPS text dump (see the module docs); `dt` is the run's time
-/// step (s). Errors name the file, line and field.
-pub fn read_dump(path: &Path, dt: f64) -> Result<(Header, Vec<Frame>), String> {
-    if !(dt.is_finite() && dt > 0.0) {
-        return Err(format!("--dt must be a positive time step in s, got {dt}"));
-    }
-    let file = std::fs::File::open(path).map_err(|e| format!("cannot open {}: {e}", path.display()))?;
-    let mut lines = std::io::BufReader::new(file).lines().enumerate();
-    let name = path.display().to_string();
-    let mut next = |what: &str| -> Result<Option<(usize, String)>, String> {
-        match lines.next() {
+/// What [`read_dump_noting`] noticed besides the frames.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct DumpNotes {
+    /// The velocity columns used (any subset of `vx`, `vy`, `vz`, as in every frame); the
+    /// others read as zero.
+    pub velocity_columns: Vec<String>,
+    /// Problems that did not stop the reading, e.g. a cut-off last frame.
+    pub warnings: Vec<String>,
+}
+
+/// Lines of a dump, numbered from 1, with a look ahead to tell the last line.
+struct Lines {
+    lines: std::iter::Peekable<std::iter::Enumerate<std::io::Lines<std::io::BufReader<std::fs::File>>>>,
+    name: String,
+}
+
+/// Why a frame could not be read; `cut` when the file ends inside it (or its last line is
+/// the bad one), as when a run is killed while writing.
+struct FrameError {
+    message: String,
+    line: usize,
+    cut: bool,
+}
+
+impl Lines {
+    fn next(&mut self, what: &str) -> Result<Option<(usize, String)>, String> {
+        match self.lines.next() {
             None => Ok(None),
             Some((k, Ok(l))) => Ok(Some((k + 1, l))),
-            Some((k, Err(e))) => Err(format!("{name} line {}: cannot read {what}: {e}", k + 1)),
+            Some((k, Err(e))) => Err(format!("{} line {}: cannot read {what}: {e}", self.name, k + 1)),
+        }
+    }
+
+    fn at_end(&mut self) -> bool {
+        self.lines.peek().is_none()
+    }
+}
+
+/// Reads the frame whose `ITEM: TIMESTEP` line was line `start`.
+fn read_frame(lines: &mut Lines, start: usize) -> Result<RawFrame, FrameError> {
+    let name = lines.name.clone();
+    let mut last = start;
+    // A bad line that is the file's last is a cut-off frame, not a malformed one.
+    let bad = |lines: &mut Lines, line: usize, message: String| FrameError {
+        message,
+        line,
+        cut: lines.at_end(),
+    };
+    let eof = |last: usize, what: &str| FrameError {
+        message: format!("{name}: file ends inside a frame, before {what}"),
+        line: last,
+        cut: true,
+    };
+    let next = |lines: &mut Lines, last: &mut usize, what: &str| -> Result<(usize, String), FrameError> {
+        match lines.next(what) {
+            Ok(Some((ln, l))) => {
+                *last = ln;
+                Ok((ln, l))
+            }
+            Ok(None) => Err(eof(*last, what)),
+            Err(message) => Err(FrameError {
+                message,
+                line: *last + 1,
+                cut: false,
+            }),
         }
     };
-    let mut raw: Vec<RawFrame> = Vec::new();
-    while let Some((ln, l)) = next("ITEM: TIMESTEP")? {
-        if l.trim().is_empty() {
-            continue;
+    let (ln, l) = next(lines, &mut last, "the timestep")?;
+    let step: u64 = match l.trim().parse() {
+        Ok(s) => s,
+        Err(_) => {
+            return Err(bad(
+                lines,
+                ln,
+                format!("{name} line {ln}: timestep `{}` is not a non-negative integer", l.trim()),
+            ))
         }
-        if !l.starts_with("ITEM: TIMESTEP") {
-            return Err(format!("{name} line {ln}: expected `ITEM: TIMESTEP`, found `{}`", l.trim()));
-        }
-        let eof = |what: &str| format!("{name}: file ends inside a frame, before {what}");
-        let (ln, l) = next("the timestep")?.ok_or_else(|| eof("the timestep"))?;
-        let step: u64 = l
-            .trim()
-            .parse()
-            .map_err(|_| format!("{name} line {ln}: timestep `{}` is not a non-negative integer", l.trim()))?;
-        let (ln, l) = next("ITEM: NUMBER OF ATOMS")?.ok_or_else(|| eof("ITEM: NUMBER OF ATOMS"))?;
-        if !l.starts_with("ITEM: NUMBER OF ATOMS") {
-            return Err(format!("{name} line {ln}: expected `ITEM: NUMBER OF ATOMS` (timestep {step})"));
-        }
-        let (ln, l) = next("the number of atoms")?.ok_or_else(|| eof("the number of atoms"))?;
-        let n: usize = l
-            .trim()
-            .parse()
-            .map_err(|_| format!("{name} line {ln}: number of atoms `{}` is not an integer", l.trim()))?;
-        let (ln, l) = next("ITEM: BOX BOUNDS")?.ok_or_else(|| eof("ITEM: BOX BOUNDS"))?;
-        if !l.starts_with("ITEM: BOX BOUNDS") {
-            return Err(format!("{name} line {ln}: expected `ITEM: BOX BOUNDS` (timestep {step})"));
-        }
-        if l.contains("xy") {
-            return Err(format!("{name} line {ln}: triclinic boxes are not supported (timestep {step})"));
-        }
-        let mut bounds = [[0.0; 2]; 3];
-        for (a, b) in bounds.iter_mut().enumerate() {
-            let (ln, l) = next("box bounds")?.ok_or_else(|| eof("the box bounds"))?;
-            let v: Vec<f64> = l.split_whitespace().filter_map(|s| s.parse().ok()).collect();
-            if v.len() != 2 || v[1].partial_cmp(&v[0]) != Some(std::cmp::Ordering::Greater) {
-                return Err(format!(
+    };
+    let (ln, l) = next(lines, &mut last, "ITEM: NUMBER OF ATOMS")?;
+    if !l.starts_with("ITEM: NUMBER OF ATOMS") {
+        return Err(bad(
+            lines,
+            ln,
+            format!("{name} line {ln}: expected `ITEM: NUMBER OF ATOMS` (timestep {step})"),
+        ));
+    }
+    let (ln, l) = next(lines, &mut last, "the number of atoms")?;
+    let Ok(n) = l.trim().parse::<usize>() else {
+        return Err(bad(
+            lines,
+            ln,
+            format!("{name} line {ln}: number of atoms `{}` is not an integer", l.trim()),
+        ));
+    };
+    let (ln, l) = next(lines, &mut last, "ITEM: BOX BOUNDS")?;
+    if !l.starts_with("ITEM: BOX BOUNDS") {
+        return Err(bad(
+            lines,
+            ln,
+            format!("{name} line {ln}: expected `ITEM: BOX BOUNDS` (timestep {step})"),
+        ));
+    }
+    if l.contains("xy") {
+        return Err(bad(
+            lines,
+            ln,
+            format!("{name} line {ln}: triclinic boxes are not supported (timestep {step})"),
+        ));
+    }
+    let mut bounds = [[0.0; 2]; 3];
+    for (a, b) in bounds.iter_mut().enumerate() {
+        let (ln, l) = next(lines, &mut last, "the box bounds")?;
+        let v: Vec<f64> = l.split_whitespace().filter_map(|s| s.parse().ok()).collect();
+        if v.len() != 2 || v[1].partial_cmp(&v[0]) != Some(std::cmp::Ordering::Greater) {
+            return Err(bad(
+                lines,
+                ln,
+                format!(
                     "{name} line {ln}: box bounds of axis {} must be two numbers lo < hi, got `{}` (timestep {step})",
                     ["x", "y", "z"][a],
                     l.trim()
-                ));
-            }
-            *b = [v[0], v[1]];
+                ),
+            ));
         }
-        let (ln, l) = next("ITEM: ATOMS")?.ok_or_else(|| eof("ITEM: ATOMS"))?;
-        let Some(cols) = l.strip_prefix("ITEM: ATOMS") else {
-            return Err(format!("{name} line {ln}: expected `ITEM: ATOMS` (timestep {step})"));
-        };
-        let names: Vec<&str> = cols.split_whitespace().collect();
-        let c = columns(&names, &format!("{name} line {ln}"))?;
-        let mut atoms = Vec::with_capacity(n);
-        for _ in 0..n {
-            let (ln, l) = next("an atom")?.ok_or_else(|| format!("{name}: timestep {step} ends after {} of {n} atoms", atoms.len()))?;
-            let f: Vec<&str> = l.split_whitespace().collect();
-            if f.len() != c.count {
-                return Err(format!(
-                    "{name} line {ln}: {} values for {} columns (timestep {step})",
-                    f.len(),
-                    c.count
-                ));
+        *b = [v[0], v[1]];
+    }
+    let (ln, l) = next(lines, &mut last, "ITEM: ATOMS")?;
+    let Some(cols) = l.strip_prefix("ITEM: ATOMS") else {
+        return Err(bad(
+            lines,
+            ln,
+            format!("{name} line {ln}: expected `ITEM: ATOMS` (timestep {step})"),
+        ));
+    };
+    let names: Vec<&str> = cols.split_whitespace().collect();
+    let c = columns(&names, &format!("{name} line {ln}")).map_err(|m| bad(lines, ln, m))?;
+    let mut atoms = Vec::with_capacity(n);
+    for _ in 0..n {
+        let (ln, l) = match next(lines, &mut last, "an atom") {
+            Ok(x) => x,
+            Err(mut e) if e.cut => {
+                e.message = format!("{name}: timestep {step} ends after {} of {n} atoms", atoms.len());
+                return Err(e);
             }
-            let num = |k: usize| -> Result<f64, String> {
-                let v: f64 = f[k].parse().map_err(|_| {
-                    format!(
-                        "{name} line {ln}: column `{}` = `{}` is not a number (timestep {step})",
-                        names[k], f[k]
-                    )
-                })?;
-                if v.is_finite() {
-                    Ok(v)
-                } else {
-                    Err(format!("{name} line {ln}: column `{}` is not finite (timestep {step})", names[k]))
-                }
-            };
+            Err(e) => return Err(e),
+        };
+        let f: Vec<&str> = l.split_whitespace().collect();
+        if f.len() != c.count {
+            let m = format!("{name} line {ln}: {} values for {} columns (timestep {step})", f.len(), c.count);
+            return Err(bad(lines, ln, m));
+        }
+        let num = |k: usize| -> Result<f64, String> {
+            let v: f64 = f[k].parse().map_err(|_| {
+                format!(
+                    "{name} line {ln}: column `{}` = `{}` is not a number (timestep {step})",
+                    names[k], f[k]
+                )
+            })?;
+            if v.is_finite() {
+                Ok(v)
+            } else {
+                Err(format!("{name} line {ln}: column `{}` is not finite (timestep {step})", names[k]))
+            }
+        };
+        let atom = (|| -> Result<_, String> {
             let id: u64 = f[c.id]
                 .parse()
                 .map_err(|_| format!("{name} line {ln}: id `{}` is not an integer (timestep {step})", f[c.id]))?;
@@ -189,14 +263,66 @@ pub fn read_dump(path: &Path, dt: f64) -> Result<(Header, Vec<Frame>), String> {
                     PosCol::Scaled(k) => bounds[a][0] + num(k)? * (bounds[a][1] - bounds[a][0]),
                 };
             }
-            let vel = match c.vel {
-                Some(k) => [num(k[0])?, num(k[1])?, num(k[2])?],
-                None => [0.0; 3],
-            };
-            atoms.push((id, radius, pos, vel));
+            let mut vel = [0.0; 3];
+            for (v, k) in vel.iter_mut().zip(c.vel) {
+                if let Some(k) = k {
+                    *v = num(k)?;
+                }
+            }
+            Ok((id, radius, pos, vel))
+        })()
+        .map_err(|m| bad(lines, ln, m))?;
+        atoms.push(atom);
+    }
+    atoms.sort_by_key(|a| a.0);
+    Ok(RawFrame {
+        step,
+        bounds,
+        atoms,
+        vel: c.vel.map(|k| k.is_some()),
+    })
+}
+
+/// Reads every frame of a LAMMPS text dump (see the module docs); `dt` is the run's time
+/// step (s). Errors name the file, line and field.
+pub fn read_dump(path: &Path, dt: f64) -> Result<(Header, Vec<Frame>), String> {
+    read_dump_noting(path, dt).map(|(h, f, _)| (h, f))
+}
+
+/// [`read_dump`], keeping the complete frames of a dump cut off inside a frame (a killed
+/// run) with a warning that names the line, and saying which velocity columns were used.
+pub fn read_dump_noting(path: &Path, dt: f64) -> Result<(Header, Vec<Frame>, DumpNotes), String> {
+    if !(dt.is_finite() && dt > 0.0) {
+        return Err(format!("--dt must be a positive time step in s, got {dt}"));
+    }
+    let file = std::fs::File::open(path).map_err(|e| format!("cannot open {}: {e}", path.display()))?;
+    let name = path.display().to_string();
+    let mut lines = Lines {
+        lines: std::io::BufReader::new(file).lines().enumerate().peekable(),
+        name: name.clone(),
+    };
+    let mut notes = DumpNotes::default();
+    let mut raw: Vec<RawFrame> = Vec::new();
+    while let Some((ln, l)) = lines.next("ITEM: TIMESTEP")? {
+        if l.trim().is_empty() {
+            continue;
         }
-        atoms.sort_by_key(|a| a.0);
-        raw.push(RawFrame { step, bounds, atoms });
+        if !l.starts_with("ITEM: TIMESTEP") {
+            return Err(format!("{name} line {ln}: expected `ITEM: TIMESTEP`, found `{}`", l.trim()));
+        }
+        match read_frame(&mut lines, ln) {
+            Ok(f) => raw.push(f),
+            Err(e) if e.cut && !raw.is_empty() => {
+                notes.warnings.push(format!(
+                    "{name} is cut off at line {} inside the frame that starts at line {ln} ({}); analysing the {} complete frames before it",
+                    e.line,
+                    e.message,
+                    raw.len()
+                ));
+                break;
+            }
+            Err(e) => return Err(e.message),
+        }
     }
     let first = raw
         .first()
@@ -231,6 +357,12 @@ pub fn read_dump(path: &Path, dt: f64) -> Result<(Header, Vec<Frame>), String> {
                 header.radii.len()
             ));
         }
+        if f.vel != first.vel {
+            return Err(format!(
+                "{name}: timestep {} has other velocity columns than the first frame",
+                f.step
+            ));
+        }
         for (a, b) in f.atoms.iter().zip(&first.atoms) {
             if a.0 != b.0 {
                 return Err(format!(
@@ -251,7 +383,13 @@ pub fn read_dump(path: &Path, dt: f64) -> Result<(Header, Vec<Frame>), String> {
             vel: f.atoms.iter().map(|a| a.3).collect(),
         });
     }
-    Ok((header, frames))
+    notes.velocity_columns = ["vx", "vy", "vz"]
+        .iter()
+        .zip(first.vel)
+        .filter(|(_, on)| *on)
+        .map(|(n, _)| n.to_string())
+        .collect();
+    Ok((header, frames, notes))
 }
 
 #[cfg(test)]
@@ -299,14 +437,13 @@ ITEM: ATOMS x radius id y z vx vy vz\n-0.05 0.0003 1 0.006 0.0003 0 0 0\n0.15 0.
                 "timestep 6250 has atom id 2 where",
             ),
             (
-                TWO_FRAMES[..TWO_FRAMES.rfind("0.15").unwrap()].to_string(),
-                "timestep 6250 ends after 1 of 2 atoms",
+                TWO_FRAMES[..TWO_FRAMES.rfind("0.15").unwrap()].replacen("0.0004 2", "0.0004 x", 1),
+                "id `x` is not an integer",
             ),
             (
-                TWO_FRAMES[..TWO_FRAMES.len() - 30].to_string(),
-                "1 values for 8 columns (timestep 6250)",
+                TWO_FRAMES[..TWO_FRAMES.find("ITEM: TIMESTEP\n6250").unwrap()].replacen("0.1 0.0004 2 0.01 0.0004 1 2 3\n", "", 1),
+                "timestep 0 ends after 1 of 2 atoms",
             ),
-            (TWO_FRAMES.replace(" vy", ""), "some but not all"),
             (String::new(), "no `ITEM: TIMESTEP` frame"),
         ];
         for (k, (text, want)) in cases.iter().enumerate() {
@@ -315,6 +452,44 @@ ITEM: ATOMS x radius id y z vx vy vz\n-0.05 0.0003 1 0.006 0.0003 0 0 0\n0.15 0.
             assert!(e.contains(want), "case {k}: `{e}` lacks `{want}`");
             std::fs::remove_dir_all(p.parent().unwrap()).unwrap();
         }
+    }
+
+    /// Issue 19, point 3: a dump cut off by a killed run keeps its complete frames.
+    #[test]
+    fn a_cut_off_dump_keeps_its_complete_frames_and_names_the_line() {
+        for (k, cut) in [TWO_FRAMES.rfind("0.15").unwrap(), TWO_FRAMES.len() - 30, TWO_FRAMES.len() - 100]
+            .into_iter()
+            .enumerate()
+        {
+            let p = dump(&TWO_FRAMES[..cut], &format!("cut{k}"));
+            let (h, f, notes) = read_dump_noting(&p, 8e-6).unwrap();
+            assert_eq!((h.radii.len(), f.len()), (2, 1), "case {k}");
+            assert_eq!(notes.warnings.len(), 1, "case {k}");
+            let w = &notes.warnings[0];
+            assert!(
+                w.contains("cut off at line") && w.contains("starts at line 12") && w.contains("1 complete frames"),
+                "case {k}: {w}"
+            );
+            std::fs::remove_dir_all(p.parent().unwrap()).unwrap();
+        }
+        // A malformed line that is not the last stays an error.
+        let p = dump(&TWO_FRAMES.replacen("-0.05 0.0003 1 0.006", "-0.05 0.0003 1", 1), "midbad");
+        assert!(read_dump_noting(&p, 8e-6).unwrap_err().contains("7 values for 8 columns"));
+        std::fs::remove_dir_all(p.parent().unwrap()).unwrap();
+    }
+
+    /// Issue 19, point 4: any subset of the velocity columns is used, and named.
+    #[test]
+    fn a_subset_of_velocity_columns_is_used_and_named() {
+        let text = TWO_FRAMES
+            .replace(" vz", "")
+            .replace(" 1 2 3\n", " 1 2\n")
+            .replace(" 0 0 0\n", " 0 0\n");
+        let p = dump(&text, "vxvy");
+        let (_, f, notes) = read_dump_noting(&p, 8e-6).unwrap();
+        assert_eq!(notes.velocity_columns, vec!["vx", "vy"]);
+        assert_eq!(f[0].vel[1], [1.0, 2.0, 0.0]);
+        std::fs::remove_dir_all(p.parent().unwrap()).unwrap();
     }
 
     #[test]

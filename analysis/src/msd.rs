@@ -9,7 +9,10 @@
 //! `L / 2` per period; y is the plain difference unless the layer is periodic in y too.
 //!
 //! The plateau fits follow the thesis: the best constant `D(t) = a` on a time window is the
-//! mean of `D` there, reported with its standard error `s / sqrt(n)`.
+//! mean of `D` there, reported with its standard error `s / sqrt(n)`. A constant describes
+//! `D` only where `D` is flat: [`flat_plateau`] reports one only when the means of the first
+//! and the last third of the window differ by at most [`PLATEAU_FLATNESS`], and otherwise
+//! says why there is none.
 
 /// Half the mean square in-plane displacement between two frames' positions (m^2), eq 3.30.
 /// `length` is the periodic box length along x; `width` is used as the y period when
@@ -108,6 +111,37 @@ pub fn fit_plateau(points: &[MsdPoint], from: f64, to: f64) -> Option<Plateau> {
     })
 }
 
+/// Largest ratio between the means of `D` over the first and the last third of a plateau
+/// window for the window to count as flat. The thesis' two plateaus differ 5.6-fold (a1 = 1.6e-4,
+/// a2 = 8.9e-4 m^2); a window whose ends differ by more than 2 straddles a change of the size
+/// the plateaus are meant to measure, while the scatter of a stationary `D` (a mean over all
+/// grains, averaged again over a third of the window) stays far below a factor 2.
+pub const PLATEAU_FLATNESS: f64 = 2.0;
+
+/// [`fit_plateau`], kept only when `D` is flat on the window: at least three points, and the
+/// means of its first and last thirds within a factor `tolerance` of each other. The error
+/// says why there is no plateau.
+pub fn flat_plateau(points: &[MsdPoint], from: f64, to: f64, tolerance: f64) -> Result<Plateau, String> {
+    let v: Vec<f64> = points.iter().filter(|p| p.time >= from && p.time <= to).map(|p| p.d).collect();
+    if v.len() < 3 {
+        return Err(format!(
+            "{} value(s) of D on [{from:.3}, {to:.3}] s; at least 3 are needed to tell a plateau from a trend",
+            v.len()
+        ));
+    }
+    let k = v.len() / 3;
+    let mean = |s: &[f64]| s.iter().sum::<f64>() / s.len() as f64;
+    let (head, tail) = (mean(&v[..k]), mean(&v[v.len() - k..]));
+    let (lo, hi) = (head.min(tail), head.max(tail));
+    if !(hi <= tolerance * lo || hi == 0.0) {
+        return Err(format!(
+            "D is not flat on [{from:.3}, {to:.3}] s: it goes from {head:.3e} to {tail:.3e} m^2 (first and last third), \
+             more than the factor {tolerance} a plateau may change by"
+        ));
+    }
+    Ok(fit_plateau(points, from, to).expect("points in the window"))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -147,6 +181,28 @@ mod tests {
         assert_eq!((p.value, p.points), (2.0, 4));
         assert!((p.stderr - (4.0f64 / 3.0).sqrt() / 2.0).abs() < 1e-15);
         assert!(fit_plateau(&pts, 10.0, 20.0).is_none());
+    }
+
+    /// Issue 19, point 5: a decaying transient is no plateau.
+    #[test]
+    fn a_decaying_transient_is_no_plateau() {
+        let decay: Vec<MsdPoint> = (0..30)
+            .map(|k| MsdPoint {
+                time: k as f64,
+                d: 8e-4 * (-(k as f64) / 6.8).exp(), // falls 80-fold over the window
+            })
+            .collect();
+        let e = flat_plateau(&decay, 0.0, 29.0, PLATEAU_FLATNESS).unwrap_err();
+        assert!(e.contains("not flat"), "{e}");
+        let noisy: Vec<MsdPoint> = (0..30)
+            .map(|k| MsdPoint {
+                time: k as f64,
+                d: 1e-4 * (1.0 + 0.3 * ((k * 7 % 5) as f64 - 2.0) / 2.0),
+            })
+            .collect();
+        let p = flat_plateau(&noisy, 0.0, 29.0, PLATEAU_FLATNESS).unwrap();
+        assert!((p.value / 1e-4 - 1.0).abs() < 0.05, "{p:?}");
+        assert!(flat_plateau(&noisy, 0.0, 1.0, PLATEAU_FLATNESS).unwrap_err().contains("at least 3"));
     }
 
     proptest! {

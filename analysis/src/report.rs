@@ -23,7 +23,7 @@ use crate::classify::{
     cell_std, classify, persistence_window, random_layer_sigma, time_average, Classification, ClassifyParams, Evidence, Phase,
 };
 use crate::density::{add_area_fraction_cells, mean_area_fraction};
-use crate::msd::{fit_plateau, half_msd, median_spacing, MsdPoint, Plateau};
+use crate::msd::{flat_plateau, half_msd, median_spacing, MsdPoint, Plateau, PLATEAU_FLATNESS};
 use crate::segregation::{RadiusBins, RadiusDistribution, RadiusTally};
 use crate::snapshot::{Frame, Header};
 use crate::stripes::{detect, onset, Coarsening, Stripe, StripeParams};
@@ -129,12 +129,29 @@ pub struct Report {
     pub msd: Vec<MsdPoint>,
     pub plateau_before: Option<Plateau>,
     pub plateau_after: Option<Plateau>,
+    /// Why there is no `plateau_before` / `plateau_after` (not flat, too few points, no window).
+    pub plateau_before_note: Option<String>,
+    pub plateau_after_note: Option<String>,
     /// Autocorrelation of `D` (eq 3.32).
     pub autocorrelation: Vec<AutocorrPoint>,
     pub tracer: Tracer,
     /// Radii inside the stripes of the final-state (tail) frames against the whole layer.
     pub radii: RadiusDistribution,
     pub classification: Classification,
+}
+
+impl Report {
+    /// The phase, or None with the reason when the frames cannot tell it: without two frames
+    /// one drive period apart there is no mobility, and `nothing` cannot be told from `gas`.
+    pub fn phase(&self) -> Result<Phase, String> {
+        if self.msd.is_empty() {
+            return Err(format!(
+                "too few frames for a phase: {} frame(s) and no two one drive period apart, so no mobility",
+                self.frames
+            ));
+        }
+        Ok(self.classification.phase)
+    }
 }
 
 /// The scalar results, as written to `summary.json`.
@@ -150,7 +167,9 @@ pub struct Summary {
     pub stripe_count_final: usize,
     pub stripe_onset_s: Option<f64>,
     pub stripe_mean_width_final_m: Option<f64>,
-    pub phase: Phase,
+    /// None when the frames cannot tell it; `phase_note` says why.
+    pub phase: Option<Phase>,
+    pub phase_note: Option<String>,
     pub contrast: f64,
     pub mobility: f64,
     pub tail_stripe_count: usize,
@@ -159,9 +178,11 @@ pub struct Summary {
     pub msd_plateau_before: Option<f64>,
     pub msd_plateau_before_stderr: Option<f64>,
     pub msd_plateau_before_window_s: Option<(f64, f64)>,
+    pub msd_plateau_before_note: Option<String>,
     pub msd_plateau_after: Option<f64>,
     pub msd_plateau_after_stderr: Option<f64>,
     pub msd_plateau_after_window_s: Option<(f64, f64)>,
+    pub msd_plateau_after_note: Option<String>,
     pub tracer: usize,
     pub radius_mean_m: f64,
     pub radius_mean_in_stripes_m: Option<f64>,
@@ -184,7 +205,8 @@ impl Report {
             stripe_count_final: last.map_or(0, |c| c.count),
             stripe_onset_s: self.onset,
             stripe_mean_width_final_m: last.and_then(|c| finite(c.mean_width)),
-            phase: self.classification.phase,
+            phase: self.phase().ok(),
+            phase_note: self.phase().err(),
             contrast: self.classification.contrast,
             mobility: self.classification.mobility,
             tail_stripe_count: self.classification.tail_stripe_count,
@@ -193,9 +215,11 @@ impl Report {
             msd_plateau_before: self.plateau_before.map(|p| p.value),
             msd_plateau_before_stderr: self.plateau_before.map(|p| p.stderr),
             msd_plateau_before_window_s: self.plateau_before.map(|p| (p.from, p.to)),
+            msd_plateau_before_note: self.plateau_before_note.clone(),
             msd_plateau_after: self.plateau_after.map(|p| p.value),
             msd_plateau_after_stderr: self.plateau_after.map(|p| p.stderr),
             msd_plateau_after_window_s: self.plateau_after.map(|p| (p.from, p.to)),
+            msd_plateau_after_note: self.plateau_after_note.clone(),
             tracer: self.tracer.index,
             radius_mean_m: self.radii.mean_whole,
             radius_mean_in_stripes_m: finite(self.radii.mean_stripes),
@@ -465,9 +489,15 @@ impl Analyzer {
                 (Some((t0, mid)), Some((mid, t_end)))
             }
         };
-        let window = |given: Option<(f64, f64)>, auto: Option<(f64, f64)>| given.or(auto).and_then(|(a, b)| fit_plateau(&self.msd, a, b));
-        let plateau_before = window(self.opts.plateau_before, before);
-        let plateau_after = window(self.opts.plateau_after, after);
+        let window = |given: Option<(f64, f64)>, auto: Option<(f64, f64)>| match given.or(auto) {
+            None => (None, Some("no window: the stripes are there from the first frame".to_string())),
+            Some((a, b)) => match flat_plateau(&self.msd, a, b, PLATEAU_FLATNESS) {
+                Ok(p) => (Some(p), None),
+                Err(e) => (None, Some(e)),
+            },
+        };
+        let (plateau_before, plateau_before_note) = window(self.opts.plateau_before, before);
+        let (plateau_after, plateau_after_note) = window(self.opts.plateau_after, after);
 
         let d: Vec<f64> = self.msd.iter().map(|p| p.d).collect();
         let max_lag = self.opts.max_lag.unwrap_or(d.len() / 2);
@@ -508,6 +538,8 @@ impl Analyzer {
             msd: self.msd,
             plateau_before,
             plateau_after,
+            plateau_before_note,
+            plateau_after_note,
             autocorrelation,
             tracer: self.tracer,
             radii,

@@ -127,6 +127,12 @@ impl SnapshotWriter {
 
 /// Reads a snapshot stream: the header and every complete frame.
 pub fn read_snapshots(path: &Path) -> io::Result<(Header, Vec<Frame>)> {
+    read_snapshots_counting(path).map(|(h, f, _)| (h, f))
+}
+
+/// [`read_snapshots`], also returning how many bytes after the last complete frame were
+/// ignored (a partial frame: the file was cut while being written or copied).
+pub fn read_snapshots_counting(path: &Path) -> io::Result<(Header, Vec<Frame>, usize)> {
     let mut bytes = Vec::new();
     File::open(path)?.read_to_end(&mut bytes)?;
     let bad = |m: &str| io::Error::new(io::ErrorKind::InvalidData, format!("{}: {m}", path.display()));
@@ -161,7 +167,7 @@ pub fn read_snapshots(path: &Path) -> io::Result<(Header, Vec<Frame>)> {
         frames.push(Frame { time, pos, vel });
         at += size;
     }
-    Ok((header, frames))
+    Ok((header, frames, bytes.len() - at))
 }
 
 #[cfg(test)]
@@ -209,6 +215,7 @@ mod tests {
         let len = std::fs::metadata(&p).unwrap().len();
         OpenOptions::new().write(true).open(&p).unwrap().set_len(len - 5).unwrap();
         assert_eq!(read_snapshots(&p).unwrap().1.len(), 2);
+        assert_eq!(read_snapshots_counting(&p).unwrap().2, (8 + 2 * 24) - 5);
         std::fs::remove_dir_all(d).unwrap();
     }
 }

@@ -33,7 +33,8 @@ pub struct Args {
     /// Time step of a LAMMPS dump (s): time = timestep x dt. Ignored for snapshots.
     #[arg(long, default_value_t = analysis::lammps::DEFAULT_DT)]
     pub dt: f64,
-    /// Drive period for the MSD per period (s; default: the median snapshot spacing).
+    /// Drive period for the MSD per period (s; default: 1 / drive.frequency from the run's
+    /// config.json, else the median snapshot spacing).
     #[arg(long)]
     pub period: Option<f64>,
     /// Index of the tracer grain (0-based; LAMMPS: in order of atom id).
@@ -128,8 +129,21 @@ impl Args {
 }
 
 pub fn run(args: Args) -> Result<String, CliError> {
-    let opts = args.options()?;
+    let mut opts = args.options()?;
     let run = load(&args.input, args.dt)?;
+    for w in &run.warnings {
+        eprintln!("warning: {w}");
+    }
+    // The drive period: given, else the run's own metadata, never the snapshot spacing when
+    // the metadata is there (a cut-off file has too few frames to infer it).
+    let period_source = if args.period.is_some() {
+        "--period"
+    } else if let Some(p) = run.period {
+        opts.period = Some(p);
+        "run metadata (config.json: 1 / scene.drive.frequency)"
+    } else {
+        "median snapshot spacing"
+    };
     let report = analyze(&run.header, &run.frames, &opts).map_err(|e| format!("{}: {e}", run.file.display()))?;
     let out = args.out.clone().unwrap_or_else(|| {
         if args.input.is_dir() {
@@ -149,6 +163,16 @@ pub fn run(args: Args) -> Result<String, CliError> {
     if let serde_json::Value::Object(m) = &mut summary {
         m.insert("input".into(), run.file.display().to_string().into());
         m.insert("input_kind".into(), serde_json::to_value(run.kind)?);
+        m.insert("period_source".into(), period_source.into());
+        if let Some(cols) = &run.velocity_columns {
+            m.insert("velocity_columns".into(), serde_json::to_value(cols)?);
+        }
+        let mut warnings = run.warnings.clone();
+        if let Err(e) = report.phase() {
+            eprintln!("warning: {e}");
+            warnings.push(e);
+        }
+        m.insert("warnings".into(), serde_json::to_value(warnings)?);
     }
     dir.finish(summary)
 }
