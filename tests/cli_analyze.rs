@@ -188,7 +188,7 @@ fn small_run(name: &str, frames: u64) -> PathBuf {
     for f in 0..frames {
         let t = if f == 0 { 0.0 } else { 0.25 * T + (f - 1) as f64 * T };
         let pos = frame(&base, f);
-        w.push(t, pos.into_iter(), std::iter::repeat([0.0; 3]).take(r.len())).unwrap();
+        w.push(t, pos.into_iter(), std::iter::repeat_n([0.0; 3], r.len())).unwrap();
     }
     w.sync().unwrap();
     std::fs::write(
