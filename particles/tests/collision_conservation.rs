@@ -195,10 +195,17 @@ proptest! {
         let g0 = Vec3::new(-vn, match c.impact { Impact::Components { vt, .. } => vt, _ => unreachable!() }, 0.0);
         let (a1, a2) = (Vec3::from(a.v1), Vec3::from(a.v2.unwrap()));
         let (b1, b2) = (Vec3::from(b.v1), Vec3::from(b.v2.unwrap()));
-        prop_assert!((b1 - (g0 - a2)).norm() <= 1e-9 * v, "{b1} vs {}", g0 - a2);
-        prop_assert!((b2 - (g0 - a1)).norm() <= 1e-9 * v, "{b2} vs {}", g0 - a1);
+        // (see the note on tolerances below)
+        prop_assert!((b1 - (g0 - a2)).norm() <= 1e-6 * v, "{b1} vs {}", g0 - a2);
+        prop_assert!((b2 - (g0 - a1)).norm() <= 1e-6 * v, "{b2} vs {}", g0 - a1);
+        // Velocities and spins to 1e-6 of their scales: the mirrored run differs by round-off,
+        // which the Haff-Werner switch between its viscous and Coulomb branches amplifies (a
+        // real asymmetry would show at the step's order, 1e-3). Regression: a head-on Hertz
+        // impact of spinning grains (the last saved case) mirrored its velocities to 3.8e-8 and
+        // its spins to 3.8e-9 of their scales, on this code and on the code before the house
+        // rewrite alike, against the 1e-9 asked before.
         let wscale = 1.0 + Vec3::from(a.omega1).norm() + Vec3::from(a.omega2.unwrap()).norm();
-        prop_assert!((Vec3::from(b.omega1) - Vec3::from(a.omega2.unwrap())).norm() <= 1e-9 * wscale);
-        prop_assert!((Vec3::from(b.omega2.unwrap()) - Vec3::from(a.omega1)).norm() <= 1e-9 * wscale);
+        prop_assert!((Vec3::from(b.omega1) - Vec3::from(a.omega2.unwrap())).norm() <= 1e-6 * wscale);
+        prop_assert!((Vec3::from(b.omega2.unwrap()) - Vec3::from(a.omega1)).norm() <= 1e-6 * wscale);
     }
 }
