@@ -95,18 +95,36 @@ pub enum Place {
 /// Counts of each motion and the least-squares sums of `u_x` against `v_tray`, for one place.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Tally {
-    /// Grain-instants per motion, in the order of [`Motion::ALL`].
+    /// Grain-instants per motion, indexed by `Motion as usize` (the order of [`Motion::ALL`]).
     pub counts: [u64; 4],
     /// `sum v_tray u_x` and `sum v_tray^2` over grain-instants (for the slope `a`).
     pub vu: f64,
     pub vv: f64,
+    /// `sum u_x` over grain-instants (for the mean velocity relative to the tray).
+    pub u: f64,
 }
 
 impl Tally {
     pub fn add(&mut self, m: Motion, v_tray: f64, u_x: f64) {
-        self.counts[Motion::ALL.iter().position(|&k| k == m).expect("listed")] += 1;
+        self.counts[m as usize] += 1;
         self.vu += v_tray * u_x;
         self.vv += v_tray * v_tray;
+        self.u += u_x;
+    }
+
+    /// Adds another tally's grain-instants.
+    pub fn merge(&mut self, other: &Tally) {
+        for (c, o) in self.counts.iter_mut().zip(other.counts) {
+            *c += o;
+        }
+        self.vu += other.vu;
+        self.vv += other.vv;
+        self.u += other.u;
+    }
+
+    /// Mean `u_x` (m/s; NaN without samples).
+    pub fn mean_u(&self) -> f64 {
+        self.u / self.total() as f64
     }
 
     pub fn total(&self) -> u64 {
@@ -115,8 +133,7 @@ impl Tally {
 
     /// Fraction of grain-instants in motion `m` (NaN without any).
     pub fn fraction(&self, m: Motion) -> f64 {
-        let k = Motion::ALL.iter().position(|&k| k == m).expect("listed");
-        self.counts[k] as f64 / self.total() as f64
+        self.counts[m as usize] as f64 / self.total() as f64
     }
 
     /// Slope `a` of `u_x = a v_tray` (module docs; NaN without samples).
@@ -170,6 +187,12 @@ impl Split {
             let t = if inside { &mut self.band } else { &mut self.outside };
             t.add(m, v_tray, g.vel[0] - v_tray);
         }
+    }
+
+    /// Adds another split's grain-instants.
+    pub fn merge(&mut self, other: &Split) {
+        self.band.merge(&other.band);
+        self.outside.merge(&other.outside);
     }
 
     /// Slope of the bands' grains relative to the grains outside: `a_band - a_outside`,
@@ -239,6 +262,11 @@ mod tests {
         }
         let Split { band, outside } = split;
         assert!((split.relative_slope() - 5.0 / 7.0).abs() < 1e-12);
+        assert_eq!(band.mean_u(), 0.0, "held grains do not move on the tray");
+        let mut twice = split;
+        twice.merge(&split);
+        assert_eq!(twice.band.total(), 40);
+        assert_eq!(twice.outside.slope(), outside.slope());
         // By local packing: the held grain sits in a cell at 0.7, the rolling one at 0.1.
         let mut phi = vec![0.1; 100];
         phi[4] = 0.7;

@@ -99,45 +99,29 @@ pub fn run(args: Args) -> Result<String, CliError> {
         by_density.add_instant(&grains, &phi, l, v_tray, floor_speed);
         let mut instant = Split::default();
         instant.add_instant(&grains, &stripes, l, v_tray, floor_speed);
-        let group_mean = |inside: bool| -> f64 {
-            let sel: Vec<f64> = grains
-                .iter()
-                .filter(|g| stripes.iter().any(|s| s.contains(g.pos[0], l)) == inside)
-                .map(|g| g.vel[0] - v_tray)
-                .collect();
-            sel.iter().sum::<f64>() / sel.len() as f64
-        };
-        let mut row = vec![sim.time - start, v_tray, stripes.len() as f64, group_mean(true), group_mean(false)];
+        let mut row = vec![
+            sim.time - start,
+            v_tray,
+            stripes.len() as f64,
+            instant.band.mean_u(),
+            instant.outside.mean_u(),
+        ];
         for t in [&instant.band, &instant.outside] {
             row.push(t.total() as f64);
             row.extend(Motion::ALL.iter().map(|&m| t.fraction(m)));
         }
         rows.push(row);
-        for (sum, one) in [(&mut total.band, &instant.band), (&mut total.outside, &instant.outside)] {
-            for (c, o) in sum.counts.iter_mut().zip(one.counts) {
-                *c += o;
-            }
-            sum.vu += one.vu;
-            sum.vv += one.vv;
-        }
+        total.merge(&instant);
         bar.inc(1);
     }
     bar.finish_and_clear();
 
-    let mut header = vec!["t", "v_tray", "stripes", "u_band", "u_outside", "n_band"];
-    header.extend(Motion::ALL.iter().map(|m| match m {
-        Motion::Held => "band_held",
-        Motion::Rolling => "band_rolling",
-        Motion::Sliding => "band_sliding",
-        Motion::Airborne => "band_airborne",
-    }));
-    header.push("n_outside");
-    header.extend(Motion::ALL.iter().map(|m| match m {
-        Motion::Held => "outside_held",
-        Motion::Rolling => "outside_rolling",
-        Motion::Sliding => "outside_sliding",
-        Motion::Airborne => "outside_airborne",
-    }));
+    let mut header: Vec<String> = ["t", "v_tray", "stripes", "u_band", "u_outside"].map(String::from).to_vec();
+    for place in ["band", "outside"] {
+        header.push(format!("n_{place}"));
+        header.extend(Motion::ALL.iter().map(|m| format!("{place}_{}", m.name())));
+    }
+    let header: Vec<&str> = header.iter().map(String::as_str).collect();
     dir.csv("mechanism.csv", &header, &rows)?;
     let series = |col: usize| rows.iter().map(|r| (r[0], r[col])).collect::<Vec<_>>();
     let plot = LinePlot::new(
