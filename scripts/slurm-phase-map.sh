@@ -17,6 +17,6 @@ OUT=${2:?shared sweep directory}
 SHARDS=${SLURM_ARRAY_TASK_COUNT:?run as a job array: sbatch --array=0-N}
 stripes phase-map "$SCENE" \
   --frequency "${FREQUENCY:-5:29:7}" --amplitude "${AMPLITUDE:-0.005:0.04:8}" \
-  --model "${MODEL:-both}" --samples "${SAMPLES:-1}" \
+  --model "${MODEL:-both}" --seeds "${SAMPLES:-1}" \
   --out "$OUT" --sample-cache "$OUT/samples" \
   --shard "${SLURM_ARRAY_TASK_ID}/${SHARDS}" --jobs "${SLURM_CPUS_PER_TASK:-1}" --quiet

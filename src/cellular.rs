@@ -256,6 +256,7 @@ pub fn evolve(
             w.push(t, scene.drive.amplitude, a.lattice())?;
         }
         frame(t, a.lattice());
+        bar.set_message(format!("t = {t:.3} s of {} s", scene.run.duration));
         bar.set_position(k);
     }
     if let Some(w) = writer.as_mut() {

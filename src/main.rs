@@ -13,7 +13,9 @@ mod output;
 mod samples;
 mod scene_file;
 mod sweep;
+mod thermo;
 mod tradeoff;
+mod vtk_series;
 
 use std::process::ExitCode;
 
@@ -83,6 +85,9 @@ fn main() -> ExitCode {
     };
     match result {
         Ok(summary) => {
+            if let Ok(v) = serde_json::from_str::<serde_json::Value>(&summary) {
+                eprintln!("{}", output::human_summary(&v));
+            }
             println!("{summary}");
             ExitCode::SUCCESS
         }
@@ -90,5 +95,43 @@ fn main() -> ExitCode {
             eprintln!("error: {e}");
             ExitCode::FAILURE
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::CommandFactory;
+
+    /// Issue 19, point 10: every option (and every value of a choice) of every subcommand has
+    /// a description, and no default prints as a long decimal such as `0.000008`.
+    #[test]
+    fn every_option_is_described_and_defaults_are_short() {
+        let (mut missing, mut long) = (Vec::new(), Vec::new());
+        for sub in Cli::command().get_subcommands() {
+            for arg in sub.get_arguments().filter(|a| !a.is_hide_set()) {
+                let id = arg.get_id().as_str();
+                if id == "help" || id == "version" {
+                    continue;
+                }
+                let name = format!("{} {}", sub.get_name(), arg.get_long().map_or(id.to_string(), |l| format!("--{l}")));
+                if arg.get_help().is_none() && arg.get_long_help().is_none() {
+                    missing.push(name.clone());
+                }
+                for v in arg.get_possible_values().iter().filter(|v| !v.is_hide_set()) {
+                    if v.get_help().is_none() {
+                        missing.push(format!("{name} {}", v.get_name()));
+                    }
+                }
+                for d in arg.get_default_values() {
+                    let d = d.to_string_lossy();
+                    if d.contains("0.0000") || d.contains("000000") {
+                        long.push(format!("{name} = {d}"));
+                    }
+                }
+            }
+        }
+        assert!(missing.is_empty(), "options without a description: {missing:?}");
+        assert!(long.is_empty(), "defaults printed as long decimals: {long:?}");
     }
 }

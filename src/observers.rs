@@ -3,18 +3,21 @@
 //! file formats they write belong to `analysis` (snapshots, VTK) or are the simulation's own
 //! checkpoint bytes.
 //!
-//! - [`Recorder`]: snapshots at the drive's turning points (and VTK frames with `--vtk`), and
-//!   checkpoints at `run.checkpoint_interval`. One observer, because a checkpoint records
-//!   how many snapshots are in the file and must follow them.
+//! - [`Recorder`]: snapshots at the drive's turning points (and the ParaView series with
+//!   `--vtk`), and checkpoints at `run.checkpoint_interval`. One observer, because a
+//!   checkpoint records how many snapshots are in the file and must follow them.
+//! - [`crate::thermo::Thermo`]: the thermo table, in its own file.
 //! - [`ContactMeans`]: mean live contacts per step, for the summary.
-//! - [`Progress`]: the progress bar.
+//! - [`Progress`]: the progress bar (or lines off a terminal).
 
 use std::path::PathBuf;
 
-use analysis::snapshot::{Frame, Header, SnapshotWriter};
+use analysis::snapshot::{Header, SnapshotWriter};
 use indicatif::ProgressBar;
 use particles::observer::{Observer, ObserverError};
 use particles::sim::Simulation;
+
+use crate::vtk_series::VtkSeries;
 
 /// Positions as plain arrays, the analysis' frame type.
 fn plain(v: &[particles::Vec3]) -> impl Iterator<Item = [f64; 3]> + '_ {
@@ -24,13 +27,12 @@ fn plain(v: &[particles::Vec3]) -> impl Iterator<Item = [f64; 3]> + '_ {
 /// Snapshots, VTK frames and checkpoints of one run directory.
 pub struct Recorder {
     pub writer: SnapshotWriter,
-    header: Header,
     /// Snapshots written so far (frame 0 at t = 0 included).
     pub frames: u64,
     /// Time of snapshot `k >= 1`.
     snap_time: Box<dyn Fn(u64) -> f64>,
-    /// `Some(dir)`: also write every snapshot as `dir/frame_NNNNN.vtk`.
-    vtk: Option<PathBuf>,
+    /// With `--vtk`: every snapshot also goes to the ParaView series.
+    pub vtk: Option<VtkSeries>,
     /// Checkpoint file, its fingerprint, and the steps between checkpoints; a checkpoint is
     /// also written at step `last`.
     pub checkpoint: PathBuf,
@@ -46,7 +48,7 @@ pub struct RecorderPlan {
     /// Snapshots already in the file (a resumed run appends after them).
     pub frames: u64,
     pub snap_time: Box<dyn Fn(u64) -> f64>,
-    pub vtk: Option<PathBuf>,
+    pub vtk: Option<VtkSeries>,
     pub checkpoint: PathBuf,
     pub fingerprint: u64,
     pub every: u64,
@@ -54,19 +56,15 @@ pub struct RecorderPlan {
 }
 
 impl Recorder {
-    /// Opens the snapshot file (appending when `plan.frames > 0`) and the VTK directory.
+    /// Opens the snapshot file (appending when `plan.frames > 0`).
     pub fn open(plan: RecorderPlan) -> Result<Self, ObserverError> {
         let writer = if plan.frames > 0 {
-            SnapshotWriter::open_append(&plan.snapshots, plan.header.clone(), plan.frames)?
+            SnapshotWriter::open_append(&plan.snapshots, plan.header, plan.frames)?
         } else {
-            SnapshotWriter::create(&plan.snapshots, plan.header.clone())?
+            SnapshotWriter::create(&plan.snapshots, plan.header)?
         };
-        if let Some(dir) = &plan.vtk {
-            std::fs::create_dir_all(dir)?;
-        }
         Ok(Self {
             writer,
-            header: plan.header,
             frames: plan.frames,
             snap_time: plan.snap_time,
             vtk: plan.vtk,
@@ -81,13 +79,8 @@ impl Recorder {
     pub fn snapshot(&mut self, sim: &Simulation) -> Result<(), ObserverError> {
         let s = &sim.state;
         self.writer.push(sim.time, plain(&s.pos), plain(&s.vel))?;
-        if let Some(dir) = &self.vtk {
-            let frame = Frame {
-                time: sim.time,
-                pos: plain(&s.pos).collect(),
-                vel: plain(&s.vel).collect(),
-            };
-            analysis::vtk::write_vtk(&dir.join(format!("frame_{:05}.vtk", self.frames)), &self.header, &frame)?;
+        if let Some(vtk) = &mut self.vtk {
+            vtk.frame(sim, self.frames)?;
         }
         self.frames += 1;
         Ok(())
@@ -138,13 +131,18 @@ impl Observer for ContactMeans {
     }
 }
 
-/// The progress bar, moved every 1000 steps.
-pub struct Progress<'a>(pub &'a ProgressBar);
+/// The progress bar (see [`crate::output::progress_bar`]), moved every 1000 steps, with the
+/// simulated time of `duration` (s).
+pub struct Progress<'a> {
+    pub bar: &'a ProgressBar,
+    pub duration: f64,
+}
 
 impl Observer for Progress<'_> {
     fn observe(&mut self, sim: &Simulation) -> Result<(), ObserverError> {
         if sim.steps.is_multiple_of(1000) {
-            self.0.set_position(sim.steps);
+            self.bar.set_position(sim.steps);
+            self.bar.set_message(format!("t = {:.3} s of {} s", sim.time, self.duration));
         }
         Ok(())
     }

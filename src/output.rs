@@ -4,7 +4,10 @@
 use std::path::{Path, PathBuf};
 
 use analysis::plot::LinePlot;
-use indicatif::{ProgressBar, ProgressStyle};
+use std::io::IsTerminal;
+use std::time::{Duration, Instant};
+
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde::Serialize;
 
 /// Error type of the CLI: a message for the user.
@@ -70,6 +73,20 @@ impl RunDir {
     }
 }
 
+/// Whether `dir` exists and holds anything.
+pub fn non_empty(dir: &Path) -> bool {
+    std::fs::read_dir(dir).is_ok_and(|mut d| d.next().is_some())
+}
+
+/// Environment variable that sets the cache of prepared samples (`--sample-cache`).
+pub const SAMPLE_CACHE_ENV: &str = "STRIPES_SAMPLE_CACHE";
+
+/// The default cache of prepared samples: `$STRIPES_SAMPLE_CACHE`, else `out/samples` (relative
+/// to the current directory).
+pub fn default_sample_cache() -> PathBuf {
+    std::env::var_os(SAMPLE_CACHE_ENV).map_or_else(|| PathBuf::from("out/samples"), PathBuf::from)
+}
+
 /// Parses "x,y,z" into a vector.
 pub fn parse_vec3(s: &str) -> Result<[f64; 3], String> {
     let parts: Vec<&str> = s.split(',').map(str::trim).collect();
@@ -83,17 +100,98 @@ pub fn parse_vec3(s: &str) -> Result<[f64; 3], String> {
     Ok(v)
 }
 
-/// The progress bar of every long command (hidden with `--quiet`).
+/// The progress of every long command (nothing with `--quiet`). On a terminal, a bar on
+/// stderr; off a terminal (CI logs, Slurm, a pipe), one line on stderr every tenth of the work
+/// or every minute, whichever comes first (see [`progress_line`]). The bar's message (e.g.
+/// the simulated time) appears in both.
 pub fn progress_bar(len: u64, quiet: bool, what: &str) -> ProgressBar {
     if quiet {
         return ProgressBar::hidden();
     }
+    if !std::io::stderr().is_terminal() {
+        let bar = ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::hidden());
+        let (watched, what) = (bar.clone(), what.to_string());
+        std::thread::spawn(move || log_progress(&watched, &what));
+        return bar;
+    }
     let bar = ProgressBar::new(len);
     bar.set_style(
-        ProgressStyle::with_template("{msg:>12} [{bar:40}] {percent:>3}% {elapsed_precise} eta {eta_precise}")
+        ProgressStyle::with_template("{prefix:>12} [{bar:40}] {percent:>3}% {msg} {elapsed_precise} eta {eta_precise}")
             .expect("valid template")
             .progress_chars("=> "),
     );
-    bar.set_message(what.to_string());
+    bar.set_prefix(what.to_string());
     bar
+}
+
+/// Longest silence of the line progress off a terminal.
+const PROGRESS_EVERY: Duration = Duration::from_secs(60);
+
+/// Prints [`progress_line`]s for `bar` until it is finished.
+fn log_progress(bar: &ProgressBar, what: &str) {
+    let (mut decile, mut printed) = (0, Instant::now());
+    while !bar.is_finished() {
+        std::thread::sleep(Duration::from_millis(200));
+        let (pos, len) = (bar.position(), bar.length().unwrap_or(0).max(1));
+        let now_decile = (pos.min(len) * 10 / len).min(9);
+        if now_decile > decile || printed.elapsed() >= PROGRESS_EVERY {
+            if bar.is_finished() {
+                break;
+            }
+            eprintln!("{}", progress_line(what, pos, len, bar.elapsed(), &bar.message()));
+            (decile, printed) = (now_decile, Instant::now());
+        }
+    }
+}
+
+/// One progress line: `run: 30% (4500/15000), t = 0.036 s of 0.12 s, 2.1e4/s, elapsed 0:00:05, eta 0:00:12`.
+pub fn progress_line(what: &str, pos: u64, len: u64, elapsed: Duration, message: &str) -> String {
+    let secs = elapsed.as_secs_f64();
+    let rate = pos as f64 / secs.max(1e-9);
+    let eta = if pos > 0 {
+        hms(secs * (len.saturating_sub(pos)) as f64 / pos as f64)
+    } else {
+        "unknown".into()
+    };
+    let msg = if message.is_empty() {
+        String::new()
+    } else {
+        format!(", {message}")
+    };
+    format!(
+        "{what}: {:.0}% ({pos}/{len}){msg}, {rate:.2e}/s, elapsed {}, eta {eta}",
+        100.0 * pos as f64 / len.max(1) as f64,
+        hms(secs)
+    )
+}
+
+fn hms(s: f64) -> String {
+    let s = s.round() as u64;
+    format!("{}:{:02}:{:02}", s / 3600, s / 60 % 60, s % 60)
+}
+
+/// A short human-readable account of a command's summary for stderr: what was simulated,
+/// found and written, and how many warnings there were.
+pub fn human_summary(summary: &serde_json::Value) -> String {
+    let num = |k: &str| summary.get(k).and_then(serde_json::Value::as_f64);
+    let mut parts = Vec::new();
+    if let (Some(t), Some(w)) = (num("simulated_s"), num("wall_s")) {
+        parts.push(format!("{t:.3} s simulated in {w:.1} s"));
+    } else if let Some(w) = num("wall_s") {
+        parts.push(format!("{w:.1} s"));
+    }
+    if let Some(n) = num("snapshots") {
+        parts.push(format!("{n} snapshots"));
+    }
+    if let Some(p) = summary.get("phase") {
+        let stripes = num("stripe_count_final").map_or(String::new(), |c| format!(", {c} stripes at the end"));
+        parts.push(format!("phase {}{stripes}", p.as_str().unwrap_or("none (too few frames)")));
+    }
+    let warnings = summary.get("warnings").and_then(serde_json::Value::as_array).map_or(0, Vec::len);
+    parts.push(format!("{warnings} warning(s)"));
+    if let Some(out) = summary.get("out").and_then(serde_json::Value::as_str) {
+        let files = summary.get("files").and_then(serde_json::Value::as_array).map_or(0, Vec::len);
+        parts.push(format!("{files} files in {out}"));
+    }
+    format!("done: {}", parts.join("; "))
 }

@@ -33,8 +33,9 @@ pub struct SweepArgs {
     /// Jobs run at once on this machine (default: all cores).
     #[arg(long)]
     pub jobs: Option<usize>,
-    /// Directory of prepared samples, shared by every job.
-    #[arg(long, default_value = "out/samples")]
+    /// Cache of prepared samples, shared by every job (default: $STRIPES_SAMPLE_CACHE, else
+    /// out/samples).
+    #[arg(long, value_name = "DIR", default_value_os_t = crate::output::default_sample_cache())]
     pub sample_cache: PathBuf,
     /// No progress bar.
     #[arg(long)]
@@ -353,15 +354,17 @@ fn run_job(root: &Path, sweep: &Sweep, job: &Job, samples: &Path) -> Result<(), 
             scene: sweep.scene.clone(),
             out: Some(run_dir.clone()),
             overrides,
-            samples: samples.to_path_buf(),
+            sample_cache: samples.to_path_buf(),
             quiet: true,
+            // A job re-run after a failure replaces what the failed attempt left.
+            force: true,
             ..run::Args::default()
         })?,
         Model::Automaton => automaton::run(automaton::Args {
             scene: Some(sweep.scene.clone()),
             out: Some(run_dir.clone()),
             overrides,
-            samples: samples.to_path_buf(),
+            sample_cache: samples.to_path_buf(),
             quiet: true,
             ..automaton::Args::default()
         })?,

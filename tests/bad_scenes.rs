@@ -22,13 +22,19 @@ fn every_bad_scene_gives_its_stated_error() {
         let out = Command::new(env!("CARGO_BIN_EXE_stripes"))
             .args(["run", path.to_str().unwrap(), "--quiet", "--out"])
             .arg(tmp.join("run"))
-            .arg("--samples")
+            .arg("--sample-cache")
             .arg(tmp.join("samples"))
             .output()
             .unwrap();
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert!(!out.status.success(), "{} was accepted", path.display());
         assert!(stderr.contains(expect), "{}: expected `{expect}`, got: {stderr}", path.display());
+        // Issue 19, point 10: in the user's words, not Rust's.
+        for rust in ["usize", "u64", "f64", "untagged enum"] {
+            assert!(!stderr.contains(rust), "{}: `{rust}` in: {stderr}", path.display());
+        }
+        // Issue 19, point 8: a failed start leaves no run directory.
+        assert!(!tmp.join("run").exists(), "{}: left a run directory", path.display());
         assert!(
             !tmp.join("samples").exists(),
             "{}: failed only after preparing a sample",

@@ -47,7 +47,17 @@ fn automaton_writes_snapshots_that_analyze_reads_and_prints_the_analyze_keys() {
     let samples = d.join("samples").display().to_string();
     for rule in ["physical", "strict"] {
         let out = d.join(rule).display().to_string();
-        let (ok, stdout, stderr) = stripes(&["automaton", &scene, "--rule", rule, "--out", &out, "--samples", &samples, "--quiet"]);
+        let (ok, stdout, stderr) = stripes(&[
+            "automaton",
+            &scene,
+            "--rule",
+            rule,
+            "--out",
+            &out,
+            "--sample-cache",
+            &samples,
+            "--quiet",
+        ]);
         assert!(ok, "{stderr}");
         let s = last_json(&stdout);
         assert!(s.get("stripe_count_final").is_some_and(|v| v.is_u64()), "{s}");
@@ -68,7 +78,7 @@ fn automaton_writes_snapshots_that_analyze_reads_and_prints_the_analyze_keys() {
         &scene,
         "--set",
         "automaton.activation=1.5",
-        "--samples",
+        "--sample-cache",
         &samples,
         "--quiet",
     ]);
@@ -90,7 +100,7 @@ fn compare_runs_both_models_on_one_sample_and_writes_the_report() {
         "run.duration=0.2",
         "--out",
         &out,
-        "--samples",
+        "--sample-cache",
         &samples,
         "--quiet",
     ]);
@@ -120,7 +130,7 @@ fn compare_runs_both_models_on_one_sample_and_writes_the_report() {
         &dem,
         "--out",
         &out2,
-        "--samples",
+        "--sample-cache",
         &samples,
         "--quiet",
     ]);
@@ -138,7 +148,7 @@ fn compare_runs_both_models_on_one_sample_and_writes_the_report() {
         &dem,
         "--out",
         &out2,
-        "--samples",
+        "--sample-cache",
         &samples,
         "--quiet",
     ]);

@@ -29,7 +29,7 @@ fn run(out: &Path, samples: &Path, extra: &[&str]) -> Output {
         .arg("--quiet")
         .arg("--out")
         .arg(out)
-        .arg("--samples")
+        .arg("--sample-cache")
         .arg(samples);
     for s in SMALL {
         cmd.args(["--set", s]);

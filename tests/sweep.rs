@@ -103,7 +103,7 @@ fn a_restarted_sweep_redoes_nothing_and_two_shards_equal_one_run() {
         .arg("phase-map")
         .arg(scene())
         .args(TINY)
-        .args(["--samples", "2", "--out"])
+        .args(["--seeds", "2", "--out"])
         .arg(&dir)
         .output()
         .unwrap();

@@ -72,6 +72,8 @@ pub struct LinePlot {
     pub legend: LegendCorner,
     /// Values the y axis must show besides the data (see [`LinePlot::include_y`]).
     pub y_include: Vec<f64>,
+    /// Label only whole numbers on the y axis (counts), see [`LinePlot::integer_y`].
+    pub integer_y: bool,
 }
 
 /// Where the legend of a [`LinePlot`] sits.
@@ -155,7 +157,14 @@ impl LinePlot {
             log_y: false,
             legend: LegendCorner::UpperRight,
             y_include: Vec::new(),
+            integer_y: false,
         }
+    }
+
+    /// Labels only whole numbers on the y axis (for counts).
+    pub fn integer_y(mut self) -> Self {
+        self.integer_y = true;
+        self
     }
 
     /// Extends the y axis to show `y` (for example 0, so that nearly equal values are not
@@ -266,7 +275,15 @@ impl LinePlot {
             .label_style((FAMILY, 16))
             .axis_desc_style((FAMILY, 19))
             .x_label_formatter(&|v| tick_on(*v, x_span))
-            .y_label_formatter(&|v| tick_on(*v, y_span))
+            .y_label_formatter(&|v| {
+                if !self.integer_y {
+                    tick_on(*v, y_span)
+                } else if (v - v.round()).abs() < 1e-9 {
+                    format!("{}", v.round())
+                } else {
+                    String::new()
+                }
+            })
             .light_line_style(RGBColor(235, 235, 235))
             .draw()
             .map_err(perr)?;
@@ -319,6 +336,9 @@ pub struct Heatmap {
     pub y_range: (f64, f64),
     pub values: Vec<Vec<f64>>,
     pub colorbar_label: String,
+    /// Values at the two ends of the colour scale [None: the values' own range]; give two
+    /// maps the same range to compare them.
+    pub scale: Option<(f64, f64)>,
 }
 
 /// Viridis colour map sampled at 9 points (matplotlib's values), linearly interpolated.
@@ -376,7 +396,8 @@ impl Heatmap {
         Ok(vec![png, svg])
     }
 
-    fn value_range(&self) -> (f64, f64) {
+    /// The values' own range (finite values only; (0, 1) without any).
+    pub fn own_range(&self) -> (f64, f64) {
         let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
         for v in self.values.iter().flatten().filter(|v| v.is_finite()) {
             lo = lo.min(*v);
@@ -398,7 +419,7 @@ impl Heatmap {
         root.fill(&WHITE).map_err(perr)?;
         let (w, _) = root.dim_in_pixel();
         let (main, bar) = root.split_horizontally(w.saturating_sub(150));
-        let (lo, hi) = self.value_range();
+        let (lo, hi) = self.scale.unwrap_or_else(|| self.own_range());
         let (rows, cols) = (self.values.len(), self.values[0].len());
         let (x0, x1) = self.x_range;
         let (y0, y1) = self.y_range;
@@ -579,6 +600,7 @@ mod tests {
             y_range: (0.0, 20.0),
             values: vec![vec![0.2, 0.2, f64::NAN], vec![0.2, 0.2, 0.2]],
             colorbar_label: "phi".into(),
+            scale: None,
         };
         let files = h.save(&d.join("h")).unwrap();
         assert!(files.iter().all(|f| std::fs::metadata(f).unwrap().len() > 1000));

@@ -19,6 +19,13 @@ pub type ObserverError = Box<dyn std::error::Error + Send + Sync>;
 pub trait Observer {
     /// Called after each step with the simulation at its new time. Cheap when not due.
     fn observe(&mut self, sim: &Simulation) -> Result<(), ObserverError>;
+
+    /// Whether the observer needs the per-contact diagnostics ([`Simulation::contacts`]) of
+    /// step `step` (counted from 1), the step about to run. Recording costs time, so
+    /// [`advance`] turns it on only for the steps some observer asks for.
+    fn wants_contacts(&self, _step: u64) -> bool {
+        false
+    }
 }
 
 impl<F: FnMut(&Simulation) -> Result<(), ObserverError>> Observer for F {
@@ -51,13 +58,22 @@ impl std::error::Error for Stop {}
 /// Returns the wall-clock seconds spent in the steps themselves (not in the observers).
 pub fn advance(sim: &mut Simulation, until: u64, observers: &mut [&mut dyn Observer]) -> Result<f64, Stop> {
     let mut stepping = 0.0;
+    let mut recording = false;
     while sim.steps < until {
+        let record = observers.iter().any(|o| o.wants_contacts(sim.steps + 1));
+        if record != recording {
+            sim.record_contacts(record);
+            recording = record;
+        }
         let t0 = Instant::now();
         sim.step().map_err(Stop::Sim)?;
         stepping += t0.elapsed().as_secs_f64();
         for o in observers.iter_mut() {
             o.observe(sim).map_err(Stop::Observer)?;
         }
+    }
+    if recording {
+        sim.record_contacts(false);
     }
     Ok(stepping)
 }

@@ -19,9 +19,9 @@ use crate::sweep::{self, Job, Model, Sweep};
 pub struct Args {
     /// Scene file (TOML): the reference configuration.
     pub scene: PathBuf,
-    /// Prepared samples per configuration (seeds run.seed, run.seed + 1, ...).
-    #[arg(long, default_value_t = 1)]
-    pub samples: usize,
+    /// Prepared samples (seeds) per configuration (seeds run.seed, run.seed + 1, ...).
+    #[arg(long, value_name = "N", default_value_t = 1, visible_alias = "samples")]
+    pub seeds: usize,
     /// Also the packing sweep of Table 3.6: these particle counts in the same box.
     #[arg(long, value_delimiter = ',')]
     pub packing: Vec<usize>,
@@ -174,7 +174,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
         args.model,
         crate::commands::phase_map::Which::Dem | crate::commands::phase_map::Which::Both
     ) {
-        all.extend(jobs(&dem_configs(&args.packing), Model::Dem, args.samples.max(1), scene.run.seed));
+        all.extend(jobs(&dem_configs(&args.packing), Model::Dem, args.seeds.max(1), scene.run.seed));
     }
     if matches!(
         args.model,
@@ -183,7 +183,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
         all.extend(jobs(
             &automaton_configs(&args.packing),
             Model::Automaton,
-            args.samples.max(1),
+            args.seeds.max(1),
             scene.run.seed,
         ));
     }

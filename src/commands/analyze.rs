@@ -31,7 +31,7 @@ pub struct Args {
     #[arg(long)]
     pub min_width: Option<f64>,
     /// Time step of a LAMMPS dump (s): time = timestep x dt. Ignored for snapshots.
-    #[arg(long, default_value_t = analysis::lammps::DEFAULT_DT)]
+    #[arg(long, default_value = "8e-6")]
     pub dt: f64,
     /// Drive period for the MSD per period (s; default: 1 / drive.frequency from the run's
     /// config.json, else the median snapshot spacing).
@@ -247,13 +247,14 @@ fn draw(dir: &mut RunDir, r: &Report) -> Result<(), CliError> {
         y_range: (t0, t1),
         values: r.density_map.clone(),
         colorbar_label: "area fraction".into(),
+        scale: None,
     };
     let files = heat
         .save(&dir.path.join("density_map"))
         .map_err(|e| format!("cannot draw density_map: {e}"))?;
     dir.note_files(files);
 
-    let mut count = LinePlot::new("Stripes over time", "t (s)", "stripe count").series(
+    let mut count = LinePlot::new("Stripes over time", "t (s)", "stripe count").integer_y().series(
         "stripes",
         r.coarsening.iter().map(|c| (c.time, c.count as f64)).collect(),
         Mark::Line,
@@ -296,11 +297,12 @@ fn draw(dir: &mut RunDir, r: &Report) -> Result<(), CliError> {
         traj = traj.series("start", vec![*a], Mark::Points).series("end", vec![*b], Mark::Points);
     }
     dir.plot("tracer_trajectory", &traj)?;
-    let phase = LinePlot::new(&format!("Tracer {}: phase space", tr.index), "x (m)", "v_x (m/s)").series(
-        "snapshots",
-        tr.points.iter().map(|p| (p.x, p.vx)).collect(),
-        Mark::Points,
-    );
+    let phase = LinePlot::new(
+        &format!("Tracer {}: phase space", tr.index),
+        "x, followed across the periodic seam (m)",
+        "v_x (m/s)",
+    )
+    .series("snapshots", tr.points.iter().map(|p| (p.x_unwrapped, p.vx)).collect(), Mark::Points);
     dir.plot("tracer_phase_space", &phase)?;
 
     let d = &r.radii;
@@ -323,6 +325,13 @@ fn draw(dir: &mut RunDir, r: &Report) -> Result<(), CliError> {
                 d.mean_stripes * 1e3
             ),
             steps(&d.stripes),
+            Mark::Dashed,
+        );
+    } else {
+        // An empty series: the legend says why there is no second curve.
+        radii = radii.series(
+            &format!("in stripes: no grain in a stripe over the last {} frames", d.frames),
+            Vec::new(),
             Mark::Dashed,
         );
     }

@@ -38,9 +38,10 @@ pub struct Args {
     /// Rule set (default: the scene's automaton.rule, itself `physical` by default).
     #[arg(long, value_parser = rule_parser())]
     pub rule: Option<RuleSet>,
-    /// Directory of prepared samples, shared with `stripes run`.
-    #[arg(long, default_value = "out/samples")]
-    pub samples: PathBuf,
+    /// Cache of prepared samples, shared by all runs (default: $STRIPES_SAMPLE_CACHE, else
+    /// out/samples).
+    #[arg(long, value_name = "DIR", default_value_os_t = crate::output::default_sample_cache())]
+    pub sample_cache: PathBuf,
     /// Measure the speed (cell updates per second, one core) on the scene's tray with a
     /// random layer of its grain count instead of running it.
     #[arg(long)]
@@ -63,7 +64,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
             runs: args.calibrate.clone(),
             out: args.out.clone(),
             overrides: args.overrides.clone(),
-            samples: args.samples.clone(),
+            samples: args.sample_cache.clone(),
             quiet: args.quiet,
         });
     }
@@ -85,7 +86,18 @@ fn rule_parser() -> impl clap::builder::TypedValueParser<Value = RuleSet> {
 pub(crate) fn analysis_keys(line: &str) -> Result<serde_json::Map<String, Value>, CliError> {
     let v: Value = serde_json::from_str(line)?;
     let mut out = serde_json::Map::new();
-    for key in ["stripe_count_final", "stripe_onset_s", "phase"] {
+    for key in [
+        "stripe_count_final",
+        "stripe_onset_s",
+        "phase",
+        "phase_note",
+        "mobility",
+        "contrast",
+        "stationary_stripe_count",
+        "msd_plateau_before",
+        "msd_plateau_after",
+        "warnings",
+    ] {
         if let Some(x) = v.get(key) {
             out.insert(key.into(), x.clone());
         }
@@ -112,7 +124,7 @@ fn simulate(args: &Args, path: &Path, file: SceneFile) -> Result<String, CliErro
     let mut dir = RunDir::create(&out, &json!({ "args": args, "scene": &file }))?;
     analysis::io::write_atomic(&out.join("scene.toml"), file.to_toml()?.as_bytes())?;
     let rule = args.rule.unwrap_or(file.automaton.rule);
-    let s = setup(&file, &args.samples, args.quiet)?;
+    let s = setup(&file, &args.sample_cache, args.quiet)?;
     let free: FreeParams = file.automaton.free_params();
     let params = cellular::params(&file, rule, &s.slide_dem, &free);
     let wall = Instant::now();

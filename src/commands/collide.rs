@@ -50,13 +50,13 @@ pub struct Args {
     #[arg(long)]
     pub m2: Option<f64>,
     /// Young's modulus Y (Pa), Hertz only.
-    #[arg(long, default_value_t = 1e6)]
+    #[arg(long, default_value = "1e6")]
     pub young: f64,
     /// Poisson ratio, Hertz only.
     #[arg(long, default_value_t = 0.3)]
     pub poisson: f64,
     /// Dissipative constant A (s), Hertz only (eq 3.8).
-    #[arg(long, default_value_t = 8.5e-6)]
+    #[arg(long, default_value = "8.5e-6")]
     pub dissipation: f64,
     /// Normal stiffness k_n (N/m), linear only.
     #[arg(long)]
@@ -74,7 +74,7 @@ pub struct Args {
     #[arg(long, default_value_t = 0.007)]
     pub gamma_t: f64,
     /// Rolling friction mu_r (s), Brilliantov-Pöschel only.
-    #[arg(long, default_value_t = 8.5e-6)]
+    #[arg(long, default_value = "8.5e-6")]
     pub mu_r: f64,
     /// Normal approach speed (m/s); with --eccentricity, the relative speed.
     #[arg(long, default_value_t = 0.1, allow_negative_numbers = true)]

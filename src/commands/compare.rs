@@ -9,7 +9,7 @@
 use std::path::{Path, PathBuf};
 
 use analysis::io::read_csv;
-use analysis::plot::{LinePlot, Mark};
+use analysis::plot::{Heatmap, LinePlot, Mark};
 use particles::prepare::sample_key;
 use serde::Serialize;
 use serde_json::{json, Value};
@@ -33,10 +33,14 @@ pub struct Args {
     /// same sample as the scene).
     #[arg(long)]
     pub dem_run: Option<PathBuf>,
-    /// Directory of prepared samples.
-    #[arg(long, default_value = "out/samples")]
-    pub samples: PathBuf,
-    /// No progress bars.
+    /// Cache of prepared samples, shared by all runs (default: $STRIPES_SAMPLE_CACHE, else
+    /// out/samples).
+    #[arg(long, value_name = "DIR", default_value_os_t = crate::output::default_sample_cache())]
+    pub sample_cache: PathBuf,
+    /// Replace an earlier comparison in the output directory (refused without it).
+    #[arg(long)]
+    pub force: bool,
+    /// No progress output.
     #[arg(long)]
     pub quiet: bool,
 }
@@ -74,6 +78,77 @@ fn fmt_opt(v: Option<&Value>) -> String {
     }
 }
 
+/// What the thesis reports for its reference tray (SPEC 2; thesis 3.5.4, Table 3.5).
+const THESIS: &str = "stripes after 3-5 s and 4 +- 0.875 stripes after 20 s (N = 4000 on 0.4 m x 0.02 m, 20 Hz, 25 mm); \
+MSD per period plateaus at a1 ~ 1.6e-4 m^2 before and a2 ~ 8.9e-4 m^2 after the onset (frictionless ~ 4e-5 m^2)";
+
+/// One sentence on what a model's layer did, from its analysis summary keys.
+fn interpret(model: &str, keys: &serde_json::Map<String, Value>) -> String {
+    let num = |k: &str| keys.get(k).and_then(Value::as_f64);
+    let mobility = num("mobility").map_or("unknown".into(), |m| format!("{m:.3} mean diameters per period"));
+    let contrast = num("contrast").map_or("unknown".into(), |c| format!("{c:.2} x a random layer"));
+    let plateaus = match (num("msd_plateau_before"), num("msd_plateau_after")) {
+        (None, None) => "no flat MSD plateau".to_string(),
+        (a, b) => format!(
+            "MSD plateaus a1 = {}, a2 = {}",
+            a.map_or("none".into(), |v| format!("{v:.2e} m^2")),
+            b.map_or("none".into(), |v| format!("{v:.2e} m^2"))
+        ),
+    };
+    match keys.get("phase").and_then(Value::as_str) {
+        Some("nothing") => format!(
+            "The {model} layer stayed in lockstep with the tray (mobility {mobility}, below the `nothing` threshold): no stripes, contrast {contrast}; {plateaus}."
+        ),
+        Some("stripes") => format!(
+            "The {model} formed stripes: {} at the end ({} stationary), onset {} s, contrast {contrast}, mobility {mobility}; {plateaus}.",
+            fmt_opt(keys.get("stripe_count_final")),
+            fmt_opt(keys.get("stationary_stripe_count")),
+            fmt_opt(keys.get("stripe_onset_s")),
+        ),
+        Some("gas") => format!(
+            "The {model} layer stayed mobile without lasting stripes (a gas): mobility {mobility}, contrast {contrast}, {} stripes at the end; {plateaus}.",
+            fmt_opt(keys.get("stripe_count_final")),
+        ),
+        _ => format!(
+            "The {model} run gives no phase: {}.",
+            keys.get("phase_note").and_then(Value::as_str).unwrap_or("unknown reason")
+        ),
+    }
+}
+
+/// Every warning of the runs and analyses, named by where it came from.
+fn run_warnings(sources: &[(&str, &Value)]) -> Vec<String> {
+    sources
+        .iter()
+        .flat_map(|(name, v)| {
+            v.get("warnings")
+                .and_then(Value::as_array)
+                .into_iter()
+                .flatten()
+                .filter_map(Value::as_str)
+                .map(move |w| format!("{name}: {w}"))
+        })
+        .collect()
+}
+
+/// The density map of an analysis directory (its `density_map.csv`), titled with the model.
+fn density_map(model: &str, analysis: &Path, length: f64) -> Result<Heatmap, CliError> {
+    let p = analysis.join("density_map.csv");
+    let (_, rows) = read_csv(&p).map_err(|e| format!("cannot read {}: {e}", p.display()))?;
+    let t0 = rows.first().map_or(0.0, |r| r[0]);
+    let t1 = rows.last().map_or(1.0, |r| r[0]).max(t0 + 1e-9);
+    Ok(Heatmap {
+        title: format!("{model}: area fraction phi(x, t)"),
+        x_label: "x (m)".into(),
+        y_label: "t (s)".into(),
+        x_range: (0.0, length),
+        y_range: (t0, t1),
+        values: rows.into_iter().map(|r| r[1..].to_vec()).collect(),
+        colorbar_label: "area fraction".into(),
+        scale: None,
+    })
+}
+
 pub fn run(args: Args) -> Result<String, CliError> {
     let file = load_scene(&args.scene, &args.overrides)?;
     let scene = &file.dem;
@@ -83,6 +158,13 @@ pub fn run(args: Args) -> Result<String, CliError> {
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "scene".into());
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from(format!("out/compare-{name}")));
+    if crate::output::non_empty(&out) && !args.force {
+        return Err(format!(
+            "{} already holds files (an earlier comparison?); use --force to replace it, or another --out",
+            out.display()
+        )
+        .into());
+    }
     let mut dir = RunDir::create(&out, &json!({ "args": &args, "scene": &file }))?;
 
     // 1. DEM.
@@ -109,8 +191,10 @@ pub fn run(args: Args) -> Result<String, CliError> {
                 out: Some(d.clone()),
                 overrides: args.overrides.clone(),
                 resume: false,
+                force: args.force,
                 vtk: false,
-                samples: args.samples.clone(),
+                thermo_interval: None,
+                sample_cache: args.sample_cache.clone(),
                 stop_after: None,
                 lammps_data: None,
                 quiet: args.quiet,
@@ -128,7 +212,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
         out: Some(auto_dir.clone()),
         overrides: args.overrides.clone(),
         rule: None,
-        samples: args.samples.clone(),
+        sample_cache: args.sample_cache.clone(),
         bench: false,
         bench_seconds: 3.0,
         calibrate: Vec::new(),
@@ -153,6 +237,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
     let dem_counts = counts(&dem_analysis_dir)?;
     let auto_counts = counts(&auto_dir.join("analysis"))?;
     let plot = LinePlot::new("Stripe count over time, same scene and sample", "t (s)", "stripes")
+        .integer_y()
         .series("DEM", dem_counts.clone(), Mark::LinePoints)
         .series("automaton", auto_counts.clone(), Mark::LinePoints);
     dir.plot("stripe_count", &plot)?;
@@ -167,13 +252,22 @@ pub fn run(args: Args) -> Result<String, CliError> {
         ]);
     }
     dir.csv("stripe_count.csv", &["t", "count_dem", "count_automaton"], &rows)?;
-    for (src, dst) in [
-        (dem_analysis_dir.join("density_map.png"), "density_map_dem.png"),
-        (auto_dir.join("analysis/density_map.png"), "density_map_automaton.png"),
-    ] {
-        let bytes = std::fs::read(&src).map_err(|e| format!("cannot read {}: {e}", src.display()))?;
-        analysis::io::write_atomic(&out.join(dst), &bytes)?;
-        dir.note_files([out.join(dst)]);
+    // The two density maps on one colour scale, each titled with its model.
+    let maps = [
+        density_map("DEM", &dem_analysis_dir, scene.tray.length)?,
+        density_map("automaton", &auto_dir.join("analysis"), scene.tray.length)?,
+    ];
+    let (lo, hi) = maps
+        .iter()
+        .map(Heatmap::own_range)
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), (l, h)| (a.min(l), b.max(h)));
+    for (map, stem) in maps.into_iter().zip(["density_map_dem", "density_map_automaton"]) {
+        let map = Heatmap {
+            scale: Some((lo, hi)),
+            ..map
+        };
+        let files = map.save(&out.join(stem)).map_err(|e| format!("cannot draw {stem}: {e}"))?;
+        dir.note_files(files);
     }
 
     let dem_speed = dem_summary.get("particle_steps_per_s").and_then(Value::as_f64);
@@ -196,6 +290,23 @@ pub fn run(args: Args) -> Result<String, CliError> {
         scene.drive.amplitude,
         scene.run.duration
     ));
+    md.push_str("## What happened\n\n");
+    md.push_str(&format!("- {}\n", interpret("DEM", &dem_keys)));
+    md.push_str(&format!("- {}\n", interpret("automaton", &auto_keys)));
+    md.push_str(&format!("- The thesis (reference tray, sec 3.5.4): {THESIS}\n\n"));
+    let warnings = run_warnings(&[
+        ("DEM run", &dem_summary),
+        ("DEM analysis", &Value::Object(dem_keys.clone())),
+        ("automaton run", &auto_summary),
+        ("automaton analysis", &Value::Object(auto_keys.clone())),
+    ]);
+    if !warnings.is_empty() {
+        md.push_str("## Warnings of the runs\n\n");
+        for w in &warnings {
+            md.push_str(&format!("- {w}\n"));
+        }
+        md.push('\n');
+    }
     md.push_str("| model | stripes at the end | onset (s) | phase | wall time (s) | simulated s per wall s | speed |\n|---|---|---|---|---|---|---|\n");
     md.push_str(&format!(
         "| DEM | {} | {} | {} | {} | {} | {} particle-steps/s |\n",
@@ -207,7 +318,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
         dem_speed.map_or("unknown".into(), |s| format!("{s:.3e}")),
     ));
     md.push_str(&format!(
-        "| automaton | {} | {} | {} | {} | {} | {} cell updates/s |\n\n",
+        "| automaton | {} | {} | {} | {} | {} | {} cell updates/s |\n",
         fmt_opt(auto_keys.get("stripe_count_final")),
         fmt_opt(auto_keys.get("stripe_onset_s")),
         fmt_opt(auto_keys.get("phase")),
@@ -215,6 +326,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
         speed(auto_wall),
         auto_speed.map_or("unknown".into(), |s| format!("{s:.3e}")),
     ));
+    md.push_str("| thesis (N = 4000, 0.4 m, 20 Hz, 25 mm, 20 s) | 4 +- 0.875 | 3 to 5 | stripes | | | |\n\n");
     md.push_str(
         "Wall times cover each model's time loop with its snapshot output; the shared sample preparation and the automaton's \
          single-sphere mapping run are not included. The DEM speed is particle-steps per second of its stepping; the automaton's \
@@ -248,6 +360,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
         "scene": args.scene.display().to_string(),
         "sample_key": format!("{:016x}", sample_key(scene)),
         "dem_run": dem_dir.display().to_string(),
+        "warnings": warnings,
         "dem": { "analysis": dem_keys, "particle_steps_per_s": dem_speed, "wall_s": dem_wall },
         "automaton": { "analysis": auto_keys, "cell_updates_per_s": auto_speed, "wall_s": auto_wall },
     }))

@@ -31,9 +31,10 @@ pub struct Args {
     /// Samples per drive period.
     #[arg(long, default_value_t = 24)]
     pub per_period: u32,
-    /// Directory of prepared samples (the run's own).
-    #[arg(long, default_value = "out/samples")]
-    pub samples: PathBuf,
+    /// Cache of prepared samples, the run's own (default: $STRIPES_SAMPLE_CACHE, else
+    /// out/samples).
+    #[arg(long, value_name = "DIR", default_value_os_t = crate::output::default_sample_cache())]
+    pub sample_cache: PathBuf,
     /// Output directory (default: <RUN>/mechanism).
     #[arg(long)]
     pub out: Option<PathBuf>,
@@ -57,7 +58,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
 
     let setup = tray::setup(&scene, tray::drive(&scene))?;
     let dt = setup.dt;
-    let (state, _) = crate::samples::load_or_prepare(&scene, &args.samples, |_| {})?;
+    let (state, _) = crate::samples::load_or_prepare(&scene, &args.sample_cache, |_| {})?;
     let mut sim = Simulation::new(setup, state)?;
     sim.restore(&bytes, super::run::checkpoint_fingerprint(&scene)?)
         .map_err(|e| format!("{}: {e}", ckpt_path.display()))?;

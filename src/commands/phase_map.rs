@@ -30,9 +30,9 @@ pub struct Args {
     /// Which model(s) to run.
     #[arg(long, value_enum, default_value = "both")]
     pub model: Which,
-    /// Samples (seeds run.seed, run.seed + 1, ...) per cell.
-    #[arg(long, default_value_t = 1)]
-    pub samples: usize,
+    /// Prepared samples (seeds run.seed, run.seed + 1, ...) per cell.
+    #[arg(long, value_name = "N", default_value_t = 1, visible_alias = "samples")]
+    pub seeds: usize,
     /// Sweep directory.
     #[arg(long, default_value = "out/phase-map")]
     pub out: PathBuf,
@@ -96,7 +96,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
         kind: "phase-map".into(),
         scene: args.scene.clone(),
         overrides: args.sweep.overrides.clone(),
-        jobs: jobs(&freqs, &amps, &args.model.models(), args.samples.max(1), scene.run.seed),
+        jobs: jobs(&freqs, &amps, &args.model.models(), args.seeds.max(1), scene.run.seed),
     };
     args.sweep.execute(&args.out, &sweep, report)
 }
@@ -209,6 +209,7 @@ pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
                 y_range: (amps[0] - 0.5 * da, amps[amps.len() - 1] + 0.5 * da),
                 values,
                 colorbar_label: metric.into(),
+                scale: None,
             };
             let files = heat
                 .save_with_classes(&root.join(format!("phase_{model}_{metric}")), &classes, &names)

@@ -2,10 +2,17 @@
 //!
 //! Writes into the run directory: `scene.toml` (the resolved scene), `config.json`,
 //! `snapshots.bin` (see `analysis::snapshot`; a frame at t = 0 and then at the chosen phase of
-//! every period), `checkpoint.bin` (at `run.checkpoint_interval`), optional `vtk/` frames,
-//! and `summary.json`. `--resume` continues from `checkpoint.bin`, bit for bit.
+//! every period), `thermo.csv` and `thermo.{png,svg}` (see `crate::thermo`), `checkpoint.bin`
+//! (at `run.checkpoint_interval`), with `--vtk` a ParaView series `vtk/series.pvd` (see
+//! `crate::vtk_series`), and `summary.json`. `--resume` continues from `checkpoint.bin`, bit
+//! for bit.
+//!
+//! A directory that already holds a run is refused unless `--resume` (continue it) or
+//! `--force` (replace it) is given. Everything that can be checked (the scene, the time step,
+//! the checkpoint of `--resume`) is checked before anything is written, and a start that
+//! fails before the first step removes what it created.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use analysis::snapshot::Header;
@@ -19,7 +26,9 @@ use serde::Serialize;
 use serde_json::json;
 
 use crate::observers::{ContactMeans, Progress, Recorder, RecorderPlan};
-use crate::output::{progress_bar, CliError, RunDir};
+use crate::output::{non_empty, progress_bar, CliError, RunDir};
+use crate::thermo::Thermo;
+use crate::vtk_series::VtkSeries;
 
 #[derive(clap::Args, Debug, Default, Serialize)]
 pub struct Args {
@@ -32,14 +41,22 @@ pub struct Args {
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub overrides: Vec<String>,
     /// Continue from the run directory's checkpoint.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "force")]
     pub resume: bool,
-    /// Also write every snapshot as a legacy VTK file (vtk/frame_NNNNN.vtk) for ParaView.
+    /// Replace the run already in the output directory (refused without it).
+    #[arg(long)]
+    pub force: bool,
+    /// Also write every snapshot for ParaView: vtk/series.pvd (open it) with one .vtp of the
+    /// grains (id, radius, velocity, angular velocity) and one of the tray per snapshot.
     #[arg(long)]
     pub vtk: bool,
-    /// Directory of prepared samples, shared by all runs.
-    #[arg(long, default_value = "out/samples")]
-    pub samples: PathBuf,
+    /// Simulated seconds between rows of thermo.csv (default: a tenth of the drive period).
+    #[arg(long, value_name = "SECONDS")]
+    pub thermo_interval: Option<f64>,
+    /// Cache of prepared samples, shared by all runs (default: $STRIPES_SAMPLE_CACHE, else
+    /// out/samples).
+    #[arg(long, value_name = "DIR", default_value_os_t = crate::output::default_sample_cache())]
+    pub sample_cache: PathBuf,
     /// Also write the state the run starts from (the prepared sample, or the checkpoint with
     /// --resume) as a LAMMPS data file (atom_style sphere, units si), to run the same grains
     /// in LAMMPS (bench/lammps/in.tray).
@@ -48,9 +65,63 @@ pub struct Args {
     /// Die after this many steps as `kill -9` would (a test hook for checkpoints and --resume).
     #[arg(long, hide = true)]
     pub stop_after: Option<u64>,
-    /// No progress bar.
+    /// No progress output.
     #[arg(long)]
     pub quiet: bool,
+}
+
+/// Files a run writes into its directory (removed by `--force` before a new run).
+const RUN_FILES: [&str; 10] = [
+    "config.json",
+    "scene.toml",
+    "scene.json",
+    "summary.json",
+    "snapshots.bin",
+    "checkpoint.bin",
+    "thermo.csv",
+    "thermo.png",
+    "thermo.svg",
+    "vtk",
+];
+
+/// Refuses an output directory that holds a run unless `--resume` or `--force`, and with
+/// `--force` removes the old run's files. Returns whether the directory is new (then a
+/// failed start removes it).
+fn claim_out_dir(out: &Path, resume: bool, force: bool) -> Result<bool, CliError> {
+    if resume {
+        if !out.join("checkpoint.bin").is_file() {
+            return Err(format!(
+                "--resume: {} holds no checkpoint.bin to continue from (nothing was written)",
+                out.display()
+            )
+            .into());
+        }
+        return Ok(false);
+    }
+    if !non_empty(out) {
+        return Ok(!out.exists());
+    }
+    if !force {
+        return Err(format!(
+            "{} already holds files (a run?); use --resume to continue it, --force to replace it, or another --out",
+            out.display()
+        )
+        .into());
+    }
+    for f in RUN_FILES {
+        let p = out.join(f);
+        let gone = if p.is_dir() {
+            std::fs::remove_dir_all(&p)
+        } else {
+            std::fs::remove_file(&p)
+        };
+        if let Err(e) = gone {
+            if e.kind() != std::io::ErrorKind::NotFound {
+                return Err(format!("--force: cannot remove {}: {e}", p.display()).into());
+            }
+        }
+    }
+    Ok(false)
 }
 
 /// What a checkpoint must match to be resumed: the scene and its sample, except the keys that
@@ -72,6 +143,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
     pool.install(|| run_in_pool(args, scene))
 }
 
+
 fn run_in_pool(args: Args, scene: Scene) -> Result<String, CliError> {
     let name = args
         .scene
@@ -79,38 +151,78 @@ fn run_in_pool(args: Args, scene: Scene) -> Result<String, CliError> {
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "scene".into());
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from(format!("out/run-{name}")));
-    let scene_toml = toml::to_string(&scene)?;
-    let mut dir = RunDir::create(&out, &json!({ "args": &args, "scene": &scene }))?;
-    analysis::io::write_atomic(&out.join("scene.toml"), scene_toml.as_bytes())?;
-
-    // Everything that can be checked is checked before the (possibly long) preparation.
+    // Everything that can be checked is checked before anything is written and before the
+    // (possibly long) preparation.
+    let fresh = claim_out_dir(&out, args.resume, args.force)?;
     let setup = tray::setup(&scene, tray::drive(&scene))?;
-    let dt = setup.dt;
-    let warnings = tray::warnings(&scene, dt)?;
+    let warnings = tray::warnings(&scene, setup.dt)?;
     for w in &warnings {
         eprintln!("warning: {w}");
     }
+    let checkpoint = if args.resume {
+        let path = out.join("checkpoint.bin");
+        Some(std::fs::read(&path).map_err(|e| format!("--resume: cannot read {}: {e}", path.display()))?)
+    } else {
+        None
+    };
+    let started = match start(&args, &scene, &out, setup, checkpoint) {
+        Ok(s) => s,
+        Err(e) => {
+            if fresh {
+                let _ = std::fs::remove_dir_all(&out);
+            }
+            return Err(e);
+        }
+    };
+    step(&args, &scene, &out, started, warnings)
+}
+
+/// A run ready for its time loop.
+struct Started {
+    dir: RunDir,
+    sim: Simulation,
+    recorder: Recorder,
+    thermo: Thermo,
+    /// Whether the sample came from the cache.
+    cached: bool,
+}
+
+/// Prepares (or loads) the sample, restores the checkpoint of `--resume`, and writes the
+/// run's configuration, the first snapshot and the first thermo row.
+fn start(
+    args: &Args,
+    scene: &Scene,
+    out: &Path,
+    setup: particles::sim::Setup,
+    checkpoint: Option<Vec<u8>>,
+) -> Result<Started, CliError> {
+    let dt = setup.dt;
+    let total = (scene.run.duration / dt).round() as u64;
+    let every = if scene.run.checkpoint_interval > 0.0 {
+        ((scene.run.checkpoint_interval / dt).round() as u64).max(1)
+    } else {
+        u64::MAX
+    };
+    let interval = args.thermo_interval.unwrap_or(0.1 / scene.drive.frequency);
+    let mut thermo = Thermo::new(interval, dt, out.join("thermo.csv"), every, total)?;
 
     // Sample: prepared once per (population, box, material, seed), shared by every run.
     let bar = progress_bar(1000, args.quiet, "prepare");
-    let (state, cached) = crate::samples::load_or_prepare(&scene, &args.samples, |f| bar.set_position((f * 1000.0) as u64))?;
+    let (state, cached) =
+        crate::samples::load_or_prepare(scene, &args.sample_cache, |f| bar.set_position((f * 1000.0) as u64))?;
     bar.finish_and_clear();
     let mut sim = Simulation::new(setup, state)?;
-    let fingerprint = checkpoint_fingerprint(&scene)?;
-    let header = Header {
-        length: scene.tray.length,
-        width: scene.tray.width,
-        radii: sim.state.radius.clone(),
-    };
-    let snap_path = out.join("snapshots.bin");
+    let fingerprint = checkpoint_fingerprint(scene)?;
     let ckpt_path = out.join("checkpoint.bin");
-    let frames = if args.resume {
-        let bytes = std::fs::read(&ckpt_path).map_err(|e| format!("--resume: cannot read {}: {e}", ckpt_path.display()))?;
-        sim.restore(&bytes, fingerprint)
-            .map_err(|e| format!("--resume: {}: {e}", ckpt_path.display()))?
-    } else {
-        0
-    };
+    let mut frames = 0;
+    if let Some(bytes) = &checkpoint {
+        frames = sim
+            .restore(bytes, fingerprint)
+            .map_err(|e| format!("--resume: {}: {e}", ckpt_path.display()))?;
+        thermo.resume(&out.join("thermo.csv"), sim.time)?;
+    }
+    let dir = RunDir::create(out, &json!({ "args": args, "scene": scene }))?;
+    analysis::io::write_atomic(&out.join("scene.toml"), toml::to_string(scene)?.as_bytes())?;
     if let Some(path) = &args.lammps_data {
         let title = format!("stripes {} at t = {} s, {} grains", args.scene.display(), sim.time, sim.state.len());
         let mut grains = analysis::lammps_data::Grains::default();
@@ -122,29 +234,58 @@ fn run_in_pool(args: Args, scene: Scene) -> Result<String, CliError> {
         let text = analysis::lammps_data::data_file(&grains, scene.material.density, scene.tray.length, scene.tray.width, &title);
         analysis::io::write_atomic(path, text.as_bytes())?;
     }
+    let vtk = if args.vtk {
+        // Side walls drawn up to the ceiling, or ten of the largest grains without one.
+        let height = scene.tray.height.unwrap_or(20.0 * scene.particles.radius_max);
+        Some(VtkSeries::open(&out.join("vtk"), sim.time, scene.tray.length, scene.tray.width, height)?)
+    } else {
+        None
+    };
 
     // Snapshot k >= 1 at the turning point x_tray = +A of each period (sin = 1):
     // t_k = 1/(4 nu) + (k - 1) / (s nu), taken at the nearest step.
     let (nu, per) = (scene.drive.frequency, scene.run.snapshots_per_period as f64);
-    let total = (scene.run.duration / dt).round() as u64;
     let mut recorder = Recorder::open(RecorderPlan {
-        header,
-        snapshots: snap_path.clone(),
+        header: Header {
+            length: scene.tray.length,
+            width: scene.tray.width,
+            radii: sim.state.radius.clone(),
+        },
+        snapshots: out.join("snapshots.bin"),
         frames,
         snap_time: Box::new(move |k: u64| 0.25 / nu + (k - 1) as f64 / (per * nu)),
-        vtk: args.vtk.then(|| out.join("vtk")),
-        checkpoint: ckpt_path.clone(),
+        vtk,
+        checkpoint: ckpt_path,
         fingerprint,
-        every: if scene.run.checkpoint_interval > 0.0 {
-            ((scene.run.checkpoint_interval / dt).round() as u64).max(1)
-        } else {
-            u64::MAX
-        },
+        every,
         last: total,
     })?;
     if recorder.frames == 0 {
         recorder.snapshot(&sim)?;
     }
+    if thermo.is_empty() {
+        thermo.push(&sim, false);
+    }
+    Ok(Started {
+        dir,
+        sim,
+        recorder,
+        thermo,
+        cached,
+    })
+}
+
+/// The time loop of a started run, then its summary.
+fn step(args: &Args, scene: &Scene, out: &Path, started: Started, warnings: Vec<String>) -> Result<String, CliError> {
+    let Started {
+        mut dir,
+        mut sim,
+        mut recorder,
+        mut thermo,
+        cached,
+    } = started;
+    let dt = sim.setup.dt;
+    let total = (scene.run.duration / dt).round() as u64;
     let bar = progress_bar(total, args.quiet, "run");
     bar.set_position(sim.steps);
     let mut contacts = ContactMeans::default();
@@ -161,31 +302,45 @@ fn run_in_pool(args: Args, scene: Scene) -> Result<String, CliError> {
     };
     let start_steps = sim.steps;
     let wall_clock = Instant::now();
+    let mut progress = Progress {
+        bar: &bar,
+        duration: scene.run.duration,
+    };
     let stepping = match advance(
         &mut sim,
         total,
-        &mut [&mut contacts, &mut recorder, &mut Progress(&bar), &mut killer],
+        &mut [&mut contacts, &mut recorder, &mut thermo, &mut progress, &mut killer],
     ) {
         Ok(seconds) => seconds,
         Err(e) => {
-            // Keep everything written so far: the snapshots up to now and the last checkpoint.
+            // Keep everything written so far: the snapshots up to now, the thermo table up
+            // to the failing step, and the last checkpoint.
             recorder.writer.sync()?;
+            thermo.push(&sim, false);
+            thermo.write()?;
             bar.abandon();
-            let kept = if ckpt_path.exists() {
-                format!("the last checkpoint is {}", ckpt_path.display())
+            let kept = if recorder.checkpoint.exists() {
+                format!("the last checkpoint is {}", recorder.checkpoint.display())
             } else {
                 "no checkpoint was due yet".to_string()
             };
             return Err(format!(
-                "{e}; the {} snapshots so far are in {} and {kept}",
+                "{e}; the {} snapshots so far are in {}, the thermo table in {} and {kept}",
                 recorder.frames,
-                snap_path.display()
+                out.join("snapshots.bin").display(),
+                thermo.path.display()
             )
             .into());
         }
     };
     recorder.writer.sync()?;
     bar.finish_and_clear();
+    thermo.write()?;
+    dir.note_files([thermo.path.clone(), out.join("snapshots.bin"), recorder.checkpoint.clone()]);
+    dir.plot("thermo", &thermo.plot())?;
+    if let Some(vtk) = &recorder.vtk {
+        dir.note_files([vtk.pvd_path()]);
+    }
     let frames = recorder.frames;
     let (pair_mean, wall_mean) = contacts.means();
     let s = &sim.state;
@@ -208,16 +363,18 @@ fn run_in_pool(args: Args, scene: Scene) -> Result<String, CliError> {
         "stepping_s": stepping,
         "particle_steps_per_s": (stepped as f64 * s.len() as f64) / stepping.max(1e-12),
         "threads": rayon::current_num_threads(),
-        "steps_per_contact": tray::shortest_contact_time(&scene)? / dt,
+        "steps_per_contact": tray::shortest_contact_time(scene)? / dt,
         "snapshots": frames,
         "sample_cached": cached,
-        "sample_key": format!("{:016x}", prepare::sample_key(&scene)),
+        "sample_cache": args.sample_cache.display().to_string(),
+        "thermo_interval_s": thermo.every as f64 * dt,
+        "sample_key": format!("{:016x}", prepare::sample_key(scene)),
         "energy": energy,
         "contacts": { "pair_mean": pair_mean, "wall_mean": wall_mean },
         "neighbor_builds": sim.neighbor_builds(),
         "state_hash": format!("{:016x}", observe::state_hash(s)),
         "warnings": warnings,
     });
-    dir.json("scene.json", &scene)?;
+    dir.json("scene.json", scene)?;
     dir.finish(summary)
 }

@@ -63,7 +63,26 @@ pub fn parse<T>(text: &str, overrides: &[String], origin: &str, read: impl Fn(to
             break;
         }
     }
-    Err(err(&culprit, message))
+    Err(err(&culprit, plain_words(&message)))
+}
+
+/// A deserialisation message in the user's words, not Rust's: type names (`usize`, `f64`,
+/// ...) and the untagged `run.dt` become what a scene file may hold.
+fn plain_words(message: &str) -> String {
+    let mut m = message.replace(
+        "data did not match any variant of untagged enum TimeStep",
+        "expected a number of seconds or \"auto\"",
+    );
+    for (rust, words) in [
+        ("usize", "a whole number >= 0"),
+        ("u64", "a whole number >= 0"),
+        ("u32", "a whole number >= 0"),
+        ("i64", "a whole number"),
+        ("f64", "a number"),
+    ] {
+        m = m.replace(&format!("expected {rust}"), &format!("expected {words}"));
+    }
+    m
 }
 
 #[cfg(test)]

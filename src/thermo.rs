@@ -1,0 +1,176 @@
+//! `thermo.csv` of a DEM run, like LAMMPS' thermo output: one row every `--thermo-interval`
+//! seconds of simulated time (default a tenth of the drive period), from t = 0.
+//!
+//! Columns (SI units):
+//! - `t` (s);
+//! - `kinetic`, `rotational`, `potential` (m g z, from z = 0), `elastic` (stored in the
+//!   contacts) energies (J);
+//! - `injected` (work of the moving walls on the grains since t = 0) and `dissipated` (in
+//!   the contacts since t = 0) (J);
+//! - `balance` = `injected - dissipated - (E - E(0))` with `E` the sum of the four energies
+//!   (J): what the ledger misses; it grows like dt (the power is booked once per step);
+//! - `pair_contacts`, `wall_contacts`: live contacts at the row's force evaluation;
+//! - `max_overlap` (m): the largest overlap of any contact (grain-grain or grain-wall), and
+//!   `max_overlap_fraction`, the same over the smaller radius of its contact (the run stops
+//!   at `particles::sim::MAX_OVERLAP_FRACTION`); NaN in the t = 0 row (contacts are
+//!   recorded from the first step on);
+//! - `off_floor`: grains whose bottom is above the floor (z > R), i.e. not touching it.
+//!
+//! The table is kept in memory and rewritten with every checkpoint, so a killed run keeps
+//! it up to its last checkpoint and `--resume` continues it. As an observer
+//! ([`particles::observer`]) it asks for the contacts of the steps that make a row.
+
+use std::path::{Path, PathBuf};
+
+use analysis::plot::{LinePlot, Mark};
+use particles::observe;
+use particles::observer::{Observer, ObserverError};
+use particles::sim::{Partner, Simulation};
+
+use crate::output::CliError;
+
+/// Column names of `thermo.csv`.
+pub const COLUMNS: [&str; 14] = [
+    "t",
+    "kinetic",
+    "rotational",
+    "potential",
+    "elastic",
+    "injected",
+    "dissipated",
+    "balance",
+    "pair_contacts",
+    "wall_contacts",
+    "max_overlap",
+    "max_overlap_fraction",
+    "off_floor",
+    "total",
+];
+
+/// The thermo table of a run.
+pub struct Thermo {
+    /// Steps between rows.
+    pub every: u64,
+    rows: Vec<Vec<f64>>,
+    /// Where the table is written, every `save_every` steps and at step `last` (with the
+    /// checkpoints).
+    pub path: PathBuf,
+    save_every: u64,
+    last: u64,
+}
+
+impl Thermo {
+    /// A table in `path` with a row every `interval` s (rounded to whole steps of `dt`, at
+    /// least one), written every `save_every` steps and at step `last`.
+    pub fn new(interval: f64, dt: f64, path: PathBuf, save_every: u64, last: u64) -> Result<Self, CliError> {
+        if !(interval.is_finite() && interval > 0.0) {
+            return Err(format!("--thermo-interval must be a positive number of seconds, got {interval}").into());
+        }
+        Ok(Self {
+            every: ((interval / dt).round() as u64).max(1),
+            rows: Vec::new(),
+            path,
+            save_every: save_every.max(1),
+            last,
+        })
+    }
+
+    /// Continues the table in `path` up to time `t` (s) (a resumed run; rows after its
+    /// checkpoint are dropped).
+    pub fn resume(&mut self, path: &Path, t: f64) -> Result<(), CliError> {
+        let (header, rows) = analysis::io::read_csv(path).map_err(|e| format!("--resume: cannot read {}: {e}", path.display()))?;
+        if header != COLUMNS {
+            return Err(format!("--resume: {} has other columns than this version writes", path.display()).into());
+        }
+        self.rows = rows.into_iter().filter(|r| r[0] <= t * (1.0 + 1e-12)).collect();
+        Ok(())
+    }
+
+    /// Appends the row of the simulation's current state; `recorded` when its contacts were
+    /// recorded at the last force evaluation.
+    pub fn push(&mut self, sim: &Simulation, recorded: bool) {
+        let s = &sim.state;
+        let (k, r, p) = (
+            observe::kinetic_energy(s),
+            observe::rotational_energy(s),
+            observe::potential_energy(s, sim.setup.gravity),
+        );
+        let total = k + r + p + sim.stored_energy;
+        let e0 = self.rows.first().map_or(total, |row| row[13]);
+        let (mut overlap, mut fraction) = if recorded { (0.0f64, 0.0f64) } else { (f64::NAN, f64::NAN) };
+        for c in sim.contacts() {
+            let radius = match c.partner {
+                Partner::Particle(j) => s.radius[c.i].min(s.radius[j]),
+                Partner::Wall(_) => s.radius[c.i],
+            };
+            overlap = overlap.max(c.overlap);
+            fraction = fraction.max(c.overlap / radius);
+        }
+        let off_floor = s.pos.iter().zip(&s.radius).filter(|(p, r)| p.z > **r).count();
+        let l = sim.ledger;
+        self.rows.push(vec![
+            sim.time,
+            k,
+            r,
+            p,
+            sim.stored_energy,
+            l.injected,
+            l.dissipated,
+            l.injected - l.dissipated - (total - e0),
+            sim.contacts.0 as f64,
+            sim.contacts.1 as f64,
+            overlap,
+            fraction,
+            off_floor as f64,
+            total,
+        ]);
+    }
+
+    /// Whether there is no row yet.
+    pub fn is_empty(&self) -> bool {
+        self.rows.is_empty()
+    }
+
+    /// Writes the table to its path (atomically).
+    pub fn write(&self) -> Result<(), CliError> {
+        analysis::io::write_csv_atomic(&self.path, &COLUMNS, &self.rows)
+            .map_err(|e| format!("cannot write {}: {e}", self.path.display()))?;
+        Ok(())
+    }
+
+    /// The energy plot: kinetic and rotational energy, the change of the potential and
+    /// elastic energy, the injected and dissipated work, and what the balance misses.
+    pub fn plot(&self) -> LinePlot {
+        let col = |k: usize, minus_first: bool| -> Vec<(f64, f64)> {
+            let first = self.rows.first().map_or(0.0, |r| r[k]);
+            self.rows
+                .iter()
+                .map(|r| (r[0], if minus_first { r[k] - first } else { r[k] }))
+                .collect()
+        };
+        LinePlot::new("Energy balance (thermo.csv)", "t (s)", "energy (J)")
+            .series("kinetic", col(1, false), Mark::Line)
+            .series("rotational", col(2, false), Mark::Line)
+            .series("potential - potential(0)", col(3, true), Mark::Line)
+            .series("elastic", col(4, false), Mark::Line)
+            .series("injected", col(5, false), Mark::Line)
+            .series("dissipated", col(6, false), Mark::Dashed)
+            .series("balance miss", col(7, false), Mark::Dashed)
+    }
+}
+
+impl Observer for Thermo {
+    fn wants_contacts(&self, step: u64) -> bool {
+        step.is_multiple_of(self.every)
+    }
+
+    fn observe(&mut self, sim: &Simulation) -> Result<(), ObserverError> {
+        if sim.steps.is_multiple_of(self.every) {
+            self.push(sim, true);
+        }
+        if sim.steps.is_multiple_of(self.save_every) || sim.steps == self.last {
+            self.write().map_err(|e| e.to_string())?;
+        }
+        Ok(())
+    }
+}
