@@ -118,7 +118,12 @@ mod tests {
                 if arg.get_help().is_none() && arg.get_long_help().is_none() {
                     missing.push(name.clone());
                 }
-                for v in arg.get_possible_values().iter().filter(|v| !v.is_hide_set()) {
+                let choices = if arg.get_action().takes_values() {
+                    arg.get_possible_values()
+                } else {
+                    Vec::new()
+                };
+                for v in choices.iter().filter(|v| !v.is_hide_set()) {
                     if v.get_help().is_none() {
                         missing.push(format!("{name} {}", v.get_name()));
                     }

@@ -1,5 +1,6 @@
 //! `thermo.csv` of a DEM run, like LAMMPS' thermo output: one row every `--thermo-interval`
-//! seconds of simulated time (default a tenth of the drive period), from t = 0.
+//! seconds of simulated time (default a tenth of the drive period), from t = 0, and one at
+//! the end of the run.
 //!
 //! Columns (SI units):
 //! - `t` (s);

@@ -102,7 +102,9 @@ fn the_sample_cache_is_visible_and_settable() {
 }
 
 /// Issue 19, points 11 and 12: `thermo.csv` closes the energy balance, and `--vtk` writes a
-/// `.pvd` series that names every grains and tray file with its physical time.
+/// `.pvd` series that names every grains and tray file with its physical time. The scene:
+/// 200 grains on the 1 cm strip (packing 0.46), 0.05 s; they collide and most leave the
+/// floor, so the balance covers pair contacts and flight, not only the floor's friction.
 ///
 /// Energy balance: `injected = dissipated + (E - E(0))` with E kinetic + rotational +
 /// potential + elastic energy. The ledger books the wall power and the dissipation once per
@@ -115,16 +117,24 @@ fn the_sample_cache_is_visible_and_settable() {
 fn thermo_closes_the_energy_balance_and_the_vtk_series_parses() {
     let cache = tmp("cache11");
     let out = tmp("run11");
-    let s = summary(&run(&out, Some(&cache), &["--quiet", "--vtk"]));
+    let s = summary(&run(
+        &out,
+        Some(&cache),
+        &["--quiet", "--vtk", "--set", "particles.count=200", "--set", "run.duration=0.05"],
+    ));
     assert_eq!(s["thermo_interval_s"].as_f64().map(|t| (t / 0.005).round()), Some(1.0));
 
     let (header, rows) = analysis::io::read_csv(&out.join("thermo.csv")).unwrap();
     let col = |name: &str| header.iter().position(|h| h == name).unwrap_or_else(|| panic!("no column {name}"));
-    assert_eq!(rows.len(), 21, "a row every 0.005 s from 0 to 0.1 s");
+    assert!(
+        (11..=12).contains(&rows.len()),
+        "a row every 0.005 s from 0 to 0.05 s (whole steps), and the end: {}",
+        rows.len()
+    );
     let (t, inj, dis, bal) = (col("t"), col("injected"), col("dissipated"), col("balance"));
     let energy = |r: &Vec<f64>| r[col("kinetic")] + r[col("rotational")] + r[col("potential")] + r[col("elastic")];
     let (first, last) = (&rows[0], rows.last().unwrap());
-    assert!((last[t] - 0.1).abs() < 1e-9);
+    assert!((last[t] - 0.05).abs() < 1e-5, "the last row is the end: {}", last[t]);
     let injected = last[inj];
     let miss = injected - last[dis] - (energy(last) - energy(first));
     println!(
@@ -142,8 +152,10 @@ fn thermo_closes_the_energy_balance_and_the_vtk_series_parses() {
     for r in &rows[1..] {
         let (ov, fr, off) = (r[col("max_overlap")], r[col("max_overlap_fraction")], r[col("off_floor")]);
         assert!(ov > 0.0 && ov < 5e-4 && fr > 0.0 && fr < 0.5, "{r:?}");
-        assert!((0.0..=100.0).contains(&off) && r[col("wall_contacts")] > 0.0, "{r:?}");
+        assert!((0.0..=200.0).contains(&off), "{r:?}");
     }
+    assert!(rows.iter().any(|r| r[col("pair_contacts")] > 0.0), "no collisions: a weak test");
+    assert!(rows.iter().any(|r| r[col("off_floor")] > 100.0), "no flight: a weak test");
     assert!(out.join("thermo.png").exists());
 
     // The .pvd: a grains and a tray dataset per snapshot, at the snapshot times.
@@ -174,7 +186,7 @@ fn thermo_closes_the_energy_balance_and_the_vtk_series_parses() {
             let text = std::fs::read_to_string(out.join("vtk").join(file)).unwrap();
             assert!(text.contains("<VTKFile type=\"PolyData\"") && text.trim_end().ends_with("</VTKFile>"));
             if part == 0 {
-                assert!(text.contains("NumberOfPoints=\"100\""), "{file}");
+                assert!(text.contains("NumberOfPoints=\"200\""), "{file}");
                 for a in ["\"id\"", "\"radius\"", "\"velocity\"", "\"angular_velocity\""] {
                     assert!(text.contains(&format!("Name={a}")), "{file} lacks {a}");
                 }

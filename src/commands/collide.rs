@@ -24,6 +24,7 @@ fn kind<K: std::str::FromStr<Err = String> + Clone + Send + Sync + 'static>(
 #[derive(clap::Args, Debug, Serialize)]
 pub struct Args {
     /// Normal law: hertz (eq 3.8; --young, --poisson, --dissipation) or linear (eq 4.21;
+    /// No tangential force: frictionless spheres.
     /// --kn, --gamma-n).
     #[arg(long, value_parser = kind::<NormalKind>(NormalKind::NAMES), default_value = "hertz")]
     pub normal: NormalKind,
@@ -34,6 +35,7 @@ pub struct Args {
     /// Rolling law: none or brilliantov-poschel (eq 3.15; --mu-r).
     #[arg(long, value_parser = kind::<RollingKind>(RollingKind::NAMES), default_value = "none")]
     pub rolling: RollingKind,
+    /// No rolling resistance.
     /// Radius of sphere 1 (m).
     #[arg(long, default_value_t = 5e-4)]
     pub r1: f64,
@@ -121,6 +123,7 @@ impl Args {
         if self.normal == NormalKind::Hertz && !(m.young > 0.0 && m.poisson > -1.0 && m.poisson < 0.5 + 1e-12 && m.dissipation >= 0.0) {
             return Err("--young must be > 0, --poisson in (-1, 0.5], --dissipation >= 0".into());
         }
+    /// Time integrator.
         if self.normal == NormalKind::Linear && !(self.kn.is_none_or(|kn| kn > 0.0) && self.gamma_n >= 0.0) {
             return Err("--kn must be > 0 and --gamma-n >= 0".into());
         }

@@ -22,6 +22,7 @@ pub struct Args {
     /// Steps per estimated contact time.
     #[arg(long, default_value_t = 1000.0)]
     pub steps_per_contact: f64,
+    /// Output directory.
     #[arg(long, default_value = "out/eccentricity")]
     pub out: PathBuf,
 }

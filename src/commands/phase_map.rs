@@ -43,8 +43,11 @@ pub struct Args {
 /// Models of a phase map.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
 pub enum Which {
+    /// The DEM (`stripes run`).
     Dem,
+    /// The cellular automaton (`stripes automaton`).
     Automaton,
+    /// Both, on the same samples.
     Both,
 }
 
