@@ -159,8 +159,8 @@ pub fn progress_line(what: &str, pos: u64, len: u64, elapsed: Duration, message:
         format!(", {message}")
     };
     format!(
-        "{what}: {:.0}% ({pos}/{len}){msg}, {rate:.2e}/s, elapsed {}, eta {eta}",
-        100.0 * pos as f64 / len.max(1) as f64,
+        "{what}: {}% ({pos}/{len}){msg}, {rate:.2e}/s, elapsed {}, eta {eta}",
+        100 * pos.min(len) / len.max(1),
         hms(secs)
     )
 }

@@ -233,3 +233,48 @@ fn one_frame_gets_no_phase() {
     assert!(stderr.contains("too few frames"), "{stderr}");
     std::fs::remove_dir_all(run).unwrap();
 }
+
+/// Issue 19, point 14: without grains in stripes the radii plot says so in its legend, and
+/// the tracer plots follow x across the periodic seam.
+#[test]
+fn plots_say_what_happened() {
+    let dir = temp_dir("plain");
+    let n = 300u64;
+    let r: Vec<f64> = (0..n).map(|i| 2.5e-4 + 2.5e-4 * unit(7 * i)).collect();
+    let mut w = SnapshotWriter::create(
+        &dir.join("snapshots.bin"),
+        Header {
+            length: L,
+            width: W,
+            radii: r.clone(),
+        },
+    )
+    .unwrap();
+    for f in 0..4u64 {
+        let pos: Vec<[f64; 3]> = (0..n)
+            .map(|i| {
+                // Evenly spread in x (no band), moving a little every frame.
+                let x = L * (i as f64 + 0.5) / n as f64 + 1e-4 * unit(7 * i + 1 + 1000 * f);
+                [x.rem_euclid(L), 0.001 + 0.018 * unit(7 * i + 2), r[i as usize]]
+            })
+            .collect();
+        w.push(f as f64 * T, pos.into_iter(), std::iter::repeat_n([0.0; 3], n as usize))
+            .unwrap();
+    }
+    w.sync().unwrap();
+    drop(w);
+    let (ok, stdout, stderr) = stripes(&["analyze", dir.to_str().unwrap()]);
+    assert!(ok, "{stderr}");
+    let s = summary_of(&stdout, &dir.join("analysis"));
+    assert_eq!(s["stripe_count_final"], 0, "{s}");
+    let radii = std::fs::read_to_string(dir.join("analysis/radii.svg")).unwrap();
+    assert!(
+        radii.contains("no grain in a stripe"),
+        "radii.svg does not say why one curve is missing"
+    );
+    for f in ["tracer_trajectory.svg", "tracer_phase_space.svg"] {
+        let text = std::fs::read_to_string(dir.join("analysis").join(f)).unwrap();
+        assert!(text.contains("followed across the periodic seam"), "{f}");
+    }
+    std::fs::remove_dir_all(dir).unwrap();
+}

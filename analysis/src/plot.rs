@@ -145,6 +145,15 @@ fn tick(v: f64) -> String {
     }
 }
 
+/// Tick labels of a count axis: whole numbers only, the ticks between them unlabelled.
+fn count_tick(v: f64) -> String {
+    if (v - v.round()).abs() < 1e-9 {
+        format!("{}", v.round())
+    } else {
+        String::new()
+    }
+}
+
 impl LinePlot {
     /// A plot with a title and axis labels and no series.
     pub fn new(title: &str, x_label: &str, y_label: &str) -> Self {
@@ -275,15 +284,7 @@ impl LinePlot {
             .label_style((FAMILY, 16))
             .axis_desc_style((FAMILY, 19))
             .x_label_formatter(&|v| tick_on(*v, x_span))
-            .y_label_formatter(&|v| {
-                if !self.integer_y {
-                    tick_on(*v, y_span)
-                } else if (v - v.round()).abs() < 1e-9 {
-                    format!("{}", v.round())
-                } else {
-                    String::new()
-                }
-            })
+            .y_label_formatter(&|v| if self.integer_y { count_tick(*v) } else { tick_on(*v, y_span) })
             .light_line_style(RGBColor(235, 235, 235))
             .draw()
             .map_err(perr)?;
@@ -587,6 +588,13 @@ mod tests {
             .count();
         assert_eq!(leftovers, 0, "temporary files left behind");
         std::fs::remove_dir_all(d).unwrap();
+    }
+
+    /// Issue 19, point 14: stripe counts get whole-number ticks.
+    #[test]
+    fn count_axes_label_whole_numbers_only() {
+        assert_eq!((count_tick(2.0), count_tick(0.5)), ("2".to_string(), String::new()));
+        assert!(LinePlot::new("t", "x", "y").integer_y().integer_y);
     }
 
     #[test]

@@ -131,6 +131,13 @@ fn run_warnings(sources: &[(&str, &Value)]) -> Vec<String> {
         .collect()
 }
 
+/// One colour scale for several maps: from the lowest to the highest value of any.
+fn common_scale(maps: &[Heatmap]) -> (f64, f64) {
+    maps.iter()
+        .map(Heatmap::own_range)
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), (l, h)| (a.min(l), b.max(h)))
+}
+
 /// The density map of an analysis directory (its `density_map.csv`), titled with the model.
 fn density_map(model: &str, analysis: &Path, length: f64) -> Result<Heatmap, CliError> {
     let p = analysis.join("density_map.csv");
@@ -257,15 +264,9 @@ pub fn run(args: Args) -> Result<String, CliError> {
         density_map("DEM", &dem_analysis_dir, scene.tray.length)?,
         density_map("automaton", &auto_dir.join("analysis"), scene.tray.length)?,
     ];
-    let (lo, hi) = maps
-        .iter()
-        .map(Heatmap::own_range)
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), (l, h)| (a.min(l), b.max(h)));
+    let scale = common_scale(&maps);
     for (map, stem) in maps.into_iter().zip(["density_map_dem", "density_map_automaton"]) {
-        let map = Heatmap {
-            scale: Some((lo, hi)),
-            ..map
-        };
+        let map = Heatmap { scale: Some(scale), ..map };
         let files = map.save(&out.join(stem)).map_err(|e| format!("cannot draw {stem}: {e}"))?;
         dir.note_files(files);
     }
@@ -364,4 +365,53 @@ pub fn run(args: Args) -> Result<String, CliError> {
         "dem": { "analysis": dem_keys, "particle_steps_per_s": dem_speed, "wall_s": dem_wall },
         "automaton": { "analysis": auto_keys, "cell_updates_per_s": auto_speed, "wall_s": auto_wall },
     }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn keys(v: Value) -> serde_json::Map<String, Value> {
+        v.as_object().unwrap().clone()
+    }
+
+    /// Issue 19, point 14: the report says in words what each model did, and repeats every
+    /// warning with where it came from.
+    #[test]
+    fn the_report_interprets_and_repeats_warnings() {
+        let dem =
+            keys(json!({"phase": "nothing", "mobility": 0.018, "contrast": 0.53, "msd_plateau_before": null, "msd_plateau_after": null}));
+        let s = interpret("DEM", &dem);
+        assert!(s.contains("stayed in lockstep") && s.contains("mobility 0.018"), "{s}");
+        let auto = keys(
+            json!({"phase": "stripes", "stripe_count_final": 3, "stationary_stripe_count": 2, "stripe_onset_s": 0.7125, "contrast": 2.5, "mobility": 6.0}),
+        );
+        let s = interpret("automaton", &auto);
+        assert!(s.contains("formed stripes: 3 at the end (2 stationary), onset 0.713 s"), "{s}");
+        let none = keys(json!({"phase": null, "phase_note": "too few frames for a phase"}));
+        assert!(interpret("DEM", &none).contains("no phase: too few frames"));
+        assert!(THESIS.contains("4 +- 0.875"));
+        let w = run_warnings(&[("DEM run", &json!({"warnings": ["dt coarse"]})), ("automaton run", &json!({}))]);
+        assert_eq!(w, vec!["DEM run: dt coarse".to_string()]);
+    }
+
+    /// Issue 19, point 14: the two density maps carry the model's name and share one scale.
+    #[test]
+    fn density_maps_are_named_and_share_a_scale() {
+        let d = std::env::temp_dir().join(format!("stripes-compare-maps-{}", std::process::id()));
+        let (a, b) = (d.join("a"), d.join("b"));
+        for (dir, hi) in [(&a, 0.5), (&b, 0.8)] {
+            std::fs::create_dir_all(dir).unwrap();
+            analysis::io::write_csv_atomic(
+                &dir.join("density_map.csv"),
+                &["t", "x0", "x1"],
+                &[vec![0.0, 0.1, hi], vec![0.05, 0.2, 0.3]],
+            )
+            .unwrap();
+        }
+        let maps = [density_map("DEM", &a, 0.1).unwrap(), density_map("automaton", &b, 0.1).unwrap()];
+        assert!(maps[0].title.starts_with("DEM") && maps[1].title.starts_with("automaton"));
+        assert_eq!(common_scale(&maps), (0.1, 0.8));
+        std::fs::remove_dir_all(d).unwrap();
+    }
 }
