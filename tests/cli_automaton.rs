@@ -151,6 +151,7 @@ fn compare_runs_both_models_on_one_sample_and_writes_the_report() {
         "--sample-cache",
         &samples,
         "--quiet",
+        "--force",
     ]);
     assert!(!ok && stderr.contains("same sample"), "{stderr}");
     std::fs::remove_dir_all(d).unwrap();

@@ -12,7 +12,7 @@
 //!
 //! Numbers are written with the digits that matter: single precision (7 significant digits,
 //! about 3e-8 m at 0.4 m, the precision of `snapshots.bin`) in exponent form, e.g.
-//! `2.807857e-15` rather than `0.0000000000000028078573734439517`; times with 9 digits.
+//! `2.8078575e-15` rather than `0.0000000000000028078573734439517`; times with 9 digits.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -195,7 +195,7 @@ mod tests {
 
     #[test]
     fn numbers_keep_only_the_digits_that_matter() {
-        assert_eq!(short(2.8078573734439517e-15), "2.8078574e-15");
+        assert_eq!(short(2.8078573734439517e-15), "2.8078575e-15");
         assert_eq!(short(0.0), "0");
         assert_eq!(short(0.1), "1e-1");
         assert_eq!(short_time(0.0125 + 1e-15), "1.25e-2");
