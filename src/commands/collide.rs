@@ -24,7 +24,6 @@ fn kind<K: std::str::FromStr<Err = String> + Clone + Send + Sync + 'static>(
 #[derive(clap::Args, Debug, Serialize)]
 pub struct Args {
     /// Normal law: hertz (eq 3.8; --young, --poisson, --dissipation) or linear (eq 4.21;
-    /// No tangential force: frictionless spheres.
     /// --kn, --gamma-n).
     #[arg(long, value_parser = kind::<NormalKind>(NormalKind::NAMES), default_value = "hertz")]
     pub normal: NormalKind,
@@ -35,7 +34,6 @@ pub struct Args {
     /// Rolling law: none or brilliantov-poschel (eq 3.15; --mu-r).
     #[arg(long, value_parser = kind::<RollingKind>(RollingKind::NAMES), default_value = "none")]
     pub rolling: RollingKind,
-    /// No rolling resistance.
     /// Radius of sphere 1 (m).
     #[arg(long, default_value_t = 5e-4)]
     pub r1: f64,
