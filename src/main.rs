@@ -123,8 +123,10 @@ mod tests {
                 } else {
                     Vec::new()
                 };
+                // A choice is described by its own help or by name in the option's help.
+                let help = arg.get_help().map(|h| h.to_string()).unwrap_or_default();
                 for v in choices.iter().filter(|v| !v.is_hide_set()) {
-                    if v.get_help().is_none() {
+                    if v.get_help().is_none() && !help.contains(v.get_name()) {
                         missing.push(format!("{name} {}", v.get_name()));
                     }
                 }

@@ -162,11 +162,12 @@ impl Thermo {
 
 impl Observer for Thermo {
     fn wants_contacts(&self, step: u64) -> bool {
-        step.is_multiple_of(self.every)
+        step.is_multiple_of(self.every) || step == self.last
     }
 
     fn observe(&mut self, sim: &Simulation) -> Result<(), ObserverError> {
-        if sim.steps.is_multiple_of(self.every) {
+        // A row at every interval and one at the end of the run.
+        if sim.steps.is_multiple_of(self.every) || sim.steps == self.last {
             self.push(sim, true);
         }
         if sim.steps.is_multiple_of(self.save_every) || sim.steps == self.last {

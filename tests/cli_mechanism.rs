@@ -25,7 +25,7 @@ fn free_grains_roll_at_five_sevenths_of_the_tray_velocity() {
         "--quiet",
         "--out",
         run.to_str().unwrap(),
-        "--samples",
+        "--sample-cache",
         samples.to_str().unwrap(),
         "--set",
         "particles.count=60",
@@ -48,7 +48,7 @@ fn free_grains_roll_at_five_sevenths_of_the_tray_velocity() {
         "1",
         "--per-period",
         "12",
-        "--samples",
+        "--sample-cache",
         samples.to_str().unwrap(),
     ]);
     assert!(ok, "mechanism failed: {err}");

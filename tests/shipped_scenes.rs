@@ -1,5 +1,7 @@
 //! Issue 19, point 15: no shipped scene prints a warning. Every `scenes/*.toml` loads,
-//! validates, gets its time step, and `tray::warnings` (what `stripes run` prints) is empty.
+//! validates, gets its time step, and `tray::warnings` (what `stripes run` prints) is empty,
+//! except for the thesis' literal scene: it keeps the thesis' step of 8e-6 s, and its comment
+//! explains the one warning that step earns.
 
 use particles::scene::Scene;
 use particles::tray;
@@ -13,11 +15,26 @@ fn no_shipped_scene_prints_a_warning() {
         if path.extension().is_none_or(|e| e != "toml") {
             continue;
         }
-        let scene = Scene::load(&path, &[]).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        // The DEM's tables; the automaton's `[automaton]` table is the automaton's to check.
+        let mut doc: toml::Table = toml::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+        doc.remove("automaton");
+        let origin = path.display().to_string();
+        let scene = Scene::parse(&toml::to_string(&doc).unwrap(), &[], &origin).unwrap_or_else(|e| panic!("{origin}: {e}"));
         scene.validate().unwrap_or_else(|e| panic!("{}: {e}", path.display()));
         let dt = tray::time_step(&scene).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-        let warnings = tray::warnings(&scene, dt);
-        assert!(warnings.is_empty(), "{} at dt = {dt:e} s: {warnings:?}", path.display());
+        let warnings = tray::warnings(&scene, dt).unwrap();
+        if path.file_name().unwrap() == "thesis-reference.toml" {
+            let text = std::fs::read_to_string(&path).unwrap();
+            assert_eq!(warnings.len(), 1, "{warnings:?}");
+            assert!(warnings[0].contains("viscous branch"), "{warnings:?}");
+            assert!(text.contains("It warns") && text.contains("run.dt=auto"), "the warning is not explained in the scene");
+            // With the documented remedy the literal scene is quiet too.
+            let auto = Scene::parse(&toml::to_string(&doc).unwrap(), &["run.dt=\"auto\"".into()], &origin).unwrap();
+            let dt = tray::time_step(&auto).unwrap();
+            assert!(tray::warnings(&auto, dt).unwrap().is_empty());
+        } else {
+            assert!(warnings.is_empty(), "{} at dt = {dt:e} s: {warnings:?}", path.display());
+        }
         checked += 1;
     }
     assert!(checked >= 2, "only {checked} scenes found");

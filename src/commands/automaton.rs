@@ -35,7 +35,8 @@ pub struct Args {
     /// Override a scene key, e.g. --set automaton.activation=0.3 (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub overrides: Vec<String>,
-    /// Rule set (default: the scene's automaton.rule, itself `physical` by default).
+    /// Rule set: strict (thesis 3.1 exactly) or physical (plus what a shaken tray supplies,
+    /// the scene's [automaton] table). Default: the scene's automaton.rule, itself physical.
     #[arg(long, value_parser = rule_parser())]
     pub rule: Option<RuleSet>,
     /// Cache of prepared samples, shared by all runs (default: $STRIPES_SAMPLE_CACHE, else

@@ -121,7 +121,6 @@ impl Args {
         if self.normal == NormalKind::Hertz && !(m.young > 0.0 && m.poisson > -1.0 && m.poisson < 0.5 + 1e-12 && m.dissipation >= 0.0) {
             return Err("--young must be > 0, --poisson in (-1, 0.5], --dissipation >= 0".into());
         }
-    /// Time integrator.
         if self.normal == NormalKind::Linear && !(self.kn.is_none_or(|kn| kn > 0.0) && self.gamma_n >= 0.0) {
             return Err("--kn must be > 0 and --gamma-n >= 0".into());
         }

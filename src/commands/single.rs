@@ -61,6 +61,7 @@ pub struct Args {
     /// would take at each frequency).
     #[arg(long)]
     pub dt: Option<f64>,
+    /// Output directory.
     #[arg(long, default_value = "out/single")]
     pub out: PathBuf,
 }
