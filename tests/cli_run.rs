@@ -143,7 +143,11 @@ fn thermo_closes_the_energy_balance_and_the_vtk_series_parses() {
     let energy = |r: &Vec<f64>| r[col("kinetic")] + r[col("rotational")] + r[col("potential")] + r[col("elastic")];
     let (first, last) = (&rows[0], rows.last().unwrap());
     let dt = s["dt"].as_f64().unwrap();
-    assert!((last[t] - 0.05).abs() <= 0.5 * dt, "the last row is the end (whole steps of {dt:e} s): {}", last[t]);
+    assert!(
+        (last[t] - 0.05).abs() <= 0.5 * dt,
+        "the last row is the end (whole steps of {dt:e} s): {}",
+        last[t]
+    );
     let injected = last[inj];
     let miss = injected - last[dis] - (energy(last) - energy(first));
     println!(

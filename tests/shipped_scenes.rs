@@ -27,7 +27,10 @@ fn no_shipped_scene_prints_a_warning() {
             let text = std::fs::read_to_string(&path).unwrap();
             assert_eq!(warnings.len(), 1, "{warnings:?}");
             assert!(warnings[0].contains("viscous branch"), "{warnings:?}");
-            assert!(text.contains("It warns") && text.contains("run.dt=auto"), "the warning is not explained in the scene");
+            assert!(
+                text.contains("It warns") && text.contains("run.dt=auto"),
+                "the warning is not explained in the scene"
+            );
             // With the documented remedy the literal scene is quiet too.
             let auto = Scene::parse(&toml::to_string(&doc).unwrap(), &["run.dt=\"auto\"".into()], &origin).unwrap();
             let dt = tray::time_step(&auto).unwrap();

@@ -143,7 +143,6 @@ pub fn run(args: Args) -> Result<String, CliError> {
     pool.install(|| run_in_pool(args, scene))
 }
 
-
 fn run_in_pool(args: Args, scene: Scene) -> Result<String, CliError> {
     let name = args
         .scene
@@ -189,13 +188,7 @@ struct Started {
 
 /// Prepares (or loads) the sample, restores the checkpoint of `--resume`, and writes the
 /// run's configuration, the first snapshot and the first thermo row.
-fn start(
-    args: &Args,
-    scene: &Scene,
-    out: &Path,
-    setup: particles::sim::Setup,
-    checkpoint: Option<Vec<u8>>,
-) -> Result<Started, CliError> {
+fn start(args: &Args, scene: &Scene, out: &Path, setup: particles::sim::Setup, checkpoint: Option<Vec<u8>>) -> Result<Started, CliError> {
     let dt = setup.dt;
     let total = (scene.run.duration / dt).round() as u64;
     let every = if scene.run.checkpoint_interval > 0.0 {
@@ -208,8 +201,7 @@ fn start(
 
     // Sample: prepared once per (population, box, material, seed), shared by every run.
     let bar = progress_bar(1000, args.quiet, "prepare");
-    let (state, cached) =
-        crate::samples::load_or_prepare(scene, &args.sample_cache, |f| bar.set_position((f * 1000.0) as u64))?;
+    let (state, cached) = crate::samples::load_or_prepare(scene, &args.sample_cache, |f| bar.set_position((f * 1000.0) as u64))?;
     bar.finish_and_clear();
     let mut sim = Simulation::new(setup, state)?;
     let fingerprint = checkpoint_fingerprint(scene)?;
@@ -237,7 +229,13 @@ fn start(
     let vtk = if args.vtk {
         // Side walls drawn up to the ceiling, or ten of the largest grains without one.
         let height = scene.tray.height.unwrap_or(20.0 * scene.particles.radius_max);
-        Some(VtkSeries::open(&out.join("vtk"), sim.time, scene.tray.length, scene.tray.width, height)?)
+        Some(VtkSeries::open(
+            &out.join("vtk"),
+            sim.time,
+            scene.tray.length,
+            scene.tray.width,
+            height,
+        )?)
     } else {
         None
     };
