@@ -28,17 +28,79 @@ pub fn load_or_prepare(scene: &Scene, dir: &std::path::Path, progress: impl FnMu
         }
     };
     let _guard = lock.lock().unwrap_or_else(|e| e.into_inner());
-    if let Ok(bytes) = std::fs::read(&path) {
-        let state = decode_sample(&bytes).map_err(|e| format!("{}: {e}", path.display()))?;
+    if let Some(state) = load(&path)? {
+        return Ok((state, true));
+    }
+    // Jobs in other processes (shards, concurrent runs) wait on a lock file instead.
+    std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    let _file_lock = match FileLock::acquire(&dir.join(format!("sample-{key:016x}.lock")), &path)? {
+        Some(l) => l,
+        None => {
+            let state = load(&path)?.ok_or_else(|| format!("{}: the process preparing it stopped without writing it", path.display()))?;
+            return Ok((state, true));
+        }
+    };
+    if let Some(state) = load(&path)? {
         return Ok((state, true));
     }
     let state = prepare(scene, progress).map_err(|e| format!("sample preparation: {e}"))?;
-    std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
     let bytes = encode_sample(&state);
     analysis::io::write_atomic(&path, &bytes).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
     // Return what a later run will load, bit for bit (the stored mass gives back the inverse
     // mass only to within an ulp), so a fresh and a cached sample run identically.
     Ok((decode_sample(&bytes).expect("a sample just encoded decodes"), false))
+}
+
+/// The sample at `path`, if it is there.
+fn load(path: &std::path::Path) -> Result<Option<State>, String> {
+    match std::fs::read(path) {
+        Ok(bytes) => decode_sample(&bytes).map(Some).map_err(|e| format!("{}: {e}", path.display())),
+        Err(_) => Ok(None),
+    }
+}
+
+/// How often a process waiting for another's sample looks again.
+const LOCK_POLL: std::time::Duration = std::time::Duration::from_millis(100);
+
+/// A lock file `sample-<key>.lock` holding the preparing process' id: created with
+/// `create_new`, so exactly one process prepares a sample; removed when dropped. A lock
+/// whose process is gone (killed during preparation) is taken over.
+struct FileLock(std::path::PathBuf);
+
+impl FileLock {
+    /// Takes the lock, or waits until the sample `product` exists (then `None`: load it).
+    fn acquire(lock: &std::path::Path, product: &std::path::Path) -> Result<Option<Self>, String> {
+        use std::io::Write as _;
+        loop {
+            match std::fs::OpenOptions::new().write(true).create_new(true).open(lock) {
+                Ok(mut f) => {
+                    let _ = write!(f, "{}", std::process::id());
+                    return Ok(Some(Self(lock.to_path_buf())));
+                }
+                Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
+                    if product.exists() {
+                        return Ok(None);
+                    }
+                    let owner = std::fs::read_to_string(lock).ok().and_then(|t| t.trim().parse::<u32>().ok());
+                    // A lock of a process that no longer runs is stale (Linux: /proc/<pid>).
+                    let alive =
+                        owner.is_none_or(|pid| std::path::Path::new(&format!("/proc/{pid}")).exists() || !cfg!(target_os = "linux"));
+                    if !alive {
+                        let _ = std::fs::remove_file(lock);
+                        continue;
+                    }
+                    std::thread::sleep(LOCK_POLL);
+                }
+                Err(e) => return Err(format!("cannot create the lock {}: {e}", lock.display())),
+            }
+        }
+    }
+}
+
+impl Drop for FileLock {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_file(&self.0);
+    }
 }
 
 const SAMPLE_MAGIC: &[u8; 8] = b"STRPSMP1";

@@ -60,6 +60,9 @@ impl SweepArgs {
             .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
         let progress = run(root, sweep, self.shard, parallel, &self.sample_cache, self.quiet)?;
         let mut summary = report(root, sweep)?;
+        let preparation = preparation(root, sweep)?;
+        append_preparation(&root.join("report.md"), &preparation)?;
+        summary["sample_preparation"] = serde_json::to_value(&preparation)?;
         if !progress.failed.is_empty() {
             return Err(format!(
                 "{} job(s) failed (the report {} lists them): {}",
@@ -387,7 +390,54 @@ fn run_job(root: &Path, sweep: &Sweep, job: &Job, samples: &Path) -> Result<(), 
         "speed".into(),
         json!({ "wall_s": model.get("wall_s"), "particle_steps_per_s": model.get("particle_steps_per_s") }),
     );
+    // The DEM's sample: prepared by this job, or loaded (or waited for) from the cache.
+    result.insert(
+        "sample".into(),
+        json!({ "prepare_s": model.get("prepare_s"), "cached": model.get("sample_cached") }),
+    );
     analysis::io::write_json_atomic(&dir.join("result.json"), &Value::Object(result))?;
+    Ok(())
+}
+
+/// What preparing the DEM's samples cost a sweep (from the jobs' `result.json`).
+#[derive(Debug, Default, Serialize)]
+pub struct Preparation {
+    /// DEM jobs that prepared their sample, and those that loaded it from the cache.
+    pub prepared: usize,
+    pub loaded: usize,
+    /// Wall seconds spent preparing, and spent loading or waiting for another job's sample.
+    pub prepare_s: f64,
+    pub load_s: f64,
+}
+
+/// Sums the sample preparation of the sweep's finished jobs.
+pub fn preparation(root: &Path, sweep: &Sweep) -> Result<Preparation, CliError> {
+    let mut p = Preparation::default();
+    for (_, v) in results(root, sweep)? {
+        let (Some(s), Some(c)) = (v["sample"]["prepare_s"].as_f64(), v["sample"]["cached"].as_bool()) else {
+            continue;
+        };
+        if c {
+            p.loaded += 1;
+            p.load_s += s;
+        } else {
+            p.prepared += 1;
+            p.prepare_s += s;
+        }
+    }
+    Ok(p)
+}
+
+/// Adds a line on the sample preparation to a sweep's report.
+fn append_preparation(report: &Path, p: &Preparation) -> Result<(), CliError> {
+    let Ok(mut text) = std::fs::read_to_string(report) else {
+        return Ok(());
+    };
+    text.push_str(&format!(
+        "\n**Sample preparation.** {} DEM job(s) prepared their sample ({:.1} s of wall time in all); {} loaded it from the cache or waited for the job preparing it ({:.1} s). Each distinct sample is prepared once: jobs in one process share a lock, processes (shards) a lock file beside the sample.\n",
+        p.prepared, p.prepare_s, p.loaded, p.load_s
+    ));
+    analysis::io::write_atomic(report, text.as_bytes())?;
     Ok(())
 }
 

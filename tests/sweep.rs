@@ -83,6 +83,13 @@ fn a_restarted_sweep_redoes_nothing_and_two_shards_equal_one_run() {
     let full = phase_map(&dir, &samples, &[]);
     assert_eq!(full["progress"]["skipped"], 2);
     assert_eq!(full["progress"]["ran"], 2);
+    // One sample for the four DEM jobs (issue 20, point 4): prepared once, by the first
+    // shard, and the report says what preparation cost.
+    let prep = &full["sample_preparation"];
+    assert_eq!((prep["prepared"].as_u64(), prep["loaded"].as_u64()), (Some(1), Some(3)), "{prep}");
+    assert!(std::fs::read_to_string(dir.join("report.md"))
+        .unwrap()
+        .contains("**Sample preparation.** 1 DEM job(s) prepared"));
     let after = results(&dir);
     assert_eq!(after.len(), 4);
     for b in &before {

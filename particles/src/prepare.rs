@@ -25,6 +25,9 @@ pub fn reference(scene: &Scene) -> Scene {
     // A ceiling changes nothing for grains relaxing at rest on the floor.
     s.tray.height = None;
     s.drive.amplitude = 0.0;
+    // The tray rests during preparation, so its frequency changes nothing either: every
+    // frequency of a sweep shares one sample per seed.
+    s.drive.frequency = 1.0;
     s.run.duration = s.prepare.duration;
     s.run.threads = 0;
     s.run.checkpoint_interval = 0.0;

@@ -182,8 +182,10 @@ struct Started {
     sim: Simulation,
     recorder: Recorder,
     thermo: Thermo,
-    /// Whether the sample came from the cache.
+    /// Whether the sample came from the cache, and the wall seconds spent preparing or
+    /// loading it (waiting for another process that prepares it included).
     cached: bool,
+    prepare_s: f64,
 }
 
 /// Prepares (or loads) the sample, restores the checkpoint of `--resume`, and writes the
@@ -201,8 +203,10 @@ fn start(args: &Args, scene: &Scene, out: &Path, setup: particles::sim::Setup, c
 
     // Sample: prepared once per (population, box, material, seed), shared by every run.
     let bar = progress_bar(1000, args.quiet, "prepare");
+    let preparing = Instant::now();
     let (state, cached) = crate::samples::load_or_prepare(scene, &args.sample_cache, |f| bar.set_position((f * 1000.0) as u64))?;
     bar.finish_and_clear();
+    let prepare_s = preparing.elapsed().as_secs_f64();
     let mut sim = Simulation::new(setup, state)?;
     let fingerprint = checkpoint_fingerprint(scene)?;
     let ckpt_path = out.join("checkpoint.bin");
@@ -270,6 +274,7 @@ fn start(args: &Args, scene: &Scene, out: &Path, setup: particles::sim::Setup, c
         recorder,
         thermo,
         cached,
+        prepare_s,
     })
 }
 
@@ -281,6 +286,7 @@ fn step(args: &Args, scene: &Scene, out: &Path, started: Started, warnings: Vec<
         mut recorder,
         mut thermo,
         cached,
+        prepare_s,
     } = started;
     let dt = sim.setup.dt;
     let total = (scene.run.duration / dt).round() as u64;
@@ -364,6 +370,7 @@ fn step(args: &Args, scene: &Scene, out: &Path, started: Started, warnings: Vec<
         "steps_per_contact": tray::shortest_contact_time(scene)? / dt,
         "snapshots": frames,
         "sample_cached": cached,
+        "prepare_s": prepare_s,
         "sample_cache": args.sample_cache.display().to_string(),
         "thermo_interval_s": thermo.every as f64 * dt,
         "sample_key": format!("{:016x}", prepare::sample_key(scene)),
