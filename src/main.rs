@@ -14,6 +14,7 @@ mod samples;
 mod scene_file;
 mod sweep;
 mod thermo;
+mod threads;
 mod tradeoff;
 mod vtk_series;
 

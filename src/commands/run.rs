@@ -138,12 +138,12 @@ pub(crate) fn checkpoint_fingerprint(scene: &Scene) -> Result<u64, CliError> {
 pub fn run(args: Args) -> Result<String, CliError> {
     let scene = crate::scene_file::load(&args.scene, &args.overrides)?.dem;
     scene.validate()?;
-    let threads = scene.run.threads;
+    let (threads, why) = crate::threads::choose(scene.run.threads, scene.particles.count);
     let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build()?;
-    pool.install(|| run_in_pool(args, scene))
+    pool.install(|| run_in_pool(args, scene, why))
 }
 
-fn run_in_pool(args: Args, scene: Scene) -> Result<String, CliError> {
+fn run_in_pool(args: Args, scene: Scene, threads_why: String) -> Result<String, CliError> {
     let name = args
         .scene
         .file_stem()
@@ -173,7 +173,7 @@ fn run_in_pool(args: Args, scene: Scene) -> Result<String, CliError> {
             return Err(e);
         }
     };
-    step(&args, &scene, &out, started, warnings)
+    step(&args, &scene, &out, started, warnings, threads_why)
 }
 
 /// A run ready for its time loop.
@@ -279,7 +279,7 @@ fn start(args: &Args, scene: &Scene, out: &Path, setup: particles::sim::Setup, c
 }
 
 /// The time loop of a started run, then its summary.
-fn step(args: &Args, scene: &Scene, out: &Path, started: Started, warnings: Vec<String>) -> Result<String, CliError> {
+fn step(args: &Args, scene: &Scene, out: &Path, started: Started, warnings: Vec<String>, threads_why: String) -> Result<String, CliError> {
     let Started {
         mut dir,
         mut sim,
@@ -367,6 +367,7 @@ fn step(args: &Args, scene: &Scene, out: &Path, started: Started, warnings: Vec<
         "stepping_s": stepping,
         "particle_steps_per_s": (stepped as f64 * s.len() as f64) / stepping.max(1e-12),
         "threads": rayon::current_num_threads(),
+        "threads_chosen_by": threads_why,
         "steps_per_contact": tray::shortest_contact_time(scene)? / dt,
         "snapshots": frames,
         "sample_cached": cached,
