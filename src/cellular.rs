@@ -14,7 +14,9 @@
 //!   drive for `SLIDE_PERIODS` periods; its displacement relative to the tray between the
 //!   last turning points, in cells ([`automaton::mapping::slide_from_samples`]). The Coulomb
 //!   block ([`automaton::mapping::coulomb_slide`]) is reported next to it as a check.
-//! - Sliding threshold `A (2 pi nu)^2 > mu_wall g`; knock probability from the DEM's peak
+//! - Sliding threshold `A (2 pi nu)^2 > mu_wall g` (with `[automaton] rolling`, the default,
+//!   free grains roll below it by the single sphere's excursion; see
+//!   `automaton::mapping::physical`); knock probability from the DEM's peak
 //!   sliding speed.
 
 use std::path::Path;

@@ -135,15 +135,29 @@ pub struct FreeParams {
     pub lateral: Lateral,
     /// Apply the sliding threshold.
     pub threshold: bool,
+    /// Free grains roll below the sliding threshold (see [`physical`]).
+    pub rolling: bool,
     /// Apply the flight cap.
     pub flight_cap: bool,
 }
 
 /// The `physical` ingredients of a tray: cap `l = round(D / cell_length)` cells, threshold
 /// `A (2 pi nu)^2 > mu g`, knock probability `1 - exp(-(v / v_knock)^2)`.
+///
+/// **Rolling** (`free.rolling`). A sphere does not need to slide to move: below the sliding
+/// threshold the floor rolls a free sphere without slip as long as `A (2 pi nu)^2 <= (7/2) mu g`
+/// (thesis 3.3.1, Figs 3.7-3.8; the rolling sphere's centre follows 2/7 of the floor), so it
+/// moves `D = 2 (5/7) A` relative to the tray per half period, and `D` is what the
+/// single-sphere DEM measures on the scene's own laws, rolling friction included. The jump is
+/// then a rolling excursion of `round(D / cell_length)` cells, and Strassburger's rest is
+/// frustration: a grain whose neighbour blocks its direction of motion cannot roll and rests
+/// with the tray, which the jump rule already does. "Nothing moves" (region (a) of Fig 3.30)
+/// is kept only where the free sphere itself does not get half a cell away, i.e. where
+/// rolling friction or a pinned grain resist rolling: the cap is then 0 and the lattice
+/// frozen. Without `rolling`, the Coulomb threshold freezes everything below `mu g`.
 pub fn physical(drive: &TrayDrive, slide: &SlideMeasure, cell_length: f64, free: &FreeParams) -> Physical {
     Physical {
-        threshold: if free.threshold {
+        threshold: if free.threshold && !free.rolling {
             Threshold::Coulomb {
                 tray_acceleration: drive.tray_acceleration(),
                 friction_acceleration: drive.friction_acceleration(),
@@ -195,5 +209,53 @@ mod tests {
         // |dv| <= mu g / (2 nu) = 0.175 m/s per half period against a tray at 3.14 m/s.
         assert!((s.displacement - 0.05).abs() < 0.05 * 0.1, "D = {}", s.displacement);
         assert!((s.peak_speed - std::f64::consts::PI).abs() < 0.3, "v = {}", s.peak_speed);
+    }
+
+    /// The experiment's drive (3 Hz, 10 mm, Gamma 0.36) is below the sliding threshold: the
+    /// sliding reading freezes the lattice, the rolling reading jumps the free sphere's
+    /// rolling excursion 2 (5/7) A = 14.3 mm, here 19 cells of 0.75 mm.
+    #[test]
+    fn below_the_sliding_threshold_free_grains_roll_their_excursion() {
+        use crate::params::{Params, RuleSet, YBoundary};
+        let drive = TrayDrive {
+            frequency: 3.0,
+            amplitude: 0.01,
+            mu: 0.7,
+            gravity: 9.81,
+        };
+        assert!(drive.tray_acceleration() < drive.friction_acceleration());
+        let rolling = SlideMeasure {
+            displacement: 2.0 * 5.0 / 7.0 * drive.amplitude,
+            peak_speed: 5.0 / 7.0 * drive.amplitude * 2.0 * std::f64::consts::PI * drive.frequency,
+        };
+        let free = |rolling: bool| FreeParams {
+            activation: None,
+            knock_speed: None,
+            sideways: None,
+            lateral: Lateral::None,
+            threshold: true,
+            rolling,
+            flight_cap: true,
+        };
+        let resolve = |ph: Physical| {
+            Params {
+                rule: RuleSet::Physical,
+                physical: ph,
+                y: YBoundary::Walls,
+                seed: 1,
+            }
+            .resolve()
+        };
+        let rolls = resolve(physical(&drive, &rolling, 0.75e-3, &free(true)));
+        assert!(!rolls.frozen);
+        assert_eq!(rolls.cap, 19);
+        let slides = resolve(physical(&drive, &rolling, 0.75e-3, &free(false)));
+        assert!(slides.frozen, "the sliding reading: nothing moves below mu g");
+        // Rolling resisted (the free sphere stays within half a cell): frozen either way.
+        let held = SlideMeasure {
+            displacement: 0.3e-3,
+            peak_speed: 0.01,
+        };
+        assert!(resolve(physical(&drive, &held, 0.75e-3, &free(true))).frozen);
     }
 }

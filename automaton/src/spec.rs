@@ -14,8 +14,14 @@ use crate::params::{Lateral, RuleSet};
 pub struct Spec {
     /// `physical` (default) or `strict`.
     pub rule: RuleSet,
-    /// Nothing moves unless `A (2 pi nu)^2 > mu g`.
+    /// Nothing moves unless `A (2 pi nu)^2 > mu g` (with `rolling`, only a grain that cannot
+    /// roll is held by this threshold, see [`crate::mapping`]).
     pub threshold: bool,
+    /// Free grains roll: below the sliding threshold a free sphere still rolls without slip
+    /// and moves by the single-sphere DEM's excursion (2 (5/7) A relative to the tray); the
+    /// grains that cannot roll are those blocked by a neighbour, which the jump rule already
+    /// stops. Off: the sliding reading, where nothing moves below the threshold.
+    pub rolling: bool,
     /// Flights end after the free grain's sliding displacement per half period.
     pub flight_cap: bool,
     /// Stochastic flights: each grain flies in a half period with probability `activation`.
@@ -45,6 +51,7 @@ impl Default for Spec {
         Self {
             rule: RuleSet::Physical,
             threshold: true,
+            rolling: true,
             flight_cap: true,
             stochastic: true,
             activation: 0.8,
@@ -112,6 +119,7 @@ impl Spec {
             sideways: self.sideways.then_some(self.sideways_probability),
             lateral: self.lateral,
             threshold: self.threshold,
+            rolling: self.rolling,
             flight_cap: self.flight_cap,
         }
     }
