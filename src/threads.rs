@@ -14,7 +14,7 @@
 pub const GRAINS_PER_THREAD: usize = 1500;
 
 /// How long the idle cores are sampled (`/proc/stat`, Linux).
-const SAMPLE: std::time::Duration = std::time::Duration::from_millis(100);
+const SAMPLE: std::time::Duration = std::time::Duration::from_millis(200);
 
 /// The thread count for a run of `grains` grains: `requested` if it is not 0, else the
 /// smallest of the cores, the idle cores, and `grains / GRAINS_PER_THREAD` (at least 1).
@@ -25,7 +25,8 @@ pub fn choose(requested: usize, grains: usize) -> (usize, String) {
     }
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let by_work = (grains / GRAINS_PER_THREAD).max(1);
-    let idle = idle_cores(cores);
+    // Sampling the idle cores takes a moment; only worth it when more than one thread could run.
+    let idle = if cores.min(by_work) > 1 { idle_cores(cores) } else { None };
     let n = cores.min(by_work).min(idle.unwrap_or(cores)).max(1);
     let idle_text = idle.map_or("unknown".to_string(), |k| k.to_string());
     (
@@ -34,8 +35,8 @@ pub fn choose(requested: usize, grains: usize) -> (usize, String) {
     )
 }
 
-/// Cores idle over a short sample: the idle share of all CPU time in `/proc/stat` times the
-/// core count, rounded to the nearest whole core. `None` where `/proc/stat` is missing.
+/// Cores idle over a short sample of `/proc/stat`: all cores but those held by other work
+/// (see [`idle_share_to_cores`]). `None` where `/proc/stat` is missing.
 fn idle_cores(cores: usize) -> Option<usize> {
     let a = cpu_times()?;
     std::thread::sleep(SAMPLE);
@@ -47,10 +48,12 @@ fn idle_cores(cores: usize) -> Option<usize> {
     Some(idle_share_to_cores(idle as f64 / (busy + idle) as f64, cores))
 }
 
-/// Whole cores from an idle share: rounded, so that a core 60% idle counts and one 40% idle
-/// does not.
+/// Whole idle cores from an idle share: a core counts as held only when other work keeps it
+/// more than 75% busy, so that short bursts (a shell starting the run, a pipe's reader) do
+/// not cost a thread, while a busy process per core leaves none.
 fn idle_share_to_cores(share: f64, cores: usize) -> usize {
-    (share * cores as f64).round() as usize
+    let held = ((1.0 - share) * cores as f64 + 0.25).floor() as usize;
+    cores.saturating_sub(held)
 }
 
 /// `(busy, idle)` jiffies of all CPUs from the first line of `/proc/stat` (idle includes
@@ -95,9 +98,12 @@ mod tests {
         assert_eq!((busy, idle), (100 + 5 + 50 + 3 + 2 + 1, 820));
         assert!(parse_cpu_line("cpu0 1 2 3 4").is_none());
         assert!(parse_cpu_line("cpu 1 2").is_none());
-        // Two cores, one held by another process: one idle core; both busy: none.
+        // Two cores, one held by another process: one idle core; both busy: none; a burst
+        // of a third of a core: both idle.
         assert_eq!(idle_share_to_cores(0.5, 2), 1);
         assert_eq!(idle_share_to_cores(0.02, 2), 0);
         assert_eq!(idle_share_to_cores(0.97, 2), 2);
+        assert_eq!(idle_share_to_cores(0.7, 2), 2);
+        assert_eq!(idle_share_to_cores(0.3, 2), 1);
     }
 }
