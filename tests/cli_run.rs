@@ -24,24 +24,10 @@ fn tmp(name: &str) -> PathBuf {
 }
 
 fn run(out: &Path, cache: Option<&Path>, extra: &[&str]) -> Output {
-    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/quick.toml");
-    let mut cmd = Command::new(env!("CARGO_BIN_EXE_stripes"));
-    cmd.arg("run").arg(scene).arg("--out").arg(out);
-    if let Some(c) = cache {
-        cmd.arg("--sample-cache").arg(c);
-    }
-    for s in SMALL {
-        cmd.args(["--set", s]);
-    }
-    cmd.args(extra);
-    cmd.output().expect("stripes runs")
+    common::run("quick.toml", out, cache, SMALL, extra)
 }
 
-fn summary(out: &Output) -> serde_json::Value {
-    assert!(out.status.success(), "run failed: {}", String::from_utf8_lossy(&out.stderr));
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    serde_json::from_str(stdout.lines().last().expect("a summary line")).expect("JSON summary")
-}
+use common::summary;
 
 fn stderr(out: &Output) -> String {
     String::from_utf8_lossy(&out.stderr).into_owned()

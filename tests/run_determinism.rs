@@ -3,8 +3,10 @@
 //! and resumed from its last checkpoint ends bit-identical to an uninterrupted run, with the
 //! same snapshot stream.
 
+mod common;
+
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
 /// A reduced thesis tray: 600 grains on a 6 cm strip at the thesis packing, 0.06 s of shaking
 /// (7500 steps), a checkpoint every 0.02 s. 600 grains fill five force blocks, so two
@@ -23,27 +25,12 @@ fn tmp(name: &str) -> PathBuf {
 }
 
 fn run(out: &Path, samples: &Path, extra: &[&str]) -> Output {
-    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/thesis-reference.toml");
-    let mut cmd = Command::new(env!("CARGO_BIN_EXE_stripes"));
-    cmd.arg("run")
-        .arg(scene)
-        .arg("--quiet")
-        .arg("--out")
-        .arg(out)
-        .arg("--sample-cache")
-        .arg(samples);
-    for s in SMALL {
-        cmd.args(["--set", s]);
-    }
-    cmd.args(extra);
-    cmd.output().expect("stripes runs")
+    let mut all = vec!["--quiet"];
+    all.extend_from_slice(extra);
+    common::run("thesis-reference.toml", out, Some(samples), SMALL, &all)
 }
 
-fn summary(out: &Output) -> serde_json::Value {
-    assert!(out.status.success(), "run failed: {}", String::from_utf8_lossy(&out.stderr));
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    serde_json::from_str(stdout.lines().last().expect("a summary line")).expect("JSON summary")
-}
+use common::summary;
 
 #[test]
 fn same_seed_same_state_for_one_and_two_threads_and_after_a_kill_and_resume() {

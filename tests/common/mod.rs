@@ -1,8 +1,10 @@
 //! Helpers shared by the command-line tests.
 
-use std::process::Command;
+use std::path::Path;
+use std::process::{Command, Output};
 
 /// Runs the `stripes` binary: `(success, stdout, stderr)`.
+#[allow(dead_code)]
 pub fn stripes(args: &[&str]) -> (bool, String, String) {
     let out = Command::new(env!("CARGO_BIN_EXE_stripes"))
         .args(args)
@@ -13,4 +15,29 @@ pub fn stripes(args: &[&str]) -> (bool, String, String) {
         String::from_utf8_lossy(&out.stdout).into_owned(),
         String::from_utf8_lossy(&out.stderr).into_owned(),
     )
+}
+
+/// `stripes run scenes/<scene>` into `out` with `--set` for each of `settings`, then `extra`;
+/// with `cache`, that sample cache.
+#[allow(dead_code)]
+pub fn run(scene: &str, out: &Path, cache: Option<&Path>, settings: &[&str], extra: &[&str]) -> Output {
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes").join(scene);
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_stripes"));
+    cmd.arg("run").arg(scene).arg("--out").arg(out);
+    if let Some(c) = cache {
+        cmd.arg("--sample-cache").arg(c);
+    }
+    for s in settings {
+        cmd.args(["--set", s]);
+    }
+    cmd.args(extra);
+    cmd.output().expect("stripes runs")
+}
+
+/// The summary JSON, the last line on stdout of a command that must have succeeded.
+#[allow(dead_code)]
+pub fn summary(out: &Output) -> serde_json::Value {
+    assert!(out.status.success(), "run failed: {}", String::from_utf8_lossy(&out.stderr));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    serde_json::from_str(stdout.lines().last().expect("a summary line")).expect("JSON summary")
 }
