@@ -138,19 +138,32 @@ impl std::str::FromStr for Shard {
     }
 }
 
-/// Parses `LO:HI:N` into N evenly spaced values (N = 1 gives LO). Errors name the option
-/// `--what` and say what is wrong: the shape, a number, LO above HI, or N = 0.
+/// Parses `LO:HI:N` into N evenly spaced values (N = 1 gives LO), or a comma-separated list
+/// of increasing values. Errors name the option `--what` and say what is wrong: the shape, a
+/// number, LO above HI, N = 0, or a list out of order.
 pub fn parse_range(s: &str, what: &str) -> Result<Vec<f64>, String> {
-    let parts: Vec<&str> = s.split(':').collect();
-    if parts.len() != 3 {
-        return Err(format!("--{what} wants LO:HI:N, e.g. 5:29:7, got `{s}`"));
-    }
     let number = |p: &str, name: &str| -> Result<f64, String> {
         match p.trim().parse::<f64>() {
             Ok(x) if x.is_finite() => Ok(x),
             _ => Err(format!("--{what} {s}: {name} `{p}` is not a finite number")),
         }
     };
+    if s.contains(',') {
+        // An explicit list, e.g. 2,3,5,8,13,20 (uneven axes, such as a geometric series).
+        let values = s
+            .split(',')
+            .enumerate()
+            .map(|(k, p)| number(p, &format!("value {}", k + 1)))
+            .collect::<Result<Vec<f64>, String>>()?;
+        if values.windows(2).any(|w| w[1] <= w[0]) {
+            return Err(format!("--{what} {s}: list the values in increasing order, each once"));
+        }
+        return Ok(values);
+    }
+    let parts: Vec<&str> = s.split(':').collect();
+    if parts.len() != 3 {
+        return Err(format!("--{what} wants LO:HI:N (e.g. 5:29:7) or a list (e.g. 2,3,5,8), got `{s}`"));
+    }
     let (lo, hi) = (number(parts[0], "LO")?, number(parts[1], "HI")?);
     let n: usize = parts[2]
         .trim()
@@ -503,6 +516,11 @@ mod tests {
         assert!(e.contains("--frequency") && e.contains("LO = 29 is above HI = 5"), "{e}");
         let e = parse_range("5:29:0", "amplitude").unwrap_err();
         assert!(e.contains("--amplitude") && e.contains("N = 0"), "{e}");
+        assert_eq!(parse_range("2,3,5,8", "frequency").unwrap(), vec![2.0, 3.0, 5.0, 8.0]);
+        let e = parse_range("2,5,3", "frequency").unwrap_err();
+        assert!(e.contains("increasing"), "{e}");
+        let e = parse_range("2,x", "frequency").unwrap_err();
+        assert!(e.contains("value 2"), "{e}");
         let e = parse_range("5:x:3", "frequency").unwrap_err();
         assert!(e.contains("HI `x`"), "{e}");
         assert_eq!("1/4".parse::<Shard>().unwrap(), Shard { index: 1, count: 4 });

@@ -5,7 +5,7 @@
 //!
 //! `cargo run --release -p automaton --example speedprobe -- [thesis|quick] [steps]`
 use ::automaton::{
-    Activation, Automaton, Direction, FlightCap, Knock, Lateral, Lattice, Params, Physical, RuleSet, Sideways, Threshold, YBoundary,
+    Activation, Automaton, Direction, FlightCap, Frustration, Knock, Lateral, Lattice, Params, Physical, RuleSet, Sideways, Threshold, YBoundary,
 };
 use std::time::Instant;
 fn main() {
@@ -42,6 +42,7 @@ fn main() {
             knock: Knock::Bernoulli { p: 0.18218049708252038 },
             lateral: Lateral::Clusters,
             sideways: Sideways::Bernoulli { p: 0.1 },
+            frustration: Frustration::None,
         },
         y: YBoundary::Walls,
         seed: 1,

@@ -21,7 +21,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::params::{Activation, FlightCap, Knock, Lateral, Physical, Sideways, Threshold};
+use crate::params::{Activation, FlightCap, Frustration, Knock, Lateral, Physical, Sideways, Threshold};
 
 /// The tray and the grains, SI units.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -137,6 +137,9 @@ pub struct FreeParams {
     pub threshold: bool,
     /// Free grains roll below the sliding threshold (see [`physical`]).
     pub rolling: bool,
+    /// With `rolling`, below the sliding threshold: the probability that a grain touching an
+    /// x-neighbour rolls all the same (`None`: touching grains roll like free ones).
+    pub frustration: Option<f64>,
     /// Apply the flight cap.
     pub flight_cap: bool,
 }
@@ -155,7 +158,15 @@ pub struct FreeParams {
 /// is kept only where the free sphere itself does not get half a cell away, i.e. where
 /// rolling friction or a pinned grain resist rolling: the cap is then 0 and the lattice
 /// frozen. Without `rolling`, the Coulomb threshold freezes everything below `mu g`.
+///
+/// **Frustration** (`free.frustration`, rolling regime only). Two spheres touching in x and
+/// rolling the same way rub at their contact, whose surfaces move in opposite directions at
+/// `2 omega r` (thesis 3.4): a grain pressed against a neighbour of its row cannot roll and
+/// rests with the tray; it flies only with the free probability `q`. A free grain rolls its
+/// full excursion. Above the sliding threshold every grain slides and touching does not
+/// hold it back, so the rule is off there.
 pub fn physical(drive: &TrayDrive, slide: &SlideMeasure, cell_length: f64, free: &FreeParams) -> Physical {
+    let rolling_regime = free.rolling && drive.tray_acceleration() <= drive.friction_acceleration();
     Physical {
         threshold: if free.threshold && !free.rolling {
             Threshold::Coulomb {
@@ -182,6 +193,10 @@ pub fn physical(drive: &TrayDrive, slide: &SlideMeasure, cell_length: f64, free:
         }),
         lateral: free.lateral,
         sideways: free.sideways.map_or(Sideways::None, |p| Sideways::Bernoulli { p }),
+        frustration: match free.frustration {
+            Some(p) if rolling_regime => Frustration::Bernoulli { p },
+            _ => Frustration::None,
+        },
     }
 }
 
@@ -235,6 +250,7 @@ mod tests {
             lateral: Lateral::None,
             threshold: true,
             rolling,
+            frustration: Some(0.1),
             flight_cap: true,
         };
         let resolve = |ph: Physical| {
@@ -249,8 +265,17 @@ mod tests {
         let rolls = resolve(physical(&drive, &rolling, 0.75e-3, &free(true)));
         assert!(!rolls.frozen);
         assert_eq!(rolls.cap, 19);
+        assert_eq!(rolls.touching, crate::rng::quantise(0.1), "touching grains are frustrated");
         let slides = resolve(physical(&drive, &rolling, 0.75e-3, &free(false)));
         assert!(slides.frozen, "the sliding reading: nothing moves below mu g");
+        // Above the sliding threshold every grain slides: no frustration.
+        let strong = TrayDrive {
+            frequency: 20.0,
+            amplitude: 0.025,
+            ..drive
+        };
+        let sliding = resolve(physical(&strong, &rolling, 0.75e-3, &free(true)));
+        assert_eq!(sliding.touching, crate::rng::ONE);
         // Rolling resisted (the free sphere stays within half a cell): frozen either way.
         let held = SlideMeasure {
             displacement: 0.3e-3,

@@ -81,6 +81,21 @@ pub enum Knock {
     Bernoulli { p: f64 },
 }
 
+/// Frustrated rolling (thesis 3.4): two touching spheres rolling the same way rub at their
+/// contact (their surfaces there move in opposite directions), so a grain that touches a
+/// grain of its row in x cannot roll freely and rests with the tray; a free grain rolls.
+/// Applies in the rolling regime only ([`crate::mapping::physical`]); contacts in y do not
+/// frustrate (the surfaces of two spheres rolling side by side move together).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case", tag = "kind")]
+pub enum Frustration {
+    /// Touching grains fly like free ones.
+    None,
+    /// A grain that touches an x-neighbour flies only with probability `p` (quantised to
+    /// 1/64), on top of its activation.
+    Bernoulli { p: f64 },
+}
+
 /// Contacts with the neighbouring rows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
@@ -127,6 +142,7 @@ pub struct Physical {
     pub knock: Knock,
     pub lateral: Lateral,
     pub sideways: Sideways,
+    pub frustration: Frustration,
 }
 
 impl Physical {
@@ -139,6 +155,7 @@ impl Physical {
             knock: Knock::None,
             lateral: Lateral::None,
             sideways: Sideways::None,
+            frustration: Frustration::None,
         }
     }
 }
@@ -174,6 +191,9 @@ pub(crate) struct Resolved {
     pub activation: u32,
     pub knock: u32,
     pub sideways: u32,
+    /// Flight probability of a grain touching an x-neighbour ([`crate::rng::ONE`]: no
+    /// frustration).
+    pub touching: u32,
     pub lateral: Lateral,
     pub periodic_y: bool,
 }
@@ -198,6 +218,9 @@ impl Params {
         if let Sideways::Bernoulli { p } = ph.sideways {
             prob("sideways", p)?;
         }
+        if let Frustration::Bernoulli { p } = ph.frustration {
+            prob("frustration", p)?;
+        }
         if let Threshold::Coulomb {
             tray_acceleration: a,
             friction_acceleration: f,
@@ -221,6 +244,7 @@ impl Params {
                 activation: crate::rng::ONE,
                 knock: 0,
                 sideways: 0,
+                touching: crate::rng::ONE,
                 lateral: Lateral::None,
                 periodic_y,
             },
@@ -251,6 +275,10 @@ impl Params {
                     sideways: match p.sideways {
                         Sideways::None => 0,
                         Sideways::Bernoulli { p } => crate::rng::quantise(p),
+                    },
+                    touching: match p.frustration {
+                        Frustration::None => crate::rng::ONE,
+                        Frustration::Bernoulli { p } => crate::rng::quantise(p),
                     },
                     lateral: p.lateral,
                     periodic_y,

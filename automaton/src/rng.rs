@@ -39,6 +39,8 @@ pub enum Stream {
     /// Whether a lateral contact holds against an impact above the floor level (multilayers;
     /// at level 0 the draw comes from [`Stream::Activation`]).
     Hold = 5,
+    /// Whether a grain touching an x-neighbour rolls all the same (frustration).
+    Frustration = 6,
 }
 
 /// SplitMix64 finaliser (Steele, Lea, Flood 2014): a bijective 64-bit mixer.

@@ -5,7 +5,8 @@
 //!
 //! In the flight frame (rows mirrored when grains fly towards -x), with `L` the unchanged
 //! copy and `z = L[i] - 1` the level of the top grain of column `i`:
-//! 1. *Flight.* Each flying top grain (all of them, or those drawn active) moves to the
+//! 1. *Flight.* Each flying top grain (all of them, or those drawn active; a grain touching
+//!    an x-neighbour at its level only if also drawn to roll despite frustration) moves to the
 //!    first column `c > i` whose `L` height exceeds `z` (in its row, or also the neighbouring
 //!    rows with lateral contacts), minus one, or `cap` columns, whichever is nearer
 //!    (thesis 3.1 rule 1, with the flight cap). A flight that ends on a grain of its own
@@ -93,6 +94,12 @@ pub(crate) fn half_step(nx: usize, ny: usize, h: &mut [u8], r: &Resolved, tick: 
                     continue;
                 }
                 let z = hi - 1;
+                // Frustration: a grain touching an x-neighbour at its level rolls only with
+                // the drawn probability.
+                let touching = lf[j * nx + (i + 1) % nx] > z || lf[j * nx + (i + nx - 1) % nx] > z;
+                if r.touching < rng::ONE && touching && !bit(key, Stream::Frustration, i, r.touching) {
+                    continue;
+                }
                 let mut k = 1;
                 while k < nx && !obstacle(j, (i + k) % nx, z) {
                     k += 1;

@@ -22,6 +22,12 @@ pub struct Spec {
     /// grains that cannot roll are those blocked by a neighbour, which the jump rule already
     /// stops. Off: the sliding reading, where nothing moves below the threshold.
     pub rolling: bool,
+    /// Frustrated rolling (with `rolling`, below the sliding threshold): a grain touching a
+    /// grain of its row in x cannot roll (two spheres rolling the same way rub at their
+    /// contact, thesis 3.4) and flies only with probability `frustration_probability`.
+    pub frustration: bool,
+    /// Probability per half period that a touching grain rolls all the same, in [0, 1].
+    pub frustration_probability: f64,
     /// Flights end after the free grain's sliding displacement per half period.
     pub flight_cap: bool,
     /// Stochastic flights: each grain flies in a half period with probability `activation`.
@@ -52,6 +58,8 @@ impl Default for Spec {
             rule: RuleSet::Physical,
             threshold: true,
             rolling: true,
+            frustration: true,
+            frustration_probability: 0.1,
             flight_cap: true,
             stochastic: true,
             activation: 0.8,
@@ -92,6 +100,7 @@ impl Spec {
         for (key, p) in [
             ("automaton.activation", self.activation),
             ("automaton.sideways_probability", self.sideways_probability),
+            ("automaton.frustration_probability", self.frustration_probability),
         ] {
             if !(0.0..=1.0).contains(&p) {
                 return Err(err(key, format!("must lie in [0, 1], got {p}")));
@@ -120,6 +129,7 @@ impl Spec {
             lateral: self.lateral,
             threshold: self.threshold,
             rolling: self.rolling,
+            frustration: self.frustration.then_some(self.frustration_probability),
             flight_cap: self.flight_cap,
         }
     }

@@ -52,9 +52,9 @@ pub(crate) struct BitScratch {
     side_down: Vec<u64>,
     /// [`rng::row_key`] of each row for the current half step.
     keys: Vec<u64>,
-    /// The digit masks of the draws (activation and holding, knock, sideways) and the
+    /// The digit masks of the draws (activation and holding, knock, sideways, frustration) and the
     /// probabilities they were worked out for.
-    splits: Option<((u32, u32, u32), Splits)>,
+    splits: Option<((u32, u32, u32, u32), Splits)>,
 }
 
 /// The digit masks of a half step's draws.
@@ -63,12 +63,13 @@ struct Splits {
     cells: rng::Split,
     knock: rng::Split,
     side: rng::Split,
+    touching: rng::Split,
 }
 
 impl BitScratch {
     /// The digit masks for `r`, worked out when its probabilities change.
     fn splits(&mut self, r: &Resolved) -> Splits {
-        let probs = (r.activation, r.knock, r.sideways);
+        let probs = (r.activation, r.knock, r.sideways, r.touching);
         match self.splits {
             Some((p, s)) if p == probs => s,
             _ => {
@@ -76,6 +77,7 @@ impl BitScratch {
                     cells: rng::Split::new(r.activation, rng::ONE - r.knock),
                     knock: rng::Split::plain(r.knock),
                     side: rng::Split::plain(r.sideways),
+                    touching: rng::Split::plain(r.touching),
                 };
                 self.splits = Some((probs, s));
                 s
@@ -332,7 +334,8 @@ fn flights<const W: usize>(shape: &RowShape, ny: usize, rows: &[u64], r: &Resolv
         keys,
         ..
     } = sc;
-    let with_clusters = r.lateral == Lateral::Clusters;
+    let frustrated = r.touching < rng::ONE;
+    let with_clusters = r.lateral == Lateral::Clusters || frustrated;
     for j in 0..ny {
         let src = load::<W>(rows, j);
         let l = if left { shape.reverse_w(&src) } else { src };
@@ -374,6 +377,15 @@ fn flights<const W: usize>(shape: &RowShape, ny: usize, rows: &[u64], r: &Resolv
         let mut act = [0u64; W];
         for k in 0..W {
             act[k] = l[k] & f1[k] & cells[k];
+        }
+        if frustrated {
+            // Grains touching an x-neighbour fly only if drawn to roll all the same.
+            let touch = load::<W>(clusters, j);
+            let mut rolls = [0u64; W];
+            rng::bernoulli_row(key, Stream::Frustration, &splits.touching, &touch, &mut rolls);
+            for k in 0..W {
+                act[k] &= !(touch[k] & !rolls[k]);
+            }
         }
         let fl = if cap >= nx { [0; W] } else { shape.window_and_w(&f1, cap, ext) };
         let mut stop = [0u64; W];
@@ -419,7 +431,8 @@ fn flights_any(shape: &RowShape, ny: usize, rows: &[u64], r: &Resolved, left: bo
         }
     }
     let cap = r.cap.min(shape.nx);
-    if r.lateral == Lateral::Clusters {
+    let frustrated = r.touching < rng::ONE;
+    if r.lateral == Lateral::Clusters || frustrated {
         cluster_cells(shape, ny, sc);
     }
     for j in 0..ny {
@@ -438,6 +451,14 @@ fn flights_any(shape: &RowShape, ny: usize, rows: &[u64], r: &Resolved, left: bo
         let act = &mut sc.active[..w];
         for ((a, &l), (&f, &c)) in act.iter_mut().zip(lrow).zip(sc.f1.iter().zip(&sc.cells)) {
             *a = l & f & c;
+        }
+        if frustrated {
+            // Grains touching an x-neighbour fly only if drawn to roll all the same.
+            let touch = &sc.clusters[j * w..(j + 1) * w];
+            rng::bernoulli_row(key, Stream::Frustration, &splits.touching, touch, &mut sc.pow);
+            for ((a, &t), &rolls) in act.iter_mut().zip(touch).zip(&sc.pow) {
+                *a &= !(t & !rolls);
+            }
         }
         // FL[a] = F[a+1] & ... & F[a+cap]. A run of nx free cells would include the grain
         // itself: with cap >= nx nobody flies the full cap.
@@ -784,7 +805,7 @@ fn sideways(ny: usize, w: usize, r: &Resolved, up: bool, sc: &mut BitScratch) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::params::{Activation, FlightCap, Knock, Params, Physical, RuleSet, Sideways, Threshold, YBoundary};
+    use crate::params::{Activation, FlightCap, Frustration, Knock, Params, Physical, RuleSet, Sideways, Threshold, YBoundary};
 
     /// The dispatched half step (on x86-64-v3 processors the copy compiled with their bit
     /// instructions) and the plain one give the same lattice.
@@ -817,6 +838,7 @@ mod tests {
                     knock: Knock::Bernoulli { p: 0.2 },
                     lateral: Lateral::Clusters,
                     sideways: Sideways::Bernoulli { p: 0.1 },
+                    frustration: Frustration::Bernoulli { p: 0.3 },
                 },
                 y,
                 seed: 3,

@@ -1,7 +1,7 @@
 //! Invariants of the automaton's rules (issue 5 acceptance tests).
 
 use automaton::{
-    Activation, Automaton, Direction, FlightCap, Knock, Lateral, Lattice, Params, Physical, RuleSet, Sideways, Threshold, YBoundary,
+    Activation, Automaton, Direction, FlightCap, Frustration, Knock, Lateral, Lattice, Params, Physical, RuleSet, Sideways, Threshold, YBoundary,
 };
 use proptest::prelude::*;
 
@@ -18,6 +18,7 @@ fn all_on(cap: usize, y: YBoundary) -> Params {
             knock: Knock::Bernoulli { p: 0.5 },
             lateral: Lateral::Neighbours,
             sideways: Sideways::Bernoulli { p: 0.2 },
+            frustration: Frustration::Bernoulli { p: 0.3 },
         },
         y,
         seed: 11,

@@ -55,7 +55,12 @@ fn contact_step(scene: &Scene) -> Result<f64, SimError> {
         TimeStep::Auto(_) => {
             let floor = scene.run.steps_per_contact.max(MIN_STEPS_PER_CONTACT);
             let choice = step_control::choose(scene, scene.run.restitution_tolerance, floor)?;
-            Ok(choice.dt)
+            // Slow drives give slow impacts and long contacts; the step must still keep the
+            // Haff-Werner viscous branch stable for the smallest grains.
+            Ok(match viscous_friction_ratio(scene, choice.dt)? {
+                Some(ratio) if ratio > VISCOUS_RATIO_AUTO => choice.dt * VISCOUS_RATIO_AUTO / ratio,
+                _ => choice.dt,
+            })
         }
     }
 }
@@ -101,6 +106,10 @@ pub fn setup(scene: &Scene, motion: Motion) -> Result<Setup, SimError> {
         container: Some((Vec3::new(0.0, 0.0, -scene.particles.radius_max), Vec3::new(l, w, h))),
     })
 }
+
+/// The largest [`viscous_friction_ratio`] `dt = "auto"` accepts: below the instability at 2,
+/// with a margin.
+pub const VISCOUS_RATIO_AUTO: f64 = 1.9;
 
 /// Ratio `gamma_t dt / m_t` of the Haff-Werner viscous branch for two of the smallest grains
 /// (`m_t` = [`sphere_tangential_mass`] of the pair), `None` without Haff-Werner friction

@@ -21,10 +21,10 @@ use crate::sweep::{self, Job, Model, Sweep};
 pub struct Args {
     /// Scene file (TOML); every job is this scene with the drive (and seed) changed.
     pub scene: PathBuf,
-    /// Drive frequencies, LO:HI:N (Hz).
+    /// Drive frequencies, LO:HI:N or a list such as 2,3,5,8,13,20 (Hz).
     #[arg(long, default_value = "5:29:7")]
     pub frequency: String,
-    /// Drive amplitudes, LO:HI:N (m).
+    /// Drive amplitudes, LO:HI:N or a list such as 0.002,0.005,0.01 (m).
     #[arg(long, default_value = "0.005:0.04:8")]
     pub amplitude: String,
     /// Which model(s) to run.
