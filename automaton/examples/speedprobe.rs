@@ -5,7 +5,8 @@
 //!
 //! `cargo run --release -p automaton --example speedprobe -- [thesis|quick] [steps]`
 use ::automaton::{
-    Activation, Automaton, Direction, FlightCap, Frustration, Knock, Lateral, Lattice, Params, Physical, RuleSet, Sideways, Threshold, YBoundary,
+    Activation, Automaton, Direction, FlightCap, Frustration, Knock, Lateral, Lattice, Params, Physical, RuleSet, Sideways, Threshold,
+    YBoundary,
 };
 use std::time::Instant;
 fn main() {
@@ -43,6 +44,7 @@ fn main() {
             lateral: Lateral::Clusters,
             sideways: Sideways::Bernoulli { p: 0.1 },
             frustration: Frustration::None,
+            trains: false,
         },
         y: YBoundary::Walls,
         seed: 1,

@@ -40,9 +40,12 @@ impl Automaton {
     /// An automaton on `lattice`, whose first flight goes towards `first`.
     pub fn new(lattice: Lattice, params: Params, first: Direction) -> Result<Self, String> {
         params.validate()?;
+        let resolved = params.resolve();
+        // Trains have no bit-parallel step: they run on bytes.
+        let lattice = if resolved.trains { lattice.into_byte_storage() } else { lattice };
         let (nx, ny) = (lattice.nx, lattice.ny);
         Ok(Self {
-            resolved: params.resolve(),
+            resolved,
             bits: BitScratch::new(lattice.shape, ny),
             bytes: ScalarScratch::new(nx, ny),
             lattice,

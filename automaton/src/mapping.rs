@@ -137,9 +137,11 @@ pub struct FreeParams {
     pub threshold: bool,
     /// Free grains roll below the sliding threshold (see [`physical`]).
     pub rolling: bool,
-    /// With `rolling`, below the sliding threshold: the probability that a grain touching an
-    /// x-neighbour rolls all the same (`None`: touching grains roll like free ones).
+    /// With `rolling`, below the sliding threshold: the probability that one occupied
+    /// neighbouring cell holds a grain (`None`: crowded grains roll like free ones).
     pub frustration: Option<f64>,
+    /// With `rolling`, below the sliding threshold: free grains move together as trains.
+    pub trains: bool,
     /// Apply the flight cap.
     pub flight_cap: bool,
 }
@@ -159,12 +161,16 @@ pub struct FreeParams {
 /// rolling friction or a pinned grain resist rolling: the cap is then 0 and the lattice
 /// frozen. Without `rolling`, the Coulomb threshold freezes everything below `mu g`.
 ///
-/// **Frustration** (`free.frustration`, rolling regime only). Two spheres touching in x and
-/// rolling the same way rub at their contact, whose surfaces move in opposite directions at
-/// `2 omega r` (thesis 3.4): a grain pressed against a neighbour of its row cannot roll and
-/// rests with the tray; it flies only with the free probability `q`. A free grain rolls its
-/// full excursion. Above the sliding threshold every grain slides and touching does not
-/// hold it back, so the rule is off there.
+/// **Frustration** (`free.frustration`, rolling regime only). Two spheres touching and
+/// rolling the same way rub at their contact, whose surfaces move in opposite directions
+/// (thesis 3.4): a crowded grain cannot roll and rests with the tray. In the DEM the rolling
+/// amplitude falls with the local packing (mechanism report, section 3); here each occupied
+/// neighbouring cell holds a grain with probability `h`, so a grain with `n` neighbours flies
+/// with probability `(1 - h)^n`. A free grain rolls its full excursion. Above the sliding
+/// threshold every grain slides and crowding does not hold it back, so the rule is off there.
+///
+/// **Trains** (`free.trains`, rolling regime only). Free grains all roll with the floor, at
+/// 5/7 of its velocity, so they do not stop one another: only resting grains stop a flight.
 pub fn physical(drive: &TrayDrive, slide: &SlideMeasure, cell_length: f64, free: &FreeParams) -> Physical {
     let rolling_regime = free.rolling && drive.tray_acceleration() <= drive.friction_acceleration();
     Physical {
@@ -197,6 +203,7 @@ pub fn physical(drive: &TrayDrive, slide: &SlideMeasure, cell_length: f64, free:
             Some(p) if rolling_regime => Frustration::Bernoulli { p },
             _ => Frustration::None,
         },
+        trains: free.trains && rolling_regime,
     }
 }
 
@@ -251,6 +258,7 @@ mod tests {
             threshold: true,
             rolling,
             frustration: Some(0.1),
+            trains: true,
             flight_cap: true,
         };
         let resolve = |ph: Physical| {
@@ -265,7 +273,7 @@ mod tests {
         let rolls = resolve(physical(&drive, &rolling, 0.75e-3, &free(true)));
         assert!(!rolls.frozen);
         assert_eq!(rolls.cap, 19);
-        assert_eq!(rolls.touching, crate::rng::quantise(0.1), "touching grains are frustrated");
+        assert_eq!(rolls.hold, crate::rng::quantise(0.1), "crowded grains are frustrated");
         let slides = resolve(physical(&drive, &rolling, 0.75e-3, &free(false)));
         assert!(slides.frozen, "the sliding reading: nothing moves below mu g");
         // Above the sliding threshold every grain slides: no frustration.
@@ -275,7 +283,8 @@ mod tests {
             ..drive
         };
         let sliding = resolve(physical(&strong, &rolling, 0.75e-3, &free(true)));
-        assert_eq!(sliding.touching, crate::rng::ONE);
+        assert_eq!(sliding.hold, 0);
+        assert!(rolls.trains && !sliding.trains);
         // Rolling resisted (the free sphere stays within half a cell): frozen either way.
         let held = SlideMeasure {
             displacement: 0.3e-3,

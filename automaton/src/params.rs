@@ -82,16 +82,18 @@ pub enum Knock {
 }
 
 /// Frustrated rolling (thesis 3.4): two touching spheres rolling the same way rub at their
-/// contact (their surfaces there move in opposite directions), so a grain that touches a
-/// grain of its row in x cannot roll freely and rests with the tray; a free grain rolls.
-/// Applies in the rolling regime only ([`crate::mapping::physical`]); contacts in y do not
-/// frustrate (the surfaces of two spheres rolling side by side move together).
+/// contact (their surfaces there move in opposite directions), so a crowded grain cannot roll
+/// freely and rests with the tray, while a free grain rolls. In the DEM the rolling amplitude
+/// falls steadily with the local packing (`docs/results/mechanism/report.md`, section 3); here
+/// each occupied cell of the 8 around a grain (at its level) holds it independently, so a
+/// grain with `n` neighbours flies with probability `(1 - p)^n`. Applies in the rolling
+/// regime only ([`crate::mapping::physical`]).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case", tag = "kind")]
 pub enum Frustration {
     /// Touching grains fly like free ones.
     None,
-    /// A grain that touches an x-neighbour flies only with probability `p` (quantised to
+    /// Each occupied neighbouring cell holds the grain with probability `p` (quantised to
     /// 1/64), on top of its activation.
     Bernoulli { p: f64 },
 }
@@ -143,6 +145,11 @@ pub struct Physical {
     pub lateral: Lateral,
     pub sideways: Sideways,
     pub frustration: Frustration,
+    /// Trains: flying grains do not stop each other. Free grains roll with the floor and so
+    /// move together (in the DEM they all follow 5/7 of the floor); only resting grains stop
+    /// a flight, and a train queues up behind one. Off: every grain of the unchanged copy L
+    /// is an obstacle (thesis 3.1 rule 1). Runs on the byte lattice ([`crate::scalar`]).
+    pub trains: bool,
 }
 
 impl Physical {
@@ -156,6 +163,7 @@ impl Physical {
             lateral: Lateral::None,
             sideways: Sideways::None,
             frustration: Frustration::None,
+            trains: false,
         }
     }
 }
@@ -191,9 +199,10 @@ pub(crate) struct Resolved {
     pub activation: u32,
     pub knock: u32,
     pub sideways: u32,
-    /// Flight probability of a grain touching an x-neighbour ([`crate::rng::ONE`]: no
-    /// frustration).
-    pub touching: u32,
+    /// Probability that one occupied neighbouring cell holds a grain (0: no frustration).
+    pub hold: u32,
+    /// Flying grains of the own row are no obstacles ([`Physical::trains`]).
+    pub trains: bool,
     pub lateral: Lateral,
     pub periodic_y: bool,
 }
@@ -244,7 +253,8 @@ impl Params {
                 activation: crate::rng::ONE,
                 knock: 0,
                 sideways: 0,
-                touching: crate::rng::ONE,
+                hold: 0,
+                trains: false,
                 lateral: Lateral::None,
                 periodic_y,
             },
@@ -276,8 +286,9 @@ impl Params {
                         Sideways::None => 0,
                         Sideways::Bernoulli { p } => crate::rng::quantise(p),
                     },
-                    touching: match p.frustration {
-                        Frustration::None => crate::rng::ONE,
+                    trains: p.trains,
+                    hold: match p.frustration {
+                        Frustration::None => 0,
                         Frustration::Bernoulli { p } => crate::rng::quantise(p),
                     },
                     lateral: p.lateral,

@@ -39,8 +39,15 @@ pub enum Stream {
     /// Whether a lateral contact holds against an impact above the floor level (multilayers;
     /// at level 0 the draw comes from [`Stream::Activation`]).
     Hold = 5,
-    /// Whether a grain touching an x-neighbour rolls all the same (frustration).
+    /// Whether an occupied neighbouring cell holds a grain (frustration), one key per
+    /// neighbour ([`neighbour_key`]).
     Frustration = 6,
+}
+
+/// The row key of the draws about neighbour `d` (0..8) of each cell, from the row's key.
+#[inline]
+pub fn neighbour_key(row_key: u64, d: usize) -> u64 {
+    mix(row_key ^ (d as u64 + 1))
 }
 
 /// SplitMix64 finaliser (Steele, Lea, Flood 2014): a bijective 64-bit mixer.

@@ -5,12 +5,15 @@
 //!
 //! In the flight frame (rows mirrored when grains fly towards -x), with `L` the unchanged
 //! copy and `z = L[i] - 1` the level of the top grain of column `i`:
-//! 1. *Flight.* Each flying top grain (all of them, or those drawn active; a grain touching
-//!    an x-neighbour at its level only if also drawn to roll despite frustration) moves to the
+//! 1. *Flight.* Each flying top grain (all of them, or those drawn active, and with
+//!    frustration not held by any of its occupied neighbouring cells) moves to the
 //!    first column `c > i` whose `L` height exceeds `z` (in its row, or also the neighbouring
 //!    rows with lateral contacts), minus one, or `cap` columns, whichever is nearer
 //!    (thesis 3.1 rule 1, with the flight cap). A flight that ends on a grain of its own
 //!    row after moving at least one cell without reaching the cap is an impact.
+//!    With trains (the rolling regime), the flying grains of the own row are no obstacles:
+//!    they move together, and a grain with `m` flying grains between it and the first
+//!    obstacle lands `m` cells short of it (a train queues up behind a resting grain).
 //! 2. *Knock-through.* For an impact drawn to transmit, the momentum runs through the line
 //!    of touching grains that was hit (in the hit grain's row, own row first, in the new
 //!    state, from the hit grain on), and the far grain of the line flies on, up to the cap,
@@ -26,11 +29,16 @@ use crate::params::{Lateral, Resolved, Tick};
 use crate::rng::{self, Stream};
 use crate::step::neighbour_row;
 
+/// The 8 neighbouring cells `(row offset, column offset)` of a grain in the flight frame,
+/// in the order of their frustration draws ([`rng::neighbour_key`]).
+pub(crate) const NEIGHBOURS: [(i32, isize); 8] = [(0, 1), (0, -1), (-1, 0), (-1, 1), (-1, -1), (1, 0), (1, 1), (1, -1)];
+
 /// Buffers of the byte step.
 pub(crate) struct ScalarScratch {
     lf: Vec<u8>,
     new: Vec<u8>,
     snap: Vec<u8>,
+    flies: Vec<bool>,
     impacts: Vec<(usize, usize, u8)>,
 }
 
@@ -40,6 +48,7 @@ impl ScalarScratch {
             lf: vec![0; nx * ny],
             new: vec![0; nx * ny],
             snap: vec![0; nx * ny],
+            flies: vec![false; nx * ny],
             impacts: Vec::with_capacity(nx * ny),
         }
     }
@@ -66,8 +75,41 @@ pub(crate) fn half_step(nx: usize, ny: usize, h: &mut [u8], r: &Resolved, tick: 
     let clustered = |jn: usize, c: usize, z: u8| -> bool {
         lf[jn * nx + c] > z && (lf[jn * nx + (c + 1) % nx] > z || lf[jn * nx + (c + nx - 1) % nx] > z)
     };
+    // The top grains that fly this half step (filled below, row by row).
+    let flies = &mut sc.flies;
+    flies.iter_mut().for_each(|f| *f = false);
+    if !r.frozen {
+        for j in 0..ny {
+            let key = rng::row_key(seed, t, j);
+            for i in 0..nx {
+                let hi = lf[j * nx + i];
+                if hi == 0 || !bit(key, Stream::Activation, i, r.activation) {
+                    continue;
+                }
+                let z = hi - 1;
+                // Frustration: each occupied neighbouring cell at the grain's level holds it
+                // with the drawn probability.
+                let held = r.hold > 0
+                    && NEIGHBOURS.iter().enumerate().any(|(d, &(dj, di))| {
+                        let row = if dj == 0 {
+                            Some(j)
+                        } else {
+                            neighbour_row(j, dj > 0, ny, r.periodic_y)
+                        };
+                        row.is_some_and(|jn| {
+                            lf[jn * nx + (i + nx).wrapping_add_signed(di) % nx] > z
+                                && bit(rng::neighbour_key(key, d), Stream::Frustration, i, r.hold)
+                        })
+                    });
+                flies[j * nx + i] = !held;
+            }
+        }
+    }
+    let flies = &sc.flies;
+    // With trains, a top grain of the own row at level z that flies too is no obstacle.
+    let flyer = |j: usize, c: usize, z: u8| r.trains && lf[j * nx + c] == z + 1 && flies[j * nx + c];
     let obstacle = |j: usize, c: usize, z: u8| -> bool {
-        if lf[j * nx + c] > z {
+        if lf[j * nx + c] > z && !flyer(j, c, z) {
             return true;
         }
         let side = [false, true].iter().any(|&up| {
@@ -89,29 +131,28 @@ pub(crate) fn half_step(nx: usize, ny: usize, h: &mut [u8], r: &Resolved, tick: 
         for j in 0..ny {
             let key = rng::row_key(seed, t, j);
             for i in 0..nx {
-                let hi = lf[j * nx + i];
-                if hi == 0 || !bit(key, Stream::Activation, i, r.activation) {
+                if !flies[j * nx + i] {
                     continue;
                 }
-                let z = hi - 1;
-                // Frustration: a grain touching an x-neighbour at its level rolls only with
-                // the drawn probability.
-                let touching = lf[j * nx + (i + 1) % nx] > z || lf[j * nx + (i + nx - 1) % nx] > z;
-                if r.touching < rng::ONE && touching && !bit(key, Stream::Frustration, i, r.touching) {
-                    continue;
-                }
-                let mut k = 1;
+                let z = lf[j * nx + i] - 1;
+                // k: the first obstacle ahead; m: the flying grains of a train before it,
+                // which land ahead of this one. Past `cap` free cells the flight is capped.
+                let (mut k, mut m) = (1, 0);
                 while k < nx && !obstacle(j, (i + k) % nx, z) {
+                    m += flyer(j, (i + k) % nx, z) as usize;
+                    if k - m > cap {
+                        break;
+                    }
                     k += 1;
                 }
                 let gap = k - 1;
-                let dist = gap.min(cap);
+                let dist = if k == nx { gap.min(cap) } else { (gap - m).min(cap) };
                 if dist > 0 {
                     sc.new[j * nx + i] -= 1;
                     sc.new[j * nx + (i + dist) % nx] += 1;
                 }
                 let p = (i + k) % nx;
-                if gap < cap && gap >= 1 && r.knock > 0 && bit(key, Stream::Knock, p, r.knock) {
+                if m == 0 && gap < cap && gap >= 1 && r.knock > 0 && bit(key, Stream::Knock, p, r.knock) {
                     sc.impacts.push((j, p, z));
                 }
             }

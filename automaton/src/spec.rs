@@ -22,12 +22,16 @@ pub struct Spec {
     /// grains that cannot roll are those blocked by a neighbour, which the jump rule already
     /// stops. Off: the sliding reading, where nothing moves below the threshold.
     pub rolling: bool,
-    /// Frustrated rolling (with `rolling`, below the sliding threshold): a grain touching a
-    /// grain of its row in x cannot roll (two spheres rolling the same way rub at their
-    /// contact, thesis 3.4) and flies only with probability `frustration_probability`.
+    /// Frustrated rolling (with `rolling`, below the sliding threshold): crowded grains cannot
+    /// roll (two spheres rolling the same way rub at their contact, thesis 3.4); each occupied
+    /// neighbouring cell holds a grain with probability `frustration_probability`, so a grain
+    /// with `n` neighbours flies with probability `(1 - p)^n`.
     pub frustration: bool,
-    /// Probability per half period that a touching grain rolls all the same, in [0, 1].
+    /// Probability per half period that one occupied neighbouring cell holds a grain, in [0, 1].
     pub frustration_probability: f64,
+    /// Trains (with `rolling`, below the sliding threshold): free grains roll together with
+    /// the floor, so flying grains do not stop one another; only resting grains do.
+    pub trains: bool,
     /// Flights end after the free grain's sliding displacement per half period.
     pub flight_cap: bool,
     /// Stochastic flights: each grain flies in a half period with probability `activation`.
@@ -60,6 +64,7 @@ impl Default for Spec {
             rolling: true,
             frustration: true,
             frustration_probability: 0.1,
+            trains: true,
             flight_cap: true,
             stochastic: true,
             activation: 0.8,
@@ -130,6 +135,7 @@ impl Spec {
             threshold: self.threshold,
             rolling: self.rolling,
             frustration: self.frustration.then_some(self.frustration_probability),
+            trains: self.trains,
             flight_cap: self.flight_cap,
         }
     }

@@ -63,13 +63,13 @@ struct Splits {
     cells: rng::Split,
     knock: rng::Split,
     side: rng::Split,
-    touching: rng::Split,
+    hold: rng::Split,
 }
 
 impl BitScratch {
     /// The digit masks for `r`, worked out when its probabilities change.
     fn splits(&mut self, r: &Resolved) -> Splits {
-        let probs = (r.activation, r.knock, r.sideways, r.touching);
+        let probs = (r.activation, r.knock, r.sideways, r.hold);
         match self.splits {
             Some((p, s)) if p == probs => s,
             _ => {
@@ -77,7 +77,7 @@ impl BitScratch {
                     cells: rng::Split::new(r.activation, rng::ONE - r.knock),
                     knock: rng::Split::plain(r.knock),
                     side: rng::Split::plain(r.sideways),
-                    touching: rng::Split::plain(r.touching),
+                    hold: rng::Split::plain(r.hold),
                 };
                 self.splits = Some((probs, s));
                 s
@@ -189,6 +189,46 @@ struct RowCells<'a> {
     o: &'a mut [u64],
     side_cells: &'a mut [u64],
     cells: &'a mut [u64],
+}
+
+/// The occupied neighbouring cells of every cell of row `j` of the flight-frame copy `lf`, in
+/// the order of [`crate::scalar::NEIGHBOURS`]: bit `a` of mask `d` is the cell at that offset
+/// from `a` (no cell beyond a wall).
+#[inline(always)]
+fn neighbour_masks<const W: usize>(shape: &RowShape, lf: &[u64], j: usize, ny: usize, periodic: bool) -> [[u64; W]; 8] {
+    let row = |dj: i32| -> [u64; W] {
+        match dj {
+            0 => load::<W>(lf, j),
+            _ => neighbour_row(j, dj > 0, ny, periodic).map_or([0; W], |jn| load::<W>(lf, jn)),
+        }
+    };
+    let (own, below, above) = (row(0), row(-1), row(1));
+    [
+        shape.rot_down1(&own),
+        shape.rot_up1(&own),
+        below,
+        shape.rot_down1(&below),
+        shape.rot_up1(&below),
+        above,
+        shape.rot_down1(&above),
+        shape.rot_up1(&above),
+    ]
+}
+
+/// Mask `d` of [`neighbour_masks`] for rows of any width, into `out`.
+fn neighbour_mask(shape: &RowShape, lf: &[u64], j: usize, ny: usize, periodic: bool, d: usize, out: &mut [u64]) {
+    let w = shape.words;
+    let (dj, di) = crate::scalar::NEIGHBOURS[d];
+    let Some(jn) = (if dj == 0 { Some(j) } else { neighbour_row(j, dj > 0, ny, periodic) }) else {
+        out.iter_mut().for_each(|x| *x = 0);
+        return;
+    };
+    let src = &lf[jn * w..(jn + 1) * w];
+    match di {
+        1 => shape.rotate_down(src, 1, out),
+        -1 => shape.rotate_up(src, 1, out),
+        _ => out.copy_from_slice(src),
+    }
 }
 
 /// `clusters = L & (rot_up(L, 1) | rot_down(L, 1))` row by row.
@@ -334,8 +374,7 @@ fn flights<const W: usize>(shape: &RowShape, ny: usize, rows: &[u64], r: &Resolv
         keys,
         ..
     } = sc;
-    let frustrated = r.touching < rng::ONE;
-    let with_clusters = r.lateral == Lateral::Clusters || frustrated;
+    let with_clusters = r.lateral == Lateral::Clusters;
     for j in 0..ny {
         let src = load::<W>(rows, j);
         let l = if left { shape.reverse_w(&src) } else { src };
@@ -378,13 +417,22 @@ fn flights<const W: usize>(shape: &RowShape, ny: usize, rows: &[u64], r: &Resolv
         for k in 0..W {
             act[k] = l[k] & f1[k] & cells[k];
         }
-        if frustrated {
-            // Grains touching an x-neighbour fly only if drawn to roll all the same.
-            let touch = load::<W>(clusters, j);
-            let mut rolls = [0u64; W];
-            rng::bernoulli_row(key, Stream::Frustration, &splits.touching, &touch, &mut rolls);
+        if r.hold > 0 {
+            let masks = neighbour_masks::<W>(shape, lf, j, ny, r.periodic_y);
+            let mut held = [0u64; W];
+            for (d, m) in masks.iter().enumerate() {
+                let mut cand = [0u64; W];
+                for k in 0..W {
+                    cand[k] = m[k] & act[k];
+                }
+                let mut h = [0u64; W];
+                rng::bernoulli_row(rng::neighbour_key(key, d), Stream::Frustration, &splits.hold, &cand, &mut h);
+                for k in 0..W {
+                    held[k] |= cand[k] & h[k];
+                }
+            }
             for k in 0..W {
-                act[k] &= !(touch[k] & !rolls[k]);
+                act[k] &= !held[k];
             }
         }
         let fl = if cap >= nx { [0; W] } else { shape.window_and_w(&f1, cap, ext) };
@@ -431,8 +479,7 @@ fn flights_any(shape: &RowShape, ny: usize, rows: &[u64], r: &Resolved, left: bo
         }
     }
     let cap = r.cap.min(shape.nx);
-    let frustrated = r.touching < rng::ONE;
-    if r.lateral == Lateral::Clusters || frustrated {
+    if r.lateral == Lateral::Clusters {
         cluster_cells(shape, ny, sc);
     }
     for j in 0..ny {
@@ -452,12 +499,17 @@ fn flights_any(shape: &RowShape, ny: usize, rows: &[u64], r: &Resolved, left: bo
         for ((a, &l), (&f, &c)) in act.iter_mut().zip(lrow).zip(sc.f1.iter().zip(&sc.cells)) {
             *a = l & f & c;
         }
-        if frustrated {
-            // Grains touching an x-neighbour fly only if drawn to roll all the same.
-            let touch = &sc.clusters[j * w..(j + 1) * w];
-            rng::bernoulli_row(key, Stream::Frustration, &splits.touching, touch, &mut sc.pow);
-            for ((a, &t), &rolls) in act.iter_mut().zip(touch).zip(&sc.pow) {
-                *a &= !(t & !rolls);
+        if r.hold > 0 {
+            // Each occupied neighbouring cell holds the grain with the drawn probability.
+            for d in 0..8 {
+                neighbour_mask(shape, &sc.lf, j, ny, r.periodic_y, d, &mut sc.s2);
+                for (x, &a) in sc.s2.iter_mut().zip(act.iter()) {
+                    *x &= a;
+                }
+                rng::bernoulli_row(rng::neighbour_key(key, d), Stream::Frustration, &splits.hold, &sc.s2, &mut sc.pow);
+                for ((a, &c), &h) in act.iter_mut().zip(&sc.s2).zip(&sc.pow) {
+                    *a &= !(c & h);
+                }
             }
         }
         // FL[a] = F[a+1] & ... & F[a+cap]. A run of nx free cells would include the grain
@@ -839,6 +891,7 @@ mod tests {
                     lateral: Lateral::Clusters,
                     sideways: Sideways::Bernoulli { p: 0.1 },
                     frustration: Frustration::Bernoulli { p: 0.3 },
+                    trains: false,
                 },
                 y,
                 seed: 3,

@@ -1,7 +1,8 @@
 //! Invariants of the automaton's rules (issue 5 acceptance tests).
 
 use automaton::{
-    Activation, Automaton, Direction, FlightCap, Frustration, Knock, Lateral, Lattice, Params, Physical, RuleSet, Sideways, Threshold, YBoundary,
+    Activation, Automaton, Direction, FlightCap, Frustration, Knock, Lateral, Lattice, Params, Physical, RuleSet, Sideways, Threshold,
+    YBoundary,
 };
 use proptest::prelude::*;
 
@@ -19,6 +20,7 @@ fn all_on(cap: usize, y: YBoundary) -> Params {
             lateral: Lateral::Neighbours,
             sideways: Sideways::Bernoulli { p: 0.2 },
             frustration: Frustration::Bernoulli { p: 0.3 },
+            trains: false,
         },
         y,
         seed: 11,
@@ -294,6 +296,7 @@ fn flight_and_holding_probabilities_match_their_nominal_values() {
     params.physical.lateral = Lateral::None;
     params.physical.sideways = Sideways::None;
     params.physical.activation = Activation::Bernoulli { p: 0.6 };
+    params.physical.frustration = Frustration::None;
     let h: Vec<u8> = (0..nx).map(|i| (i % 4 == 0) as u8).collect();
     let (frac, n) = moved_fraction(nx, 1, &h, params, 20);
     assert_binomial(frac, n, 38.0 / 64.0, "activation 0.6 (38/64)");
@@ -313,4 +316,40 @@ fn flight_and_holding_probabilities_match_their_nominal_values() {
     params.physical.activation = Activation::Bernoulli { p: 0.6 };
     let (frac, n) = moved_fraction(nx, 2, &h, params, 20);
     assert_binomial(frac, n, 38.0 / 64.0 * 19.0 / 64.0, "flies and contact gives");
+}
+
+/// Frustration: each occupied neighbouring cell holds a grain with probability h, so a grain
+/// with n neighbours flies with probability (1 - h)^n, independently of its activation.
+#[test]
+fn crowded_grains_fly_with_probability_one_minus_h_to_the_n() {
+    let nx = 4000;
+    let mut params = all_on(1, YBoundary::Walls);
+    params.physical.knock = Knock::None;
+    params.physical.lateral = Lateral::None;
+    params.physical.sideways = Sideways::None;
+    params.physical.activation = Activation::None;
+    params.physical.frustration = Frustration::Bernoulli { p: 0.3 }; // 19/64
+    let free: f64 = 45.0 / 64.0;
+    // Row 0: a grain every 4th cell; row 1: n = 1 (the cell beside it) or n = 2 (that one
+    // and the one behind it), never ahead of it, so nothing blocks its one-cell flight.
+    for (n, offsets) in [(1, vec![0usize]), (2, vec![0, nx - 1])] {
+        let mut h = vec![0u8; 2 * nx];
+        for i in (0..nx).step_by(4) {
+            h[i] = 1;
+            for &o in &offsets {
+                h[nx + (i + o) % nx] = 1;
+            }
+        }
+        let (frac, trials) = moved_fraction(nx, 2, &h, params, 20);
+        assert_binomial(frac, trials, free.powi(n), &format!("{n} neighbour(s)"));
+        params.physical.activation = Activation::Bernoulli { p: 0.6 };
+        let (frac, trials) = moved_fraction(nx, 2, &h, params, 20);
+        assert_binomial(
+            frac,
+            trials,
+            38.0 / 64.0 * free.powi(n),
+            &format!("{n} neighbour(s), activation 0.6"),
+        );
+        params.physical.activation = Activation::None;
+    }
 }

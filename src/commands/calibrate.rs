@@ -1,5 +1,7 @@
-//! `stripes automaton --calibrate RUN_DIR...`: fits the automaton's free parameters
-//! (activation probability, knock-through speed scale) to DEM runs.
+//! `stripes automaton --calibrate RUN_DIR...`: fits the automaton's free parameters to DEM
+//! runs: the activation probability and the knock-through speed scale where grains slide,
+//! the activation probability and the frustration probability where they roll (below the
+//! sliding threshold, where knock-through has no force: its probability there is below 1e-3).
 //!
 //! For every DEM run directory (its `scene.toml` and `snapshots.bin`) the automaton runs on
 //! the same scene and the same sample for each point of a fixed grid; both are measured with
@@ -27,6 +29,66 @@ use crate::output::{CliError, RunDir};
 pub const ACTIVATIONS: [f64; 5] = [0.2, 0.35, 0.5, 0.65, 0.8];
 /// Knock-through speed scales of the grid (m/s).
 pub const KNOCK_SPEEDS: [f64; 5] = [0.5, 1.0, 2.0, 4.0, 8.0];
+/// Activation probabilities of the grid in the rolling regime.
+pub const ROLLING_ACTIVATIONS: [f64; 3] = [0.6, 0.8, 1.0];
+/// Frustration probabilities (per occupied neighbouring cell) of the grid in the rolling regime.
+pub const HOLDS: [f64; 6] = [0.1, 0.15, 0.2, 0.25, 0.3, 0.4];
+
+/// The second free parameter of the grid.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Axis {
+    /// `automaton.knock_speed` (m/s), where grains slide.
+    KnockSpeed,
+    /// `automaton.frustration_probability`, where grains roll.
+    FrustrationProbability,
+}
+
+impl Axis {
+    fn key(self) -> &'static str {
+        match self {
+            Axis::KnockSpeed => "knock_speed",
+            Axis::FrustrationProbability => "frustration_probability",
+        }
+    }
+
+    fn set(self, scene: &mut crate::scene_file::SceneFile, v: f64) {
+        match self {
+            Axis::KnockSpeed => {
+                scene.automaton.knock = true;
+                scene.automaton.knock_speed = v;
+            }
+            Axis::FrustrationProbability => {
+                scene.automaton.frustration = true;
+                scene.automaton.frustration_probability = v;
+            }
+        }
+    }
+}
+
+/// The grid of a calibration on `scene`: activation probabilities, and the second axis with
+/// its values. Rolling regime: the scene's automaton, as mapped, frustrates crowded grains.
+pub fn grid(scene: &crate::scene_file::SceneFile, slide: &automaton::mapping::SlideMeasure) -> (Vec<f64>, Axis, Vec<f64>) {
+    let mut probe = scene.clone();
+    probe.automaton.frustration = true;
+    let params = cellular::params(&probe, probe.automaton.rule, slide, &probe.automaton.free_params());
+    if params.physical.frustration != automaton::Frustration::None {
+        (ROLLING_ACTIVATIONS.to_vec(), Axis::FrustrationProbability, HOLDS.to_vec())
+    } else {
+        (ACTIVATIONS.to_vec(), Axis::KnockSpeed, KNOCK_SPEEDS.to_vec())
+    }
+}
+
+/// The time from which a sequence of stripe counts stays at 1 or more (`None` if the last
+/// frame has none).
+pub fn onset(m: &Metrics) -> Option<f64> {
+    let last_zero = m.counts.iter().rposition(|&c| c == 0);
+    match last_zero {
+        None => m.times.first().copied(),
+        Some(k) if k + 1 < m.counts.len() => Some(m.times[k + 1]),
+        Some(_) => None,
+    }
+}
 
 /// Stripe counts per frame and the density contrast of a sequence of frames.
 pub struct Metrics {
@@ -115,10 +177,6 @@ pub struct Calibration {
 
 pub fn run(args: &Calibration) -> Result<String, CliError> {
     let out = args.out.clone().unwrap_or_else(|| "out/automaton-calibration".into());
-    let mut dir = RunDir::create(
-        &out,
-        &json!({ "args": args, "activations": ACTIVATIONS, "knock_speeds": KNOCK_SPEEDS }),
-    )?;
     struct RunData {
         scene: crate::scene_file::SceneFile,
         dem: Metrics,
@@ -131,13 +189,19 @@ pub fn run(args: &Calibration) -> Result<String, CliError> {
         let setup = setup(&scene, &args.samples, args.quiet)?;
         runs.push(RunData { scene, dem, setup });
     }
-    let total = (ACTIVATIONS.len() * KNOCK_SPEEDS.len() * runs.len()) as u64;
+    let first = runs.first().ok_or("--calibrate needs at least one DEM run directory")?;
+    let (activations, axis, values) = grid(&first.scene, &first.setup.slide_dem);
+    let mut dir = RunDir::create(
+        &out,
+        &json!({ "args": args, "activations": activations, "axis": axis.key(), "values": values }),
+    )?;
+    let total = (activations.len() * values.len() * runs.len()) as u64;
     let b = crate::output::progress_bar(total, args.quiet, "calibrate");
     let mut rows = Vec::new();
     let mut best: Option<(f64, f64, f64, Vec<serde_json::Value>)> = None;
     let mut best_series: Vec<Vec<(f64, f64)>> = Vec::new();
-    for &p in &ACTIVATIONS {
-        for &v in &KNOCK_SPEEDS {
+    for &p in &activations {
+        for &v in &values {
             let mut loss = 0.0;
             let mut per_run = Vec::new();
             let mut series = Vec::new();
@@ -145,8 +209,7 @@ pub fn run(args: &Calibration) -> Result<String, CliError> {
                 let mut scene = r.scene.clone();
                 scene.automaton.stochastic = true;
                 scene.automaton.activation = p;
-                scene.automaton.knock = true;
-                scene.automaton.knock_speed = v;
+                axis.set(&mut scene, v);
                 let params = cellular::params(&scene, scene.automaton.rule, &r.setup.slide_dem, &scene.automaton.free_params());
                 let n = r.setup.lattice.mass() as usize;
                 let radii = vec![r.setup.radius; n];
@@ -162,9 +225,12 @@ pub fn run(args: &Calibration) -> Result<String, CliError> {
                 let m = meter.finish();
                 let (ec, ek) = errors(&r.dem, &m);
                 loss += ec * ec + ek * ek;
+                let spacing = |m: &Metrics| m.counts.last().filter(|&&c| c > 0).map(|&c| scene.dem.tray.length / c as f64);
                 per_run.push(
                     json!({ "e_count": ec, "e_contrast": ek, "contrast_automaton": m.contrast, "contrast_dem": r.dem.contrast,
-                                      "count_final_automaton": m.counts.last(), "count_final_dem": r.dem.counts.last() }),
+                    "count_final_automaton": m.counts.last(), "count_final_dem": r.dem.counts.last(),
+                    "onset_automaton_s": onset(&m), "onset_dem_s": onset(&r.dem),
+                    "spacing_automaton_m": spacing(&m), "spacing_dem_m": spacing(&r.dem) }),
                 );
                 series.push(m.times.iter().zip(&m.counts).map(|(t, c)| (*t, *c as f64)).collect());
                 b.inc(1);
@@ -178,7 +244,7 @@ pub fn run(args: &Calibration) -> Result<String, CliError> {
     }
     b.finish_and_clear();
     let (p, v, loss, per_run) = best.ok_or("empty calibration grid")?;
-    dir.csv("calibration.csv", &["activation", "knock_speed", "loss"], &rows)?;
+    dir.csv("calibration.csv", &["activation", axis.key(), "loss"], &rows)?;
     for (k, (r, s)) in runs.iter().zip(&best_series).enumerate() {
         let plot = LinePlot::new(&format!("Calibration, run {}: stripe count", k + 1), "t (s)", "stripes")
             .series(
@@ -186,15 +252,19 @@ pub fn run(args: &Calibration) -> Result<String, CliError> {
                 r.dem.times.iter().zip(&r.dem.counts).map(|(t, c)| (*t, *c as f64)).collect(),
                 Mark::LinePoints,
             )
-            .series(&format!("automaton (activation {p}, v_knock {v} m/s)"), s.clone(), Mark::LinePoints);
+            .series(
+                &format!("automaton (activation {p}, {} {v})", axis.key()),
+                s.clone(),
+                Mark::LinePoints,
+            );
         dir.plot(&format!("calibration_run{}", k + 1), &plot)?;
     }
     dir.finish(json!({
         "runs": args.runs.iter().map(|p| p.display().to_string()).collect::<Vec<_>>(),
         "grid_points": rows.len(),
-        "best": { "activation": p, "knock_speed": v, "loss": loss },
+        "best": { "activation": p, axis.key(): v, "loss": loss },
         "fit": per_run,
-        "use": format!("--set automaton.activation={p} --set automaton.knock_speed={v}"),
+        "use": format!("--set automaton.activation={p} --set automaton.{}={v}", axis.key()),
     }))
 }
 
@@ -210,4 +280,47 @@ pub fn dem_metrics(path: &Path) -> Result<Metrics, CliError> {
         meter.frame(f.time, &x, &header.radii);
     }
     Ok(meter.finish())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use automaton::mapping::SlideMeasure;
+
+    fn scene(name: &str) -> crate::scene_file::SceneFile {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes").join(name);
+        crate::scene_file::load(&path, &[]).unwrap()
+    }
+
+    /// The stripe scene rolls (Gamma 0.36): the grid fits the frustration probability; the
+    /// quick scene slides (20 Hz, 25 mm): the knock-through speed scale.
+    #[test]
+    fn the_grid_fits_what_the_regime_leaves_free() {
+        let slide = SlideMeasure {
+            displacement: 0.0143,
+            peak_speed: 0.13,
+        };
+        let (acts, axis, values) = grid(&scene("stripes.toml"), &slide);
+        assert_eq!(
+            (acts, axis, values),
+            (ROLLING_ACTIVATIONS.to_vec(), Axis::FrustrationProbability, HOLDS.to_vec())
+        );
+        let (acts, axis, values) = grid(&scene("quick.toml"), &slide);
+        assert_eq!(
+            (acts, axis, values),
+            (ACTIVATIONS.to_vec(), Axis::KnockSpeed, KNOCK_SPEEDS.to_vec())
+        );
+    }
+
+    #[test]
+    fn onset_is_where_the_count_stays_above_zero() {
+        let m = |counts: Vec<usize>| Metrics {
+            times: (0..counts.len()).map(|k| k as f64).collect(),
+            counts,
+            contrast: 0.0,
+        };
+        assert_eq!(onset(&m(vec![0, 1, 0, 2, 3, 3])), Some(3.0));
+        assert_eq!(onset(&m(vec![1, 2])), Some(0.0));
+        assert_eq!(onset(&m(vec![1, 2, 0])), None);
+    }
 }
