@@ -353,3 +353,57 @@ fn crowded_grains_fly_with_probability_one_minus_h_to_the_n() {
         params.physical.activation = Activation::None;
     }
 }
+
+/// One half step towards +x of a single row with `trains`, every grain flying unless held.
+fn one_row_step(nx: usize, grains: &[usize], cap: usize, hold: Option<f64>, trains: bool) -> Vec<usize> {
+    let mut h = vec![0u8; nx];
+    for &i in grains {
+        h[i] = 1;
+    }
+    let mut params = all_on(cap, YBoundary::Walls);
+    params.physical.activation = Activation::None;
+    params.physical.knock = Knock::None;
+    params.physical.lateral = Lateral::None;
+    params.physical.sideways = Sideways::None;
+    params.physical.frustration = hold.map_or(Frustration::None, |p| Frustration::Bernoulli { p });
+    params.physical.trains = trains;
+    let mut a = Automaton::new(Lattice::from_heights(nx, 1, &h).unwrap(), params, Direction::Plus).unwrap();
+    a.half_step();
+    let after = a.lattice().heights();
+    (0..nx).filter(|&i| after[i] == 1).collect()
+}
+
+/// Trains: rolling grains do not stop one another. A touching line of free grains moves as
+/// a whole by the cap, where the thesis' rule moves only its front grain; grains queue up
+/// behind a resting (held) pair instead of stopping at the first grain of the copy L.
+#[test]
+fn trains_move_together_and_queue_behind_resting_grains() {
+    assert_eq!(one_row_step(40, &[3, 4, 5], 5, None, true), vec![8, 9, 10]);
+    assert_eq!(one_row_step(40, &[3, 4, 5], 5, None, false), vec![3, 4, 10]);
+    // The pair at 20, 21 is held (every neighbour holds, p = 1); 5 and 7 are free.
+    assert_eq!(one_row_step(40, &[5, 7, 20, 21], 30, Some(1.0), true), vec![18, 19, 20, 21]);
+    assert_eq!(one_row_step(40, &[5, 7, 20, 21], 30, Some(1.0), false), vec![6, 19, 20, 21]);
+    // With trains the whole ring of free grains turns rigidly.
+    assert_eq!(one_row_step(10, &[0, 1, 2, 5], 4, None, true), vec![4, 5, 6, 9]);
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(24))]
+    /// Trains and frustration conserve mass exactly, on any layer.
+    #[test]
+    fn trains_conserve_mass(seed in 0u64..1000, fill in 0.1f64..0.9, cap in 1usize..40, periodic in any::<bool>()) {
+        let (nx, ny) = (97, 7);
+        let h = random_heights(nx, ny, fill, 1, seed);
+        let lattice = Lattice::from_heights(nx, ny, &h).unwrap();
+        let mass = lattice.mass();
+        let mut p = all_on(cap, if periodic { YBoundary::Periodic } else { YBoundary::Walls });
+        p.seed = seed;
+        p.physical.trains = true;
+        let mut a = Automaton::new(lattice, p, Direction::Plus).unwrap();
+        for _ in 0..20 {
+            a.half_step();
+            prop_assert!(a.lattice().heights().iter().all(|&x| x <= 1));
+        }
+        prop_assert_eq!(a.lattice().mass(), mass);
+    }
+}
