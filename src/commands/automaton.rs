@@ -95,6 +95,7 @@ pub(crate) fn analysis_keys(line: &str) -> Result<serde_json::Map<String, Value>
         "mobility",
         "contrast",
         "stationary_stripe_count",
+        "stripe_mean_width_final_m",
         "msd_plateau_before",
         "msd_plateau_after",
         "warnings",

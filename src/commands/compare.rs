@@ -82,6 +82,71 @@ fn fmt_opt(v: Option<&Value>) -> String {
 const THESIS: &str = "stripes after 3-5 s and 4 +- 0.875 stripes after 20 s (N = 4000 on 0.4 m x 0.02 m, 20 Hz, 25 mm); \
 MSD per period plateaus at a1 ~ 1.6e-4 m^2 before and a2 ~ 8.9e-4 m^2 after the onset (frictionless ~ 4e-5 m^2)";
 
+/// What the thesis' experiment shows at its gentle drive (thesis 2.2.6: 3 Hz, 10 mm, Gamma 0.36,
+/// the rolling regime of `scenes/stripes.toml`).
+const EXPERIMENT: &str = "irregular clusters after about 1 s, merging into distinct stripes within 3-5 s \
+(clear at 10 s), static relative to the plate while the grains between them move like a gas (mustard seeds, 3 Hz, 10 mm)";
+
+/// Mean stripe spacing (m): the tray length over the final stripe count.
+fn spacing(keys: &serde_json::Map<String, Value>, length: f64) -> Option<f64> {
+    let n = keys.get("stripe_count_final").and_then(Value::as_f64)?;
+    (n > 0.0).then(|| length / n)
+}
+
+/// Where the two models agree and where they differ, in words, with the likely reason.
+/// `rolling`: the drive is below the sliding threshold (grains roll, the automaton's
+/// frustration and trains act).
+fn agreement(dem: &serde_json::Map<String, Value>, auto: &serde_json::Map<String, Value>, length: f64, rolling: bool) -> Vec<String> {
+    let num = |m: &serde_json::Map<String, Value>, k: &str| m.get(k).and_then(Value::as_f64);
+    let phase = |m: &serde_json::Map<String, Value>| m.get("phase").and_then(Value::as_str).unwrap_or("unknown").to_string();
+    let mut out = Vec::new();
+    let (pd, pa) = (phase(dem), phase(auto));
+    out.push(if pd == pa {
+        format!("Both models give phase `{pd}`.")
+    } else {
+        format!("The phases differ: DEM `{pd}`, automaton `{pa}`.")
+    });
+    if let (Some(cd), Some(ca)) = (num(dem, "stripe_count_final"), num(auto, "stripe_count_final")) {
+        let d = (cd - ca).abs();
+        out.push(if d <= 1.0 {
+            format!("Stripe counts agree within one stripe (DEM {cd}, automaton {ca}).")
+        } else {
+            format!("Stripe counts differ by {d} (DEM {cd}, automaton {ca}).")
+        });
+    }
+    if let (Some(sd), Some(sa)) = (spacing(dem, length), spacing(auto, length)) {
+        let r = sa / sd;
+        out.push(format!(
+            "Mean spacing: DEM {:.1} mm, automaton {:.1} mm (ratio {r:.2}){}.",
+            sd * 1e3,
+            sa * 1e3,
+            if (0.85..=1.15).contains(&r) { ", within 15 %" } else { "" }
+        ));
+    }
+    match (num(dem, "stripe_onset_s"), num(auto, "stripe_onset_s")) {
+        (Some(od), Some(oa)) => {
+            let r = oa / od;
+            let mut line = format!("Onset: DEM {od:.2} s, automaton {oa:.2} s (ratio {r:.2}).");
+            if r > 1.5 && rolling {
+                line.push_str(
+                    " The automaton's bands grow more slowly: a crowded grain is held at random, with probability \
+                     1 - (1 - h)^n per half period, while in the DEM every grain's rolling amplitude falls with the local packing at once, \
+                     so dense patches follow the floor from the first periods (docs/results/mechanism/report.md, section 3).",
+                );
+            } else if r < 1.0 / 1.5 {
+                line.push_str(" The automaton's bands form sooner than the DEM's.");
+            }
+            out.push(line);
+        }
+        (od, oa) => out.push(format!(
+            "Onset: DEM {}, automaton {}.",
+            od.map_or("none".into(), |v| format!("{v:.2} s")),
+            oa.map_or("none".into(), |v| format!("{v:.2} s"))
+        )),
+    }
+    out
+}
+
 /// One sentence on what a model's layer did, from its analysis summary keys.
 fn interpret(model: &str, keys: &serde_json::Map<String, Value>) -> String {
     let num = |k: &str| keys.get(k).and_then(Value::as_f64);
@@ -294,7 +359,17 @@ pub fn run(args: Args) -> Result<String, CliError> {
     md.push_str("## What happened\n\n");
     md.push_str(&format!("- {}\n", interpret("DEM", &dem_keys)));
     md.push_str(&format!("- {}\n", interpret("automaton", &auto_keys)));
-    md.push_str(&format!("- The thesis (reference tray, sec 3.5.4): {THESIS}\n\n"));
+    md.push_str(&format!("- The thesis' simulation (reference tray, sec 3.5.4): {THESIS}\n"));
+    md.push_str(&format!("- The thesis' experiment (sec 2.2.6): {EXPERIMENT}\n\n"));
+    let rolling = auto_summary
+        .get("mapping")
+        .and_then(|m| Some(m.get("tray_acceleration")?.as_f64()? <= m.get("friction_acceleration")?.as_f64()?))
+        .unwrap_or(false);
+    md.push_str("## Where they agree and where they differ\n\n");
+    for line in agreement(&dem_keys, &auto_keys, scene.tray.length, rolling) {
+        md.push_str(&format!("- {line}\n"));
+    }
+    md.push('\n');
     let warnings = run_warnings(&[
         ("DEM run", &dem_summary),
         ("DEM analysis", &Value::Object(dem_keys.clone())),
@@ -308,10 +383,13 @@ pub fn run(args: Args) -> Result<String, CliError> {
         }
         md.push('\n');
     }
-    md.push_str("| model | stripes at the end | onset (s) | phase | wall time (s) | simulated s per wall s | speed |\n|---|---|---|---|---|---|---|\n");
+    let mm = |v: Option<f64>| v.map_or("-".to_string(), |x| format!("{:.1}", x * 1e3));
+    md.push_str("| model | stripes at the end | mean spacing (mm) | mean width (mm) | onset (s) | phase | wall time (s) | simulated s per wall s | speed |\n|---|---|---|---|---|---|---|---|---|\n");
     md.push_str(&format!(
-        "| DEM | {} | {} | {} | {} | {} | {} particle-steps/s |\n",
+        "| DEM | {} | {} | {} | {} | {} | {} | {} | {} particle-steps/s |\n",
         fmt_opt(dem_keys.get("stripe_count_final")),
+        mm(spacing(&dem_keys, scene.tray.length)),
+        mm(dem_keys.get("stripe_mean_width_final_m").and_then(Value::as_f64)),
         fmt_opt(dem_keys.get("stripe_onset_s")),
         fmt_opt(dem_keys.get("phase")),
         dem_wall.map_or("unknown".into(), |w| format!("{w:.1}")),
@@ -319,15 +397,18 @@ pub fn run(args: Args) -> Result<String, CliError> {
         dem_speed.map_or("unknown".into(), |s| format!("{s:.3e}")),
     ));
     md.push_str(&format!(
-        "| automaton | {} | {} | {} | {} | {} | {} cell updates/s |\n",
+        "| automaton | {} | {} | {} | {} | {} | {} | {} | {} cell updates/s |\n",
         fmt_opt(auto_keys.get("stripe_count_final")),
+        mm(spacing(&auto_keys, scene.tray.length)),
+        mm(auto_keys.get("stripe_mean_width_final_m").and_then(Value::as_f64)),
         fmt_opt(auto_keys.get("stripe_onset_s")),
         fmt_opt(auto_keys.get("phase")),
         auto_wall.map_or("unknown".into(), |w| format!("{w:.2}")),
         speed(auto_wall),
         auto_speed.map_or("unknown".into(), |s| format!("{s:.3e}")),
     ));
-    md.push_str("| thesis (N = 4000, 0.4 m, 20 Hz, 25 mm, 20 s) | 4 +- 0.875 | 3 to 5 | stripes | | | |\n\n");
+    md.push_str("| thesis' simulation (N = 4000, 0.4 m, 20 Hz, 25 mm, 20 s) | 4 +- 0.875 | 100 | | 3 to 5 | stripes | | | |\n");
+    md.push_str("| thesis' experiment (3 Hz, 10 mm) | | | | 1 (clusters) to 3-5 (stripes) | stripes | | | |\n\n");
     md.push_str(
         "Wall times cover each model's time loop with its snapshot output; the shared sample preparation and the automaton's \
          single-sphere mapping run are not included. The DEM speed is particle-steps per second of its stepping; the automaton's \
@@ -393,6 +474,24 @@ mod tests {
         assert!(THESIS.contains("4 +- 0.875"));
         let w = run_warnings(&[("DEM run", &json!({"warnings": ["dt coarse"]})), ("automaton run", &json!({}))]);
         assert_eq!(w, vec!["DEM run: dt coarse".to_string()]);
+    }
+
+    /// Issue 17, point 4: the report says where the models agree and differ, with spacing.
+    #[test]
+    fn agreement_names_phase_count_spacing_and_onset() {
+        let dem = keys(json!({"phase": "stripes", "stripe_count_final": 3, "stripe_onset_s": 1.5}));
+        let auto = keys(json!({"phase": "stripes", "stripe_count_final": 2, "stripe_onset_s": 4.5}));
+        let lines = agreement(&dem, &auto, 0.1, true);
+        assert_eq!(lines[0], "Both models give phase `stripes`.");
+        assert!(lines[1].contains("agree within one stripe"), "{lines:?}");
+        assert!(lines[2].contains("DEM 33.3 mm, automaton 50.0 mm (ratio 1.50)"), "{lines:?}");
+        assert!(lines[3].contains("ratio 3.00") && lines[3].contains("more slowly"), "{lines:?}");
+        let gas = keys(json!({"phase": "gas", "stripe_count_final": 0, "stripe_onset_s": null}));
+        let lines = agreement(&dem, &gas, 0.1, false);
+        assert!(lines[0].contains("differ") && lines[1].contains("differ by 3"), "{lines:?}");
+        assert_eq!(lines.len(), 3, "no spacing without stripes: {lines:?}");
+        assert!(lines[2].contains("automaton none"), "{lines:?}");
+        assert_eq!(spacing(&gas, 0.1), None);
     }
 
     /// Issue 19, point 14: the two density maps carry the model's name and share one scale.
