@@ -26,7 +26,7 @@ use crate::density::{add_area_fraction_cells, mean_area_fraction};
 use crate::msd::{flat_plateau, half_msd, median_spacing, MsdPoint, Plateau, PLATEAU_FLATNESS};
 use crate::segregation::{RadiusBins, RadiusDistribution, RadiusTally};
 use crate::snapshot::{Frame, Header};
-use crate::stripes::{detect, onset, Coarsening, Stripe, StripeParams};
+use crate::stripes::{detect, dominant_spacing, onset, Coarsening, Stripe, StripeParams};
 use crate::tracer::Tracer;
 
 /// Settings of the analysis. [`Options::default`] gives the documented defaults.
@@ -123,6 +123,10 @@ pub struct Report {
     pub coarsening: Vec<Coarsening>,
     /// Stripe onset (s), see [`crate::stripes::onset`].
     pub onset: Option<f64>,
+    /// Stripe spacing (m): the dominant wavelength of the time-averaged profile over the
+    /// persistence window ([`crate::stripes::dominant_spacing`]), when it holds stationary
+    /// stripes.
+    pub spacing: Option<f64>,
     /// Contrast of each frame (see [`crate::classify`]).
     pub contrast_series: Vec<f64>,
     /// `D` per period (eq 3.30).
@@ -167,6 +171,8 @@ pub struct Summary {
     pub stripe_count_final: usize,
     pub stripe_onset_s: Option<f64>,
     pub stripe_mean_width_final_m: Option<f64>,
+    /// Dominant wavelength of the stationary bands (m), see [`Report::spacing`].
+    pub stripe_spacing_m: Option<f64>,
     /// None when the frames cannot tell it; `phase_note` says why.
     pub phase: Option<Phase>,
     pub phase_note: Option<String>,
@@ -205,6 +211,7 @@ impl Report {
             stripe_count_final: last.map_or(0, |c| c.count),
             stripe_onset_s: self.onset,
             stripe_mean_width_final_m: last.and_then(|c| finite(c.mean_width)),
+            stripe_spacing_m: self.spacing,
             phase: self.phase().ok(),
             phase_note: self.phase().err(),
             contrast: self.classification.contrast,
@@ -466,8 +473,10 @@ impl Analyzer {
         } else {
             (2.0 * tail_d.iter().sum::<f64>() / tail_d.len() as f64).sqrt() / self.mean_d
         };
-        let stationary = persistence_window(&self.times, tail_from, self.period, self.opts.classify.persistence_periods)
-            .map_or(0, |from| detect(&time_average(&self.map[from..]), l, &self.params).len());
+        let averaged = persistence_window(&self.times, tail_from, self.period, self.opts.classify.persistence_periods)
+            .map(|from| time_average(&self.map[from..]));
+        let stationary = averaged.as_ref().map_or(0, |p| detect(p, l, &self.params).len());
+        let spacing = averaged.as_ref().filter(|_| stationary > 0).and_then(|p| dominant_spacing(p, l));
         let classification = classify(
             Evidence {
                 contrast,
@@ -534,6 +543,7 @@ impl Analyzer {
             stripes: self.stripes,
             coarsening,
             onset: onset_s,
+            spacing,
             contrast_series: self.contrast,
             msd: self.msd,
             plateau_before,

@@ -120,6 +120,33 @@ impl Stripe {
     }
 }
 
+/// The spacing of a periodic profile `phi` over `length` (m): `length / k` for the Fourier
+/// mode `k >= 1` of largest power of the mean-subtracted profile (up to the Nyquist mode).
+/// Robust where counting stripes is not: a weak band between two strong ones changes the
+/// count by one but hardly the dominant mode. `None` for a flat profile.
+pub fn dominant_spacing(phi: &[f64], length: f64) -> Option<f64> {
+    let n = phi.len();
+    if n < 2 {
+        return None;
+    }
+    let mean = phi.iter().sum::<f64>() / n as f64;
+    let mut best = (0, 0.0);
+    for k in 1..=n / 2 {
+        let w = 2.0 * std::f64::consts::PI * k as f64 / n as f64;
+        let (mut re, mut im) = (0.0, 0.0);
+        for (i, p) in phi.iter().enumerate() {
+            let (s, c) = (w * i as f64).sin_cos();
+            re += (p - mean) * c;
+            im += (p - mean) * s;
+        }
+        let power = re * re + im * im;
+        if power > best.1 * (1.0 + 1e-12) {
+            best = (k, power);
+        }
+    }
+    (best.0 > 0 && best.1 > 1e-24).then(|| length / best.0 as f64)
+}
+
 /// Stripe onset time: the first frame time from which every later frame holds at least
 /// one stripe (`None` when the last frame holds none). `times` and `counts` are per frame.
 pub fn onset(times: &[f64], counts: &[usize]) -> Option<f64> {
@@ -166,6 +193,29 @@ impl Coarsening {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn dominant_spacing_finds_the_band_period() {
+        let n = 200;
+        let l = 0.2;
+        // Four bands, plus a weak fifth one and a slope: still 50 mm.
+        let phi: Vec<f64> = (0..n)
+            .map(|i| {
+                let x = i as f64 / n as f64;
+                0.4 + 0.3 * (((x * 4.0).fract() - 0.5).abs() < 0.05) as u8 as f64
+                    + 0.05 * (((x - 0.125) * 1.0).abs() < 0.01) as u8 as f64
+                    + 0.01 * x
+            })
+            .collect();
+        let s = dominant_spacing(&phi, l).unwrap();
+        assert!((s - 0.05).abs() < 1e-12, "{s}");
+        assert_eq!(dominant_spacing(&vec![0.3; n], l), None);
+        // A pure cosine of 7 periods.
+        let phi: Vec<f64> = (0..n)
+            .map(|i| (2.0 * std::f64::consts::PI * 7.0 * i as f64 / n as f64).cos())
+            .collect();
+        assert!((dominant_spacing(&phi, l).unwrap() - l / 7.0).abs() < 1e-12);
+    }
 
     #[test]
     fn onset_is_the_start_of_the_final_run_of_stripes() {

@@ -96,6 +96,7 @@ pub(crate) fn analysis_keys(line: &str) -> Result<serde_json::Map<String, Value>
         "contrast",
         "stationary_stripe_count",
         "stripe_mean_width_final_m",
+        "stripe_spacing_m",
         "msd_plateau_before",
         "msd_plateau_after",
         "warnings",

@@ -87,8 +87,12 @@ MSD per period plateaus at a1 ~ 1.6e-4 m^2 before and a2 ~ 8.9e-4 m^2 after the 
 const EXPERIMENT: &str = "irregular clusters after about 1 s, merging into distinct stripes within 3-5 s \
 (clear at 10 s), static relative to the plate while the grains between them move like a gas (mustard seeds, 3 Hz, 10 mm)";
 
-/// Mean stripe spacing (m): the tray length over the final stripe count.
+/// Stripe spacing (m): the analysis' dominant wavelength of the stationary bands
+/// (`stripe_spacing_m`), else the tray length over the final stripe count.
 fn spacing(keys: &serde_json::Map<String, Value>, length: f64) -> Option<f64> {
+    if let Some(s) = keys.get("stripe_spacing_m").and_then(Value::as_f64) {
+        return Some(s);
+    }
     let n = keys.get("stripe_count_final").and_then(Value::as_f64)?;
     (n > 0.0).then(|| length / n)
 }
@@ -117,7 +121,7 @@ fn agreement(dem: &serde_json::Map<String, Value>, auto: &serde_json::Map<String
     if let (Some(sd), Some(sa)) = (spacing(dem, length), spacing(auto, length)) {
         let r = sa / sd;
         out.push(format!(
-            "Mean spacing: DEM {:.1} mm, automaton {:.1} mm (ratio {r:.2}){}.",
+            "Spacing: DEM {:.1} mm, automaton {:.1} mm (ratio {r:.2}){}.",
             sd * 1e3,
             sa * 1e3,
             if (0.85..=1.15).contains(&r) { ", within 15 %" } else { "" }
@@ -384,7 +388,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
         md.push('\n');
     }
     let mm = |v: Option<f64>| v.map_or("-".to_string(), |x| format!("{:.1}", x * 1e3));
-    md.push_str("| model | stripes at the end | mean spacing (mm) | mean width (mm) | onset (s) | phase | wall time (s) | simulated s per wall s | speed |\n|---|---|---|---|---|---|---|---|---|\n");
+    md.push_str("| model | stripes at the end | spacing (mm) | mean width (mm) | onset (s) | phase | wall time (s) | simulated s per wall s | speed |\n|---|---|---|---|---|---|---|---|---|\n");
     md.push_str(&format!(
         "| DEM | {} | {} | {} | {} | {} | {} | {} | {} particle-steps/s |\n",
         fmt_opt(dem_keys.get("stripe_count_final")),
@@ -484,7 +488,10 @@ mod tests {
         let lines = agreement(&dem, &auto, 0.1, true);
         assert_eq!(lines[0], "Both models give phase `stripes`.");
         assert!(lines[1].contains("agree within one stripe"), "{lines:?}");
-        assert!(lines[2].contains("DEM 33.3 mm, automaton 50.0 mm (ratio 1.50)"), "{lines:?}");
+        assert!(
+            lines[2].contains("Spacing: DEM 33.3 mm, automaton 50.0 mm (ratio 1.50)"),
+            "{lines:?}"
+        );
         assert!(lines[3].contains("ratio 3.00") && lines[3].contains("more slowly"), "{lines:?}");
         let gas = keys(json!({"phase": "gas", "stripe_count_final": 0, "stripe_onset_s": null}));
         let lines = agreement(&dem, &gas, 0.1, false);
@@ -492,6 +499,8 @@ mod tests {
         assert_eq!(lines.len(), 3, "no spacing without stripes: {lines:?}");
         assert!(lines[2].contains("automaton none"), "{lines:?}");
         assert_eq!(spacing(&gas, 0.1), None);
+        let fourier = keys(json!({"stripe_count_final": 3, "stripe_spacing_m": 0.04}));
+        assert_eq!(spacing(&fourier, 0.1), Some(0.04), "the dominant wavelength first");
     }
 
     /// Issue 19, point 14: the two density maps carry the model's name and share one scale.
