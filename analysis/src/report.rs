@@ -124,8 +124,8 @@ pub struct Report {
     /// Stripe onset (s), see [`crate::stripes::onset`].
     pub onset: Option<f64>,
     /// Stripe spacing (m): the dominant wavelength of the time-averaged profile over the
-    /// persistence window ([`crate::stripes::dominant_spacing`]), when it holds stationary
-    /// stripes.
+    /// persistence window ([`crate::stripes::dominant_spacing`], at most twice as many bands
+    /// as it holds stationary stripes), when it holds any.
     pub spacing: Option<f64>,
     /// Contrast of each frame (see [`crate::classify`]).
     pub contrast_series: Vec<f64>,
@@ -476,7 +476,10 @@ impl Analyzer {
         let averaged = persistence_window(&self.times, tail_from, self.period, self.opts.classify.persistence_periods)
             .map(|from| time_average(&self.map[from..]));
         let stationary = averaged.as_ref().map_or(0, |p| detect(p, l, &self.params).len());
-        let spacing = averaged.as_ref().filter(|_| stationary > 0).and_then(|p| dominant_spacing(p, l));
+        let spacing = averaged
+            .as_ref()
+            .filter(|_| stationary > 0)
+            .and_then(|p| dominant_spacing(p, l, 2 * stationary));
         let classification = classify(
             Evidence {
                 contrast,

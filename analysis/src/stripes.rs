@@ -121,17 +121,19 @@ impl Stripe {
 }
 
 /// The spacing of a periodic profile `phi` over `length` (m): `length / k` for the Fourier
-/// mode `k >= 1` of largest power of the mean-subtracted profile (up to the Nyquist mode).
-/// Robust where counting stripes is not: a weak band between two strong ones changes the
-/// count by one but hardly the dominant mode. `None` for a flat profile.
-pub fn dominant_spacing(phi: &[f64], length: f64) -> Option<f64> {
+/// mode `1 <= k <= max_modes` (and up to the Nyquist mode) of largest power of the
+/// mean-subtracted profile. Robust where counting stripes is not: a weak band between two
+/// strong ones changes the count by one but hardly the dominant mode. The bound keeps a single
+/// narrow band (whose spectrum is flat) from being read as a fine pattern: callers pass twice
+/// the number of bands found. `None` for a flat profile.
+pub fn dominant_spacing(phi: &[f64], length: f64, max_modes: usize) -> Option<f64> {
     let n = phi.len();
     if n < 2 {
         return None;
     }
     let mean = phi.iter().sum::<f64>() / n as f64;
     let mut best = (0, 0.0);
-    for k in 1..=n / 2 {
+    for k in 1..=(n / 2).min(max_modes) {
         let w = 2.0 * std::f64::consts::PI * k as f64 / n as f64;
         let (mut re, mut im) = (0.0, 0.0);
         for (i, p) in phi.iter().enumerate() {
@@ -207,14 +209,17 @@ mod tests {
                     + 0.01 * x
             })
             .collect();
-        let s = dominant_spacing(&phi, l).unwrap();
+        let s = dominant_spacing(&phi, l, 10).unwrap();
         assert!((s - 0.05).abs() < 1e-12, "{s}");
-        assert_eq!(dominant_spacing(&vec![0.3; n], l), None);
+        assert_eq!(dominant_spacing(&vec![0.3; n], l, 10), None);
+        // One narrow band: its spectrum is flat; bounded to two modes, one band per tray.
+        let one: Vec<f64> = (0..n).map(|i| if (90..96).contains(&i) { 0.8 } else { 0.4 }).collect();
+        assert!((dominant_spacing(&one, l, 2).unwrap() - l).abs() < 1e-12);
         // A pure cosine of 7 periods.
         let phi: Vec<f64> = (0..n)
             .map(|i| (2.0 * std::f64::consts::PI * 7.0 * i as f64 / n as f64).cos())
             .collect();
-        assert!((dominant_spacing(&phi, l).unwrap() - l / 7.0).abs() < 1e-12);
+        assert!((dominant_spacing(&phi, l, 100).unwrap() - l / 7.0).abs() < 1e-12);
     }
 
     #[test]
