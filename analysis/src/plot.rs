@@ -340,6 +340,20 @@ pub struct Heatmap {
     /// Values at the two ends of the colour scale [None: the values' own range]; give two
     /// maps the same range to compare them.
     pub scale: Option<(f64, f64)>,
+    /// Names of the columns and of the rows, for axes whose cells are not evenly spaced
+    /// values (a sweep over a list): `x_range` and `y_range` are then the cell indices
+    /// `(-0.5, n - 0.5)`, and each cell's centre is labelled with its name.
+    pub cell_names: Option<(Vec<String>, Vec<String>)>,
+}
+
+/// Tick label at `v` on an axis of named cells: the name of the cell centred there.
+fn cell_tick(v: f64, names: &[String]) -> String {
+    let k = v.round();
+    if (v - k).abs() < 1e-6 && k >= 0.0 && (k as usize) < names.len() {
+        names[k as usize].clone()
+    } else {
+        String::new()
+    }
 }
 
 /// Viridis colour map sampled at 9 points (matplotlib's values), linearly interpolated.
@@ -431,6 +445,9 @@ impl Heatmap {
             .y_label_area_size(85)
             .build_cartesian_2d(x0..x1, y0..y1)
             .map_err(perr)?;
+        let names = self.cell_names.as_ref();
+        let x_fmt = |v: &f64| names.map_or_else(|| tick(*v), |(x, _)| cell_tick(*v, x));
+        let y_fmt = |v: &f64| names.map_or_else(|| tick(*v), |(_, y)| cell_tick(*v, y));
         chart
             .configure_mesh()
             .disable_mesh()
@@ -438,8 +455,10 @@ impl Heatmap {
             .y_desc(&self.y_label)
             .label_style((FAMILY, 16))
             .axis_desc_style((FAMILY, 19))
-            .x_label_formatter(&|v| tick(*v))
-            .y_label_formatter(&|v| tick(*v))
+            .x_labels(names.map_or(10, |(x, _)| 4 * x.len() + 1))
+            .y_labels(names.map_or(10, |(_, y)| 4 * y.len() + 1))
+            .x_label_formatter(&x_fmt)
+            .y_label_formatter(&y_fmt)
             .draw()
             .map_err(perr)?;
         let (dx, dy) = ((x1 - x0) / cols as f64, (y1 - y0) / rows as f64);
@@ -609,6 +628,7 @@ mod tests {
             values: vec![vec![0.2, 0.2, f64::NAN], vec![0.2, 0.2, 0.2]],
             colorbar_label: "phi".into(),
             scale: None,
+            cell_names: None,
         };
         let files = h.save(&d.join("h")).unwrap();
         assert!(files.iter().all(|f| std::fs::metadata(f).unwrap().len() > 1000));

@@ -248,6 +248,7 @@ fn draw(dir: &mut RunDir, r: &Report) -> Result<(), CliError> {
         values: r.density_map.clone(),
         colorbar_label: "area fraction".into(),
         scale: None,
+        cell_names: None,
     };
     let files = heat
         .save(&dir.path.join("density_map"))

@@ -222,6 +222,7 @@ fn density_map(model: &str, analysis: &Path, length: f64) -> Result<Heatmap, Cli
         values: rows.into_iter().map(|r| r[1..].to_vec()).collect(),
         colorbar_label: "area fraction".into(),
         scale: None,
+        cell_names: None,
     })
 }
 

@@ -106,6 +106,16 @@ pub fn run(args: Args) -> Result<String, CliError> {
 
 const PHASES: [&str; 3] = ["nothing", "stripes", "gas"];
 
+/// Whether the values are evenly spaced (to 1e-9 of their span), so a linear axis shows them.
+fn evenly_spaced(v: &[f64]) -> bool {
+    if v.len() < 3 {
+        return true;
+    }
+    let step = (v[v.len() - 1] - v[0]) / (v.len() - 1) as f64;
+    v.windows(2)
+        .all(|w| ((w[1] - w[0]) - step).abs() <= 1e-9 * (v[v.len() - 1] - v[0]).abs())
+}
+
 fn phase_index(p: &str) -> usize {
     PHASES.iter().position(|q| *q == p).unwrap_or(usize::MAX)
 }
@@ -213,6 +223,19 @@ pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
                 values,
                 colorbar_label: metric.into(),
                 scale: None,
+                cell_names: None,
+            };
+            // Uneven axes (a list): cells in index space, named by their values.
+            let heat = if evenly_spaced(&freqs) && evenly_spaced(&amps) {
+                heat
+            } else {
+                let name = |v: &f64| format!("{v}");
+                Heatmap {
+                    x_range: (-0.5, freqs.len() as f64 - 0.5),
+                    y_range: (-0.5, amps.len() as f64 - 0.5),
+                    cell_names: Some((freqs.iter().map(name).collect(), amps.iter().map(name).collect())),
+                    ..heat
+                }
             };
             let files = heat
                 .save_with_classes(&root.join(format!("phase_{model}_{metric}")), &classes, &names)
@@ -315,5 +338,18 @@ fn step(v: &[f64]) -> f64 {
         (v[v.len() - 1] - v[0]) / (v.len() - 1) as f64
     } else {
         v.first().map_or(1.0, |x| x.abs().max(1e-3) * 0.2)
+    }
+}
+
+#[cfg(test)]
+mod axis_tests {
+    use super::evenly_spaced;
+
+    #[test]
+    fn lists_of_uneven_values_are_told_from_ranges() {
+        assert!(evenly_spaced(&[5.0, 13.0, 21.0, 29.0]));
+        assert!(evenly_spaced(&[0.005, 0.01, 0.015]));
+        assert!(!evenly_spaced(&[3.0, 4.0, 5.0, 7.0, 10.0, 20.0]));
+        assert!(evenly_spaced(&[3.0]));
     }
 }
