@@ -405,7 +405,7 @@ fn run_job(root: &Path, sweep: &Sweep, job: &Job, samples: &Path) -> Result<(), 
     );
     // The DEM's sample: prepared by this job, or loaded (or waited for) from the cache.
     result.insert(
-        "sample".into(),
+        "sample_preparation".into(),
         json!({ "prepare_s": model.get("prepare_s"), "cached": model.get("sample_cached") }),
     );
     analysis::io::write_json_atomic(&dir.join("result.json"), &Value::Object(result))?;
@@ -427,7 +427,8 @@ pub struct Preparation {
 pub fn preparation(root: &Path, sweep: &Sweep) -> Result<Preparation, CliError> {
     let mut p = Preparation::default();
     for (_, v) in results(root, sweep)? {
-        let (Some(s), Some(c)) = (v["sample"]["prepare_s"].as_f64(), v["sample"]["cached"].as_bool()) else {
+        let prep = &v["sample_preparation"];
+        let (Some(s), Some(c)) = (prep["prepare_s"].as_f64(), prep["cached"].as_bool()) else {
             continue;
         };
         if c {

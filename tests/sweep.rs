@@ -198,9 +198,19 @@ fn the_automaton_ablation_switches_off_each_ingredient_and_reports_every_configu
             "knock-off",
             "lateral-none",
             "sideways-off",
+            "rolling-off",
+            "frustration-off",
+            "trains-off",
             "strict"
         ]
     );
+    // Each job's result keeps its labels: the sample index is not overwritten by what
+    // preparing the sample cost.
+    for e in std::fs::read_dir(dir.join("jobs")).unwrap() {
+        let r: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(e.unwrap().path().join("result.json")).unwrap()).unwrap();
+        assert!(r["sample"].is_u64(), "{r}");
+        assert!(r["sample_preparation"].is_object(), "{r}");
+    }
     let report = std::fs::read_to_string(dir.join("report.md")).unwrap();
     assert!(report.contains("| strict | 1 |") && report.contains("Scale: scene"), "{report}");
     let _ = std::fs::remove_dir_all(dir);

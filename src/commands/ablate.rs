@@ -132,6 +132,9 @@ pub fn automaton_configs(packing: &[usize]) -> Vec<Config> {
         c("knock-off", &["automaton.knock=false"]),
         c("lateral-none", &["automaton.lateral=none"]),
         c("sideways-off", &["automaton.sideways=false"]),
+        c("rolling-off", &["automaton.rolling=false"]),
+        c("frustration-off", &["automaton.frustration=false"]),
+        c("trains-off", &["automaton.trains=false"]),
         c("strict", &["automaton.rule=strict"]),
     ];
     v.extend(dem_configs(packing).into_iter().filter(|c| c.name.starts_with("N=")));
