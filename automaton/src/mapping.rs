@@ -122,6 +122,11 @@ pub fn coulomb_slide(drive: &TrayDrive, periods: usize, steps_per_period: usize)
     slide_from_samples(drive.frequency, &ts, &xs, &us).expect("at least two periods")
 }
 
+/// A free sphere on the shaken floor rolls without slip while `A (2 pi nu)^2 <= (7/2) mu g`
+/// (its rolling needs only 2/7 of the floor's acceleration from friction; thesis 3.3.1):
+/// up to there frustration and trains act.
+pub const ROLLING_LIMIT: f64 = 3.5;
+
 /// The parameters left free by the mapping, fitted by calibration.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct FreeParams {
@@ -137,10 +142,10 @@ pub struct FreeParams {
     pub threshold: bool,
     /// Free grains roll below the sliding threshold (see [`physical`]).
     pub rolling: bool,
-    /// With `rolling`, below the sliding threshold: the probability that one occupied
+    /// With `rolling`, up to the rolling limit ([`ROLLING_LIMIT`]): the probability that one occupied
     /// neighbouring cell holds a grain (`None`: crowded grains roll like free ones).
     pub frustration: Option<f64>,
-    /// With `rolling`, below the sliding threshold: free grains move together as trains.
+    /// With `rolling`, up to the rolling limit: free grains move together as trains.
     pub trains: bool,
     /// Apply the flight cap.
     pub flight_cap: bool,
@@ -166,13 +171,14 @@ pub struct FreeParams {
 /// (thesis 3.4): a crowded grain cannot roll and rests with the tray. In the DEM the rolling
 /// amplitude falls with the local packing (mechanism report, section 3); here each occupied
 /// neighbouring cell holds a grain with probability `h`, so a grain with `n` neighbours flies
-/// with probability `(1 - h)^n`. A free grain rolls its full excursion. Above the sliding
-/// threshold every grain slides and crowding does not hold it back, so the rule is off there.
+/// with probability `(1 - h)^n`. A free grain rolls its full excursion. Above the rolling
+/// limit ([`ROLLING_LIMIT`]) every grain slides and crowding does not hold it back, so the
+/// rule is off there.
 ///
 /// **Trains** (`free.trains`, rolling regime only). Free grains all roll with the floor, at
 /// 5/7 of its velocity, so they do not stop one another: only resting grains stop a flight.
 pub fn physical(drive: &TrayDrive, slide: &SlideMeasure, cell_length: f64, free: &FreeParams) -> Physical {
-    let rolling_regime = free.rolling && drive.tray_acceleration() <= drive.friction_acceleration();
+    let rolling_regime = free.rolling && drive.tray_acceleration() <= ROLLING_LIMIT * drive.friction_acceleration();
     Physical {
         threshold: if free.threshold && !free.rolling {
             Threshold::Coulomb {
@@ -283,6 +289,15 @@ mod tests {
             ..drive
         };
         let sliding = resolve(physical(&strong, &rolling, 0.75e-3, &free(true)));
+        // Above mu g but below (7/2) mu g a free sphere still rolls without slip.
+        let brisk = TrayDrive {
+            frequency: 4.0,
+            amplitude: 0.018,
+            ..drive
+        };
+        assert!(brisk.tray_acceleration() > brisk.friction_acceleration());
+        let r = resolve(physical(&brisk, &rolling, 0.75e-3, &free(true)));
+        assert!(r.hold > 0 && r.trains, "Gamma 1.16 still rolls");
         assert_eq!(sliding.hold, 0);
         assert!(rolls.trains && !sliding.trains);
         // Rolling resisted (the free sphere stays within half a cell): frozen either way.

@@ -22,14 +22,14 @@ pub struct Spec {
     /// grains that cannot roll are those blocked by a neighbour, which the jump rule already
     /// stops. Off: the sliding reading, where nothing moves below the threshold.
     pub rolling: bool,
-    /// Frustrated rolling (with `rolling`, below the sliding threshold): crowded grains cannot
+    /// Frustrated rolling (with `rolling`, while a free sphere rolls, Gamma <= 7 mu / 2): crowded grains cannot
     /// roll (two spheres rolling the same way rub at their contact, thesis 3.4); each occupied
     /// neighbouring cell holds a grain with probability `frustration_probability`, so a grain
     /// with `n` neighbours flies with probability `(1 - p)^n`.
     pub frustration: bool,
     /// Probability per half period that one occupied neighbouring cell holds a grain, in [0, 1].
     pub frustration_probability: f64,
-    /// Trains (with `rolling`, below the sliding threshold): free grains roll together with
+    /// Trains (with `rolling`, while a free sphere rolls): free grains roll together with
     /// the floor, so flying grains do not stop one another; only resting grains do.
     pub trains: bool,
     /// Flights end after the free grain's sliding displacement per half period.

@@ -1,7 +1,7 @@
 //! `stripes automaton --calibrate RUN_DIR...`: fits the automaton's free parameters to DEM
 //! runs: the activation probability and the knock-through speed scale where grains slide,
-//! the activation probability and the frustration probability where they roll (below the
-//! sliding threshold, where knock-through has no force: its probability there is below 1e-3).
+//! the activation probability and the frustration probability where they roll (while a free
+//! sphere rolls, `Gamma <= 7 mu / 2`, where the knock-through probability is small).
 //!
 //! For every DEM run directory (its `scene.toml` and `snapshots.bin`) the automaton runs on
 //! the same scene and the same sample for each point of a fixed grid; both are measured with
