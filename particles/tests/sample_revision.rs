@@ -9,16 +9,18 @@ use particles::observe::fnv1a;
 use particles::prepare::{self, SAMPLE_REVISION};
 
 /// `(SAMPLE_REVISION, hash of the sample)` the code last produced.
-const PINNED: (u64, u64) = (3, 0x91e8_4e14_c609_e9f1);
+const PINNED: (u64, u64) = (4, 0xbcac_3f3e_eed9_5f49);
 
 #[test]
 fn prepared_sample_is_pinned_to_the_sample_revision() {
-    // 60 grains relaxed for 0.02 s (2500 steps): every force law and the integrator take part.
+    // 60 grains relaxed for 0.02 s: every force law, the integrator and the automatic time
+    // step take part (revision 4: `dt = "auto"` learnt to keep the Haff-Werner viscous branch
+    // stable at slow drives, which changed every sample prepared with it).
     let scene = common::tray_scene(
         0.02,
         0.01,
         60,
-        "[prepare]\nspeed = 0.05\nduration = 0.02\n[run]\nduration = 0.1\ndt = 8e-6\nseed = 3\n",
+        "[prepare]\nspeed = 0.05\nduration = 0.02\n[run]\nduration = 0.1\ndt = \"auto\"\nseed = 3\n",
         &[],
     );
     let state = prepare::prepare(&scene, |_| {}).unwrap();
