@@ -126,6 +126,12 @@ fn agreement(dem: &serde_json::Map<String, Value>, auto: &serde_json::Map<String
             sa * 1e3,
             if (0.85..=1.15).contains(&r) { ", within 15 %" } else { "" }
         ));
+        if rolling && !(0.85..=1.15).contains(&r) {
+            out.last_mut().expect("just pushed").push_str(
+                " Neither model's spacing follows the jump length; the automaton's depends on its cell length, \
+                 the coarse-graining fitted for the onset (docs/results/spacing/report.md, docs/results/automaton-rolling/report.md).",
+            );
+        }
     }
     match (num(dem, "stripe_onset_s"), num(auto, "stripe_onset_s")) {
         (Some(od), Some(oa)) => {
