@@ -285,18 +285,25 @@ fn assert_binomial(frac: f64, n: f64, p: f64, what: &str) {
     );
 }
 
+/// Every ingredient on, then knock-through, lateral contacts and sideways moves off: flights
+/// whose outcome depends only on activation, frustration and trains.
+fn bare(cap: usize, activation: Activation, frustration: Frustration) -> Params {
+    let mut params = all_on(cap, YBoundary::Walls);
+    params.physical.knock = Knock::None;
+    params.physical.lateral = Lateral::None;
+    params.physical.sideways = Sideways::None;
+    params.physical.activation = activation;
+    params.physical.frustration = frustration;
+    params
+}
+
 /// The flight and holding draws (which share one set of random digit words, on disjoint
 /// cells) give their nominal (quantised) probabilities, and independently so.
 #[test]
 fn flight_and_holding_probabilities_match_their_nominal_values() {
     let nx = 4000;
     // Isolated grains with a cap of one cell: a grain moves exactly when it flies.
-    let mut params = all_on(1, YBoundary::Walls);
-    params.physical.knock = Knock::None;
-    params.physical.lateral = Lateral::None;
-    params.physical.sideways = Sideways::None;
-    params.physical.activation = Activation::Bernoulli { p: 0.6 };
-    params.physical.frustration = Frustration::None;
+    let mut params = bare(1, Activation::Bernoulli { p: 0.6 }, Frustration::None);
     let h: Vec<u8> = (0..nx).map(|i| (i % 4 == 0) as u8).collect();
     let (frac, n) = moved_fraction(nx, 1, &h, params, 20);
     assert_binomial(frac, n, 38.0 / 64.0, "activation 0.6 (38/64)");
@@ -323,12 +330,7 @@ fn flight_and_holding_probabilities_match_their_nominal_values() {
 #[test]
 fn crowded_grains_fly_with_probability_one_minus_h_to_the_n() {
     let nx = 4000;
-    let mut params = all_on(1, YBoundary::Walls);
-    params.physical.knock = Knock::None;
-    params.physical.lateral = Lateral::None;
-    params.physical.sideways = Sideways::None;
-    params.physical.activation = Activation::None;
-    params.physical.frustration = Frustration::Bernoulli { p: 0.3 }; // 19/64
+    let mut params = bare(1, Activation::None, Frustration::Bernoulli { p: 0.3 }); // 19/64
     let free: f64 = 45.0 / 64.0;
     // Row 0: a grain every 4th cell; row 1: n = 1 (the cell beside it) or n = 2 (that one
     // and the one behind it), never ahead of it, so nothing blocks its one-cell flight.
@@ -360,12 +362,11 @@ fn one_row_step(nx: usize, grains: &[usize], cap: usize, hold: Option<f64>, trai
     for &i in grains {
         h[i] = 1;
     }
-    let mut params = all_on(cap, YBoundary::Walls);
-    params.physical.activation = Activation::None;
-    params.physical.knock = Knock::None;
-    params.physical.lateral = Lateral::None;
-    params.physical.sideways = Sideways::None;
-    params.physical.frustration = hold.map_or(Frustration::None, |p| Frustration::Bernoulli { p });
+    let mut params = bare(
+        cap,
+        Activation::None,
+        hold.map_or(Frustration::None, |p| Frustration::Bernoulli { p }),
+    );
     params.physical.trains = trains;
     let mut a = Automaton::new(Lattice::from_heights(nx, 1, &h).unwrap(), params, Direction::Plus).unwrap();
     a.half_step();
