@@ -60,7 +60,8 @@ fn failed_starts_leave_nothing_and_runs_are_not_overwritten() {
 }
 
 /// Issue 19, point 9: the sample cache is named `--sample-cache`, set by
-/// `STRIPES_SAMPLE_CACHE` too, and shown in the summary.
+/// `STRIPES_SAMPLE_CACHE` too, and shown in the summary. The run's `scene.toml` keeps the
+/// scene's `[automaton]` table.
 #[test]
 fn the_sample_cache_is_visible_and_settable() {
     let cache = tmp("cache9");
@@ -76,8 +77,18 @@ fn the_sample_cache_is_visible_and_settable() {
     for s in SMALL.iter().chain(&["run.duration=0.01"]) {
         cmd.args(["--set", s]);
     }
+    for s in ["automaton.frustration_probability=0.3", "automaton.lateral=none"] {
+        cmd.args(["--set", s]);
+    }
     let s = summary(&cmd.output().unwrap());
     assert_eq!(s["sample_cache"], cache.display().to_string());
+    // The run directory's scene keeps the automaton's table, overrides included, for
+    // `stripes automaton --calibrate` and `stripes compare --dem-run` on it.
+    let kept = std::fs::read_to_string(out.join("scene.toml")).unwrap();
+    assert!(
+        kept.contains("[automaton]") && kept.contains("frustration_probability = 0.3"),
+        "{kept}"
+    );
     assert!(cache.exists(), "the sample went elsewhere");
     let (_, help, _) = common::stripes(&["run", "--help"]);
     assert!(help.contains("--sample-cache") && help.contains("STRIPES_SAMPLE_CACHE"), "{help}");

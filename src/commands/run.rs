@@ -1,6 +1,7 @@
 //! `stripes run SCENE.toml`: the tray-driven DEM.
 //!
-//! Writes into the run directory: `scene.toml` (the resolved scene), `config.json`,
+//! Writes into the run directory: `scene.toml` (the resolved scene, with its `[automaton]`
+//! table), `config.json`,
 //! `snapshots.bin` (see `analysis::snapshot`; a frame at t = 0 and then at the chosen phase of
 //! every period), `thermo.csv` and `thermo.{png,svg}` (see `crate::thermo`), `checkpoint.bin`
 //! (at `run.checkpoint_interval`), with `--vtk` a ParaView series `vtk/series.pvd` (see
@@ -218,7 +219,14 @@ fn start(args: &Args, scene: &Scene, out: &Path, setup: particles::sim::Setup, c
         thermo.resume(&out.join("thermo.csv"), sim.time)?;
     }
     let dir = RunDir::create(out, &json!({ "args": args, "scene": scene }))?;
-    analysis::io::write_atomic(&out.join("scene.toml"), toml::to_string(scene)?.as_bytes())?;
+    // The resolved scene with its `[automaton]` table, so that `stripes automaton --calibrate`
+    // and `stripes compare --dem-run` on this directory see the automaton the scene asked for.
+    let automaton = crate::scene_file::load(&args.scene, &args.overrides)?.automaton;
+    let file = crate::scene_file::SceneFile {
+        dem: scene.clone(),
+        automaton,
+    };
+    analysis::io::write_atomic(&out.join("scene.toml"), file.to_toml()?.as_bytes())?;
     if let Some(path) = &args.lammps_data {
         let title = format!("stripes {} at t = {} s, {} grains", args.scene.display(), sim.time, sim.state.len());
         let mut grains = analysis::lammps_data::Grains::default();
