@@ -127,6 +127,11 @@ pub fn coulomb_slide(drive: &TrayDrive, periods: usize, steps_per_period: usize)
 /// up to there frustration and trains act.
 pub const ROLLING_LIMIT: f64 = 3.5;
 
+/// Whether a free sphere rolls without slip on this drive ([`ROLLING_LIMIT`]).
+pub fn rolls_without_slip(drive: &TrayDrive) -> bool {
+    drive.tray_acceleration() <= ROLLING_LIMIT * drive.friction_acceleration()
+}
+
 /// The parameters left free by the mapping, fitted by calibration.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct FreeParams {
@@ -178,7 +183,7 @@ pub struct FreeParams {
 /// **Trains** (`free.trains`, rolling regime only). Free grains all roll with the floor, at
 /// 5/7 of its velocity, so they do not stop one another: only resting grains stop a flight.
 pub fn physical(drive: &TrayDrive, slide: &SlideMeasure, cell_length: f64, free: &FreeParams) -> Physical {
-    let rolling_regime = free.rolling && drive.tray_acceleration() <= ROLLING_LIMIT * drive.friction_acceleration();
+    let rolling_regime = free.rolling && rolls_without_slip(drive);
     Physical {
         threshold: if free.threshold && !free.rolling {
             Threshold::Coulomb {
@@ -289,6 +294,8 @@ mod tests {
             ..drive
         };
         let sliding = resolve(physical(&strong, &rolling, 0.75e-3, &free(true)));
+        assert_eq!(sliding.hold, 0);
+        assert!(rolls.trains && !sliding.trains);
         // Above mu g but below (7/2) mu g a free sphere still rolls without slip.
         let brisk = TrayDrive {
             frequency: 4.0,
@@ -298,8 +305,6 @@ mod tests {
         assert!(brisk.tray_acceleration() > brisk.friction_acceleration());
         let r = resolve(physical(&brisk, &rolling, 0.75e-3, &free(true)));
         assert!(r.hold > 0 && r.trains, "Gamma 1.16 still rolls");
-        assert_eq!(sliding.hold, 0);
-        assert!(rolls.trains && !sliding.trains);
         // Rolling resisted (the free sphere stays within half a cell): frozen either way.
         let held = SlideMeasure {
             displacement: 0.3e-3,

@@ -27,7 +27,7 @@
 
 use crate::params::{Lateral, Resolved, Tick};
 use crate::rng::{self, Stream};
-use crate::step::neighbour_row;
+use crate::step::{neighbour_row, offset_row};
 
 /// The 8 neighbouring cells `(row offset, column offset)` of a grain in the flight frame,
 /// in the order of their frustration draws ([`rng::neighbour_key`]).
@@ -81,6 +81,7 @@ pub(crate) fn half_step(nx: usize, ny: usize, h: &mut [u8], r: &Resolved, tick: 
     if !r.frozen {
         for j in 0..ny {
             let key = rng::row_key(seed, t, j);
+            let neighbour_keys: [u64; 8] = std::array::from_fn(|d| rng::neighbour_key(key, d));
             for i in 0..nx {
                 let hi = lf[j * nx + i];
                 if hi == 0 || !bit(key, Stream::Activation, i, r.activation) {
@@ -90,15 +91,9 @@ pub(crate) fn half_step(nx: usize, ny: usize, h: &mut [u8], r: &Resolved, tick: 
                 // Frustration: each occupied neighbouring cell at the grain's level holds it
                 // with the drawn probability.
                 let held = r.hold > 0
-                    && NEIGHBOURS.iter().enumerate().any(|(d, &(dj, di))| {
-                        let row = if dj == 0 {
-                            Some(j)
-                        } else {
-                            neighbour_row(j, dj > 0, ny, r.periodic_y)
-                        };
-                        row.is_some_and(|jn| {
-                            lf[jn * nx + (i + nx).wrapping_add_signed(di) % nx] > z
-                                && bit(rng::neighbour_key(key, d), Stream::Frustration, i, r.hold)
+                    && NEIGHBOURS.iter().zip(&neighbour_keys).any(|(&(dj, di), &nkey)| {
+                        offset_row(j, dj, ny, r.periodic_y).is_some_and(|jn| {
+                            lf[jn * nx + (i + nx).wrapping_add_signed(di) % nx] > z && bit(nkey, Stream::Frustration, i, r.hold)
                         })
                     });
                 flies[j * nx + i] = !held;

@@ -18,9 +18,9 @@ pub struct Spec {
     /// roll is held by this threshold, see [`crate::mapping`]).
     pub threshold: bool,
     /// Free grains roll: below the sliding threshold a free sphere still rolls without slip
-    /// and moves by the single-sphere DEM's excursion (2 (5/7) A relative to the tray); the
-    /// grains that cannot roll are those blocked by a neighbour, which the jump rule already
-    /// stops. Off: the sliding reading, where nothing moves below the threshold.
+    /// and moves by the single-sphere DEM's excursion (2 (5/7) A relative to the tray); which
+    /// grains cannot roll is said by `frustration`. Off: the sliding reading, where nothing
+    /// moves below the threshold.
     pub rolling: bool,
     /// Frustrated rolling (with `rolling`, while a free sphere rolls, Gamma <= 7 mu / 2): crowded grains cannot
     /// roll (two spheres rolling the same way rub at their contact, thesis 3.4); each occupied

@@ -116,6 +116,16 @@ impl BitScratch {
     }
 }
 
+/// Row `j + dj` for `dj` in -1, 0, 1, or `None` beyond a wall.
+#[inline]
+pub(crate) fn offset_row(j: usize, dj: i32, ny: usize, periodic: bool) -> Option<usize> {
+    if dj == 0 {
+        Some(j)
+    } else {
+        neighbour_row(j, dj > 0, ny, periodic)
+    }
+}
+
 /// Row `jn = j + d` or `None` beyond a wall.
 #[inline]
 pub(crate) fn neighbour_row(j: usize, up: bool, ny: usize, periodic: bool) -> Option<usize> {
@@ -196,30 +206,21 @@ struct RowCells<'a> {
 /// from `a` (no cell beyond a wall).
 #[inline(always)]
 fn neighbour_masks<const W: usize>(shape: &RowShape, lf: &[u64], j: usize, ny: usize, periodic: bool) -> [[u64; W]; 8] {
-    let row = |dj: i32| -> [u64; W] {
-        match dj {
-            0 => load::<W>(lf, j),
-            _ => neighbour_row(j, dj > 0, ny, periodic).map_or([0; W], |jn| load::<W>(lf, jn)),
+    crate::scalar::NEIGHBOURS.map(|(dj, di)| {
+        let row = offset_row(j, dj, ny, periodic).map_or([0; W], |jn| load::<W>(lf, jn));
+        match di {
+            1 => shape.rot_down1(&row),
+            -1 => shape.rot_up1(&row),
+            _ => row,
         }
-    };
-    let (own, below, above) = (row(0), row(-1), row(1));
-    [
-        shape.rot_down1(&own),
-        shape.rot_up1(&own),
-        below,
-        shape.rot_down1(&below),
-        shape.rot_up1(&below),
-        above,
-        shape.rot_down1(&above),
-        shape.rot_up1(&above),
-    ]
+    })
 }
 
 /// Mask `d` of [`neighbour_masks`] for rows of any width, into `out`.
 fn neighbour_mask(shape: &RowShape, lf: &[u64], j: usize, ny: usize, periodic: bool, d: usize, out: &mut [u64]) {
     let w = shape.words;
     let (dj, di) = crate::scalar::NEIGHBOURS[d];
-    let Some(jn) = (if dj == 0 { Some(j) } else { neighbour_row(j, dj > 0, ny, periodic) }) else {
+    let Some(jn) = offset_row(j, dj, ny, periodic) else {
         out.iter_mut().for_each(|x| *x = 0);
         return;
     };
