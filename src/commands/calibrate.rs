@@ -19,7 +19,7 @@ use std::path::Path;
 use analysis::density::area_fraction_cells;
 use analysis::plot::{LinePlot, Mark};
 use analysis::snapshot::read_snapshots;
-use analysis::stripes::{detect, StripeParams};
+use analysis::stripes::{detect, onset, StripeParams};
 use serde_json::json;
 
 use crate::cellular::{self, evolve, load_scene, setup, Cells};
@@ -67,26 +67,13 @@ impl Axis {
 }
 
 /// The grid of a calibration on `scene`: activation probabilities, and the second axis with
-/// its values. Rolling regime: the scene's automaton, as mapped, frustrates crowded grains.
-pub fn grid(scene: &crate::scene_file::SceneFile, slide: &automaton::mapping::SlideMeasure) -> (Vec<f64>, Axis, Vec<f64>) {
-    let mut probe = scene.clone();
-    probe.automaton.frustration = true;
-    let params = cellular::params(&probe, probe.automaton.rule, slide, &probe.automaton.free_params());
-    if params.physical.frustration != automaton::Frustration::None {
+/// its values: the frustration probability where the scene's automaton reads the drive as
+/// rolling, else the knock-through speed scale.
+pub fn grid(scene: &crate::scene_file::SceneFile) -> (Vec<f64>, Axis, Vec<f64>) {
+    if scene.automaton.rolling && automaton::mapping::rolls_without_slip(&cellular::tray_drive(&scene.dem)) {
         (ROLLING_ACTIVATIONS.to_vec(), Axis::FrustrationProbability, HOLDS.to_vec())
     } else {
         (ACTIVATIONS.to_vec(), Axis::KnockSpeed, KNOCK_SPEEDS.to_vec())
-    }
-}
-
-/// The time from which a sequence of stripe counts stays at 1 or more (`None` if the last
-/// frame has none).
-pub fn onset(m: &Metrics) -> Option<f64> {
-    let last_zero = m.counts.iter().rposition(|&c| c == 0);
-    match last_zero {
-        None => m.times.first().copied(),
-        Some(k) if k + 1 < m.counts.len() => Some(m.times[k + 1]),
-        Some(_) => None,
     }
 }
 
@@ -190,7 +177,7 @@ pub fn run(args: &Calibration) -> Result<String, CliError> {
         runs.push(RunData { scene, dem, setup });
     }
     let first = runs.first().ok_or("--calibrate needs at least one DEM run directory")?;
-    let (activations, axis, values) = grid(&first.scene, &first.setup.slide_dem);
+    let (activations, axis, values) = grid(&first.scene);
     let mut dir = RunDir::create(
         &out,
         &json!({ "args": args, "activations": activations, "axis": axis.key(), "values": values }),
@@ -229,7 +216,7 @@ pub fn run(args: &Calibration) -> Result<String, CliError> {
                 per_run.push(
                     json!({ "e_count": ec, "e_contrast": ek, "contrast_automaton": m.contrast, "contrast_dem": r.dem.contrast,
                     "count_final_automaton": m.counts.last(), "count_final_dem": r.dem.counts.last(),
-                    "onset_automaton_s": onset(&m), "onset_dem_s": onset(&r.dem),
+                    "onset_automaton_s": onset(&m.times, &m.counts), "onset_dem_s": onset(&r.dem.times, &r.dem.counts),
                     "spacing_automaton_m": spacing(&m), "spacing_dem_m": spacing(&r.dem) }),
                 );
                 series.push(m.times.iter().zip(&m.counts).map(|(t, c)| (*t, *c as f64)).collect());
@@ -285,7 +272,6 @@ pub fn dem_metrics(path: &Path) -> Result<Metrics, CliError> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use automaton::mapping::SlideMeasure;
 
     fn scene(name: &str) -> crate::scene_file::SceneFile {
         let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes").join(name);
@@ -296,31 +282,15 @@ mod tests {
     /// quick scene slides (20 Hz, 25 mm): the knock-through speed scale.
     #[test]
     fn the_grid_fits_what_the_regime_leaves_free() {
-        let slide = SlideMeasure {
-            displacement: 0.0143,
-            peak_speed: 0.13,
-        };
-        let (acts, axis, values) = grid(&scene("stripes.toml"), &slide);
+        let (acts, axis, values) = grid(&scene("stripes.toml"));
         assert_eq!(
             (acts, axis, values),
             (ROLLING_ACTIVATIONS.to_vec(), Axis::FrustrationProbability, HOLDS.to_vec())
         );
-        let (acts, axis, values) = grid(&scene("quick.toml"), &slide);
+        let (acts, axis, values) = grid(&scene("quick.toml"));
         assert_eq!(
             (acts, axis, values),
             (ACTIVATIONS.to_vec(), Axis::KnockSpeed, KNOCK_SPEEDS.to_vec())
         );
-    }
-
-    #[test]
-    fn onset_is_where_the_count_stays_above_zero() {
-        let m = |counts: Vec<usize>| Metrics {
-            times: (0..counts.len()).map(|k| k as f64).collect(),
-            counts,
-            contrast: 0.0,
-        };
-        assert_eq!(onset(&m(vec![0, 1, 0, 2, 3, 3])), Some(3.0));
-        assert_eq!(onset(&m(vec![1, 2])), Some(0.0));
-        assert_eq!(onset(&m(vec![1, 2, 0])), None);
     }
 }

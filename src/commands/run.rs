@@ -137,14 +137,16 @@ pub(crate) fn checkpoint_fingerprint(scene: &Scene) -> Result<u64, CliError> {
 }
 
 pub fn run(args: Args) -> Result<String, CliError> {
-    let scene = crate::scene_file::load(&args.scene, &args.overrides)?.dem;
-    scene.validate()?;
-    let (threads, why) = crate::threads::choose(scene.run.threads, scene.particles.count);
+    let file = crate::scene_file::load(&args.scene, &args.overrides)?;
+    file.dem.validate()?;
+    let (threads, why) = crate::threads::choose(file.dem.run.threads, file.dem.particles.count);
     let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build()?;
-    pool.install(|| run_in_pool(args, scene, why))
+    pool.install(|| run_in_pool(args, file, why))
 }
 
-fn run_in_pool(args: Args, scene: Scene, threads_why: String) -> Result<String, CliError> {
+/// `file`: the scene, with the `[automaton]` table the run directory's `scene.toml` keeps.
+fn run_in_pool(args: Args, file: crate::scene_file::SceneFile, threads_why: String) -> Result<String, CliError> {
+    let scene = &file.dem;
     let name = args
         .scene
         .file_stem()
@@ -165,7 +167,7 @@ fn run_in_pool(args: Args, scene: Scene, threads_why: String) -> Result<String, 
     } else {
         None
     };
-    let started = match start(&args, &scene, &out, setup, checkpoint) {
+    let started = match start(&args, &file, &out, setup, checkpoint) {
         Ok(s) => s,
         Err(e) => {
             if fresh {
@@ -191,7 +193,14 @@ struct Started {
 
 /// Prepares (or loads) the sample, restores the checkpoint of `--resume`, and writes the
 /// run's configuration, the first snapshot and the first thermo row.
-fn start(args: &Args, scene: &Scene, out: &Path, setup: particles::sim::Setup, checkpoint: Option<Vec<u8>>) -> Result<Started, CliError> {
+fn start(
+    args: &Args,
+    file: &crate::scene_file::SceneFile,
+    out: &Path,
+    setup: particles::sim::Setup,
+    checkpoint: Option<Vec<u8>>,
+) -> Result<Started, CliError> {
+    let scene = &file.dem;
     let dt = setup.dt;
     let total = (scene.run.duration / dt).round() as u64;
     let every = if scene.run.checkpoint_interval > 0.0 {
@@ -221,11 +230,6 @@ fn start(args: &Args, scene: &Scene, out: &Path, setup: particles::sim::Setup, c
     let dir = RunDir::create(out, &json!({ "args": args, "scene": scene }))?;
     // The resolved scene with its `[automaton]` table, so that `stripes automaton --calibrate`
     // and `stripes compare --dem-run` on this directory see the automaton the scene asked for.
-    let automaton = crate::scene_file::load(&args.scene, &args.overrides)?.automaton;
-    let file = crate::scene_file::SceneFile {
-        dem: scene.clone(),
-        automaton,
-    };
     analysis::io::write_atomic(&out.join("scene.toml"), file.to_toml()?.as_bytes())?;
     if let Some(path) = &args.lammps_data {
         let title = format!("stripes {} at t = {} s, {} grains", args.scene.display(), sim.time, sim.state.len());
