@@ -156,8 +156,8 @@ fn run_in_pool(args: Args, file: crate::scene_file::SceneFile, threads_why: Stri
     // Everything that can be checked is checked before anything is written and before the
     // (possibly long) preparation.
     let fresh = claim_out_dir(&out, args.resume, args.force)?;
-    let setup = tray::setup(&scene, tray::drive(&scene))?;
-    let warnings = tray::warnings(&scene, setup.dt)?;
+    let setup = tray::setup(scene, tray::drive(scene))?;
+    let warnings = tray::warnings(scene, setup.dt)?;
     for w in &warnings {
         eprintln!("warning: {w}");
     }
@@ -176,7 +176,7 @@ fn run_in_pool(args: Args, file: crate::scene_file::SceneFile, threads_why: Stri
             return Err(e);
         }
     };
-    step(&args, &scene, &out, started, warnings, threads_why)
+    step(&args, scene, &out, started, warnings, threads_why)
 }
 
 /// A run ready for its time loop.
