@@ -98,8 +98,8 @@ fn spacing(keys: &serde_json::Map<String, Value>, length: f64) -> Option<f64> {
 }
 
 /// Where the two models agree and where they differ, in words, with the likely reason.
-/// `rolling`: the drive is below the sliding threshold (grains roll, the automaton's
-/// frustration and trains act).
+/// `rolling`: a free sphere rolls without slip on the drive (the automaton's frustration and
+/// trains act, [`::automaton::mapping::rolls_without_slip`]).
 fn agreement(dem: &serde_json::Map<String, Value>, auto: &serde_json::Map<String, Value>, length: f64, rolling: bool) -> Vec<String> {
     let num = |m: &serde_json::Map<String, Value>, k: &str| m.get(k).and_then(Value::as_f64);
     let phase = |m: &serde_json::Map<String, Value>| m.get("phase").and_then(Value::as_str).unwrap_or("unknown").to_string();
@@ -120,13 +120,14 @@ fn agreement(dem: &serde_json::Map<String, Value>, auto: &serde_json::Map<String
     }
     if let (Some(sd), Some(sa)) = (spacing(dem, length), spacing(auto, length)) {
         let r = sa / sd;
+        let within = (0.85..=1.15).contains(&r);
         out.push(format!(
             "Spacing: DEM {:.1} mm, automaton {:.1} mm (ratio {r:.2}){}.",
             sd * 1e3,
             sa * 1e3,
-            if (0.85..=1.15).contains(&r) { ", within 15 %" } else { "" }
+            if within { ", within 15 %" } else { "" }
         ));
-        if rolling && !(0.85..=1.15).contains(&r) {
+        if rolling && !within {
             out.last_mut().expect("just pushed").push_str(
                 " Neither model's spacing follows the jump length; the automaton's depends on its cell length, \
                  the coarse-graining fitted for the onset (docs/results/spacing/report.md, docs/results/automaton-rolling/report.md).",
@@ -372,10 +373,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
     md.push_str(&format!("- {}\n", interpret("automaton", &auto_keys)));
     md.push_str(&format!("- The thesis' simulation (reference tray, sec 3.5.4): {THESIS}\n"));
     md.push_str(&format!("- The thesis' experiment (sec 2.2.6): {EXPERIMENT}\n\n"));
-    let rolling = auto_summary
-        .get("mapping")
-        .and_then(|m| Some(m.get("tray_acceleration")?.as_f64()? <= m.get("friction_acceleration")?.as_f64()?))
-        .unwrap_or(false);
+    let rolling = file.automaton.rolling && ::automaton::mapping::rolls_without_slip(&crate::cellular::tray_drive(scene));
     md.push_str("## Where they agree and where they differ\n\n");
     for line in agreement(&dem_keys, &auto_keys, scene.tray.length, rolling) {
         md.push_str(&format!("- {line}\n"));
