@@ -299,7 +299,10 @@ fn wall_histories(inp: &Inputs) -> (bool, usize) {
 /// Contacts of the block's particles with wall `w` (`plane`), whose geometry `geometry(k)`
 /// gives for particle `first + k`; forces and torques are added to the block's. `SUPPORT`:
 /// the wall is a pinned layer's floor ([`WallPlane::support`]), decided at compile time.
-#[inline(always)]
+/// A function of its own (one per wall kind and law), not inlined into [`gather_block`]:
+/// the loop keeps its own registers, and changes elsewhere in the force pass do not move its
+/// code (inlined, a one-line change there cost Cundall-Strack 7-10 %).
+#[inline(never)]
 fn wall_pass<N: Normal, const SUPPORT: bool>(
     inp: &Inputs,
     (w, plane): (usize, &WallPlane),
@@ -312,6 +315,9 @@ fn wall_pass<N: Normal, const SUPPORT: bool>(
     let n = force.len();
     let torque = &mut torque[..n];
     let mut acc = WallSums::default();
+    // Read once: through `inp` it would be reloaded per contact, and so would every
+    // constant of the laws computed from it (such as Cundall-Strack's `1 / dt`).
+    let dt = inp.setup.dt;
     inp.setup.wall_law.unswitched(|law| {
         for ((k, f), (t, h)) in force
             .iter_mut()
@@ -331,7 +337,7 @@ fn wall_pass<N: Normal, const SUPPORT: bool>(
                 force: f,
                 torque: t,
             };
-            add_wall_contact::<N, SUPPORT>(inp, law, w, &g, grain, &mut acc, sums);
+            add_wall_contact::<N, SUPPORT>(inp, law, (w, dt), &g, grain, &mut acc, sums);
         }
     });
     acc.add_to(plane, sums);
@@ -349,6 +355,7 @@ fn axis_pair_pass<const AXIS: usize>(inp: &Inputs, w: usize, out: &mut BlockOut,
     let (p0, p1) = (&inp.planes[w], &inp.planes[w + 1]);
     let (mut acc0, mut acc1) = (WallSums::default(), WallSums::default());
     let (s0, o0, s1, o1) = (p0.sign(), p0.origin[AXIS], p1.sign(), p1.origin[AXIS]);
+    let dt = inp.setup.dt;
     let (pos, radius) = (&inp.pos[first..first + n], &inp.radius[first..first + n]);
     for k in 0..n {
         let (x, r) = (pos[k][AXIS], radius[k]);
@@ -384,7 +391,7 @@ fn axis_pair_pass<const AXIS: usize>(inp: &Inputs, w: usize, out: &mut BlockOut,
                         force: &mut force[k],
                         torque: &mut torque[k],
                     };
-                    add_wall_contact::<_, false>(inp, &inp.setup.wall_law, wk, &g, grain, acc, sums)
+                    add_wall_contact::<_, false>(inp, &inp.setup.wall_law, (wk, dt), &g, grain, acc, sums)
                 }
                 None if history_on => *zeta = Vec3::zeros(),
                 None => {}
@@ -425,7 +432,7 @@ struct Grain<'a> {
     torque: &'a mut Vec3,
 }
 
-/// Adds the contact `g` of particle `i` with wall `w` (history `zeta`) to the particle's
+/// Adds the contact `g` of particle `i` with wall `w` (history `zeta`, time step `dt`) to the particle's
 /// `force` and `torque` and to the pass's sums `acc`; the block's `sums` keep overlap
 /// violations and records. `SUPPORT`: the wall is a pinned layer's floor, whose load is
 /// given ([`WallPlane::support`]).
@@ -433,7 +440,7 @@ struct Grain<'a> {
 fn add_wall_contact<N: Normal, const SUPPORT: bool>(
     inp: &Inputs,
     law: &ContactLaw,
-    w: usize,
+    (w, dt): (usize, f64),
     g: &ContactGeometry<N>,
     grain: Grain,
     acc: &mut WallSums,
@@ -441,9 +448,9 @@ fn add_wall_contact<N: Normal, const SUPPORT: bool>(
 ) {
     let Grain { i, zeta, force, torque } = grain;
     let c = if SUPPORT {
-        contact::evaluate_with_normal(law, g, inp.load[i], zeta, inp.setup.dt)
+        contact::evaluate_with_normal(law, g, inp.load[i], zeta, dt)
     } else {
-        contact::evaluate(law, g, zeta, inp.setup.dt)
+        contact::evaluate(law, g, zeta, dt)
     };
     *force += c.force;
     *torque += c.torque_i;

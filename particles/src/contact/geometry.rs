@@ -110,6 +110,10 @@ impl ContactGeometry {
 /// runs the very same kernels with fewer operations; results are equal up to the sign of
 /// zero components.
 pub trait Normal: Copy + std::fmt::Debug + PartialEq {
+    /// The normal never turns (an axis-aligned wall): every tangential velocity, and so
+    /// every spring built from them, has no component along it, and a spring needs no
+    /// rotation into the tangent plane.
+    const FIXED: bool;
     /// The normal as a vector.
     fn vector(&self) -> Vec3;
     /// `s n`.
@@ -123,6 +127,7 @@ pub trait Normal: Copy + std::fmt::Debug + PartialEq {
 }
 
 impl Normal for Vec3 {
+    const FIXED: bool = false;
     #[inline(always)]
     fn vector(&self) -> Vec3 {
         *self
@@ -153,6 +158,7 @@ pub struct AxisNormal<const AXIS: usize> {
 }
 
 impl<const AXIS: usize> Normal for AxisNormal<AXIS> {
+    const FIXED: bool = true;
     #[inline(always)]
     fn vector(&self) -> Vec3 {
         self.scaled(1.0)

@@ -238,6 +238,67 @@ mod tests {
     }
 
     #[test]
+    fn cundall_strack_at_an_axis_wall_equals_the_general_wall() {
+        // An axis-aligned wall's springs are used as stored (`Normal::FIXED`); the general
+        // wall rotates them into its tangent plane. Over a run of steps that stick and slide,
+        // force, torque and spring agree (`==` treats -0 and +0 as equal).
+        let (r, o) = (4e-4, Vec3::new(0.013, 0.02, 0.0));
+        let vw = Vec3::zeros(); // a wall moving off a grain would leave no normal force
+        for (axis, sign) in [(0, 1.0), (0, -1.0), (1, 1.0), (1, -1.0), (2, 1.0), (2, -1.0)] {
+            let mut normal = Vec3::zeros();
+            normal[axis] = sign;
+            let (mut h_axis, mut h_general) = (Vec3::zeros(), Vec3::zeros());
+            let (mut stuck, mut sliding) = (0, 0);
+            for k in 0..40 {
+                let phase = k as f64 * 0.3;
+                let x = o + normal * (r - 2e-6);
+                // Slip back and forth along one direction: stuck after each reversal.
+                let v = Vec3::new(0.03, -0.02, 0.01) * phase.sin();
+                let w = Vec3::new(4.0, -2.5, 1.2) * phase.sin();
+                let general = ContactGeometry::wall(x, v, w, r, o, normal, vw).unwrap();
+                let f_general = evaluate(&law(), &general, &mut h_general, 1e-5);
+                let f_axis = match axis {
+                    0 => evaluate(
+                        &law(),
+                        &ContactGeometry::<AxisNormal<0>>::axis_wall(x, v, w, r, o, sign, vw).unwrap(),
+                        &mut h_axis,
+                        1e-5,
+                    ),
+                    1 => evaluate(
+                        &law(),
+                        &ContactGeometry::<AxisNormal<1>>::axis_wall(x, v, w, r, o, sign, vw).unwrap(),
+                        &mut h_axis,
+                        1e-5,
+                    ),
+                    _ => evaluate(
+                        &law(),
+                        &ContactGeometry::<AxisNormal<2>>::axis_wall(x, v, w, r, o, sign, vw).unwrap(),
+                        &mut h_axis,
+                        1e-5,
+                    ),
+                };
+                // (`torque_j` is a wall's: infinite lever arm, not used.)
+                let parts = |f: &ContactForce| (f.force, f.torque_i, f.tangential, f.normal, f.stored_energy, f.dissipation_rate);
+                assert!(
+                    parts(&f_axis) == parts(&f_general),
+                    "axis {axis} sign {sign} step {k}: {f_axis:?} != {f_general:?}"
+                );
+                assert!(h_axis == h_general, "axis {axis} sign {sign} step {k}: {h_axis} != {h_general}");
+                assert_eq!(h_axis[axis], 0.0, "a wall's spring has no normal part");
+                if f_axis.tangential.norm() < 0.7 * f_axis.normal * (1.0 - 1e-9) {
+                    stuck += 1;
+                } else {
+                    sliding += 1;
+                }
+            }
+            assert!(
+                stuck > 0 && sliding > 0,
+                "axis {axis} sign {sign}: both regimes: {stuck} stuck, {sliding} sliding"
+            );
+        }
+    }
+
+    #[test]
     fn a_stuck_cundall_strack_spring_follows_the_trapezoid_rule() {
         // Tangential slip at a steady rate u, then at rate -u: the spring is the integral of
         // the slip, k_t times the trapezoid sum, exactly (no lead of half a step).
