@@ -1,7 +1,8 @@
 //! The speed of each friction law on the bench's tray, as ratios against Haff-Werner timed
 //! in the same call: no friction, Haff-Werner (eq 3.12, the thesis' law: the reference),
-//! Haff-Werner with `friction = inf` (the viscous branch alone) and Cundall-Strack
-//! (eq 4.32-4.34, `k_t = 50 N/m`), each at two drives: the thesis' 20 Hz / 25 mm and the
+//! Haff-Werner with `friction = inf` (the viscous branch alone), the stripe work's uncapped
+//! floor (`wall_friction = inf`: the viscous branch at the floor and side walls, Coulomb
+//! between grains) and Cundall-Strack (eq 4.32-4.34, `k_t = 50 N/m`), each at two drives: the thesis' 20 Hz / 25 mm and the
 //! experiment's 3 Hz / 10 mm (thesis 2.2.5).
 //!
 //! Two ratios per law and drive, each the median over pairs of runs (Haff-Werner, law) timed
@@ -36,7 +37,7 @@ pub const DRIVES: [(f64, f64); 2] = [(20.0, 0.025), (3.0, 0.01)];
 /// One friction law at one drive and its speed relative to Haff-Werner.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct LawSpeed {
-    /// Short name: `haff-werner`, `none`, `haff-werner-inf`, `cundall-strack`.
+    /// Short name: `haff-werner`, `none`, `haff-werner-inf`, `uncapped-floor`, `cundall-strack`.
     pub key: &'static str,
     pub name: String,
     /// Drive frequency (Hz) and amplitude (m).
@@ -70,6 +71,11 @@ pub fn laws() -> Vec<(&'static str, String, Vec<String>)> {
             set(&["contact.friction=inf", "contact.wall_friction=inf"]),
         ),
         (
+            "uncapped-floor",
+            "Haff-Werner, uncapped floor (wall_friction = inf, mu = 0.7 between grains)".into(),
+            set(&["contact.wall_friction=inf"]),
+        ),
+        (
             "cundall-strack",
             format!("Cundall-Strack, k_t = {CUNDALL_STRACK_KT} N/m, mu = 0.7"),
             vec![
@@ -96,21 +102,38 @@ fn median(mut xs: Vec<f64>) -> f64 {
     }
 }
 
-/// Median over `pairs` of (reference time / law time), each pair run back to back.
+/// The timing of one law against the reference.
+struct Timing {
+    /// Median over the pairs of (reference time / law time).
+    median: f64,
+    ratios: Vec<f64>,
+    /// Neighbour-list builds of the reference's run and of the law's (the same in every
+    /// pair: the runs are deterministic). A law whose layer turns into a gas rebuilds the
+    /// list more often and meets more grains: its particle-steps cost more for that reason.
+    builds: (u64, u64),
+}
+
+/// [`Timing`] over `pairs` pairs of runs, each pair run back to back.
 fn timed_ratio(
     (ref_scene, ref_setting): (&Scene, &Setting),
     (scene, setting): (&Scene, &Setting),
     state: &State,
     pairs: u32,
     cpu_time: bool,
-) -> Result<(f64, Vec<f64>), SimError> {
+) -> Result<Timing, SimError> {
     let mut ratios = Vec::new();
+    let mut builds = (0, 0);
     for _ in 0..pairs {
         let r = run_tray(ref_scene, ref_setting, state, None, cpu_time)?;
         let s = run_tray(scene, setting, state, None, cpu_time)?;
         ratios.push(r.wall_s / s.wall_s);
+        builds = (r.builds, s.builds);
     }
-    Ok((median(ratios.clone()), ratios))
+    Ok(Timing {
+        median: median(ratios.clone()),
+        ratios,
+        builds,
+    })
 }
 
 /// Times every law of [`laws`] against Haff-Werner on the bench's tray
@@ -158,13 +181,15 @@ fn at_drive(base: &Scene, config: &Config, progress: &mut impl FnMut(&str)) -> R
         });
         let spread = |v: &[f64]| v.iter().map(|x| format!("{x:.2}")).collect::<Vec<_>>().join(", ");
         let (speed_same_step, speed_auto, outcome) = match timed {
-            Ok(((same, same_all), (own, own_all))) => (
-                if reference { 1.0 } else { same },
-                if reference { 1.0 } else { own },
+            Ok((same, own)) => (
+                if reference { 1.0 } else { same.median },
+                if reference { 1.0 } else { own.median },
                 format!(
-                    "pair ratios at the same step: {}; at dt = auto: {}{}",
-                    spread(&same_all),
-                    spread(&own_all),
+                    "pair ratios at the same step: {}; at dt = auto: {}; neighbour-list builds at the same step: {} (Haff-Werner: {}){}",
+                    spread(&same.ratios),
+                    spread(&own.ratios),
+                    same.builds.1,
+                    same.builds.0,
                     if reference {
                         " (the reference against itself: the timing noise)"
                     } else {

@@ -21,7 +21,7 @@ pub(super) struct TrayRun {
     profiles: Vec<Vec<f64>>,
     times: Vec<f64>,
     ledger_error: f64,
-    builds: u64,
+    pub(super) builds: u64,
     mean_phi: f64,
     mean_d: f64,
 }
