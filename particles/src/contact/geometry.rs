@@ -124,6 +124,9 @@ pub trait Normal: Copy + std::fmt::Debug + PartialEq {
     fn cross(&self, v: &Vec3) -> Vec3;
     /// `|v x n|^2`.
     fn cross_norm_squared(&self, v: &Vec3) -> f64;
+    /// `v` without its part along the normal, `v - (n . v) n`. For an axis normal the
+    /// component is set to zero, so the compiler knows it is zero in what follows.
+    fn in_plane(&self, v: &Vec3) -> Vec3;
 }
 
 impl Normal for Vec3 {
@@ -147,6 +150,10 @@ impl Normal for Vec3 {
     #[inline(always)]
     fn cross_norm_squared(&self, v: &Vec3) -> f64 {
         v.cross(self).norm_squared()
+    }
+    #[inline(always)]
+    fn in_plane(&self, v: &Vec3) -> Vec3 {
+        v - self * self.dot(v)
     }
 }
 
@@ -187,6 +194,12 @@ impl<const AXIS: usize> Normal for AxisNormal<AXIS> {
     fn cross_norm_squared(&self, v: &Vec3) -> f64 {
         let (a, b) = (v[(AXIS + 1) % 3], v[(AXIS + 2) % 3]);
         a * a + b * b
+    }
+    #[inline(always)]
+    fn in_plane(&self, v: &Vec3) -> Vec3 {
+        let mut w = *v;
+        w[AXIS] = 0.0;
+        w
     }
 }
 
@@ -291,24 +304,46 @@ mod tests {
     fn axis_normals_match_vectors() {
         let v = Vec3::new(0.3, -1.7, 2.9);
         for sign in [1.0, -1.0] {
-            let check = |n: &dyn Fn() -> (Vec3, Vec3, f64, Vec3, f64)| {
-                let (vector, scaled, dot, cross, cn2) = n();
+            let check = |n: &dyn Fn() -> (Vec3, Vec3, f64, Vec3, f64, Vec3)| {
+                let (vector, scaled, dot, cross, cn2, in_plane) = n();
                 assert_eq!(scaled, vector * 2.5);
                 assert_eq!(dot, vector.dot(&v));
                 assert_eq!(cross, vector.cross(&v));
                 assert!((cn2 - v.cross(&vector).norm_squared()).abs() < 1e-15);
+                assert_eq!(in_plane, vector.in_plane(&v));
             };
             check(&|| {
                 let n = AxisNormal::<0> { sign };
-                (n.vector(), n.scaled(2.5), n.dot(&v), n.cross(&v), n.cross_norm_squared(&v))
+                (
+                    n.vector(),
+                    n.scaled(2.5),
+                    n.dot(&v),
+                    n.cross(&v),
+                    n.cross_norm_squared(&v),
+                    n.in_plane(&v),
+                )
             });
             check(&|| {
                 let n = AxisNormal::<1> { sign };
-                (n.vector(), n.scaled(2.5), n.dot(&v), n.cross(&v), n.cross_norm_squared(&v))
+                (
+                    n.vector(),
+                    n.scaled(2.5),
+                    n.dot(&v),
+                    n.cross(&v),
+                    n.cross_norm_squared(&v),
+                    n.in_plane(&v),
+                )
             });
             check(&|| {
                 let n = AxisNormal::<2> { sign };
-                (n.vector(), n.scaled(2.5), n.dot(&v), n.cross(&v), n.cross_norm_squared(&v))
+                (
+                    n.vector(),
+                    n.scaled(2.5),
+                    n.dot(&v),
+                    n.cross(&v),
+                    n.cross_norm_squared(&v),
+                    n.in_plane(&v),
+                )
             });
         }
     }

@@ -107,7 +107,8 @@ impl TangentialLaw {
                 // none up to rounding, so the rescaling (a square root and a division)
                 // is skipped when there is none.
                 let s = if N::FIXED {
-                    *zeta
+                    // Zero already; said so, the normal component drops out of what follows.
+                    g.n.in_plane(zeta)
                 } else {
                     let along = g.n.dot(zeta);
                     let mut s = *zeta - g.n.scaled(along);
