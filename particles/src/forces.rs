@@ -300,6 +300,14 @@ struct BlockOut<'a> {
     wall_touched: &'a mut [u8],
 }
 
+impl BlockOut<'_> {
+    /// `(first, force, torque, wall_history, wall_touched)`.
+    #[inline(always)]
+    fn parts(&mut self) -> (usize, &mut [Vec3], &mut [Vec3], &mut [Vec3], &mut [u8]) {
+        (self.first, self.force, self.torque, self.wall_history, self.wall_touched)
+    }
+}
+
 /// Whether wall contacts keep a history, and how many wall histories each particle has.
 #[inline(always)]
 fn wall_histories(inp: &Inputs) -> (bool, usize) {
@@ -320,14 +328,7 @@ fn wall_pass<N: Normal, const SUPPORT: bool>(
     sums: &mut BlockSums,
     geometry: impl Fn(usize) -> Option<ContactGeometry<N>>,
 ) {
-    let BlockOut {
-        first,
-        force,
-        torque,
-        wall_history,
-        wall_touched,
-    } = out;
-    let first = *first;
+    let (first, force, torque, wall_history, wall_touched) = out.parts();
     let (history_on, wall_stride) = wall_histories(inp);
     let n = force.len();
     let torque = &mut torque[..n];
@@ -370,14 +371,7 @@ fn wall_pass<N: Normal, const SUPPORT: bool>(
 /// walls in order.
 #[inline(never)]
 fn axis_pair_pass<const AXIS: usize>(inp: &Inputs, w: usize, out: &mut BlockOut, sums: &mut BlockSums) {
-    let BlockOut {
-        first,
-        force,
-        torque,
-        wall_history,
-        wall_touched,
-    } = out;
-    let first = *first;
+    let (first, force, torque, wall_history, wall_touched) = out.parts();
     let (history_on, wall_stride) = wall_histories(inp);
     let n = force.len();
     let (p0, p1) = (&inp.planes[w], &inp.planes[w + 1]);

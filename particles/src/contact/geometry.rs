@@ -302,49 +302,30 @@ mod tests {
 
     #[test]
     fn axis_normals_match_vectors() {
+        /// Every product of the normal `n` with `v` (and with 2.5).
+        fn products<N: Normal>(n: N, v: &Vec3) -> (Vec3, Vec3, f64, Vec3, f64, Vec3) {
+            (
+                n.vector(),
+                n.scaled(2.5),
+                n.dot(v),
+                n.cross(v),
+                n.cross_norm_squared(v),
+                n.in_plane(v),
+            )
+        }
         let v = Vec3::new(0.3, -1.7, 2.9);
         for sign in [1.0, -1.0] {
-            let check = |n: &dyn Fn() -> (Vec3, Vec3, f64, Vec3, f64, Vec3)| {
-                let (vector, scaled, dot, cross, cn2, in_plane) = n();
+            for (vector, scaled, dot, cross, cn2, in_plane) in [
+                products(AxisNormal::<0> { sign }, &v),
+                products(AxisNormal::<1> { sign }, &v),
+                products(AxisNormal::<2> { sign }, &v),
+            ] {
                 assert_eq!(scaled, vector * 2.5);
                 assert_eq!(dot, vector.dot(&v));
                 assert_eq!(cross, vector.cross(&v));
                 assert!((cn2 - v.cross(&vector).norm_squared()).abs() < 1e-15);
                 assert_eq!(in_plane, vector.in_plane(&v));
-            };
-            check(&|| {
-                let n = AxisNormal::<0> { sign };
-                (
-                    n.vector(),
-                    n.scaled(2.5),
-                    n.dot(&v),
-                    n.cross(&v),
-                    n.cross_norm_squared(&v),
-                    n.in_plane(&v),
-                )
-            });
-            check(&|| {
-                let n = AxisNormal::<1> { sign };
-                (
-                    n.vector(),
-                    n.scaled(2.5),
-                    n.dot(&v),
-                    n.cross(&v),
-                    n.cross_norm_squared(&v),
-                    n.in_plane(&v),
-                )
-            });
-            check(&|| {
-                let n = AxisNormal::<2> { sign };
-                (
-                    n.vector(),
-                    n.scaled(2.5),
-                    n.dot(&v),
-                    n.cross(&v),
-                    n.cross_norm_squared(&v),
-                    n.in_plane(&v),
-                )
-            });
+            }
         }
     }
 
