@@ -174,7 +174,12 @@ proptest! {
             }
             Err(e) => return Err(TestCaseError::fail(e.to_string())),
         };
-        prop_assert!(r.momentum_error.unwrap() < 1e-12, "momentum error {:e}", r.momentum_error.unwrap());
+        // Round-off: every step rounds both bodies' velocities (a few operations per
+        // component), so the total momentum drifts by up to tens of ulps of m_1 v per step; the
+        // bound is 64 ulps per step. (1e-12 flat was exceeded by a legitimate impact of 268
+        // steps at mass ratio 1:454, 1.005e-12, kept in the regressions file.)
+        let bound = 64.0 * f64::EPSILON * r.steps as f64;
+        prop_assert!(r.momentum_error.unwrap() < bound, "momentum error {:e} in {} steps (bound {:e})", r.momentum_error.unwrap(), r.steps, bound);
         prop_assert!(r.angular_momentum_error.unwrap() < 1e-11, "angular momentum error {:e}", r.angular_momentum_error.unwrap());
         prop_assert!(r.energy_after <= r.energy_before * (1.0 + 1e-9), "energy gained: {} -> {}", r.energy_before, r.energy_after);
         prop_assert!(r.max_friction_ratio <= 1.0 + 1e-12, "|F_t| / mu |F_n| = {}", r.max_friction_ratio);
