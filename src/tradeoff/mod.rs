@@ -185,7 +185,8 @@ pub(crate) fn with(scene: &Scene, overrides: &[String]) -> Result<Scene, SimErro
 }
 
 /// A setting: scene overrides, integrator, steps per contact (of the setting's own
-/// material), neighbour skin as a multiple of the largest radius.
+/// material), and a fixed neighbour skin as a multiple of the largest radius, or none: the
+/// tray's own list, whose skin adapts as in every run of `stripes run`.
 #[derive(Clone, Debug)]
 pub(crate) struct Setting {
     name: String,
@@ -193,7 +194,7 @@ pub(crate) struct Setting {
     overrides: Vec<String>,
     integrator: Integrator,
     steps: Option<f64>,
-    skin: f64,
+    skin: Option<f64>,
     /// Move grain 0 by 1 nm along x (noise-floor probe).
     perturbed: bool,
 }
@@ -206,7 +207,7 @@ impl Setting {
             overrides: Vec::new(),
             integrator: Integrator::VelocityVerlet,
             steps: None,
-            skin: tray::DEFAULT_SKIN,
+            skin: None,
             perturbed: false,
         }
     }
@@ -223,7 +224,7 @@ impl Setting {
         self
     }
     fn skin(mut self, k: f64) -> Self {
-        self.skin = k;
+        self.skin = Some(k);
         self
     }
 

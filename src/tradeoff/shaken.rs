@@ -36,7 +36,9 @@ pub(super) fn run_tray(
     let mut setup = tray::setup(scene, tray::drive(scene))?;
     setup.dt = setting_dt(scene, steps_override.or(s.steps))?;
     setup.integrator = s.integrator;
-    setup.neighbors = NeighborSearch::verlet(s.skin * scene.particles.radius_max);
+    if let Some(k) = s.skin {
+        setup.neighbors = NeighborSearch::verlet(k * scene.particles.radius_max);
+    }
     let n = base_state.len();
     let order: Vec<usize> = (0..n).collect();
     let mut state = State::default();
@@ -145,11 +147,12 @@ pub(super) fn tray_study(config: &Config, progress: &mut impl FnMut(&str)) -> Re
             .steps(thesis_steps),
     );
     settings.push(Setting::matched_linear(kn, gamma_n, thesis_steps));
-    for k in [0.0, 0.1, 0.4, 1.0, 2.0] {
+    // Fixed skins against the reference's adaptive one (0.2 R_max at rest, growing in a gas).
+    for k in [0.0, 0.1, 0.2, 0.4, 1.0, 2.0] {
         let name = if k == 0.0 {
             "skin 0: rebuild every step".to_string()
         } else {
-            format!("skin {k} R_max (rebuild at skin/2)")
+            format!("fixed skin {k} R_max (rebuild at skin/2)")
         };
         settings.push(Setting::new(name, "neighbour list").steps(thesis_steps).skin(k));
     }
