@@ -15,7 +15,8 @@
 //! - a wall's gap is tested before anything else of a grain is read; two consecutive walls
 //!   across the same axis (the tray's sides) share one pass that tests both gaps;
 //! - gravity uses masses computed once (no division per step);
-//! - per-contact history is only reset when the law has history (Cundall-Strack).
+//! - per-contact history is only reset when the law has history (Cundall-Strack), and a
+//!   side wall's spring only when its flag says it may be non-zero.
 
 use crate::contact::geometry::Sphere;
 use crate::contact::{self, AxisNormal, ContactGeometry, ContactLaw, Normal};
@@ -468,9 +469,9 @@ struct Grain<'a> {
     torque: &'a mut Vec3,
 }
 
-/// Adds the contact `g` of particle `i` with wall `w` (history `zeta`, time step `dt`) to the particle's
-/// `force` and `torque` and to the pass's sums `acc`; the block's `sums` keep overlap
-/// violations and records. `SUPPORT`: the wall is a pinned layer's floor, whose load is
+/// Adds the contact `g` of particle `i` with wall `w` (history `zeta`, time step `dt`) to
+/// the particle's `force` and `torque` and to the pass's sums `acc`; the block's `sums` keep
+/// overlap violations and records. `SUPPORT`: the wall is a pinned layer's floor, whose load is
 /// given ([`WallPlane::support`]).
 #[inline(always)]
 fn add_wall_contact<N: Normal, const SUPPORT: bool>(
