@@ -182,14 +182,9 @@ impl Simulation {
         let boxes = on_blocks(self.state.blocks_mut(BLOCK), |mut b| {
             let span = integrator.before_forces(&mut b, dt, rotate, planar);
             // One pass per periodic axis (the tray has one): no test of the other axes.
-            // Only the few grains that crossed the seam are written: a store per grain per
-            // step was a quarter of this stage.
             for (axis, l) in boundary.periodic.iter().enumerate().filter_map(|(k, p)| p.map(|l| (k, l))) {
                 for x in b.pos.iter_mut() {
-                    let c = x[axis];
-                    if !(0.0..l).contains(&c) {
-                        x[axis] = Boundary::wrap_coordinate(c, l);
-                    }
+                    x[axis] = Boundary::wrap_coordinate(x[axis], l);
                 }
             }
             span

@@ -2,8 +2,8 @@
 //! in the same call: no friction, Haff-Werner (eq 3.12, the thesis' law: the reference),
 //! Haff-Werner with `friction = inf` (the viscous branch alone), the stripe work's uncapped
 //! floor (`wall_friction = inf`: the viscous branch at the floor and side walls, Coulomb
-//! between grains) and Cundall-Strack (eq 4.32-4.34, `k_t = 50 N/m`), each at two drives: the thesis' 20 Hz / 25 mm and the
-//! experiment's 3 Hz / 10 mm (thesis 2.2.5).
+//! between grains) and Cundall-Strack (eq 4.32-4.34, `k_t = 50 N/m`), each at two drives:
+//! the thesis' 20 Hz / 25 mm and the experiment's 3 Hz / 10 mm (thesis 2.2.5).
 //!
 //! Two ratios per law and drive, each the median over pairs of runs (Haff-Werner, law) timed
 //! back to back on the same lattice start, so that both runs of a pair see the same machine

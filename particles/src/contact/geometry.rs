@@ -110,10 +110,6 @@ impl ContactGeometry {
 /// runs the very same kernels with fewer operations; results are equal up to the sign of
 /// zero components.
 pub trait Normal: Copy + std::fmt::Debug + PartialEq {
-    /// The normal never turns (an axis-aligned wall): every tangential velocity, and so
-    /// every spring built from them, has no component along it, and a spring needs no
-    /// rotation into the tangent plane.
-    const FIXED: bool;
     /// The normal as a vector.
     fn vector(&self) -> Vec3;
     /// `s n`.
@@ -125,12 +121,12 @@ pub trait Normal: Copy + std::fmt::Debug + PartialEq {
     /// `|v x n|^2`.
     fn cross_norm_squared(&self, v: &Vec3) -> f64;
     /// `v` without its part along the normal, `v - (n . v) n`. For an axis normal the
-    /// component is set to zero, so the compiler knows it is zero in what follows.
+    /// component is set to zero (equal up to its sign), so the compiler knows it is zero in
+    /// what follows.
     fn in_plane(&self, v: &Vec3) -> Vec3;
 }
 
 impl Normal for Vec3 {
-    const FIXED: bool = false;
     #[inline(always)]
     fn vector(&self) -> Vec3 {
         *self
@@ -165,7 +161,6 @@ pub struct AxisNormal<const AXIS: usize> {
 }
 
 impl<const AXIS: usize> Normal for AxisNormal<AXIS> {
-    const FIXED: bool = true;
     #[inline(always)]
     fn vector(&self) -> Vec3 {
         self.scaled(1.0)

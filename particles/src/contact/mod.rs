@@ -239,8 +239,8 @@ mod tests {
 
     #[test]
     fn cundall_strack_at_an_axis_wall_equals_the_general_wall() {
-        // An axis-aligned wall's springs are used as stored (`Normal::FIXED`); the general
-        // wall rotates them into its tangent plane. Over a run of steps that stick and slide,
+        // An axis-aligned wall drops its springs' normal component by setting it to zero
+        // (`Normal::in_plane`); the general wall subtracts it. Over a run of steps that stick and slide,
         // force, torque and spring agree (`==` treats -0 and +0 as equal).
         let (r, o) = (4e-4, Vec3::new(0.013, 0.02, 0.0));
         let vw = Vec3::zeros(); // a wall moving off a grain would leave no normal force

@@ -102,24 +102,18 @@ impl TangentialLaw {
             }
             TangentialLaw::CundallStrack { kt, mu } => {
                 // Rotate the stored spring into the current tangent plane, keeping its
-                // length. An axis-aligned wall's normal never turns (`N::FIXED`): its springs
-                // have no normal part and are used as stored. Another wall's springs have
-                // none up to rounding, so the rescaling (a square root and a division)
-                // is skipped when there is none.
-                let s = if N::FIXED {
-                    // Zero already; said so, the normal component drops out of what follows.
-                    g.n.in_plane(zeta)
-                } else {
-                    let along = g.n.dot(zeta);
-                    let mut s = *zeta - g.n.scaled(along);
-                    if along != 0.0 {
-                        let in_plane2 = s.norm_squared();
-                        if in_plane2 > 0.0 {
-                            s *= ((in_plane2 + along * along) / in_plane2).sqrt();
-                        }
+                // length. A wall's normal never turns: its springs have no normal part, and
+                // the rescaling (a square root and a division) is skipped; at an axis wall
+                // the normal component is set to zero, so the compiler drops it from what
+                // follows.
+                let along = g.n.dot(zeta);
+                let mut s = g.n.in_plane(zeta);
+                if along != 0.0 {
+                    let in_plane2 = s.norm_squared();
+                    if in_plane2 > 0.0 {
+                        s *= ((in_plane2 + along * along) / in_plane2).sqrt();
                     }
-                    s
-                };
+                }
                 // The spring now: the second half of the trapezoid over the last step.
                 let half = g.v_t * (0.5 * dt);
                 let mut z = s + half;
