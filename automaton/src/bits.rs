@@ -1,6 +1,11 @@
 //! Operations on bit rows: a row of `nx` cells is `ceil(nx / 64)` words, cell `i` at bit
 //! `i % 64` of word `i / 64`; bits at or above `nx` in the last word are always zero. Rows
 //! are periodic: all shifts are rotations modulo `nx`.
+//!
+//! The step ([`crate::step`]) uses the fixed-width forms (`[u64; W]`, the second `impl`). The
+//! slice forms of the first `impl` state each operation for any width; outside
+//! [`RowShape::window_and`] they are compiled only for the tests, which check them against
+//! index formulas and the fixed-width forms against them.
 
 // Word loops index several rows at once; explicit indices read clearer than zipped iterators.
 #![allow(clippy::needless_range_loop)]
@@ -34,6 +39,7 @@ impl RowShape {
         row[self.words - 1] &= self.last;
     }
 
+    #[cfg(test)]
     /// `dst = !src` on the valid cells.
     #[inline]
     pub fn not(&self, src: &[u64], dst: &mut [u64]) {
@@ -43,6 +49,7 @@ impl RowShape {
         self.clean(dst);
     }
 
+    #[cfg(test)]
     /// Logical shift towards higher cells by `k < nx` without wrap: `dst[i + k] = src[i]`,
     /// cells beyond `nx` dropped.
     fn shl_into(&self, src: &[u64], k: usize, dst: &mut [u64], or: bool) {
@@ -64,6 +71,7 @@ impl RowShape {
         self.clean(dst);
     }
 
+    #[cfg(test)]
     /// Logical shift towards lower cells by `k < nx` without wrap: `dst[i] = src[i + k]`.
     fn shr_or(&self, src: &[u64], k: usize, dst: &mut [u64]) {
         let (wq, b) = (k / 64, (k % 64) as u32);
@@ -78,6 +86,7 @@ impl RowShape {
         }
     }
 
+    #[cfg(test)]
     /// Periodic rotation towards higher cells: `dst[(i + k) mod nx] = src[i]`. One pass:
     /// word `d` of the result is the 64-cell window of `src` starting at `64 d - k`.
     pub fn rotate_up(&self, src: &[u64], k: usize, dst: &mut [u64]) {
@@ -142,6 +151,7 @@ impl RowShape {
         self.clean(dst);
     }
 
+    #[cfg(test)]
     /// The 64 cells from `start < nx` on, cyclically (rows of at least 64 cells).
     #[inline(always)]
     fn window(&self, src: &[u64], start: usize) -> u64 {
@@ -158,6 +168,7 @@ impl RowShape {
         }
     }
 
+    #[cfg(test)]
     /// [`Self::rotate_up`] for rows shorter than 128 cells, by two shifts.
     fn rotate_up_short(&self, src: &[u64], k: usize, dst: &mut [u64]) {
         self.shl_into(src, k, dst, false);
@@ -167,12 +178,14 @@ impl RowShape {
         }
     }
 
+    #[cfg(test)]
     /// Periodic rotation towards lower cells: `dst[i] = src[(i + k) mod nx]`.
     pub fn rotate_down(&self, src: &[u64], k: usize, dst: &mut [u64]) {
         let k = if k < self.nx { k } else { k % self.nx };
         self.rotate_up(src, if k == 0 { 0 } else { self.nx - k }, dst);
     }
 
+    #[cfg(test)]
     /// Mirror: `dst[nx - 1 - i] = src[i]`.
     pub fn reverse(&self, src: &[u64], dst: &mut [u64]) {
         let pad = self.words * 64 - self.nx; // reversed bits land `pad` too high
@@ -196,6 +209,7 @@ impl RowShape {
         self.clean(dst);
     }
 
+    #[cfg(test)]
     /// Periodic addition with end-around carry: `dst = a + b` as `nx`-bit numbers where a
     /// carry out of cell `nx - 1` re-enters at cell 0 (one's-complement addition). With `a`
     /// the free cells and `b` single bits at the starts of free runs, the carries run along
@@ -311,30 +325,6 @@ impl RowShape {
     /// Words of the buffer [`Self::window_and`] needs.
     pub fn ext_words(&self) -> usize {
         2 * self.words
-    }
-
-    /// First cell at or after `from` (cyclically) that is set (`clear = false`) or clear
-    /// (`clear = true`), by whole words; `None` if there is none.
-    pub fn next(&self, row: &[u64], from: usize, clear: bool) -> Option<usize> {
-        let n = self.words;
-        let flip = if clear { u64::MAX } else { 0 };
-        let valid = |d: usize| if d + 1 == n { self.last } else { u64::MAX };
-        let (w0, b0) = (from / 64, from % 64);
-        let x = (row[w0] ^ flip) & valid(w0) & (u64::MAX << b0);
-        if x != 0 {
-            return Some(64 * w0 + x.trailing_zeros() as usize);
-        }
-        // The words after `from`'s, then from word 0 on (back to `from`'s word, below `from`).
-        for d in (w0 + 1..n).chain(0..=w0) {
-            let mut x = (row[d] ^ flip) & valid(d);
-            if d == w0 {
-                x &= (1u64 << b0) - 1;
-            }
-            if x != 0 {
-                return Some(64 * d + x.trailing_zeros() as usize);
-            }
-        }
-        None
     }
 
     /// Whether cell `i` is set.

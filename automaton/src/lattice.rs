@@ -2,14 +2,16 @@
 //! `j` across (y), holding an integer pile height (grains stacked in that cell).
 //!
 //! Two storages hold the same information:
-//! - [`Storage::Bits`]: a submonolayer (every height 0 or 1), one bit per cell, 64 cells per
-//!   `u64` word, row by row; the fast, bit-parallel update works on it ([`crate::step`]);
+//! - [`Storage::Bits`]: a submonolayer (every height 0 or 1) with rows of at most
+//!   [`crate::step::MAX_WORDS`] words (1024 cells), one bit per cell, 64 cells per `u64`
+//!   word, row by row; the fast, bit-parallel update works on it ([`crate::step`]);
 //! - [`Storage::Heights`]: one byte per cell, any height up to 255; the general update
 //!   ([`crate::scalar`]) works on it, including the multilayer resting rule.
 //!
-//! [`Lattice::from_heights`] picks bits whenever every height is at most 1.
+//! [`Lattice::from_heights`] picks bits whenever every height is at most 1 and the rows fit.
 
 use crate::bits::RowShape;
+use crate::step::MAX_WORDS;
 
 /// How the cells are stored.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -42,25 +44,26 @@ impl std::fmt::Display for LatticeError {
 impl std::error::Error for LatticeError {}
 
 impl Lattice {
-    /// An empty lattice.
+    /// An empty lattice (bit storage where its rows fit the bit-parallel step).
     pub fn empty(nx: usize, ny: usize) -> Self {
         assert!(nx > 0 && ny > 0, "a lattice has at least one cell");
         let shape = RowShape::new(nx);
-        Self {
-            nx,
-            ny,
-            shape,
-            storage: Storage::Bits(vec![0; shape.words * ny]),
-        }
+        let storage = if shape.words <= MAX_WORDS {
+            Storage::Bits(vec![0; shape.words * ny])
+        } else {
+            Storage::Heights(vec![0; nx * ny])
+        };
+        Self { nx, ny, shape, storage }
     }
 
-    /// A lattice from heights (index `j * nx + i`); bit storage if all heights are <= 1.
+    /// A lattice from heights (index `j * nx + i`); bit storage if all heights are <= 1 and
+    /// the rows fit the bit-parallel step.
     pub fn from_heights(nx: usize, ny: usize, heights: &[u8]) -> Result<Self, LatticeError> {
         if heights.len() != nx * ny {
             return Err(LatticeError(format!("{} heights for {nx} x {ny} cells", heights.len())));
         }
         let mut l = Self::empty(nx, ny);
-        if heights.iter().all(|&h| h <= 1) {
+        if l.is_bit_packed() && heights.iter().all(|&h| h <= 1) {
             for j in 0..ny {
                 for i in 0..nx {
                     if heights[j * nx + i] == 1 {

@@ -14,14 +14,15 @@
 //!   lateral contacts and optional sideways moves ([`Physical`]), each switchable.
 //!
 //! Modules: [`lattice`] (storage), [`params`] (rules and switches), [`mapping`] (tray to
-//! parameters), `step` (bit-parallel submonolayer step), `scalar` (byte step, any height,
-//! resting rule), [`automaton`] (the driver), `rng` (counter-based random bits), `bits`
+//! parameters), `step` (bit-parallel submonolayer step, rows of up to 1024 cells), `scalar` (byte
+//! step: any height, the resting rule, wider rows), `neighbours` (cells across rows), [`automaton`] (the driver), `rng` (counter-based random bits), `bits`
 //! (periodic bit rows).
 
 pub mod automaton;
 mod bits;
 pub mod lattice;
 pub mod mapping;
+mod neighbours;
 pub mod params;
 mod rng;
 mod scalar;

@@ -25,13 +25,9 @@
 //!    Applied in sweeps of increasing `i` until every slope is at most 1; each move lowers
 //!    `sum h^2` by at least 2, so this ends.
 
+use crate::neighbours::{neighbour_row, offset_row, NEIGHBOURS};
 use crate::params::{Lateral, Resolved, Tick};
 use crate::rng::{self, Stream};
-use crate::step::{neighbour_row, offset_row};
-
-/// The 8 neighbouring cells `(row offset, column offset)` of a grain in the flight frame,
-/// in the order of their frustration draws ([`rng::neighbour_key`]).
-pub(crate) const NEIGHBOURS: [(i32, isize); 8] = [(0, 1), (0, -1), (-1, 0), (-1, 1), (-1, -1), (1, 0), (1, 1), (1, -1)];
 
 /// Buffers of the byte step.
 pub(crate) struct ScalarScratch {

@@ -76,8 +76,8 @@ fn mass_is_conserved_exactly_and_heights_stay_non_negative() {
 
 #[test]
 fn bit_parallel_step_equals_the_byte_reference_on_submonolayers() {
-    // Rows of 1 to 16 words take the fixed-width step, wider ones (1100 cells) the general one.
-    for (k, (nx, ny)) in [(533usize, 27usize), (64, 4), (65, 3), (200, 1), (129, 2), (1100, 3)]
+    // Rows of 1 to 16 words (up to 1024 cells) take the fixed-width step.
+    for (k, (nx, ny)) in [(533usize, 27usize), (64, 4), (65, 3), (200, 1), (129, 2), (1024, 3)]
         .into_iter()
         .enumerate()
     {
@@ -105,6 +105,24 @@ fn bit_parallel_step_equals_the_byte_reference_on_submonolayers() {
             }
         }
     }
+}
+
+/// Rows wider than the bit-parallel step's 1024 cells are stored as bytes, where the byte
+/// step applies the same rules; a narrower submonolayer keeps bits.
+#[test]
+fn rows_wider_than_1024_cells_run_on_bytes() {
+    let h = random_heights(1025, 3, 0.3, 1, 5);
+    let wide = Lattice::from_heights(1025, 3, &h).unwrap();
+    assert!(!wide.is_bit_packed());
+    assert!(!Lattice::empty(1025, 3).is_bit_packed());
+    assert!(Lattice::from_heights(1024, 3, &h[..1024 * 3]).unwrap().is_bit_packed());
+    let mass = wide.mass();
+    let mut a = Automaton::new(wide, all_on(100, YBoundary::Walls), Direction::Plus).unwrap();
+    for _ in 0..20 {
+        a.half_step();
+    }
+    assert_eq!(a.lattice().mass(), mass);
+    assert!(!a.lattice().is_bit_packed());
 }
 
 /// Stripes leave free runs longer than a word in every row: the flight-cap mask must see
@@ -301,11 +319,11 @@ fn bare(cap: usize, activation: Activation, frustration: Frustration) -> Params 
 /// cells) give their nominal (quantised) probabilities, and independently so.
 #[test]
 fn flight_and_holding_probabilities_match_their_nominal_values() {
-    let nx = 4000;
-    // Isolated grains with a cap of one cell: a grain moves exactly when it flies.
+    let nx = 1000; // the bit-parallel step's widest rows are 1024 cells
+                   // Isolated grains with a cap of one cell: a grain moves exactly when it flies.
     let mut params = bare(1, Activation::Bernoulli { p: 0.6 }, Frustration::None);
     let h: Vec<u8> = (0..nx).map(|i| (i % 4 == 0) as u8).collect();
-    let (frac, n) = moved_fraction(nx, 1, &h, params, 20);
+    let (frac, n) = moved_fraction(nx, 1, &h, params, 80);
     assert_binomial(frac, n, 38.0 / 64.0, "activation 0.6 (38/64)");
 
     // Row 1 holds a grain right ahead of each grain of row 0: a lateral contact that holds
@@ -318,10 +336,10 @@ fn flight_and_holding_probabilities_match_their_nominal_values() {
     params.physical.lateral = Lateral::Neighbours;
     params.physical.knock = Knock::Bernoulli { p: 0.3 };
     params.physical.activation = Activation::None;
-    let (frac, n) = moved_fraction(nx, 2, &h, params, 20);
+    let (frac, n) = moved_fraction(nx, 2, &h, params, 80);
     assert_binomial(frac, n, 19.0 / 64.0, "contact gives, p_knock 0.3 (19/64)");
     params.physical.activation = Activation::Bernoulli { p: 0.6 };
-    let (frac, n) = moved_fraction(nx, 2, &h, params, 20);
+    let (frac, n) = moved_fraction(nx, 2, &h, params, 80);
     assert_binomial(frac, n, 38.0 / 64.0 * 19.0 / 64.0, "flies and contact gives");
 }
 
@@ -329,7 +347,7 @@ fn flight_and_holding_probabilities_match_their_nominal_values() {
 /// with n neighbours flies with probability (1 - h)^n, independently of its activation.
 #[test]
 fn crowded_grains_fly_with_probability_one_minus_h_to_the_n() {
-    let nx = 4000;
+    let nx = 1000; // the bit-parallel step's widest rows are 1024 cells
     let mut params = bare(1, Activation::None, Frustration::Bernoulli { p: 0.3 }); // 19/64
     let free: f64 = 45.0 / 64.0;
     // Row 0: a grain every 4th cell; row 1: n = 1 (the cell beside it) or n = 2 (that one
@@ -342,10 +360,10 @@ fn crowded_grains_fly_with_probability_one_minus_h_to_the_n() {
                 h[nx + (i + o) % nx] = 1;
             }
         }
-        let (frac, trials) = moved_fraction(nx, 2, &h, params, 20);
+        let (frac, trials) = moved_fraction(nx, 2, &h, params, 80);
         assert_binomial(frac, trials, free.powi(n), &format!("{n} neighbour(s)"));
         params.physical.activation = Activation::Bernoulli { p: 0.6 };
-        let (frac, trials) = moved_fraction(nx, 2, &h, params, 20);
+        let (frac, trials) = moved_fraction(nx, 2, &h, params, 80);
         assert_binomial(
             frac,
             trials,
