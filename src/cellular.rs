@@ -289,6 +289,8 @@ pub struct Setup {
 }
 
 pub fn setup(file: &SceneFile, samples: &Path, quiet: bool) -> Result<Setup, CliError> {
+    // The lattice is checked before a sample is prepared for it.
+    file.validate_lattice()?;
     let scene = &file.dem;
     let b = progress_bar(1000, quiet, "prepare");
     let (state, _) = crate::samples::load_or_prepare(scene, samples, |f| b.set_position((f * 1000.0) as u64))?;

@@ -75,7 +75,8 @@ impl RunDir {
 
 /// Whether `dir` exists and holds anything.
 pub fn non_empty(dir: &Path) -> bool {
-    std::fs::read_dir(dir).is_ok_and(|mut d| d.next().is_some())
+    // A run's own lock (`crate::run_lock`) is not content.
+    std::fs::read_dir(dir).is_ok_and(|d| d.flatten().any(|e| e.file_name() != ".lock"))
 }
 
 /// Environment variable that sets the cache of prepared samples (`--sample-cache`).

@@ -25,8 +25,8 @@
 //! from the first frame's `BOX BOUNDS`; positions are shifted to `x - xlo`, `y - ylo` so
 //! they live in `[0, L) x [0, W)` like the suite's own snapshots; time is
 //! `timestep * dt` (s) with the run's time step `dt`. Triclinic boxes are refused. Every
-//! frame must hold the same atoms with the same radii (an error names the first offending
-//! atom id and timestep).
+//! frame must hold the same atoms with the same radii in the same box, and every atom must lie
+//! between the side walls (an error names the first offending atom id and timestep).
 
 use std::io::BufRead;
 use std::path::Path;
@@ -223,7 +223,9 @@ fn read_frame(lines: &mut Lines, start: usize) -> Result<RawFrame, FrameError> {
     };
     let names: Vec<&str> = cols.split_whitespace().collect();
     let c = columns(&names, &format!("{name} line {ln}")).map_err(|m| bad(lines, ln, m))?;
-    let mut atoms = Vec::with_capacity(n);
+    // `n` comes from the file: reserve no more than a modest start, the vector grows with the
+    // atoms actually read (a corrupt count must not allocate beyond the input).
+    let mut atoms = Vec::with_capacity(n.min(1 << 16));
     for _ in 0..n {
         let (ln, l) = match next(lines, &mut last, "an atom") {
             Ok(x) => x,
@@ -252,9 +254,14 @@ fn read_frame(lines: &mut Lines, start: usize) -> Result<RawFrame, FrameError> {
             }
         };
         let atom = (|| -> Result<_, String> {
-            let id: u64 = f[c.id]
-                .parse()
-                .map_err(|_| format!("{name} line {ln}: id `{}` is not an integer (timestep {step})", f[c.id]))?;
+            let id: u64 = f[c.id].parse().map_err(|_| {
+                let what = if f[c.id].parse::<i64>().is_ok() {
+                    "is negative; atom ids are positive integers"
+                } else {
+                    "is not an integer"
+                };
+                format!("{name} line {ln}: id `{}` {what} (timestep {step})", f[c.id])
+            })?;
             let radius = num(c.radius)?;
             let mut pos = [0.0; 3];
             for a in 0..3 {
@@ -363,7 +370,23 @@ pub fn read_dump_noting(path: &Path, dt: f64) -> Result<(Header, Vec<Frame>, Dum
                 f.step
             ));
         }
+        if f.bounds[0] != first.bounds[0] || f.bounds[1] != first.bounds[1] {
+            return Err(format!(
+                "{name}: the box changes at timestep {}: x {:?}, y {:?} against x {:?}, y {:?} in the first frame; \
+                 the analysis needs one tray (a fixed periodic length and width)",
+                f.step, f.bounds[0], f.bounds[1], first.bounds[0], first.bounds[1]
+            ));
+        }
         for (a, b) in f.atoms.iter().zip(&first.atoms) {
+            // x is periodic (and `xu` unwrapped), but y is bounded by the tray's side walls.
+            let y = a.2[1];
+            let slack = 1e-9 * width;
+            if !(y >= by[0] - slack && y <= by[1] + slack) {
+                return Err(format!(
+                    "{name}: atom {} at y = {y} m lies outside the side walls [{}, {}] at timestep {}",
+                    a.0, by[0], by[1], f.step
+                ));
+            }
             if a.0 != b.0 {
                 return Err(format!(
                     "{name}: timestep {} has atom id {} where the first frame has {}",

@@ -141,11 +141,19 @@ pub fn read_snapshots_counting(path: &Path) -> io::Result<(Header, Vec<Frame>, u
     }
     let u64_at = |at: usize| u64::from_le_bytes(bytes[at..at + 8].try_into().expect("8 bytes"));
     let f64_at = |at: usize| f64::from_le_bytes(bytes[at..at + 8].try_into().expect("8 bytes"));
-    let n = u64_at(8) as usize;
-    let header_len = 32 + 8 * n;
-    if bytes.len() < header_len {
-        return Err(bad("truncated header"));
+    // The grain count is checked against the bytes present before anything is sized from
+    // it: a corrupt count must not overflow or allocate beyond the file.
+    let n_raw = u64_at(8);
+    let room = (bytes.len() as u64 - 32) / 8;
+    if n_raw > room {
+        return Err(bad(&format!(
+            "truncated header: it claims {n_raw} grains, whose radii need {} bytes, but the file has {}",
+            n_raw.saturating_mul(8).saturating_add(32),
+            bytes.len()
+        )));
     }
+    let n = n_raw as usize;
+    let header_len = 32 + 8 * n;
     let header = Header {
         length: f64_at(16),
         width: f64_at(24),

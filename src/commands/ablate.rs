@@ -20,7 +20,7 @@ pub struct Args {
     /// Scene file (TOML): the reference configuration.
     pub scene: PathBuf,
     /// Prepared samples (seeds) per configuration (seeds run.seed, run.seed + 1, ...).
-    #[arg(long, value_name = "N", default_value_t = 1, visible_alias = "samples")]
+    #[arg(long, value_name = "N", default_value_t = 1, visible_alias = "samples", value_parser = crate::cli_values::at_least_one)]
     pub seeds: usize,
     /// Also the packing sweep of Table 3.6: these particle counts in the same box.
     #[arg(long, value_delimiter = ',')]

@@ -22,10 +22,10 @@ pub struct Args {
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// Cell width of the density map (m); the area fraction is averaged exactly per cell.
-    #[arg(long, default_value_t = 1e-3)]
+    #[arg(long, default_value_t = 1e-3, value_parser = crate::cli_values::positive, allow_negative_numbers = true)]
     pub cell: f64,
     /// Stripe threshold on the area fraction (default: 1.5 x the layer's mean, at most halfway from the mean to the jammed 0.82)
-    #[arg(long)]
+    #[arg(long, value_parser = crate::cli_values::positive)]
     pub threshold: Option<f64>,
     /// Minimum stripe width (m; default: five mean grain diameters).
     #[arg(long)]

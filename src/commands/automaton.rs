@@ -124,6 +124,8 @@ fn simulate(args: &Args, path: &Path, file: SceneFile) -> Result<String, CliErro
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "scene".into());
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from(format!("out/automaton-{name}")));
+    // Checked before the directory is made, so a refused lattice leaves nothing behind.
+    file.validate_lattice()?;
     let mut dir = RunDir::create(&out, &json!({ "args": args, "scene": &file }))?;
     analysis::io::write_atomic(&out.join("scene.toml"), file.to_toml()?.as_bytes())?;
     let rule = args.rule.unwrap_or(file.automaton.rule);
@@ -172,6 +174,7 @@ fn simulate(args: &Args, path: &Path, file: SceneFile) -> Result<String, CliErro
 /// Speed on the scene's tray: a random layer of the scene's grain count, `strict` and
 /// `physical`, each for about `bench_seconds`.
 fn bench(args: &Args, path: &Path, file: &SceneFile) -> Result<String, CliError> {
+    file.validate_lattice()?;
     let scene = &file.dem;
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from("out/automaton-bench"));
     let mut dir = RunDir::create(&out, &json!({ "args": args, "scene": scene }))?;

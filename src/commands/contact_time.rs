@@ -14,7 +14,7 @@ use crate::output::{CliError, RunDir};
 #[derive(clap::Args, Debug, Serialize)]
 pub struct Args {
     /// Values per sweep.
-    #[arg(long, default_value_t = 13)]
+    #[arg(long, default_value_t = 13, value_parser = crate::cli_values::at_least_two)]
     pub points: usize,
     /// Steps per estimated contact time.
     #[arg(long, default_value_t = 1000.0)]

@@ -31,7 +31,7 @@ pub struct Args {
     #[arg(long, value_enum, default_value = "both")]
     pub model: Which,
     /// Prepared samples (seeds run.seed, run.seed + 1, ...) per cell.
-    #[arg(long, value_name = "N", default_value_t = 1, visible_alias = "samples")]
+    #[arg(long, value_name = "N", default_value_t = 1, visible_alias = "samples", value_parser = crate::cli_values::at_least_one)]
     pub seeds: usize,
     /// Sweep directory.
     #[arg(long, default_value = "out/phase-map")]

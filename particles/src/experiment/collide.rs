@@ -38,6 +38,10 @@ use crate::{SimError, Vec3};
 /// Fewest steps per (estimated) contact time the lab accepts.
 pub const MIN_STEPS_PER_CONTACT: f64 = 5.0;
 
+/// Most steps per (estimated) contact time the lab accepts: beyond about 1e8 the step's
+/// displacement falls below the positions' resolution in double precision.
+pub const MAX_STEPS_PER_CONTACT: f64 = 1e8;
+
 /// How the impact is specified.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Impact {
@@ -234,8 +238,27 @@ impl Collision {
         let (m_eff, _) = self.effective();
         let spring = self.law.tangential.spring_half_period(sphere_tangential_mass(m_eff));
         check_step_resolution(dt, MIN_STEPS_PER_CONTACT, t_est, spring, "dt", "kt")?;
-
         let (_, v) = self.speeds();
+        let (_, r_eff) = self.effective();
+        if v * dt > 0.1 * r_eff {
+            return Err(SimError::CollisionUnresolved {
+                reason: format!(
+                    "at v = {v:e} m/s the bodies move {:e} m per step of {dt:e} s, more than a tenth of the effective radius {r_eff:e} m: \
+                     no step resolves an impact this fast for this law (lower the speed or stiffen the law)",
+                    v * dt
+                ),
+            });
+        }
+        if t_est / dt > MAX_STEPS_PER_CONTACT {
+            return Err(SimError::CollisionUnresolved {
+                reason: format!(
+                    "dt = {dt:e} s gives {:.2e} steps per contact time {t_est:e} s; at most {MAX_STEPS_PER_CONTACT:e} \
+                     (below that the positions no longer move in double precision): raise dt or lower the steps per contact",
+                    t_est / dt
+                ),
+            });
+        }
+
         let mut state = State::default();
         let (walls, r0, g0) = match self.target_sphere() {
             Some((r2, m2, w2)) => {
@@ -304,6 +327,38 @@ impl Collision {
             prev_margin = margin;
         };
 
+        // What the lab cannot resolve is refused, not reported: a contact that ends before
+        // it starts or within a few steps (an overdamped law, or a step too coarse), one
+        // that gains energy, and one that never touched.
+        if !(t_c > 0.0) {
+            return Err(SimError::CollisionUnresolved {
+                reason: format!(
+                    "the contact ended before it began (t_c = {t_c:e} s): the damping reversed the approach within a step; lower the damping (gamma_n or the dissipation) or the step"
+                ),
+            });
+        }
+        if (t_c / dt) < MIN_STEPS_PER_CONTACT {
+            return Err(SimError::CollisionUnresolved {
+                reason: format!(
+                    "the contact lasted {t_c:e} s, {:.1} steps of {dt:e} s (at least {MIN_STEPS_PER_CONTACT} needed): \
+                     the normal law is overdamped at this speed (lower the damping: gamma_n or the dissipation) or the step is too large",
+                    t_c / dt
+                ),
+            });
+        }
+        if max_overlap <= 1e-9 * r_eff {
+            return Err(SimError::CollisionUnresolved {
+                reason: format!("the bodies never overlapped (largest overlap {max_overlap:e} m): no contact was resolved"),
+            });
+        }
+        let energy_after = energy(&sim.state);
+        if energy_after > energy_before * (1.0 + 1e-3) {
+            return Err(SimError::CollisionUnresolved {
+                reason: format!(
+                    "the impact gained energy ({energy_before:e} J before, {energy_after:e} J after): the step does not resolve the law's damping; lower dt or the damping"
+                ),
+            });
+        }
         let s = &sim.state;
         let g1 = self.relative_velocity(s);
         // Normal at the end of the contact; a wall's never turns.
@@ -327,7 +382,7 @@ impl Collision {
             dt,
             contact_time_estimate: t_est,
             energy_before,
-            energy_after: energy(s),
+            energy_after,
             momentum_error: (s.len() > 1).then(|| (observe::momentum(s) - p0).norm() / m_scale),
             angular_momentum_error: (s.len() > 1).then(|| (observe::angular_momentum(s) - l0).norm() / l_scale),
             max_friction_ratio,

@@ -247,6 +247,24 @@ impl Scene {
         if 2.0 * self.particles.radius_max > self.tray.width.min(self.tray.length) {
             return Err(err("particles.radius_max", "a particle does not fit in the box"));
         }
+        // The preparation shuffles the sites of one lattice layer (spacing 2.1 R_max): a tray
+        // far larger than its grains need would size that from the box alone.
+        let spacing = 2.1 * self.particles.radius_max;
+        let sites = (self.tray.length / spacing).floor() * ((self.tray.width / spacing).floor() + 1.0);
+        let most = 64.0 * self.particles.count as f64 + (1u64 << 20) as f64;
+        if sites > most {
+            return Err(err(
+                "box.length",
+                format!(
+                    "with box.width = {} m the tray holds {sites:.3e} lattice sites of 2.1 R_max for {} grains \
+                     (preparing it would need {:.1e} bytes); at most {most:.3e} sites (64 per grain) are allowed: \
+                     shrink the box or add grains",
+                    self.tray.width,
+                    self.particles.count,
+                    8.0 * sites
+                ),
+            ));
+        }
         positive("material.density", self.material.density)?;
         positive("material.young", self.material.young)?;
         if !(self.material.poisson > -1.0 && self.material.poisson <= 0.5) {
