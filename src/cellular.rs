@@ -213,6 +213,8 @@ pub struct Outcome {
     pub stepping_s: f64,
     pub cells: Cells,
     pub mass: (u64, u64),
+    /// What the run changed of the scene, said aloud (e.g. the duration rounded to periods).
+    pub warnings: Vec<String>,
 }
 
 /// Runs the automaton from `lattice` for the scene's duration, writing `snapshots.bin` into
@@ -229,6 +231,14 @@ pub fn evolve(
     let (scene, cells) = (&file.dem, Cells::of(file));
     let nu = scene.drive.frequency;
     let periods = (scene.run.duration * nu).round().max(1.0) as u64;
+    let mut warnings = Vec::new();
+    let ran = periods as f64 / nu;
+    if (ran - scene.run.duration).abs() > 1e-9 * scene.run.duration.max(ran) {
+        warnings.push(format!(
+            "run.duration = {} s is not a whole number of drive periods (1/{nu} s): the automaton, which steps by half periods, ran {periods} periods ({ran} s)",
+            scene.run.duration
+        ));
+    }
     let m0 = lattice.mass();
     let mut writer = match snapshots {
         Some(p) => Some(StateWriter::create(
@@ -274,6 +284,7 @@ pub fn evolve(
         stepping_s: stepping,
         cells,
         mass: (m0, m1),
+        warnings,
     })
 }
 

@@ -100,6 +100,41 @@ impl SceneFile {
     }
 }
 
+/// The dotted keys whose values differ between two DEM scenes, as `key: a -> b`, leaving out
+/// the keys that do not change a trajectory (`run.threads`, `run.checkpoint_interval`).
+pub fn differences(a: &Scene, b: &Scene) -> Vec<String> {
+    fn flat(prefix: &str, v: &toml::Value, out: &mut std::collections::BTreeMap<String, String>) {
+        match v {
+            toml::Value::Table(t) => {
+                for (k, x) in t {
+                    let key = if prefix.is_empty() { k.clone() } else { format!("{prefix}.{k}") };
+                    flat(&key, x, out);
+                }
+            }
+            other => {
+                out.insert(prefix.to_string(), other.to_string());
+            }
+        }
+    }
+    let table = |s: &Scene| {
+        let mut m = std::collections::BTreeMap::new();
+        if let Ok(v) = toml::Value::try_from(s) {
+            flat("", &v, &mut m);
+        }
+        m
+    };
+    let (ta, tb) = (table(a), table(b));
+    let keys: std::collections::BTreeSet<&String> = ta.keys().chain(tb.keys()).collect();
+    keys.into_iter()
+        .filter(|k| !matches!(k.as_str(), "run.threads" | "run.checkpoint_interval"))
+        .filter(|k| ta.get(*k) != tb.get(*k))
+        .map(|k| {
+            let show = |m: &std::collections::BTreeMap<String, String>| m.get(k).cloned().unwrap_or_else(|| "(unset)".into());
+            format!("{k}: {} -> {}", show(&ta), show(&tb))
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -187,5 +222,17 @@ seed = 1
         let docs = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/scenes.md")).unwrap();
         let missing: Vec<&String> = all.iter().filter(|k| !docs.contains(&format!("`{k}`"))).collect();
         assert!(missing.is_empty(), "docs/scenes.md does not document {missing:?}");
+    }
+
+    #[test]
+    fn differences_name_each_changed_key_and_ignore_threads() {
+        let a = parse(SCENE, &[], "a").unwrap().dem;
+        let b = parse(SCENE, &["drive.frequency=10".into(), "run.threads=2".into()], "b")
+            .unwrap()
+            .dem;
+        let d = differences(&a, &b);
+        assert_eq!(d.len(), 1, "{d:?}");
+        assert!(d[0].starts_with("drive.frequency: 20") && d[0].ends_with("-> 10.0"), "{d:?}");
+        assert!(differences(&a, &a).is_empty());
     }
 }

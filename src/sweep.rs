@@ -160,9 +160,15 @@ pub fn parse_range(s: &str, what: &str) -> Result<Vec<f64>, String> {
         }
         return Ok(values);
     }
+    if !s.contains(':') {
+        // One value is an axis of one point.
+        return Ok(vec![number(s, "the value")?]);
+    }
     let parts: Vec<&str> = s.split(':').collect();
     if parts.len() != 3 {
-        return Err(format!("--{what} wants LO:HI:N (e.g. 5:29:7) or a list (e.g. 2,3,5,8), got `{s}`"));
+        return Err(format!(
+            "--{what} wants LO:HI:N (e.g. 5:29:7), a list (e.g. 2,3,5,8) or one value, got `{s}`"
+        ));
     }
     let (lo, hi) = (number(parts[0], "LO")?, number(parts[1], "HI")?);
     let n: usize = parts[2]
@@ -386,6 +392,7 @@ fn run_job(root: &Path, sweep: &Sweep, job: &Job, samples: &Path) -> Result<(), 
         })?,
     };
     let analysis = analyze::run(analyze::Args {
+        force: true,
         input: run_dir,
         out: Some(dir.join("analysis")),
         ..analyze::Args::default()
@@ -524,6 +531,9 @@ mod tests {
         assert!(e.contains("value 2"), "{e}");
         let e = parse_range("5:x:3", "frequency").unwrap_err();
         assert!(e.contains("HI `x`"), "{e}");
+        // One value is an axis of one point (`phase-map --frequency 5`).
+        assert_eq!(parse_range("5", "frequency").unwrap(), vec![5.0]);
+        assert!(parse_range("x", "frequency").unwrap_err().contains("`x`"));
         assert_eq!("1/4".parse::<Shard>().unwrap(), Shard { index: 1, count: 4 });
         assert!("4/4".parse::<Shard>().is_err());
         assert!("x/2".parse::<Shard>().is_err());

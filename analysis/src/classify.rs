@@ -157,11 +157,13 @@ pub fn time_average(profiles: &[Vec<f64>]) -> Vec<f64> {
 
 /// First frame of the persistence window: the frames of the last `periods` drive periods
 /// of `period` (s), or from `tail_from` if that reaches back further. `None` when the
-/// frames span less than the window. Without a period, the tail frames.
+/// frames span less than the window. Without a period, the tail frames, if there are at
+/// least two.
 pub fn persistence_window(times: &[f64], tail_from: usize, period: Option<f64>, periods: f64) -> Option<usize> {
     let (first, last) = (*times.first()?, *times.last()?);
     let Some(period) = period else {
-        return Some(tail_from);
+        // Persistence needs frames: one frame says nothing about whether a band stays.
+        return (times.len() >= tail_from + 2).then_some(tail_from);
     };
     let span = periods * period;
     // A relative slack of 1e-9 absorbs the round-off of snapshot times.
@@ -216,6 +218,16 @@ mod tests {
     use super::*;
     use crate::density::area_fraction_cells;
     use rand::{Rng, SeedableRng};
+
+    /// One frame holds no evidence of persistence: no stationary stripes, with or without a
+    /// known period.
+    #[test]
+    fn a_single_frame_has_no_persistence_window() {
+        assert_eq!(persistence_window(&[2.0], 0, None, 10.0), None);
+        assert_eq!(persistence_window(&[2.0], 0, Some(0.1), 10.0), None);
+        assert_eq!(persistence_window(&[1.0, 2.0], 1, None, 10.0), None);
+        assert_eq!(persistence_window(&[1.0, 2.0], 0, None, 10.0), Some(0));
+    }
 
     fn evidence(contrast: f64, mobility: f64, tail: usize, stationary: usize) -> Evidence {
         Evidence {

@@ -106,6 +106,9 @@ pub struct Args {
     /// Output directory.
     #[arg(long, default_value = "out/collide")]
     pub out: PathBuf,
+    /// Replace the files of an output directory that already holds some (default: refuse it).
+    #[arg(long)]
+    pub force: bool,
 }
 
 impl Args {
@@ -186,6 +189,7 @@ impl Args {
 pub fn run(args: Args) -> Result<String, CliError> {
     let collision = args.collision()?;
     let result = collision.run()?;
+    crate::output::claim(&args.out, args.force)?;
     let dir = RunDir::create(&args.out, &args)?;
     dir.finish(serde_json::to_value(&result)?)
 }

@@ -240,11 +240,11 @@ impl Collision {
         check_step_resolution(dt, MIN_STEPS_PER_CONTACT, t_est, spring, "dt", "kt")?;
         let (_, v) = self.speeds();
         let (_, r_eff) = self.effective();
-        if v * dt > 0.1 * r_eff {
+        if v * dt > r_eff {
             return Err(SimError::CollisionUnresolved {
                 reason: format!(
-                    "at v = {v:e} m/s the bodies move {:e} m per step of {dt:e} s, more than a tenth of the effective radius {r_eff:e} m: \
-                     no step resolves an impact this fast for this law (lower the speed or stiffen the law)",
+                    "at v = {v:e} m/s the bodies move {:e} m per step of {dt:e} s, more than the effective radius {r_eff:e} m: \
+                     they pass through each other; no step resolves an impact this fast for this law (lower the speed or stiffen the law)",
                     v * dt
                 ),
             });
@@ -333,7 +333,7 @@ impl Collision {
         if !(t_c > 0.0) {
             return Err(SimError::CollisionUnresolved {
                 reason: format!(
-                    "the contact ended before it began (t_c = {t_c:e} s): the damping reversed the approach within a step; lower the damping (gamma_n or the dissipation) or the step"
+                    "the contact ended before it began (t_c = {t_c:e} s): the bodies passed through each other, or the damping reversed the approach, within one step; lower the speed, the damping (gamma_n or the dissipation) or the step"
                 ),
             });
         }
