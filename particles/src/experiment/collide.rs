@@ -330,7 +330,7 @@ impl Collision {
         // What the lab cannot resolve is refused, not reported: a contact that ends before
         // it starts or within a few steps (an overdamped law, or a step too coarse), one
         // that gains energy, and one that never touched.
-        if !(t_c > 0.0) {
+        if t_c.is_nan() || t_c <= 0.0 {
             return Err(SimError::CollisionUnresolved {
                 reason: format!(
                     "the contact ended before it began (t_c = {t_c:e} s): the bodies passed through each other, or the damping reversed the approach, within one step; lower the speed, the damping (gamma_n or the dissipation) or the step"
