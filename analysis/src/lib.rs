@@ -32,5 +32,6 @@ pub mod report;
 pub mod segregation;
 pub mod snapshot;
 pub mod stripes;
+pub mod structure;
 pub mod tracer;
 pub mod vtk;

@@ -27,6 +27,7 @@ use crate::msd::{flat_plateau, half_msd, median_spacing, MsdPoint, Plateau, PLAT
 use crate::segregation::{RadiusBins, RadiusDistribution, RadiusTally};
 use crate::snapshot::{Frame, Header};
 use crate::stripes::{detect, dominant_spacing, onset, Coarsening, Stripe, StripeParams};
+use crate::structure::{in_band_fraction, peak, structure_factor, widths_and_gaps, Peak, Structure};
 use crate::tracer::Tracer;
 
 /// Settings of the analysis. [`Options::default`] gives the documented defaults.
@@ -142,6 +143,12 @@ pub struct Report {
     /// Radii inside the stripes of the final-state (tail) frames against the whole layer.
     pub radii: RadiusDistribution,
     pub classification: Classification,
+    /// The structure of every frame: S(k) peak and fraction of grains in bands.
+    pub structure: Vec<StructurePoint>,
+    /// The late-time structure (the tail frames): S(k) averaged, band widths pooled.
+    pub late: Structure,
+    /// Gaps between neighbouring bands of the tail frames, pooled (m).
+    pub late_gaps: Vec<f64>,
 }
 
 impl Report {
@@ -193,6 +200,15 @@ pub struct Summary {
     pub radius_mean_m: f64,
     pub radius_mean_in_stripes_m: Option<f64>,
     pub radius_relative_change: Option<f64>,
+    /// The late-time S(k) peak: spacing (m), height and full width at half maximum (rad/m).
+    pub spacing_m: Option<f64>,
+    pub structure_peak_height: Option<f64>,
+    pub structure_peak_width_per_m: Option<f64>,
+    /// Mean width of the tail frames' bands and of the gaps between them (m).
+    pub band_width_m: Option<f64>,
+    pub band_gap_m: Option<f64>,
+    /// Mean fraction of grains in bands over the tail frames.
+    pub in_band_fraction: f64,
 }
 
 impl Report {
@@ -231,8 +247,21 @@ impl Report {
             radius_mean_m: self.radii.mean_whole,
             radius_mean_in_stripes_m: finite(self.radii.mean_stripes),
             radius_relative_change: finite(self.radii.relative_change),
+            spacing_m: peak(&self.late.s).map(|p| p.spacing),
+            structure_peak_height: peak(&self.late.s).map(|p| p.height),
+            structure_peak_width_per_m: peak(&self.late.s).map(|p| p.width),
+            band_width_m: mean(&self.late.band_widths),
+            band_gap_m: mean(&self.late_gaps),
+            in_band_fraction: {
+                let tail = &self.structure[self.structure.len() - self.structure.len().div_ceil(10)..];
+                tail.iter().map(|p| p.in_band_fraction).sum::<f64>() / tail.len().max(1) as f64
+            },
         }
     }
+}
+
+fn mean(v: &[f64]) -> Option<f64> {
+    (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64)
 }
 
 /// Analyses frames in memory: [`Analyzer`] with the period taken from the snapshot
@@ -253,6 +282,18 @@ struct FrameResult {
     stripes: Vec<Stripe>,
     std: f64,
     radii: RadiusTally,
+    s: Vec<(f64, f64)>,
+    in_band: f64,
+}
+
+/// The structure of one frame ([`crate::structure`]).
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct StructurePoint {
+    pub time: f64,
+    /// The peak of S(k), if any mode rises above the independent level.
+    pub peak: Option<Peak>,
+    /// Fraction of the grains inside bands.
+    pub in_band_fraction: f64,
 }
 
 /// Streaming analysis: feed frames in time order with [`Analyzer::push`], then
@@ -275,6 +316,9 @@ pub struct Analyzer {
     tracer: Tracer,
     radius_bins: RadiusBins,
     radius_tallies: Vec<RadiusTally>,
+    modes: usize,
+    structure: Vec<StructurePoint>,
+    spectra: Vec<Vec<(f64, f64)>>,
 }
 
 impl Analyzer {
@@ -354,6 +398,10 @@ impl Analyzer {
             tracer: Tracer::new(opts.tracer, header.radii[opts.tracer]),
             radius_bins: RadiusBins::of(&header.radii, opts.radius_bins),
             radius_tallies: Vec::new(),
+            // Wavelengths down to two mean diameters, at most 400 modes.
+            modes: ((l / (2.0 * mean_d)).floor() as usize).clamp(1, 400),
+            structure: Vec::new(),
+            spectra: Vec::new(),
         })
     }
 
@@ -389,6 +437,7 @@ impl Analyzer {
         let radii = &self.header.radii;
         let params = self.params;
         let bins = self.radius_bins;
+        let modes = self.modes;
         let results: Vec<FrameResult> = frames
             .par_iter()
             .map(|f| {
@@ -399,11 +448,15 @@ impl Analyzer {
                 let std = cell_std(&phi);
                 let mut tally = RadiusTally::new(&bins);
                 tally.add_frame_on_cells(&x, radii, &stripes, l, cells, &bins);
+                let s = structure_factor(&x, l, modes);
+                let in_band = in_band_fraction(&x, &stripes, l);
                 FrameResult {
                     phi,
                     stripes,
                     std,
                     radii: tally,
+                    s,
+                    in_band,
                 }
             })
             .collect();
@@ -415,6 +468,12 @@ impl Analyzer {
                 f64::NAN
             });
             self.map.push(r.phi);
+            self.structure.push(StructurePoint {
+                time: f.time,
+                peak: peak(&r.s),
+                in_band_fraction: r.in_band,
+            });
+            self.spectra.push(r.s);
             self.stripes.push(r.stripes);
             self.radius_tallies.push(r.radii);
             let t = self.opts.tracer;
@@ -458,6 +517,25 @@ impl Analyzer {
         // Final state: the tail frames.
         let tail_from = ((m as f64 * (1.0 - self.opts.tail_fraction)).floor() as usize).min(m - 1);
         let t_tail = self.times[tail_from];
+        let tail_n = (m - tail_from) as f64;
+        let late_s: Vec<(f64, f64)> = (0..self.spectra[0].len())
+            .map(|j| {
+                (
+                    self.spectra[0][j].0,
+                    self.spectra[tail_from..].iter().map(|sp| sp[j].1).sum::<f64>() / tail_n,
+                )
+            })
+            .collect();
+        let (mut late_widths, mut late_gaps) = (Vec::new(), Vec::new());
+        for st in &self.stripes[tail_from..] {
+            let (w, g) = widths_and_gaps(st, l);
+            late_widths.extend(w);
+            late_gaps.extend(g);
+        }
+        let late = Structure {
+            s: late_s,
+            band_widths: late_widths,
+        };
         let contrast = self.contrast[tail_from..].iter().sum::<f64>() / (m - tail_from) as f64;
         let mut tail_counts = counts[tail_from..].to_vec();
         tail_counts.sort_unstable();
@@ -557,6 +635,9 @@ impl Analyzer {
             tracer: self.tracer,
             radii,
             classification,
+            structure: self.structure,
+            late,
+            late_gaps,
         })
     }
 }

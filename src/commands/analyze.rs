@@ -228,6 +228,57 @@ fn write_tables(dir: &mut RunDir, r: &Report, run: &analysis::input::Run) -> Res
         .flat_map(|(t, s)| s.iter().map(move |s| vec![*t, s.start, s.center, s.width, s.mass]))
         .collect();
     dir.csv("stripes.csv", &["t", "start", "center", "width", "mass"], &rows)?;
+    // Structure: the S(k) peak and the fraction in bands per frame, the late S(k), the late
+    // band widths and gaps.
+    let nan = f64::NAN;
+    let rows: Vec<Vec<f64>> = r
+        .structure
+        .iter()
+        .map(|p| {
+            let (k, spacing, height, width) = p.peak.map_or((nan, nan, nan, nan), |q| (q.k, q.spacing, q.height, q.width));
+            vec![p.time, k, spacing, height, width, p.in_band_fraction]
+        })
+        .collect();
+    dir.csv(
+        "structure.csv",
+        &[
+            "t",
+            "peak_k_per_m",
+            "spacing_m",
+            "peak_height",
+            "peak_fwhm_per_m",
+            "in_band_fraction",
+        ],
+        &rows,
+    )?;
+    let rows: Vec<Vec<f64>> = r.late.s.iter().map(|&(k, s)| vec![k, 2.0 * std::f64::consts::PI / k, s]).collect();
+    dir.csv("structure_factor_late.csv", &["k_per_m", "wavelength_m", "S"], &rows)?;
+    let n = r.late.band_widths.len().max(r.late_gaps.len());
+    let rows: Vec<Vec<f64>> = (0..n)
+        .map(|j| {
+            vec![
+                r.late.band_widths.get(j).copied().unwrap_or(nan),
+                r.late_gaps.get(j).copied().unwrap_or(nan),
+            ]
+        })
+        .collect();
+    dir.csv("bands_late.csv", &["band_width_m", "gap_m"], &rows)?;
+    let sk = LinePlot::new("Structure factor of the late frames", "wavelength 2 pi / k (m)", "S(k)")
+        .series(
+            "S(k)",
+            r.late.s.iter().map(|&(k, s)| (2.0 * std::f64::consts::PI / k, s)).collect(),
+            Mark::LinePoints,
+        )
+        .series(
+            "independent grains",
+            r.late.s.iter().map(|&(k, _)| (2.0 * std::f64::consts::PI / k, 1.0)).collect(),
+            Mark::Dashed,
+        )
+        .log_x()
+        .legend(analysis::plot::LegendCorner::UpperLeft)
+        .include_y(0.0)
+        .include_y(1.25 * r.late.s.iter().map(|p| p.1).fold(1.0, f64::max));
+    dir.plot("structure_factor", &sk)?;
     let rows: Vec<Vec<f64>> = r.msd.iter().map(|p| vec![p.time, p.d]).collect();
     dir.csv("msd.csv", &["t", "D"], &rows)?;
     let rows: Vec<Vec<f64>> = r

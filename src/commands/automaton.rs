@@ -102,6 +102,12 @@ pub(crate) fn analysis_keys(line: &str) -> Result<serde_json::Map<String, Value>
         "stripe_spacing_m",
         "msd_plateau_before",
         "msd_plateau_after",
+        "spacing_m",
+        "structure_peak_height",
+        "structure_peak_width_per_m",
+        "band_width_m",
+        "band_gap_m",
+        "in_band_fraction",
         "warnings",
     ] {
         if let Some(x) = v.get(key) {

@@ -33,6 +33,10 @@ pub struct Args {
     /// same sample as the scene).
     #[arg(long)]
     pub dem_run: Option<PathBuf>,
+    /// A second DEM run of the same scene with another seed (a run directory): the pattern
+    /// distance between the two seeds is the scale of the distance between the models.
+    #[arg(long, value_name = "RUN_DIR")]
+    pub seed_scale_run: Option<PathBuf>,
     /// Cache of prepared samples, shared by all runs (default: $STRIPES_SAMPLE_CACHE, else
     /// out/samples).
     #[arg(long, value_name = "DIR", default_value_os_t = crate::output::default_sample_cache())]
@@ -58,6 +62,38 @@ fn stage(quiet: bool, k: usize, what: &str) {
 fn read_json(path: &Path) -> Result<Value, CliError> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
     Ok(serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?)
+}
+
+/// The late-time structure an analysis directory wrote (`structure_factor_late.csv`,
+/// `bands_late.csv`).
+fn late_structure(analysis: &Path) -> Result<analysis::structure::Structure, CliError> {
+    let p = analysis.join("structure_factor_late.csv");
+    let (_, rows) = read_csv(&p).map_err(|e| format!("cannot read {}: {e}", p.display()))?;
+    let s = rows.iter().filter(|r| r.len() >= 3).map(|r| (r[0], r[2])).collect();
+    let p = analysis.join("bands_late.csv");
+    let (_, rows) = read_csv(&p).map_err(|e| format!("cannot read {}: {e}", p.display()))?;
+    let band_widths = rows.iter().filter_map(|r| r.first().copied()).filter(|w| w.is_finite()).collect();
+    Ok(analysis::structure::Structure { s, band_widths })
+}
+
+/// The pattern distance between the models in words: scaled by the seed-to-seed distance
+/// where there is one, and never called agreement without it.
+fn structure_line(distance: Option<f64>, scale: Option<f64>) -> String {
+    match (distance, scale) {
+        (None, _) => "Pattern distance: not defined (a run has no structure factor).".into(),
+        (Some(d), Some(s)) if s > 0.0 => {
+            let r = d / s;
+            if r <= 1.0 {
+                format!("Pattern distance {d:.3}, {r:.2} times the distance between two DEM seeds ({s:.3}): the structures agree as closely as two seeds do.")
+            } else {
+                format!("Pattern distance {d:.3}, {r:.2} times the distance between two DEM seeds ({s:.3}): the structures differ, whatever their labels.")
+            }
+        }
+        (Some(d), _) => format!(
+            "Pattern distance {d:.3} (late S(k) and band widths; 0 for one pattern). Without a second DEM seed (`--seed-scale-run`) it has no scale, \
+             so no agreement in structure is claimed."
+        ),
+    }
 }
 
 /// `(t, count)` of an analysis directory (the first two columns of its coarsening curve).
@@ -377,6 +413,39 @@ fn compare(args: &Args, file: &crate::scene_file::SceneFile, out: &Path) -> Resu
     // The automaton command analysed its states already; analyse again so both use this run's binary.
     let auto_keys = analysis_keys(&analyze_dir(&auto_dir)?)?;
 
+    // The structures, and their distance; a second DEM seed gives its scale.
+    let dem_structure = late_structure(&dem_analysis_dir)?;
+    let auto_structure = late_structure(&auto_dir.join("analysis"))?;
+    let pattern_distance = analysis::structure::distance(&dem_structure, &auto_structure);
+    let seed_scale = match &args.seed_scale_run {
+        Some(d) => {
+            // Another seed: only run.seed (and so the sample) may differ from this scene.
+            let other = load_scene(&d.join("scene.toml"), &[])?.dem;
+            let differ = crate::scene_file::differences(&other, scene);
+            if differ.len() != 1 || !differ[0].starts_with("run.seed:") {
+                return Err(format!(
+                    "--seed-scale-run {} must be this scene with another run.seed; it differs in: {}",
+                    d.display(),
+                    if differ.is_empty() {
+                        "nothing (the same seed)".to_string()
+                    } else {
+                        differ.join("; ")
+                    }
+                )
+                .into());
+            }
+            let dir2 = out.join("seed-scale-analysis");
+            super::analyze::run(super::analyze::Args {
+                force: true,
+                input: d.clone(),
+                out: Some(dir2.clone()),
+                ..Default::default()
+            })?;
+            analysis::structure::distance(&dem_structure, &late_structure(&dir2)?)
+        }
+        None => None,
+    };
+
     // 4. Report.
     stage(args.quiet, 4, "report");
     let dem_counts = counts(&dem_analysis_dir)?;
@@ -439,7 +508,25 @@ fn compare(args: &Args, file: &crate::scene_file::SceneFile, out: &Path) -> Resu
     for line in agreement(&dem_keys, &auto_keys, scene.tray.length, rolling) {
         md.push_str(&format!("- {line}\n"));
     }
+    md.push_str(&format!("- {}\n", structure_line(pattern_distance, seed_scale)));
     md.push('\n');
+    let mm = |v: Option<f64>| v.map_or("-".to_string(), |x| format!("{:.1}", x * 1e3));
+    md.push_str("## Structure\n\n| model | S(k) peak spacing (mm) | peak height | band width (mm) | gap (mm) | grains in bands |\n|---|---|---|---|---|---|\n");
+    for (name, k) in [("DEM", &dem_keys), ("automaton", &auto_keys)] {
+        md.push_str(&format!(
+            "| {name} | {} | {} | {} | {} | {} |\n",
+            mm(k.get("spacing_m").and_then(Value::as_f64)),
+            fmt_opt(k.get("structure_peak_height")),
+            mm(k.get("band_width_m").and_then(Value::as_f64)),
+            mm(k.get("band_gap_m").and_then(Value::as_f64)),
+            fmt_opt(k.get("in_band_fraction")),
+        ));
+    }
+    md.push_str(
+        "\nSpacing is the peak of the late frames' structure factor S(k) of the grain positions along x (for both models the same \
+         measure); band widths and gaps are those of the bands of the late frames. S(k) of each model: `dem-analysis/structure_factor.png`, \
+         `automaton/analysis/structure_factor.png`.\n\n",
+    );
     let warnings = run_warnings(&[
         ("DEM run", &dem_summary),
         ("DEM analysis", &Value::Object(dem_keys.clone())),
@@ -453,7 +540,6 @@ fn compare(args: &Args, file: &crate::scene_file::SceneFile, out: &Path) -> Resu
         }
         md.push('\n');
     }
-    let mm = |v: Option<f64>| v.map_or("-".to_string(), |x| format!("{:.1}", x * 1e3));
     md.push_str("| model | stripes at the end | spacing (mm) | mean width (mm) | onset (s) | phase | wall time (s) | simulated s per wall s | speed |\n|---|---|---|---|---|---|---|---|---|\n");
     md.push_str(&format!(
         "| DEM | {} | {} | {} | {} | {} | {} | {} | {} particle-steps/s |\n",
@@ -513,8 +599,13 @@ fn compare(args: &Args, file: &crate::scene_file::SceneFile, out: &Path) -> Resu
         "sample_key": format!("{:016x}", sample_key(scene)),
         "dem_run": dem_dir.display().to_string(),
         "warnings": warnings,
-        "dem": { "analysis": dem_keys, "particle_steps_per_s": dem_speed, "wall_s": dem_wall },
-        "automaton": { "analysis": auto_keys, "cell_updates_per_s": auto_speed, "wall_s": auto_wall },
+        "dem": { "analysis": dem_keys, "particle_steps_per_s": dem_speed, "wall_s": dem_wall,
+                 "spacing_m": dem_keys.get("spacing_m"), "band_width_m": dem_keys.get("band_width_m"), "in_band_fraction": dem_keys.get("in_band_fraction") },
+        "automaton": { "analysis": auto_keys, "cell_updates_per_s": auto_speed, "wall_s": auto_wall,
+                 "spacing_m": auto_keys.get("spacing_m"), "band_width_m": auto_keys.get("band_width_m"), "in_band_fraction": auto_keys.get("in_band_fraction") },
+        "pattern_distance": pattern_distance,
+        "pattern_distance_seed_scale": seed_scale,
+        "pattern_distance_scaled": pattern_distance.and_then(|d| analysis::structure::scaled(d, seed_scale)),
     }))
 }
 
@@ -587,5 +678,15 @@ mod tests {
         assert!(maps[0].title.starts_with("DEM") && maps[1].title.starts_with("automaton"));
         assert_eq!(common_scale(&maps), (0.1, 0.8));
         std::fs::remove_dir_all(d).unwrap();
+    }
+
+    /// The report never calls two structures in agreement without the seed-to-seed scale,
+    /// and calls them different above it.
+    #[test]
+    fn the_pattern_distance_claims_agreement_only_within_the_seed_scale() {
+        assert!(structure_line(Some(0.4), None).contains("no agreement in structure is claimed"));
+        assert!(structure_line(Some(0.4), Some(0.1)).contains("the structures differ"));
+        assert!(structure_line(Some(0.05), Some(0.1)).contains("agree as closely as two seeds do"));
+        assert!(structure_line(None, Some(0.1)).contains("not defined"));
     }
 }
