@@ -230,11 +230,7 @@ pub struct EventScene {
 
 /// Reads an event-driven scene with `--set` overrides; errors name the file or override.
 pub fn load(path: &Path, set: &[String]) -> Result<EventScene, SceneError> {
-    let origin = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| SceneError {
-        key: origin.clone(),
-        message: format!("cannot read: {e}"),
-    })?;
+    let (text, origin) = crate::scene_file::read(path)?;
     overrides::parse(&text, set, &origin, |doc| {
         EventScene::deserialize(toml::Value::Table(doc)).map_err(|e| e.to_string())
     })

@@ -19,12 +19,18 @@ pub struct SceneFile {
 
 /// Reads a scene file and applies `--set` overrides; errors name the file or the override.
 pub fn load(path: &Path, set: &[String]) -> Result<SceneFile, SceneError> {
+    let (text, origin) = read(path)?;
+    parse(&text, set, &origin)
+}
+
+/// The text of a scene file and its name for messages; an unreadable file is named.
+pub fn read(path: &Path) -> Result<(String, String), SceneError> {
     let origin = path.display().to_string();
     let text = std::fs::read_to_string(path).map_err(|e| SceneError {
         key: origin.clone(),
         message: format!("cannot read: {e}"),
     })?;
-    parse(&text, set, &origin)
+    Ok((text, origin))
 }
 
 /// Parses scene text (named `origin` in messages) with overrides.
