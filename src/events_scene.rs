@@ -5,7 +5,7 @@
 
 use std::path::Path;
 
-use events::collision::{Restitution, Rule};
+use events::collision::{Restitution, Rule, Table};
 use events::config::{Config, Guard, Rules, SideWalls, Species};
 use events::wall::Motion;
 use particles::scene::{overrides, SceneError};
@@ -117,7 +117,14 @@ fn initial_speed() -> f64 {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct EventRule {
-    pub e: PerSpecies,
+    /// Required unless `table` is given.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub e: Option<PerSpecies>,
+    /// A CSV table of `(eps_n, beta)` against `g_n` and `g_t / g_n` (columns `g_n,
+    /// g_t_over_g_n, eps_n, beta`, a full grid, as the DEM's collision lab measures it) in
+    /// place of Walton's constants; the path is relative to the working directory.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub table: Option<std::path::PathBuf>,
     #[serde(default)]
     pub mu: f64,
     #[serde(default = "smooth")]
@@ -134,7 +141,8 @@ fn smooth() -> f64 {
 impl EventRule {
     fn elastic_smooth() -> Self {
         EventRule {
-            e: PerSpecies::One(1.0),
+            e: Some(PerSpecies::One(1.0)),
+            table: None,
             mu: 0.0,
             beta0: -1.0,
             v0: None,
@@ -142,9 +150,20 @@ impl EventRule {
     }
 
     fn rules(&self, count: usize, key: &str) -> Result<Vec<Rule>, SceneError> {
+        if let Some(path) = &self.table {
+            if self.e.is_some() || self.mu != 0.0 || self.beta0 != -1.0 || self.v0.is_some() {
+                return Err(bad(
+                    &format!("{key}.table"),
+                    "a table replaces e, mu, beta0 and v0: give either the table or them",
+                ));
+            }
+            let table = std::sync::Arc::new(read_table(path).map_err(|m| bad(&format!("{key}.table"), m))?);
+            return Ok(vec![Rule::Table(table); count]);
+        }
+        let e = self.e.as_ref().ok_or_else(|| bad(&format!("{key}.e"), "required (or a table)"))?;
         (0..count)
             .map(|k| {
-                let e = self.e.get(k, &format!("{key}.e"), count)?;
+                let e = e.get(k, &format!("{key}.e"), count)?;
                 Ok(Rule::Walton {
                     e: match self.v0 {
                         Some(v0) => Restitution::VelocityDependent { e0: e, v0 },
@@ -156,6 +175,49 @@ impl EventRule {
             })
             .collect()
     }
+}
+
+/// Reads a restitution table (`g_n, g_t_over_g_n, eps_n, beta`, one header line) into the
+/// engine's grid; every `(g_n, ratio)` pair of the grid must be present once.
+pub fn read_table(path: &Path) -> Result<Table, String> {
+    let (header, rows) = analysis::io::read_csv(path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+    let want = ["g_n", "g_t_over_g_n", "eps_n", "beta"];
+    if header.iter().map(|h| h.trim()).collect::<Vec<_>>() != want {
+        return Err(format!(
+            "{}: the columns must be {}, got {}",
+            path.display(),
+            want.join(", "),
+            header.join(", ")
+        ));
+    }
+    let axis = |c: usize| {
+        let mut v: Vec<f64> = rows.iter().map(|r| r[c]).collect();
+        v.sort_by(f64::total_cmp);
+        v.dedup();
+        v
+    };
+    let (g_n, ratio) = (axis(0), axis(1));
+    let mut eps_n = vec![vec![f64::NAN; ratio.len()]; g_n.len()];
+    let mut beta = eps_n.clone();
+    for r in &rows {
+        let i = g_n.iter().position(|&x| x == r[0]).expect("on the axis");
+        let j = ratio.iter().position(|&x| x == r[1]).expect("on the axis");
+        if !eps_n[i][j].is_nan() {
+            return Err(format!("{}: g_n = {}, g_t/g_n = {} appears twice", path.display(), r[0], r[1]));
+        }
+        (eps_n[i][j], beta[i][j]) = (r[2], r[3]);
+    }
+    if eps_n.iter().flatten().any(|x| x.is_nan()) {
+        return Err(format!(
+            "{}: not a full grid of {} g_n x {} ratios",
+            path.display(),
+            g_n.len(),
+            ratio.len()
+        ));
+    }
+    let t = Table { g_n, ratio, eps_n, beta };
+    t.validate().map_err(|m| format!("{}: {m}", path.display()))?;
+    Ok(t)
 }
 
 /// `[rules]`.
@@ -446,5 +508,36 @@ mod tests {
         assert_eq!(key(&["box.side_walls=round"]), "box.side_walls");
         assert_eq!(key(&["model=tray"]), "model");
         assert_eq!(key(&["run.transient=20"]), "run.transient");
+        assert_eq!(key(&["rules.floor.e=[1.0, 1.0]", "rules.floor.table=x.csv"]), "rules.floor.table");
+    }
+
+    #[test]
+    fn a_restitution_table_is_read_as_a_full_grid_and_used_as_the_rule() {
+        let d = std::env::temp_dir().join(format!("stripes-events-table-{}", std::process::id()));
+        std::fs::create_dir_all(&d).unwrap();
+        let p = d.join("restitution.csv");
+        std::fs::write(
+            &p,
+            "g_n,g_t_over_g_n,eps_n,beta\n0.1,0,0.9,-0.5\n0.1,2,0.8,-1\n1,0,0.7,0.5\n1,2,0.6,0\n",
+        )
+        .unwrap();
+        let t = read_table(&p).unwrap();
+        assert_eq!(t.at(0.55, 1.0).0, 0.75);
+        let set = format!("rules.pair.table={}", p.display());
+        let c = parse(&mixture(), &["rules.pair.e=[]", &set]);
+        assert!(c.is_err() || c.unwrap().config().is_err(), "e beside a table is refused");
+        let mut scene = parse(&mixture(), &[]).unwrap();
+        scene.rules.pair = EventRule {
+            e: None,
+            table: Some(p.clone()),
+            mu: 0.0,
+            beta0: -1.0,
+            v0: None,
+        };
+        let c = scene.config().unwrap();
+        assert!(matches!(c.rules.pair[0], Rule::Table(_)) && c.rules.pair.len() == 3);
+        std::fs::write(&p, "g_n,g_t_over_g_n,eps_n,beta\n0.1,0,0.9,-0.5\n1,2,0.6,0\n").unwrap();
+        assert!(read_table(&p).unwrap_err().contains("not a full grid"));
+        std::fs::remove_dir_all(&d).unwrap();
     }
 }
