@@ -61,8 +61,9 @@ impl Rules {
 
 /// Guards against inelastic collapse, each a choice with its cost:
 /// - `min_rebound_speed` (the sawtooth paper): a collision never leaves a normal relative
-///   speed below it, so a grain resting on a floor keeps hopping with at least this speed
-///   (it adds energy where grains should rest: a hop of `v^2 / 2g`);
+///   speed below it, even after a slower approach, so a grain resting on a floor keeps
+///   hopping with this speed (it adds energy where grains should rest: hops of `v^2 / 2g`,
+///   and a grain riding a plate leaves it about `sqrt(v / (A omega^3))` early);
 /// - `tc` (the TC model of Luding and McNamara): a particle that collided less than `tc`
 ///   ago collides elastically (it keeps the gas from collapsing; dense clusters are too
 ///   elastic below the time scale `tc`).

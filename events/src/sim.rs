@@ -409,10 +409,11 @@ impl Simulation {
         (recent(i) || j.is_some_and(recent)).then_some((1.0, -1.0))
     }
 
-    /// Raises `e` so that the normal speed after is at least the guard's minimum.
+    /// Raises `e` so that the normal speed after is at least the guard's minimum, above 1
+    /// for an approach slower than the minimum: the guard's documented energy input.
     fn min_rebound(&self, gn: f64, e: f64, beta: f64) -> Option<(f64, f64)> {
         let v = self.config.guard.min_rebound_speed?;
-        (e * gn.abs() < v && gn != 0.0).then(|| ((v / gn.abs()).min(1.0), beta))
+        (e * gn.abs() < v && gn != 0.0).then(|| (v / gn.abs(), beta))
     }
 
     fn watch(&mut self, i: usize, partner: usize, t: f64) -> Result<(), EventsError> {

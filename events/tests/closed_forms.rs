@@ -262,6 +262,49 @@ fn a_bouncing_ball_holds_the_period_one_orbit_above_its_threshold() {
     }
 }
 
+/// With `e = 0` a ball rides the plate while the plate accelerates upwards faster than
+/// `-g`, and lifts off where the plate's acceleration falls through `-g`:
+/// `sin(omega t + phi) = 1 / Gamma`. Hard collisions hold no lasting contact, so the ball
+/// rides by hops of the guard's minimum rebound speed `v` (1e-7 m/s, hops of 20 ns); the
+/// first long flight starts at the lift-off phase. The hops let it leave early, by about
+/// `sqrt(v / (A omega^3))` (a hop that starts there never comes back): 6 microseconds here.
+#[test]
+fn with_no_restitution_the_ball_lifts_off_where_the_plate_falls_faster_than_gravity() {
+    let (f, gamma) = (20.0, 2.5);
+    let mut cfg = ball_on_plate(0.0, gamma, f);
+    cfg.guard = Guard {
+        min_rebound_speed: Some(1e-7),
+        ..Guard::default()
+    };
+    let mut sim = Simulation::new(cfg).unwrap();
+    let a = sim.config.floor.unwrap().amplitude;
+    // On the plate at t = 0 (plate at its mean position, moving up), at rest relative to it.
+    let omega = 2.0 * std::f64::consts::PI * f;
+    sim.set_state(&[Vec2::new(0.005, 1e-3)], &[Vec2::new(0.0, a * omega)], &[0.0])
+        .unwrap();
+    let period = 1.0 / f;
+    let step = period / 20_000.0;
+    let (mut t, mut last_count, mut last_hit) = (0.0, 0, 0.0);
+    let lift = loop {
+        t += step;
+        sim.run_until(t).unwrap();
+        if sim.counts.wall > last_count {
+            last_count = sim.counts.wall;
+            last_hit = t;
+        } else if t - last_hit > 0.01 * period && last_count > 100 {
+            break last_hit;
+        }
+        assert!(t < 2.0 * period, "no lift-off within two periods");
+    };
+    let expected = (1.0 / gamma).asin() / omega;
+    println!(
+        "lift-off at {lift:.6} s, sin(omega t) = {:.4}, 1/Gamma = {:.4}",
+        (omega * lift).sin(),
+        1.0 / gamma
+    );
+    assert!((lift - expected).abs() < 1e-5, "lift-off at {lift} s, expected {expected} s");
+}
+
 /// Without a guard, a ball bouncing inelastically on a fixed floor collapses (infinitely
 /// many bounces in finite time): the run stops with an error naming it, never hangs. With a
 /// guard it keeps hopping, never sinks, and the run finishes.
