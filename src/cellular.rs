@@ -199,11 +199,73 @@ impl StateWriter {
     }
 }
 
-/// Loads and checks a scene, including its [automaton] table.
+/// The most cells an automaton lattice may have: 2^26 (64 MB of heights per state, more than
+/// 1000 times the thesis tray's 380 x 19).
+pub const MAX_CELLS: usize = 1 << 26;
+
+/// The fewest cells along the periodic x: three, so that a cell's left and right neighbours
+/// are distinct cells (the stencil of the update).
+pub const MIN_NX: usize = 3;
+
+impl Cells {
+    /// [`Cells::of`], refused when the lattice is degenerate (a cell longer than the box is
+    /// wide, fewer than [`MIN_NX`] cells along x) or larger than [`MAX_CELLS`]; errors name
+    /// `automaton.cell` and the size.
+    pub fn checked(file: &SceneFile) -> Result<Self, CliError> {
+        let scene = &file.dem;
+        let d = file
+            .automaton
+            .cell
+            .unwrap_or(scene.particles.radius_min + scene.particles.radius_max);
+        let key = if file.automaton.cell.is_some() {
+            "automaton.cell"
+        } else {
+            "automaton.cell (default: particles.radius_min + particles.radius_max)"
+        };
+        let (fx, fy) = (scene.tray.length / d, scene.tray.width / d);
+        if fy < 0.5 || fx.round() < MIN_NX as f64 {
+            return Err(format!(
+                "scene `{key}`: a cell of {d} m gives a degenerate lattice on the {} m x {} m tray \
+                 ({:.2} x {:.2} cells; at least {MIN_NX} along x and one across are needed)",
+                scene.tray.length, scene.tray.width, fx, fy
+            )
+            .into());
+        }
+        let cells = fx.round() * fy.round().max(1.0);
+        if cells > MAX_CELLS as f64 {
+            return Err(format!(
+                "scene `{key}`: a cell of {d} m gives {cells:.3e} cells on the {} m x {} m tray \
+                 ({:.1} GB per lattice state); at most {MAX_CELLS} are allowed",
+                scene.tray.length,
+                scene.tray.width,
+                cells / 1e9
+            )
+            .into());
+        }
+        Ok(Self::of(file))
+    }
+}
+
+/// Loads and checks a scene, including its [automaton] table and the lattice it gives.
 pub fn load_scene(path: &Path, overrides: &[String]) -> Result<SceneFile, CliError> {
     let file = crate::scene_file::load(path, overrides)?;
     file.validate()?;
+    Cells::checked(&file)?;
     Ok(file)
+}
+
+/// The automaton runs whole drive periods: `round(run.duration * drive.frequency)`, at least
+/// one. A warning when that differs from `run.duration`, naming both.
+pub fn duration_warning(scene: &Scene) -> Option<String> {
+    let exact = scene.run.duration * scene.drive.frequency;
+    let periods = exact.round().max(1.0);
+    ((exact - periods).abs() > 1e-9 * periods).then(|| {
+        format!(
+            "run.duration = {} s is {exact:.4} drive periods; the automaton steps whole periods and ran {periods} ({} s)",
+            scene.run.duration,
+            periods / scene.drive.frequency
+        )
+    })
 }
 
 /// The result of one automaton run on a scene (before analysis).

@@ -24,7 +24,9 @@
 //! Conventions: the box length `L = xhi - xlo` (periodic x) and width `W = yhi - ylo` come
 //! from the first frame's `BOX BOUNDS`; positions are shifted to `x - xlo`, `y - ylo` so
 //! they live in `[0, L) x [0, W)` like the suite's own snapshots; time is
-//! `timestep * dt` (s) with the run's time step `dt`. Triclinic boxes are refused. Every
+//! `timestep * dt` (s) with the run's time step `dt`. A box that changes between frames is
+//! analysed in the first frame's box with a warning naming the timestep, and atoms outside
+//! the walls (`y` outside `[ylo, yhi]`) are counted in a warning. Triclinic boxes are refused. Every
 //! frame must hold the same atoms with the same radii (an error names the first offending
 //! atom id and timestep).
 
@@ -223,7 +225,10 @@ fn read_frame(lines: &mut Lines, start: usize) -> Result<RawFrame, FrameError> {
     };
     let names: Vec<&str> = cols.split_whitespace().collect();
     let c = columns(&names, &format!("{name} line {ln}")).map_err(|m| bad(lines, ln, m))?;
-    let mut atoms = Vec::with_capacity(n);
+    // `n` comes from the file: the vector grows with the atoms actually read, never sized by
+    // the claim alone (a dump claiming 1e14 atoms is refused when the file ends, not at
+    // allocation).
+    let mut atoms = Vec::with_capacity(n.min(1 << 16));
     for _ in 0..n {
         let (ln, l) = match next(lines, &mut last, "an atom") {
             Ok(x) => x,
@@ -254,7 +259,7 @@ fn read_frame(lines: &mut Lines, start: usize) -> Result<RawFrame, FrameError> {
         let atom = (|| -> Result<_, String> {
             let id: u64 = f[c.id]
                 .parse()
-                .map_err(|_| format!("{name} line {ln}: id `{}` is not an integer (timestep {step})", f[c.id]))?;
+                .map_err(|_| format!("{name} line {ln}: id `{}` is not a non-negative integer (timestep {step})", f[c.id]))?;
             let radius = num(c.radius)?;
             let mut pos = [0.0; 3];
             for a in 0..3 {
@@ -348,6 +353,8 @@ pub fn read_dump_noting(path: &Path, dt: f64) -> Result<(Header, Vec<Frame>, Dum
         }
     }
     let mut frames = Vec::with_capacity(raw.len());
+    let mut box_changed = false;
+    let mut frames_outside = 0usize;
     for f in &raw {
         if f.atoms.len() != header.radii.len() {
             return Err(format!(
@@ -377,6 +384,24 @@ pub fn read_dump_noting(path: &Path, dt: f64) -> Result<(Header, Vec<Frame>, Dum
                 ));
             }
         }
+        if f.bounds[..2] != first.bounds[..2] && !box_changed {
+            box_changed = true;
+            notes.warnings.push(format!(
+                "{name}: the box changes at timestep {} (x {:?}, y {:?}; the first frame has x {:?}, y {:?}); \
+                 every frame is analysed in the first frame's box",
+                f.step, f.bounds[0], f.bounds[1], bx, by
+            ));
+        }
+        let outside = f.atoms.iter().filter(|a| a.2[1] < by[0] || a.2[1] > by[1]).count();
+        if outside > 0 {
+            frames_outside += 1;
+            if frames_outside == 1 {
+                notes.warnings.push(format!(
+                    "{name}: {outside} atoms lie outside the walls y in [{}, {}] at timestep {} (first such frame)",
+                    by[0], by[1], f.step
+                ));
+            }
+        }
         frames.push(Frame {
             time: f.step as f64 * dt,
             pos: f.atoms.iter().map(|a| [a.2[0] - bx[0], a.2[1] - by[0], a.2[2]]).collect(),
@@ -389,6 +414,12 @@ pub fn read_dump_noting(path: &Path, dt: f64) -> Result<(Header, Vec<Frame>, Dum
         .filter(|(_, on)| *on)
         .map(|(n, _)| n.to_string())
         .collect();
+    if frames_outside > 1 {
+        notes.warnings.push(format!(
+            "{name}: {frames_outside} of {} frames have atoms outside the walls",
+            frames.len()
+        ));
+    }
     Ok((header, frames, notes))
 }
 

@@ -141,16 +141,32 @@ pub fn read_snapshots_counting(path: &Path) -> io::Result<(Header, Vec<Frame>, u
     }
     let u64_at = |at: usize| u64::from_le_bytes(bytes[at..at + 8].try_into().expect("8 bytes"));
     let f64_at = |at: usize| f64::from_le_bytes(bytes[at..at + 8].try_into().expect("8 bytes"));
-    let n = u64_at(8) as usize;
-    let header_len = 32 + 8 * n;
-    if bytes.len() < header_len {
-        return Err(bad("truncated header"));
+    // The grain count is checked against the bytes present before anything is sized by it.
+    let claimed = u64_at(8);
+    let present = (bytes.len() - 32) / 8;
+    if claimed > present as u64 {
+        return Err(bad(&format!(
+            "the header claims {claimed} grains, but the file holds at most {present} radii (truncated or not a snapshot file)"
+        )));
     }
+    let n = claimed as usize;
+    let header_len = 32 + 8 * n;
     let header = Header {
         length: f64_at(16),
         width: f64_at(24),
         radii: (0..n).map(|k| f64_at(32 + 8 * k)).collect(),
     };
+    for (what, v) in [("box length", header.length), ("box width", header.width)] {
+        if !(v.is_finite() && v > 0.0) {
+            return Err(bad(&format!("header {what} {v} m is not a positive number")));
+        }
+    }
+    if let Some(k) = header.radii.iter().position(|r| !(r.is_finite() && *r > 0.0)) {
+        return Err(bad(&format!(
+            "grain {k} has radius {} m in the header, not a positive number",
+            header.radii[k]
+        )));
+    }
     let size = header.frame_size() as usize;
     let mut frames = Vec::new();
     let mut at = header_len;

@@ -46,6 +46,18 @@ impl<'a> Reader<'a> {
         self.at = end;
         Ok(s)
     }
+    /// Reads a `u64` count of records of `size` bytes each, refused when the records cannot
+    /// fit in the bytes left, so nothing is ever sized by an unchecked claim.
+    pub fn count(&mut self, size: usize) -> Result<usize, String> {
+        let n = self.u64()?;
+        let left = (self.bytes.len() - self.at) / size.max(1);
+        if n > left as u64 {
+            return Err(format!(
+                "truncated file: it claims {n} records of {size} bytes, {left} fit in the rest"
+            ));
+        }
+        Ok(n as usize)
+    }
     pub fn u64(&mut self) -> Result<u64, String> {
         Ok(u64::from_le_bytes(self.take(8)?.try_into().expect("8 bytes")))
     }
@@ -132,12 +144,12 @@ impl Simulation {
             s.force[i] = r.vec3()?;
             s.torque[i] = r.vec3()?;
         }
-        let count = r.u64()? as usize;
+        let count = r.count(4 + 4 + 24)?;
         let mut pairs = Vec::with_capacity(count);
         for _ in 0..count {
             pairs.push((r.u32()? as usize, r.u32()? as usize, r.vec3()?));
         }
-        let count = r.u64()? as usize;
+        let count = r.count(24)?;
         let mut walls = Vec::with_capacity(count);
         for _ in 0..count {
             walls.push(r.vec3()?);

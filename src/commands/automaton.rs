@@ -165,6 +165,13 @@ fn simulate(args: &Args, path: &Path, file: SceneFile) -> Result<String, CliErro
     if let Value::Object(m) = extra {
         summary.extend(m);
     }
+    if let Some(w) = cellular::duration_warning(scene) {
+        eprintln!("warning: {w}");
+        let list = summary.entry("warnings").or_insert_with(|| Value::Array(Vec::new()));
+        if let Value::Array(v) = list {
+            v.push(Value::String(w));
+        }
+    }
     dir.note_files([out.join("snapshots.bin"), out.join("scene.toml")]);
     dir.finish(Value::Object(summary))
 }

@@ -1,4 +1,5 @@
-//! `stripes collide`: one binary impact (SPEC section 5).
+//! `stripes collide`: one binary impact of two spheres, or of a sphere on a wall (thesis 3.2.5
+//! and chapter 4).
 
 use std::path::PathBuf;
 
@@ -124,8 +125,20 @@ impl Args {
         if self.normal == NormalKind::Linear && !(self.kn.is_none_or(|kn| kn > 0.0) && self.gamma_n >= 0.0) {
             return Err("--kn must be > 0 and --gamma-n >= 0".into());
         }
-        if self.mu < 0.0 {
-            return Err("--mu must be >= 0".into());
+        // NaN fails every comparison, so each test is written to refuse it.
+        for (option, x) in [("--mu", self.mu), ("--gamma-t", self.gamma_t), ("--mu-r", self.mu_r)] {
+            if !(x >= 0.0) {
+                return Err(format!("{option} must be >= 0, got {x}").into());
+            }
+        }
+        for (option, x) in [
+            ("--rho", self.rho),
+            ("--r1", self.r1),
+            ("--steps-per-contact", self.steps_per_contact),
+        ] {
+            if !(x.is_finite() && x > 0.0) {
+                return Err(format!("{option} must be a positive number, got {x}").into());
+            }
         }
         let choice = LawChoice {
             normal: self.normal,

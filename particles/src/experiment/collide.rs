@@ -29,14 +29,24 @@ use crate::contact::{geometry::tangential_velocity, ContactLaw};
 use crate::integrate::Integrator;
 use crate::neighbor::NeighborSearch;
 use crate::observe;
-use crate::sim::{Setup, Simulation, Vertical};
+use crate::sim::{Setup, Simulation, Vertical, MAX_OVERLAP_FRACTION};
 use crate::state::State;
 use crate::timescale::check_step_resolution;
 use crate::wall::{Motion, Wall};
 use crate::{SimError, Vec3};
 
-/// Fewest steps per (estimated) contact time the lab accepts.
+/// Fewest steps per (estimated) contact time the lab accepts; a contact that ends in fewer
+/// steps than this is refused as unresolved.
 pub const MIN_STEPS_PER_CONTACT: f64 = 5.0;
+
+/// Most steps per (estimated) contact time the lab accepts: beyond it a step moves the grains
+/// by less than the round-off of their positions (relative 1e-16).
+pub const MAX_STEPS_PER_CONTACT: f64 = 1e9;
+
+/// Largest relative gain of energy over an impact the lab accepts: no law here injects
+/// energy, and the integrators' error at MIN_STEPS_PER_CONTACT stays below it, so a larger
+/// gain is an unstable step.
+pub const MAX_ENERGY_GAIN: f64 = 1e-3;
 
 /// How the impact is specified.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -234,6 +244,45 @@ impl Collision {
         let (m_eff, _) = self.effective();
         let spring = self.law.tangential.spring_half_period(sphere_tangential_mass(m_eff));
         check_step_resolution(dt, MIN_STEPS_PER_CONTACT, t_est, spring, "dt", "kt")?;
+        let invalid = |field: &str, message: String| SimError::InvalidParameter {
+            field: field.into(),
+            message,
+        };
+        if t_est / dt > MAX_STEPS_PER_CONTACT {
+            return Err(invalid(
+                "dt",
+                format!(
+                    "{dt:e} s gives {:.3e} steps per contact time {t_est:.3e} s, more than {MAX_STEPS_PER_CONTACT:e}: \
+                     the grains move less than their position round-off per step",
+                    t_est / dt
+                ),
+            ));
+        }
+        let r_min = self.target_sphere().map_or(self.r1, |(r2, _, _)| self.r1.min(r2));
+        let (_, speed) = self.speeds();
+        if speed * dt > MAX_OVERLAP_FRACTION * r_min {
+            return Err(invalid(
+                "v",
+                format!(
+                    "{speed} m/s moves a sphere by {:.3e} m in one step of {dt:.3e} s, more than {MAX_OVERLAP_FRACTION} of the \
+                     smaller radius {r_min} m: the contact cannot be resolved (and the impact is far too fast for a \
+                     soft-sphere law)",
+                    speed * dt
+                ),
+            ));
+        }
+        if let crate::contact::NormalLaw::Linear { kn, gamma_n } = self.law.normal {
+            let critical = 2.0 * (kn * m_eff).sqrt();
+            if gamma_n >= critical {
+                return Err(invalid(
+                    "gamma_n",
+                    format!(
+                        "{gamma_n} kg/s is at or above critical damping 2 sqrt(k_n m_eff) = {critical:.3e} kg/s: \
+                         the spring-dashpot is overdamped and has no bounce to measure"
+                    ),
+                ));
+            }
+        }
 
         let (_, v) = self.speeds();
         let mut state = State::default();
@@ -304,6 +353,37 @@ impl Collision {
             prev_margin = margin;
         };
 
+        // What the lab cannot resolve is refused, as `run` refuses a step too coarse for
+        // its contacts: a contact over fewer than MIN_STEPS_PER_CONTACT steps (a dissipation
+        // so strong that the grains stop within a step or two), an overlap beyond the
+        // soft-sphere picture, a gain of energy (an unstable step).
+        if max_overlap > MAX_OVERLAP_FRACTION * r_min {
+            return Err(invalid(
+                "v",
+                format!(
+                    "the overlap reached {max_overlap:.3e} m, {:.3} of the smaller radius (at most {MAX_OVERLAP_FRACTION}): \
+                     the impact is too fast for a soft-sphere contact law",
+                    max_overlap / r_min
+                ),
+            ));
+        }
+        if !(t_c > 0.0) || t_c < MIN_STEPS_PER_CONTACT * dt {
+            return Err(invalid(
+                "dt",
+                format!(
+                    "the contact lasted {t_c:.3e} s, {:.2} steps of {dt:.3e} s (at least {MIN_STEPS_PER_CONTACT} needed): \
+                     the step does not resolve it; lower the dissipation (--dissipation, --gamma-n) or the step",
+                    t_c / dt
+                ),
+            ));
+        }
+        let (e0_total, e1_total) = (energy_before, energy(&sim.state));
+        if e1_total > e0_total * (1.0 + MAX_ENERGY_GAIN) {
+            return Err(invalid(
+                "dt",
+                format!("the impact gained energy ({e0_total:.6e} J before, {e1_total:.6e} J after): the step is unstable for this law"),
+            ));
+        }
         let s = &sim.state;
         let g1 = self.relative_velocity(s);
         // Normal at the end of the contact; a wall's never turns.
