@@ -138,8 +138,8 @@ impl std::str::FromStr for Shard {
     }
 }
 
-/// Parses `LO:HI:N` into N evenly spaced values (N = 1 gives LO), or a comma-separated list
-/// of increasing values. Errors name the option `--what` and say what is wrong: the shape, a
+/// Parses `LO:HI:N` into N evenly spaced values (N = 1 gives LO), a comma-separated list
+/// of increasing values, or one value (an axis of one point). Errors name the option `--what` and say what is wrong: the shape, a
 /// number, LO above HI, N = 0, or a list out of order.
 pub fn parse_range(s: &str, what: &str) -> Result<Vec<f64>, String> {
     let number = |p: &str, name: &str| -> Result<f64, String> {
@@ -161,8 +161,14 @@ pub fn parse_range(s: &str, what: &str) -> Result<Vec<f64>, String> {
         return Ok(values);
     }
     let parts: Vec<&str> = s.split(':').collect();
+    if parts.len() == 1 {
+        // A single value is an axis of one point.
+        return Ok(vec![number(parts[0], "value")?]);
+    }
     if parts.len() != 3 {
-        return Err(format!("--{what} wants LO:HI:N (e.g. 5:29:7) or a list (e.g. 2,3,5,8), got `{s}`"));
+        return Err(format!(
+            "--{what} wants LO:HI:N (e.g. 5:29:7), a list (e.g. 2,3,5,8) or one value (e.g. 5), got `{s}`"
+        ));
     }
     let (lo, hi) = (number(parts[0], "LO")?, number(parts[1], "HI")?);
     let n: usize = parts[2]
@@ -513,6 +519,11 @@ mod tests {
         assert_eq!(parse_range("5:29:4", "frequency").unwrap(), vec![5.0, 13.0, 21.0, 29.0]);
         assert_eq!(parse_range("0.01:0.01:1", "amplitude").unwrap(), vec![0.01]);
         assert!(parse_range("5:29", "frequency").is_err());
+        // Regression: `phase-map --frequency 5` was refused; one value is an axis.
+        assert_eq!(parse_range("5", "frequency").unwrap(), vec![5.0]);
+        assert!(parse_range("nan", "frequency")
+            .unwrap_err()
+            .contains("value `nan` is not a finite number"));
         let e = parse_range("29:5:3", "frequency").unwrap_err();
         assert!(e.contains("--frequency") && e.contains("LO = 29 is above HI = 5"), "{e}");
         let e = parse_range("5:29:0", "amplitude").unwrap_err();

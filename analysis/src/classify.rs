@@ -157,11 +157,16 @@ pub fn time_average(profiles: &[Vec<f64>]) -> Vec<f64> {
 
 /// First frame of the persistence window: the frames of the last `periods` drive periods
 /// of `period` (s), or from `tail_from` if that reaches back further. `None` when the
-/// frames span less than the window. Without a period, the tail frames.
+/// frames span less than the window. Without a period, the tail frames, at least the last
+/// two. `None` for fewer than two frames: a band holds its place only over time, so a single
+/// frame has no stationary stripe (and no spacing).
 pub fn persistence_window(times: &[f64], tail_from: usize, period: Option<f64>, periods: f64) -> Option<usize> {
-    let (first, last) = (*times.first()?, *times.last()?);
+    if times.len() < 2 {
+        return None;
+    }
+    let (first, last) = (times[0], times[times.len() - 1]);
     let Some(period) = period else {
-        return Some(tail_from);
+        return Some(tail_from.min(times.len() - 2));
     };
     let span = periods * period;
     // A relative slack of 1e-9 absorbs the round-off of snapshot times.
@@ -224,6 +229,15 @@ mod tests {
             tail_stripe_count: tail,
             stationary_stripe_count: stationary,
         }
+    }
+
+    /// Regression: a single frame was given a stationary stripe count and a spacing.
+    #[test]
+    fn one_frame_has_no_persistence_window() {
+        assert_eq!(persistence_window(&[0.5], 0, None, 10.0), None);
+        assert_eq!(persistence_window(&[0.5], 0, Some(0.05), 10.0), None);
+        assert_eq!(persistence_window(&[0.0, 0.5], 1, None, 10.0), Some(0));
+        assert_eq!(persistence_window(&[0.0, 0.5, 1.0], 1, None, 10.0), Some(1));
     }
 
     #[test]

@@ -118,6 +118,23 @@ impl Args {
             plateau_after: window(&self.plateau_after, "plateau-after")?,
             ..Options::default()
         };
+        // Written so that NaN fails each test.
+        for (option, x) in [("--mobility-min", self.mobility_min), ("--contrast-min", self.contrast_min)] {
+            if !(x.is_finite() && x >= 0.0) {
+                return Err(format!("{option} must be a number >= 0, got {x}").into());
+            }
+        }
+        for (option, x) in [
+            ("--cell", Some(self.cell)),
+            ("--period", self.period),
+            ("--threshold", self.threshold),
+        ] {
+            if let Some(x) = x {
+                if !(x.is_finite() && x > 0.0) {
+                    return Err(format!("{option} must be a positive number, got {x}").into());
+                }
+            }
+        }
         o.classify.mobility_min = self.mobility_min;
         o.classify.contrast_min = self.contrast_min;
         if !(self.persistence_periods.is_finite() && self.persistence_periods > 0.0) {

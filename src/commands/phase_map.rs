@@ -31,7 +31,8 @@ pub struct Args {
     #[arg(long, value_enum, default_value = "both")]
     pub model: Which,
     /// Prepared samples (seeds run.seed, run.seed + 1, ...) per cell.
-    #[arg(long, value_name = "N", default_value_t = 1, visible_alias = "samples")]
+    #[arg(long, value_name = "N", default_value_t = 1, visible_alias = "samples",
+          value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..))]
     pub seeds: usize,
     /// Sweep directory.
     #[arg(long, default_value = "out/phase-map")]
@@ -99,7 +100,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
         kind: "phase-map".into(),
         scene: args.scene.clone(),
         overrides: args.sweep.overrides.clone(),
-        jobs: jobs(&freqs, &amps, &args.model.models(), args.seeds.max(1), scene.run.seed),
+        jobs: jobs(&freqs, &amps, &args.model.models(), args.seeds, scene.run.seed),
     };
     args.sweep.execute(&args.out, &sweep, report)
 }

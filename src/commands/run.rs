@@ -157,6 +157,19 @@ fn run_in_pool(args: Args, file: crate::scene_file::SceneFile, threads_why: Stri
     // (possibly long) preparation.
     let fresh = claim_out_dir(&out, args.resume, args.force)?;
     let setup = tray::setup(scene, tray::drive(scene))?;
+    // A snapshot is taken at most once per step: more per period than steps per period
+    // would be capped silently.
+    let steps_per_period = 1.0 / (scene.drive.frequency * setup.dt);
+    if scene.run.snapshots_per_period as f64 > steps_per_period {
+        return Err(format!(
+            "scene `run.snapshots_per_period`: {} snapshots per period, but a period has only {:.0} steps of {:e} s; \
+             at most one snapshot per step is taken",
+            scene.run.snapshots_per_period,
+            steps_per_period.floor(),
+            setup.dt
+        )
+        .into());
+    }
     let warnings = tray::warnings(scene, setup.dt)?;
     for w in &warnings {
         eprintln!("warning: {w}");
