@@ -127,6 +127,27 @@ impl Thermo {
         ]);
     }
 
+    /// The last row's balance miss and its size relative to the injected work (the larger of
+    /// injected and dissipated work, so a run that mostly relaxes is judged too).
+    pub fn balance(&self) -> Option<(f64, f64)> {
+        let last = self.rows.last()?;
+        let scale = last[5].abs().max(last[6].abs());
+        Some((last[7], if scale > 0.0 { last[7].abs() / scale } else { 0.0 }))
+    }
+
+    /// A warning when the ledger misses more than [`BALANCE_BOUND`] of the work at the end.
+    pub fn balance_warning(&self, dt: f64) -> Option<String> {
+        let (miss, relative) = self.balance()?;
+        (relative > BALANCE_BOUND).then(|| {
+            format!(
+                "the energy ledger misses {relative:.2e} of the injected work ({miss:.3e} J), more than {BALANCE_BOUND:e}: \
+                 the ledger books the work once per step of {dt:e} s, and this run's collisions are too fast for it; \
+                 the miss shrinks with the step (set a smaller `run.dt`, or a larger `run.steps_per_contact` with \
+                 `run.dt = \"auto\"`); the trajectory is otherwise unaffected (docs/outputs.md)"
+            )
+        })
+    }
+
     /// Whether there is no row yet.
     pub fn is_empty(&self) -> bool {
         self.rows.is_empty()
@@ -159,6 +180,10 @@ impl Thermo {
             .series("balance miss", col(7, false), Mark::Dashed)
     }
 }
+
+/// The largest miss of the energy ledger, relative to the injected work, that a run passes
+/// without a warning.
+pub const BALANCE_BOUND: f64 = 1e-3;
 
 impl Observer for Thermo {
     fn wants_contacts(&self, step: u64) -> bool {

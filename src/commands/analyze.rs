@@ -315,13 +315,17 @@ fn draw(dir: &mut RunDir, r: &Report) -> Result<(), CliError> {
         traj = traj.series("start", vec![*a], Mark::Points).series("end", vec![*b], Mark::Points);
     }
     dir.plot("tracer_trajectory", &traj)?;
-    let phase = LinePlot::new(
-        &format!("Tracer {}: phase space", tr.index),
-        "x, followed across the periodic seam (m)",
-        "v_x (m/s)",
-    )
-    .series("snapshots", tr.points.iter().map(|p| (p.x_unwrapped, p.vx)).collect(), Mark::Points);
-    dir.plot("tracer_phase_space", &phase)?;
+    // Without velocities (an automaton run, a dump without `vx`) the phase space would be a
+    // line at v_x = 0: not drawn.
+    if tr.points.iter().any(|p| p.vx != 0.0) {
+        let phase = LinePlot::new(
+            &format!("Tracer {}: phase space", tr.index),
+            "x, followed across the periodic seam (m)",
+            "v_x (m/s)",
+        )
+        .series("snapshots", tr.points.iter().map(|p| (p.x_unwrapped, p.vx)).collect(), Mark::Points);
+        dir.plot("tracer_phase_space", &phase)?;
+    }
 
     let d = &r.radii;
     let steps = |v: &[f64]| -> Vec<(f64, f64)> {

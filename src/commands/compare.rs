@@ -432,6 +432,11 @@ pub fn run(args: Args) -> Result<String, CliError> {
     }
     md.push_str("\n## Density maps (area fraction over x and t)\n\n| DEM | automaton |\n|---|---|\n");
     md.push_str("| ![DEM](density_map_dem.png) | ![automaton](density_map_automaton.png) |\n\n");
+    md.push_str(
+        "Bands narrower than the minimum stripe width (five mean grain diameters, `stripes analyze --min-width`) \
+         show in the maps but are not counted as stripes; the automaton's map often has such thin bands, one or \
+         two cells wide.\n\n",
+    );
     if let Some(m) = auto_summary.get("mapping") {
         md.push_str(&format!(
             "## Automaton mapping\n\nFlight cap {} cells (single-sphere DEM slide {} m per half period, Coulomb block {} m); \

@@ -304,7 +304,14 @@ fn start(
 }
 
 /// The time loop of a started run, then its summary.
-fn step(args: &Args, scene: &Scene, out: &Path, started: Started, warnings: Vec<String>, threads_why: String) -> Result<String, CliError> {
+fn step(
+    args: &Args,
+    scene: &Scene,
+    out: &Path,
+    started: Started,
+    mut warnings: Vec<String>,
+    threads_why: String,
+) -> Result<String, CliError> {
     let Started {
         mut dir,
         mut sim,
@@ -365,6 +372,10 @@ fn step(args: &Args, scene: &Scene, out: &Path, started: Started, warnings: Vec<
     recorder.writer.sync()?;
     bar.finish_and_clear();
     thermo.write()?;
+    if let Some(w) = thermo.balance_warning(dt) {
+        eprintln!("warning: {w}");
+        warnings.push(w);
+    }
     dir.note_files([thermo.path.clone(), out.join("snapshots.bin"), recorder.checkpoint.clone()]);
     dir.plot("thermo", &thermo.plot())?;
     if let Some(vtk) = &recorder.vtk {
@@ -381,6 +392,8 @@ fn step(args: &Args, scene: &Scene, out: &Path, started: Started, warnings: Vec<
         "stored": sim.stored_energy,
         "injected": sim.ledger.injected,
         "dissipated": sim.ledger.dissipated,
+        "balance": thermo.balance().map(|b| b.0),
+        "balance_relative": thermo.balance().map(|b| b.1),
     });
     let summary = json!({
         "scene": args.scene.display().to_string(),
