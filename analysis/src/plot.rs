@@ -115,7 +115,9 @@ fn padded(values: impl Iterator<Item = f64>, log: bool) -> Option<Range<f64>> {
         // (plotters labels the powers of ten inside the range).
         let (a, b) = (lo.log10(), hi.log10());
         let pad = if b > a { 0.04 * (b - a) } else { 0.5 };
-        return Some(10f64.powf((a - pad).floor())..10f64.powf(b + pad));
+        // Just below the decade: `powf` may land an ulp above the power of ten, whose tick
+        // would then fall outside the range.
+        return Some(0.98 * 10f64.powf((a - pad).floor())..10f64.powf(b + pad));
     }
     let pad = if hi > lo {
         0.04 * (hi - lo)
