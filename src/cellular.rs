@@ -199,73 +199,11 @@ impl StateWriter {
     }
 }
 
-/// The most cells an automaton lattice may have: 2^26 (64 MB of heights per state, more than
-/// 1000 times the thesis tray's 380 x 19).
-pub const MAX_CELLS: usize = 1 << 26;
-
-/// The fewest cells along the periodic x: three, so that a cell's left and right neighbours
-/// are distinct cells (the stencil of the update).
-pub const MIN_NX: usize = 3;
-
-impl Cells {
-    /// [`Cells::of`], refused when the lattice is degenerate (a cell longer than the box is
-    /// wide, fewer than [`MIN_NX`] cells along x) or larger than [`MAX_CELLS`]; errors name
-    /// `automaton.cell` and the size.
-    pub fn checked(file: &SceneFile) -> Result<Self, CliError> {
-        let scene = &file.dem;
-        let d = file
-            .automaton
-            .cell
-            .unwrap_or(scene.particles.radius_min + scene.particles.radius_max);
-        let key = if file.automaton.cell.is_some() {
-            "automaton.cell"
-        } else {
-            "automaton.cell (default: particles.radius_min + particles.radius_max)"
-        };
-        let (fx, fy) = (scene.tray.length / d, scene.tray.width / d);
-        if fy < 0.5 || fx.round() < MIN_NX as f64 {
-            return Err(format!(
-                "scene `{key}`: a cell of {d} m gives a degenerate lattice on the {} m x {} m tray \
-                 ({:.2} x {:.2} cells; at least {MIN_NX} along x and one across are needed)",
-                scene.tray.length, scene.tray.width, fx, fy
-            )
-            .into());
-        }
-        let cells = fx.round() * fy.round().max(1.0);
-        if cells > MAX_CELLS as f64 {
-            return Err(format!(
-                "scene `{key}`: a cell of {d} m gives {cells:.3e} cells on the {} m x {} m tray \
-                 ({:.1} GB per lattice state); at most {MAX_CELLS} are allowed",
-                scene.tray.length,
-                scene.tray.width,
-                cells / 1e9
-            )
-            .into());
-        }
-        Ok(Self::of(file))
-    }
-}
-
-/// Loads and checks a scene, including its [automaton] table and the lattice it gives.
+/// Loads and checks a scene, including its [automaton] table.
 pub fn load_scene(path: &Path, overrides: &[String]) -> Result<SceneFile, CliError> {
     let file = crate::scene_file::load(path, overrides)?;
     file.validate()?;
-    Cells::checked(&file)?;
     Ok(file)
-}
-
-/// The automaton runs whole drive periods: `round(run.duration * drive.frequency)`, at least
-/// one. A warning when that differs from `run.duration`, naming both.
-pub fn duration_warning(scene: &Scene) -> Option<String> {
-    let exact = scene.run.duration * scene.drive.frequency;
-    let periods = exact.round().max(1.0);
-    ((exact - periods).abs() > 1e-9 * periods).then(|| {
-        format!(
-            "run.duration = {} s is {exact:.4} drive periods; the automaton steps whole periods and ran {periods} ({} s)",
-            scene.run.duration,
-            periods / scene.drive.frequency
-        )
-    })
 }
 
 /// The result of one automaton run on a scene (before analysis).
@@ -275,6 +213,8 @@ pub struct Outcome {
     pub stepping_s: f64,
     pub cells: Cells,
     pub mass: (u64, u64),
+    /// What the run changed of the scene, said aloud (e.g. the duration rounded to periods).
+    pub warnings: Vec<String>,
 }
 
 /// Runs the automaton from `lattice` for the scene's duration, writing `snapshots.bin` into
@@ -291,6 +231,14 @@ pub fn evolve(
     let (scene, cells) = (&file.dem, Cells::of(file));
     let nu = scene.drive.frequency;
     let periods = (scene.run.duration * nu).round().max(1.0) as u64;
+    let mut warnings = Vec::new();
+    let ran = periods as f64 / nu;
+    if (ran - scene.run.duration).abs() > 1e-9 * scene.run.duration.max(ran) {
+        warnings.push(format!(
+            "run.duration = {} s is not a whole number of drive periods (1/{nu} s): the automaton, which steps by half periods, ran {periods} periods ({ran} s)",
+            scene.run.duration
+        ));
+    }
     let m0 = lattice.mass();
     let mut writer = match snapshots {
         Some(p) => Some(StateWriter::create(
@@ -336,6 +284,7 @@ pub fn evolve(
         stepping_s: stepping,
         cells,
         mass: (m0, m1),
+        warnings,
     })
 }
 
@@ -351,6 +300,8 @@ pub struct Setup {
 }
 
 pub fn setup(file: &SceneFile, samples: &Path, quiet: bool) -> Result<Setup, CliError> {
+    // The lattice is checked before a sample is prepared for it.
+    file.validate_lattice()?;
     let scene = &file.dem;
     let b = progress_bar(1000, quiet, "prepare");
     let (state, _) = crate::samples::load_or_prepare(scene, samples, |f| b.set_position((f * 1000.0) as u64))?;

@@ -6,10 +6,12 @@
 //! (`config.json`) and `summary.json`, and prints that summary as the last line of stdout.
 
 mod cellular;
+mod cli_values;
 mod clock;
 mod commands;
 mod observers;
 mod output;
+mod run_lock;
 mod samples;
 mod scene_file;
 mod sweep;

@@ -13,6 +13,19 @@ use serde::Serialize;
 /// Error type of the CLI: a message for the user.
 pub type CliError = Box<dyn std::error::Error + Send + Sync>;
 
+/// The one rule of every command's output directory: a directory that already holds files
+/// is refused unless `--force` (replace them). `stripes run` and the sweeps add `--resume`.
+pub fn claim(dir: &Path, force: bool) -> Result<(), CliError> {
+    if non_empty(dir) && !force {
+        return Err(format!(
+            "{} already holds files; use --force to replace them, or another --out",
+            dir.display()
+        )
+        .into());
+    }
+    Ok(())
+}
+
 /// An output directory of one run.
 pub struct RunDir {
     pub path: PathBuf,
@@ -75,16 +88,21 @@ impl RunDir {
 
 /// Whether `dir` exists and holds anything.
 pub fn non_empty(dir: &Path) -> bool {
-    std::fs::read_dir(dir).is_ok_and(|mut d| d.next().is_some())
+    // A run's own lock (`crate::run_lock`) is not content.
+    std::fs::read_dir(dir).is_ok_and(|d| d.flatten().any(|e| e.file_name() != ".lock"))
 }
 
 /// Environment variable that sets the cache of prepared samples (`--sample-cache`).
 pub const SAMPLE_CACHE_ENV: &str = "STRIPES_SAMPLE_CACHE";
 
-/// The default cache of prepared samples: `$STRIPES_SAMPLE_CACHE`, else `out/samples` (relative
-/// to the current directory).
+/// The default cache of prepared samples: `$STRIPES_SAMPLE_CACHE` (if set and not empty),
+/// else `out/samples` (relative to the current directory).
 pub fn default_sample_cache() -> PathBuf {
-    std::env::var_os(SAMPLE_CACHE_ENV).map_or_else(|| PathBuf::from("out/samples"), PathBuf::from)
+    // An empty variable (`STRIPES_SAMPLE_CACHE= stripes run ...`) counts as unset: an empty
+    // default would otherwise be reported by clap as a missing `--sample-cache`.
+    std::env::var_os(SAMPLE_CACHE_ENV)
+        .filter(|v| !v.is_empty())
+        .map_or_else(|| PathBuf::from("out/samples"), PathBuf::from)
 }
 
 /// Parses "x,y,z" into a vector.

@@ -50,6 +50,44 @@ impl SceneFile {
         })
     }
 
+    /// Checked by every command that runs the automaton (not by a DEM-only run, whose scene
+    /// may be too dense or small for a lattice). The automaton's lattice must be a lattice: at least 3 cells along the shaking, room
+    /// for every grain in a cell of its own (the automaton models a submonolayer), and not
+    /// far more cells than grains (the size is checked before anything is allocated).
+    pub fn validate_lattice(&self) -> Result<(), SceneError> {
+        let c = crate::cellular::Cells::of(self);
+        let grains = self.dem.particles.count as f64;
+        let cells = c.nx as f64 * c.ny as f64;
+        let fail = |message: String| {
+            Err(SceneError {
+                key: "automaton.cell".into(),
+                message,
+            })
+        };
+        if c.nx < 3 {
+            return fail(format!(
+                "gives {} cell(s) along box.length = {} m; the automaton needs at least 3 (a cell of at most {} m)",
+                c.nx,
+                self.dem.tray.length,
+                self.dem.tray.length / 3.0
+            ));
+        }
+        if cells < grains {
+            return fail(format!(
+                "gives {} x {} = {cells} cells for {grains} grains: the automaton models a submonolayer, one grain per cell; use a smaller cell",
+                c.nx, c.ny
+            ));
+        }
+        let most = 64.0 * grains + (1u64 << 20) as f64;
+        if cells > most {
+            return fail(format!(
+                "gives {cells:.3e} cells ({:.1e} bytes of lattice) for {grains} grains; at most {most:.3e} (64 per grain) are allowed: use a larger cell",
+                cells
+            ));
+        }
+        Ok(())
+    }
+
     /// The resolved scene as TOML: the DEM's tables, then `[automaton]` unless it holds
     /// only defaults.
     pub fn to_toml(&self) -> Result<String, toml::ser::Error> {
@@ -60,6 +98,41 @@ impl SceneFile {
         }
         Ok(text)
     }
+}
+
+/// The dotted keys whose values differ between two DEM scenes, as `key: a -> b`, leaving out
+/// the keys that do not change a trajectory (`run.threads`, `run.checkpoint_interval`).
+pub fn differences(a: &Scene, b: &Scene) -> Vec<String> {
+    fn flat(prefix: &str, v: &toml::Value, out: &mut std::collections::BTreeMap<String, String>) {
+        match v {
+            toml::Value::Table(t) => {
+                for (k, x) in t {
+                    let key = if prefix.is_empty() { k.clone() } else { format!("{prefix}.{k}") };
+                    flat(&key, x, out);
+                }
+            }
+            other => {
+                out.insert(prefix.to_string(), other.to_string());
+            }
+        }
+    }
+    let table = |s: &Scene| {
+        let mut m = std::collections::BTreeMap::new();
+        if let Ok(v) = toml::Value::try_from(s) {
+            flat("", &v, &mut m);
+        }
+        m
+    };
+    let (ta, tb) = (table(a), table(b));
+    let keys: std::collections::BTreeSet<&String> = ta.keys().chain(tb.keys()).collect();
+    keys.into_iter()
+        .filter(|k| !matches!(k.as_str(), "run.threads" | "run.checkpoint_interval"))
+        .filter(|k| ta.get(*k) != tb.get(*k))
+        .map(|k| {
+            let show = |m: &std::collections::BTreeMap<String, String>| m.get(k).cloned().unwrap_or_else(|| "(unset)".into());
+            format!("{k}: {} -> {}", show(&ta), show(&tb))
+        })
+        .collect()
 }
 
 #[cfg(test)]
@@ -149,5 +222,17 @@ seed = 1
         let docs = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/scenes.md")).unwrap();
         let missing: Vec<&String> = all.iter().filter(|k| !docs.contains(&format!("`{k}`"))).collect();
         assert!(missing.is_empty(), "docs/scenes.md does not document {missing:?}");
+    }
+
+    #[test]
+    fn differences_name_each_changed_key_and_ignore_threads() {
+        let a = parse(SCENE, &[], "a").unwrap().dem;
+        let b = parse(SCENE, &["drive.frequency=10".into(), "run.threads=2".into()], "b")
+            .unwrap()
+            .dem;
+        let d = differences(&a, &b);
+        assert_eq!(d.len(), 1, "{d:?}");
+        assert!(d[0].starts_with("drive.frequency: 20") && d[0].ends_with("-> 10.0"), "{d:?}");
+        assert!(differences(&a, &a).is_empty());
     }
 }

@@ -138,8 +138,8 @@ impl std::str::FromStr for Shard {
     }
 }
 
-/// Parses `LO:HI:N` into N evenly spaced values (N = 1 gives LO), a comma-separated list
-/// of increasing values, or one value (an axis of one point). Errors name the option `--what` and say what is wrong: the shape, a
+/// Parses `LO:HI:N` into N evenly spaced values (N = 1 gives LO), or a comma-separated list
+/// of increasing values. Errors name the option `--what` and say what is wrong: the shape, a
 /// number, LO above HI, N = 0, or a list out of order.
 pub fn parse_range(s: &str, what: &str) -> Result<Vec<f64>, String> {
     let number = |p: &str, name: &str| -> Result<f64, String> {
@@ -160,14 +160,14 @@ pub fn parse_range(s: &str, what: &str) -> Result<Vec<f64>, String> {
         }
         return Ok(values);
     }
-    let parts: Vec<&str> = s.split(':').collect();
-    if parts.len() == 1 {
-        // A single value is an axis of one point.
-        return Ok(vec![number(parts[0], "value")?]);
+    if !s.contains(':') {
+        // One value is an axis of one point.
+        return Ok(vec![number(s, "the value")?]);
     }
+    let parts: Vec<&str> = s.split(':').collect();
     if parts.len() != 3 {
         return Err(format!(
-            "--{what} wants LO:HI:N (e.g. 5:29:7), a list (e.g. 2,3,5,8) or one value (e.g. 5), got `{s}`"
+            "--{what} wants LO:HI:N (e.g. 5:29:7), a list (e.g. 2,3,5,8) or one value, got `{s}`"
         ));
     }
     let (lo, hi) = (number(parts[0], "LO")?, number(parts[1], "HI")?);
@@ -392,6 +392,7 @@ fn run_job(root: &Path, sweep: &Sweep, job: &Job, samples: &Path) -> Result<(), 
         })?,
     };
     let analysis = analyze::run(analyze::Args {
+        force: true,
         input: run_dir,
         out: Some(dir.join("analysis")),
         ..analyze::Args::default()
@@ -519,11 +520,6 @@ mod tests {
         assert_eq!(parse_range("5:29:4", "frequency").unwrap(), vec![5.0, 13.0, 21.0, 29.0]);
         assert_eq!(parse_range("0.01:0.01:1", "amplitude").unwrap(), vec![0.01]);
         assert!(parse_range("5:29", "frequency").is_err());
-        // Regression: `phase-map --frequency 5` was refused; one value is an axis.
-        assert_eq!(parse_range("5", "frequency").unwrap(), vec![5.0]);
-        assert!(parse_range("nan", "frequency")
-            .unwrap_err()
-            .contains("value `nan` is not a finite number"));
         let e = parse_range("29:5:3", "frequency").unwrap_err();
         assert!(e.contains("--frequency") && e.contains("LO = 29 is above HI = 5"), "{e}");
         let e = parse_range("5:29:0", "amplitude").unwrap_err();
@@ -535,6 +531,9 @@ mod tests {
         assert!(e.contains("value 2"), "{e}");
         let e = parse_range("5:x:3", "frequency").unwrap_err();
         assert!(e.contains("HI `x`"), "{e}");
+        // One value is an axis of one point (`phase-map --frequency 5`).
+        assert_eq!(parse_range("5", "frequency").unwrap(), vec![5.0]);
+        assert!(parse_range("x", "frequency").unwrap_err().contains("`x`"));
         assert_eq!("1/4".parse::<Shard>().unwrap(), Shard { index: 1, count: 4 });
         assert!("4/4".parse::<Shard>().is_err());
         assert!("x/2".parse::<Shard>().is_err());

@@ -58,14 +58,14 @@ fn a_1000_m_box_is_refused_naming_the_key_and_the_size() {
             &o,
             "--quiet",
         ],
-        &["box.length", "lattice sites", "GB"],
+        &["box.length", "9.070e11 lattice sites", "7.3e12 bytes"],
         Some(&out),
     );
     std::fs::remove_dir_all(d).unwrap();
 }
 
 /// Regression: `automaton.cell=1e-7` aborted on a 20 GB lattice; a cell larger than the box
-/// gave a 1 x 1 lattice and a phase.
+/// gave a 1 x 1 lattice and a phase. (The lattice checks are `SceneFile::validate_lattice`.)
 #[test]
 fn an_automaton_lattice_too_large_or_degenerate_is_refused_naming_the_key() {
     let d = scratch("cell");
@@ -73,12 +73,9 @@ fn an_automaton_lattice_too_large_or_degenerate_is_refused_naming_the_key() {
     let out = d.join("a");
     let o = out.display().to_string();
     for (cell, want) in [
-        ("automaton.cell=1e-7", &["automaton.cell", "cells", "GB", "at most"][..]),
-        ("automaton.cell=1", &["automaton.cell", "degenerate lattice"][..]),
-        (
-            "automaton.cell=0.009",
-            &["automaton.cell", "degenerate lattice", "at least 3 along x"][..],
-        ),
+        ("automaton.cell=1e-7", &["automaton.cell", "1.000e10 cells", "at most"][..]),
+        ("automaton.cell=1", &["automaton.cell", "gives 1 cell(s)", "at least 3"][..]),
+        ("automaton.cell=0.009", &["automaton.cell", "gives 2 cell(s)", "at least 3"][..]),
     ] {
         refused(&["automaton", &scene, "--set", cell, "--out", &o, "--quiet"], want, Some(&out));
         refused(&["compare", &scene, "--set", cell, "--out", &o, "--quiet"], want, Some(&out));
@@ -107,11 +104,11 @@ fn the_automaton_says_when_it_rounds_the_duration_to_whole_periods() {
     ]);
     assert!(ok, "{stderr}");
     assert!(
-        stderr.contains("2.2000 drive periods") && stderr.contains("ran 2 (0.1 s)"),
+        stderr.contains("not a whole number of drive periods") && stderr.contains("ran 2 periods (0.1 s)"),
         "{stderr}"
     );
     let s: serde_json::Value = serde_json::from_str(stdout.lines().last().unwrap()).unwrap();
-    assert!(s["warnings"].to_string().contains("whole periods"), "{s}");
+    assert!(s["warnings"].to_string().contains("whole number of drive periods"), "{s}");
     assert_eq!(s["periods"], 2);
     std::fs::remove_dir_all(d).unwrap();
 }
@@ -127,16 +124,16 @@ fn the_collision_lab_refuses_what_it_cannot_resolve() {
     for (args, want) in [
         (
             &["--normal", "linear", "--kn", "1000", "--gamma-n", "1e9"][..],
-            &["`gamma_n`", "overdamped"][..],
+            &["not resolved", "the contact ended before it began", "gamma_n"][..],
         ),
-        (&["--v", "1e10"][..], &["`v`", "in one step"][..]),
-        (&["--dt", "1e-30"][..], &["`dt`", "round-off"][..]),
         (
-            &["--dissipation", "1"][..],
-            &["`dt`", "the step does not resolve it", "--dissipation"][..],
+            &["--v", "1e10"][..],
+            &["not resolved", "at v = 1e10 m/s", "pass through each other"][..],
         ),
-        (&["--mu", "nan"][..], &["--mu must be >= 0, got NaN"][..]),
-        (&["--rho", "nan"][..], &["--rho must be a positive number"][..]),
+        (&["--dt", "1e-30"][..], &["not resolved", "dt = 1e-30 s", "double precision"][..]),
+        (&["--dissipation", "1"][..], &["not resolved", "1.4 steps", "at least 5 needed"][..]),
+        (&["--mu", "nan"][..], &["--mu", "not NaN"][..]),
+        (&["--rho", "nan"][..], &["--rho", "not NaN"][..]),
     ] {
         let mut all = vec!["collide", "--out", &o];
         all.extend_from_slice(args);
@@ -158,7 +155,7 @@ fn small_silent_changes_are_refused_naming_the_option() {
     let o = out.display().to_string();
     refused(
         &["contact-time", "--points", "0", "--out", &o],
-        &["`points`", "at least 2"],
+        &["--points", "at least 2"],
         Some(&out),
     );
     refused(
@@ -190,12 +187,12 @@ fn small_silent_changes_are_refused_naming_the_option() {
     );
     refused(
         &["analyze", &d.display().to_string(), "--threshold", "nan", "--out", &o],
-        &["--threshold"],
+        &["--threshold", "not NaN"],
         Some(&out),
     );
     refused(
         &["run", &scene, "--set", "run.snapshots_per_period=100000", "--out", &o, "--quiet"],
-        &["run.snapshots_per_period", "6250 steps"],
+        &["run.snapshots_per_period", "at most 3125 per period"],
         Some(&out),
     );
     std::fs::remove_dir_all(d).unwrap();

@@ -153,6 +153,24 @@ fn compare_runs_both_models_on_one_sample_and_writes_the_report() {
         "--quiet",
         "--force",
     ]);
-    assert!(!ok && stderr.contains("same sample"), "{stderr}");
+    // The whole scene is checked, and the refusal names the key.
+    assert!(!ok && stderr.contains("run.seed: 4 -> 5"), "{stderr}");
+    let (ok, _, stderr) = stripes(&[
+        "compare",
+        &scene,
+        "--set",
+        "drive.frequency=10",
+        "--set",
+        "run.duration=0.2",
+        "--dem-run",
+        &dem,
+        "--out",
+        &out2,
+        "--sample-cache",
+        &samples,
+        "--quiet",
+        "--force",
+    ]);
+    assert!(!ok && stderr.contains("drive.frequency"), "{stderr}");
     std::fs::remove_dir_all(d).unwrap();
 }

@@ -157,16 +157,13 @@ pub fn time_average(profiles: &[Vec<f64>]) -> Vec<f64> {
 
 /// First frame of the persistence window: the frames of the last `periods` drive periods
 /// of `period` (s), or from `tail_from` if that reaches back further. `None` when the
-/// frames span less than the window. Without a period, the tail frames, at least the last
-/// two. `None` for fewer than two frames: a band holds its place only over time, so a single
-/// frame has no stationary stripe (and no spacing).
+/// frames span less than the window. Without a period, the tail frames, if there are at
+/// least two.
 pub fn persistence_window(times: &[f64], tail_from: usize, period: Option<f64>, periods: f64) -> Option<usize> {
-    if times.len() < 2 {
-        return None;
-    }
-    let (first, last) = (times[0], times[times.len() - 1]);
+    let (first, last) = (*times.first()?, *times.last()?);
     let Some(period) = period else {
-        return Some(tail_from.min(times.len() - 2));
+        // Persistence needs frames: one frame says nothing about whether a band stays.
+        return (times.len() >= tail_from + 2).then_some(tail_from);
     };
     let span = periods * period;
     // A relative slack of 1e-9 absorbs the round-off of snapshot times.
@@ -222,6 +219,16 @@ mod tests {
     use crate::density::area_fraction_cells;
     use rand::{Rng, SeedableRng};
 
+    /// One frame holds no evidence of persistence: no stationary stripes, with or without a
+    /// known period.
+    #[test]
+    fn a_single_frame_has_no_persistence_window() {
+        assert_eq!(persistence_window(&[2.0], 0, None, 10.0), None);
+        assert_eq!(persistence_window(&[2.0], 0, Some(0.1), 10.0), None);
+        assert_eq!(persistence_window(&[1.0, 2.0], 1, None, 10.0), None);
+        assert_eq!(persistence_window(&[1.0, 2.0], 0, None, 10.0), Some(0));
+    }
+
     fn evidence(contrast: f64, mobility: f64, tail: usize, stationary: usize) -> Evidence {
         Evidence {
             contrast,
@@ -229,15 +236,6 @@ mod tests {
             tail_stripe_count: tail,
             stationary_stripe_count: stationary,
         }
-    }
-
-    /// Regression: a single frame was given a stationary stripe count and a spacing.
-    #[test]
-    fn one_frame_has_no_persistence_window() {
-        assert_eq!(persistence_window(&[0.5], 0, None, 10.0), None);
-        assert_eq!(persistence_window(&[0.5], 0, Some(0.05), 10.0), None);
-        assert_eq!(persistence_window(&[0.0, 0.5], 1, None, 10.0), Some(0));
-        assert_eq!(persistence_window(&[0.0, 0.5, 1.0], 1, None, 10.0), Some(1));
     }
 
     #[test]

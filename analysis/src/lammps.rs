@@ -24,11 +24,9 @@
 //! Conventions: the box length `L = xhi - xlo` (periodic x) and width `W = yhi - ylo` come
 //! from the first frame's `BOX BOUNDS`; positions are shifted to `x - xlo`, `y - ylo` so
 //! they live in `[0, L) x [0, W)` like the suite's own snapshots; time is
-//! `timestep * dt` (s) with the run's time step `dt`. A box that changes between frames is
-//! analysed in the first frame's box with a warning naming the timestep, and atoms outside
-//! the walls (`y` outside `[ylo, yhi]`) are counted in a warning. Triclinic boxes are refused. Every
-//! frame must hold the same atoms with the same radii (an error names the first offending
-//! atom id and timestep).
+//! `timestep * dt` (s) with the run's time step `dt`. Triclinic boxes are refused. Every
+//! frame must hold the same atoms with the same radii in the same box, and every atom must lie
+//! between the side walls (an error names the first offending atom id and timestep).
 
 use std::io::BufRead;
 use std::path::Path;
@@ -271,9 +269,14 @@ fn read_frame(lines: &mut Lines, start: usize) -> Result<RawFrame, FrameError> {
             }
         };
         let atom = (|| -> Result<_, String> {
-            let id: u64 = f[c.id]
-                .parse()
-                .map_err(|_| format!("{name} line {ln}: id `{}` is not a non-negative integer (timestep {step})", f[c.id]))?;
+            let id: u64 = f[c.id].parse().map_err(|_| {
+                let what = if f[c.id].parse::<i64>().is_ok() {
+                    "is negative; atom ids are positive integers"
+                } else {
+                    "is not an integer"
+                };
+                format!("{name} line {ln}: id `{}` {what} (timestep {step})", f[c.id])
+            })?;
             let radius = num(c.radius)?;
             let mut pos = [0.0; 3];
             for a in 0..3 {
@@ -369,8 +372,6 @@ pub fn read_dump_noting(path: &Path, dt: f64) -> Result<(Header, Vec<Frame>, Dum
         }
     }
     let mut frames = Vec::with_capacity(raw.len());
-    let mut box_changed = false;
-    let mut frames_outside = 0usize;
     for f in &raw {
         if f.atoms.len() != header.radii.len() {
             return Err(format!(
@@ -386,7 +387,23 @@ pub fn read_dump_noting(path: &Path, dt: f64) -> Result<(Header, Vec<Frame>, Dum
                 f.step
             ));
         }
+        if f.bounds[0] != first.bounds[0] || f.bounds[1] != first.bounds[1] {
+            return Err(format!(
+                "{name}: the box changes at timestep {}: x {:?}, y {:?} against x {:?}, y {:?} in the first frame; \
+                 the analysis needs one tray (a fixed periodic length and width)",
+                f.step, f.bounds[0], f.bounds[1], first.bounds[0], first.bounds[1]
+            ));
+        }
         for (a, b) in f.atoms.iter().zip(&first.atoms) {
+            // x is periodic (and `xu` unwrapped), but y is bounded by the tray's side walls.
+            let y = a.2[1];
+            let slack = 1e-9 * width;
+            if !(y >= by[0] - slack && y <= by[1] + slack) {
+                return Err(format!(
+                    "{name}: atom {} at y = {y} m lies outside the side walls [{}, {}] at timestep {}",
+                    a.0, by[0], by[1], f.step
+                ));
+            }
             if a.0 != b.0 {
                 return Err(format!(
                     "{name}: timestep {} has atom id {} where the first frame has {}",
@@ -397,24 +414,6 @@ pub fn read_dump_noting(path: &Path, dt: f64) -> Result<(Header, Vec<Frame>, Dum
                 return Err(format!(
                     "{name}: atom {} changes radius from {} to {} m at timestep {}",
                     a.0, b.1, a.1, f.step
-                ));
-            }
-        }
-        if f.bounds[..2] != first.bounds[..2] && !box_changed {
-            box_changed = true;
-            notes.warnings.push(format!(
-                "{name}: the box changes at timestep {} (x {:?}, y {:?}; the first frame has x {:?}, y {:?}); \
-                 every frame is analysed in the first frame's box",
-                f.step, f.bounds[0], f.bounds[1], bx, by
-            ));
-        }
-        let outside = f.atoms.iter().filter(|a| a.2[1] < by[0] || a.2[1] > by[1]).count();
-        if outside > 0 {
-            frames_outside += 1;
-            if frames_outside == 1 {
-                notes.warnings.push(format!(
-                    "{name}: {outside} atoms lie outside the walls y in [{}, {}] at timestep {} (first such frame)",
-                    by[0], by[1], f.step
                 ));
             }
         }
@@ -430,12 +429,6 @@ pub fn read_dump_noting(path: &Path, dt: f64) -> Result<(Header, Vec<Frame>, Dum
         .filter(|(_, on)| *on)
         .map(|(n, _)| n.to_string())
         .collect();
-    if frames_outside > 1 {
-        notes.warnings.push(format!(
-            "{name}: {frames_outside} of {} frames have atoms outside the walls",
-            frames.len()
-        ));
-    }
     Ok((header, frames, notes))
 }
 

@@ -141,15 +141,18 @@ pub fn read_snapshots_counting(path: &Path) -> io::Result<(Header, Vec<Frame>, u
     }
     let u64_at = |at: usize| u64::from_le_bytes(bytes[at..at + 8].try_into().expect("8 bytes"));
     let f64_at = |at: usize| f64::from_le_bytes(bytes[at..at + 8].try_into().expect("8 bytes"));
-    // The grain count is checked against the bytes present before anything is sized by it.
-    let claimed = u64_at(8);
-    let present = (bytes.len() - 32) / 8;
-    if claimed > present as u64 {
+    // The grain count is checked against the bytes present before anything is sized from
+    // it: a corrupt count must not overflow or allocate beyond the file.
+    let n_raw = u64_at(8);
+    let room = (bytes.len() as u64 - 32) / 8;
+    if n_raw > room {
         return Err(bad(&format!(
-            "the header claims {claimed} grains, but the file holds at most {present} radii (truncated or not a snapshot file)"
+            "truncated header: it claims {n_raw} grains, whose radii need {} bytes, but the file has {}",
+            n_raw.saturating_mul(8).saturating_add(32),
+            bytes.len()
         )));
     }
-    let n = claimed as usize;
+    let n = n_raw as usize;
     let header_len = 32 + 8 * n;
     let header = Header {
         length: f64_at(16),

@@ -125,42 +125,32 @@ fn a_dump_claiming_99999999999999_atoms_is_an_error_naming_the_claim() {
     std::fs::remove_dir_all(d).unwrap();
 }
 
-/// A dump whose box changes between frames is read in the first box with a warning naming
-/// the timestep; atoms outside the walls are counted in a warning.
+/// A dump whose box changes between frames, or whose atoms leave the side walls, is refused
+/// naming the timestep (the analysis needs one tray); a negative id is named as such.
 #[test]
-fn a_dump_whose_box_changes_or_whose_atoms_leave_the_walls_is_read_with_warnings() {
+fn a_dump_whose_box_changes_or_whose_atoms_leave_the_walls_is_refused_naming_the_timestep() {
     let _one = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
     let d = scratch("dump-box");
     let moved = {
         let at = DUMP.find("ITEM: TIMESTEP\n6250").unwrap();
         format!("{}{}", &DUMP[..at], DUMP[at..].replacen("0 0.02\n", "0 0.03\n", 1))
     };
-    let (_, frames, notes) = bounded(&d, moved.as_bytes(), "box change", |p| read_dump_noting(p, 8e-6)).unwrap();
-    assert_eq!(frames.len(), 2);
-    assert_eq!(notes.warnings.len(), 1, "{:?}", notes.warnings);
-    assert!(
-        notes.warnings[0].contains("the box changes at timestep 6250"),
-        "{:?}",
-        notes.warnings
-    );
+    let e = bounded(&d, moved.as_bytes(), "box change", |p| read_dump_noting(p, 8e-6)).unwrap_err();
+    assert!(e.contains("the box changes at timestep 6250"), "{e}");
     let outside = DUMP.replacen("2 0.0004 0.21 0.015", "2 0.0004 0.21 0.025", 1);
-    let (_, _, notes) = bounded(&d, outside.as_bytes(), "outside", |p| read_dump_noting(p, 8e-6)).unwrap();
+    let e = bounded(&d, outside.as_bytes(), "outside", |p| read_dump_noting(p, 8e-6)).unwrap_err();
     assert!(
-        notes
-            .warnings
-            .iter()
-            .any(|w| w.contains("1 atoms lie outside the walls") && w.contains("timestep 6250")),
-        "{:?}",
-        notes.warnings
+        e.contains("atom 2 at y = 0.025 m lies outside the side walls") && e.contains("timestep 6250"),
+        "{e}"
     );
-    let (_, _, notes) = bounded(&d, DUMP.as_bytes(), "clean", |p| read_dump_noting(p, 8e-6)).unwrap();
+    let (_, frames, notes) = bounded(&d, DUMP.as_bytes(), "clean", |p| read_dump_noting(p, 8e-6)).unwrap();
+    assert_eq!(frames.len(), 2);
     assert!(notes.warnings.is_empty(), "{:?}", notes.warnings);
-    // A negative id is named as such.
     let e = bounded(&d, DUMP.replacen("\n2 0.0004", "\n-10 0.0004", 1).as_bytes(), "id", |p| {
         read_dump_noting(p, 8e-6)
     })
     .unwrap_err();
-    assert!(e.contains("id `-10` is not a non-negative integer"), "{e}");
+    assert!(e.contains("id `-10` is negative"), "{e}");
     std::fs::remove_dir_all(d).unwrap();
 }
 

@@ -46,18 +46,6 @@ impl<'a> Reader<'a> {
         self.at = end;
         Ok(s)
     }
-    /// Reads a `u64` count of records of `size` bytes each, refused when the records cannot
-    /// fit in the bytes left, so nothing is ever sized by an unchecked claim.
-    pub fn count(&mut self, size: usize) -> Result<usize, String> {
-        let n = self.u64()?;
-        let left = (self.bytes.len() - self.at) / size.max(1);
-        if n > left as u64 {
-            return Err(format!(
-                "truncated file: it claims {n} records of {size} bytes, {left} fit in the rest"
-            ));
-        }
-        Ok(n as usize)
-    }
     pub fn u64(&mut self) -> Result<u64, String> {
         Ok(u64::from_le_bytes(self.take(8)?.try_into().expect("8 bytes")))
     }
@@ -69,6 +57,16 @@ impl<'a> Reader<'a> {
     }
     pub fn vec3(&mut self) -> Result<Vec3, String> {
         Ok(Vec3::new(self.f64()?, self.f64()?, self.f64()?))
+    }
+    /// A record count read from the file, checked against the bytes left: `count` records of
+    /// `record` bytes each must fit, so nothing is sized beyond the input.
+    pub fn count(&mut self, record: usize, what: &str) -> Result<usize, String> {
+        let n = self.u64()?;
+        let left = (self.bytes.len() - self.at) / record.max(1);
+        if n > left as u64 {
+            return Err(format!("truncated file: it claims {n} {what} but holds bytes for at most {left}"));
+        }
+        Ok(n as usize)
     }
 }
 
@@ -144,12 +142,12 @@ impl Simulation {
             s.force[i] = r.vec3()?;
             s.torque[i] = r.vec3()?;
         }
-        let count = r.count(4 + 4 + 24)?;
+        let count = r.count(4 + 4 + 24, "pair histories")?;
         let mut pairs = Vec::with_capacity(count);
         for _ in 0..count {
             pairs.push((r.u32()? as usize, r.u32()? as usize, r.vec3()?));
         }
-        let count = r.count(24)?;
+        let count = r.count(24, "wall histories")?;
         let mut walls = Vec::with_capacity(count);
         for _ in 0..count {
             walls.push(r.vec3()?);

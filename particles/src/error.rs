@@ -47,6 +47,10 @@ pub enum SimError {
         steps: f64,
         minimum: f64,
     },
+    /// The collision lab cannot resolve this impact with these settings (the contact is
+    /// shorter than a few steps, ends before it starts, gains energy, or the step is too small
+    /// for the positions to move): its numbers would be meaningless.
+    CollisionUnresolved { reason: String },
 }
 
 impl fmt::Display for SimError {
@@ -100,6 +104,7 @@ impl fmt::Display for SimError {
                 f,
                 "tangential spring `{field}` is too stiff for the time step {dt:e} s: its stuck half period pi sqrt(m_t/k_t) = {half_period:e} s gives {steps:.2} steps; at least {minimum} are needed (lower `{field}` or the time step)"
             ),
+            SimError::CollisionUnresolved { reason } => write!(f, "the collision is not resolved: {reason}"),
         }
     }
 }

@@ -254,14 +254,27 @@ impl Grid {
         }
         let mut dims = [1usize; 2];
         let mut size = [1.0f64; 2];
+        let mut extent = [1.0f64; 2];
         for k in 0..2 {
             let (origin, length) = match boundary.periodic[k] {
                 Some(l) => (0.0, l),
                 None => (lo[k], (hi[k] - lo[k]).max(reach)),
             };
             lo[k] = origin;
+            extent[k] = length;
             dims[k] = ((length / reach).floor() as usize).clamp(1, 1 << 20);
-            size[k] = length / dims[k] as f64;
+        }
+        // A dilute layer on a huge tray would ask for far more cells than grains (a 1000 m
+        // square tray: 7e11 cells). Cells are coarsened, never refined, until there are at
+        // most 8 per grain: every pair within reach is still found, and a tray of the
+        // scenes' sizes (a few cells per grain) is untouched.
+        let cap = 8 * pos.len() + 4096;
+        while dims[0] * dims[1] > cap {
+            let k = if dims[0] >= dims[1] { 0 } else { 1 };
+            dims[k] = dims[k].div_ceil(2);
+        }
+        for k in 0..2 {
+            size[k] = extent[k] / dims[k] as f64;
         }
         let stencil = |k: usize, c: usize| {
             let mut s = Stencil { cells: [0; 3], len: 0 };

@@ -20,8 +20,7 @@ pub struct Args {
     /// Scene file (TOML): the reference configuration.
     pub scene: PathBuf,
     /// Prepared samples (seeds) per configuration (seeds run.seed, run.seed + 1, ...).
-    #[arg(long, value_name = "N", default_value_t = 1, visible_alias = "samples",
-          value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..))]
+    #[arg(long, value_name = "N", default_value_t = 1, visible_alias = "samples", value_parser = crate::cli_values::at_least_one)]
     pub seeds: usize,
     /// Also the packing sweep of Table 3.6: these particle counts in the same box.
     #[arg(long, value_delimiter = ',')]
@@ -178,7 +177,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
         args.model,
         crate::commands::phase_map::Which::Dem | crate::commands::phase_map::Which::Both
     ) {
-        all.extend(jobs(&dem_configs(&args.packing), Model::Dem, args.seeds, scene.run.seed));
+        all.extend(jobs(&dem_configs(&args.packing), Model::Dem, args.seeds.max(1), scene.run.seed));
     }
     if matches!(
         args.model,
@@ -187,7 +186,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
         all.extend(jobs(
             &automaton_configs(&args.packing),
             Model::Automaton,
-            args.seeds,
+            args.seeds.max(1),
             scene.run.seed,
         ));
     }

@@ -21,11 +21,14 @@ pub struct Args {
     /// Output directory (default: <RUN_DIR>/analysis, or <DUMP>.analysis beside a dump).
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Replace the files of an output directory that already holds some (default: refuse it).
+    #[arg(long)]
+    pub force: bool,
     /// Cell width of the density map (m); the area fraction is averaged exactly per cell.
-    #[arg(long, default_value_t = 1e-3)]
+    #[arg(long, default_value_t = 1e-3, value_parser = crate::cli_values::positive, allow_negative_numbers = true)]
     pub cell: f64,
     /// Stripe threshold on the area fraction (default: 1.5 x the layer's mean, at most halfway from the mean to the jammed 0.82)
-    #[arg(long)]
+    #[arg(long, value_parser = crate::cli_values::positive)]
     pub threshold: Option<f64>,
     /// Minimum stripe width (m; default: five mean grain diameters).
     #[arg(long)]
@@ -68,11 +71,13 @@ pub struct Args {
 
 impl Default for Args {
     /// The command-line defaults, with an empty input path: other commands build their
-    /// arguments as `Args { input, out, ..Args::default() }`.
+    /// arguments as `Args { input, out, force: true, ..Args::default() }` (a command that
+    /// analyses its own run owns that folder and replaces an earlier analysis).
     fn default() -> Self {
         Self {
             input: PathBuf::new(),
             out: None,
+            force: false,
             cell: 1e-3,
             threshold: None,
             min_width: None,
@@ -124,17 +129,6 @@ impl Args {
                 return Err(format!("{option} must be a number >= 0, got {x}").into());
             }
         }
-        for (option, x) in [
-            ("--cell", Some(self.cell)),
-            ("--period", self.period),
-            ("--threshold", self.threshold),
-        ] {
-            if let Some(x) = x {
-                if !(x.is_finite() && x > 0.0) {
-                    return Err(format!("{option} must be a positive number, got {x}").into());
-                }
-            }
-        }
         o.classify.mobility_min = self.mobility_min;
         o.classify.contrast_min = self.contrast_min;
         if !(self.persistence_periods.is_finite() && self.persistence_periods > 0.0) {
@@ -173,6 +167,23 @@ pub fn run(args: Args) -> Result<String, CliError> {
             run.file.parent().unwrap_or(std::path::Path::new(".")).join("analysis")
         }
     });
+    // The analysis must not write over the run it reads (its config.json and summary.json
+    // carry the run's period and outcome).
+    let same = |a: &std::path::Path, b: &std::path::Path| matches!((a.canonicalize(), b.canonicalize()), (Ok(x), Ok(y)) if x == y);
+    let run_dir = if args.input.is_dir() {
+        args.input.clone()
+    } else {
+        run.file.parent().unwrap_or(std::path::Path::new(".")).to_path_buf()
+    };
+    if same(&out, &run_dir) {
+        return Err(format!(
+            "--out {} is the run directory itself: the analysis would replace the run's config.json and summary.json; choose another --out (default: {}/analysis)",
+            out.display(),
+            run_dir.display()
+        )
+        .into());
+    }
+    crate::output::claim(&out, args.force)?;
     let mut dir = RunDir::create(&out, &args)?;
     write_tables(&mut dir, &report, &run)?;
     draw(&mut dir, &report)?;

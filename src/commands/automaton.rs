@@ -32,6 +32,9 @@ pub struct Args {
     /// Output directory (default: out/automaton-<scene name>).
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Replace the files of an output directory that already holds some (default: refuse it).
+    #[arg(long)]
+    pub force: bool,
     /// Override a scene key, e.g. --set automaton.activation=0.3 (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub overrides: Vec<String>,
@@ -111,6 +114,7 @@ pub(crate) fn analysis_keys(line: &str) -> Result<serde_json::Map<String, Value>
 /// Runs `stripes analyze` on a run directory, into `<dir>/analysis`.
 pub(crate) fn analyze_dir(dir: &Path) -> Result<String, CliError> {
     analyze::run(analyze::Args {
+        force: true,
         input: dir.to_path_buf(),
         out: Some(dir.join("analysis")),
         ..Default::default()
@@ -124,6 +128,9 @@ fn simulate(args: &Args, path: &Path, file: SceneFile) -> Result<String, CliErro
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "scene".into());
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from(format!("out/automaton-{name}")));
+    // Checked before the directory is made, so a refused lattice leaves nothing behind.
+    file.validate_lattice()?;
+    crate::output::claim(&out, args.force)?;
     let mut dir = RunDir::create(&out, &json!({ "args": args, "scene": &file }))?;
     analysis::io::write_atomic(&out.join("scene.toml"), file.to_toml()?.as_bytes())?;
     let rule = args.rule.unwrap_or(file.automaton.rule);
@@ -137,6 +144,14 @@ fn simulate(args: &Args, path: &Path, file: SceneFile) -> Result<String, CliErro
     let wall_s = wall.elapsed().as_secs_f64();
     let analysis_line = analyze_dir(&out)?;
     let mut summary = analysis_keys(&analysis_line)?;
+    for w in &outcome.warnings {
+        eprintln!("warning: {w}");
+    }
+    let mut warnings = outcome.warnings.clone();
+    if let Some(Value::Array(more)) = summary.get("warnings") {
+        warnings.extend(more.iter().filter_map(|w| w.as_str().map(String::from)));
+    }
+    summary.insert("warnings".into(), json!(warnings));
     let c = outcome.cells;
     let cell_updates = (c.nx * c.ny) as f64 * outcome.half_steps as f64;
     let extra = json!({
@@ -165,13 +180,6 @@ fn simulate(args: &Args, path: &Path, file: SceneFile) -> Result<String, CliErro
     if let Value::Object(m) = extra {
         summary.extend(m);
     }
-    if let Some(w) = cellular::duration_warning(scene) {
-        eprintln!("warning: {w}");
-        let list = summary.entry("warnings").or_insert_with(|| Value::Array(Vec::new()));
-        if let Value::Array(v) = list {
-            v.push(Value::String(w));
-        }
-    }
     dir.note_files([out.join("snapshots.bin"), out.join("scene.toml")]);
     dir.finish(Value::Object(summary))
 }
@@ -179,8 +187,10 @@ fn simulate(args: &Args, path: &Path, file: SceneFile) -> Result<String, CliErro
 /// Speed on the scene's tray: a random layer of the scene's grain count, `strict` and
 /// `physical`, each for about `bench_seconds`.
 fn bench(args: &Args, path: &Path, file: &SceneFile) -> Result<String, CliError> {
+    file.validate_lattice()?;
     let scene = &file.dem;
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from("out/automaton-bench"));
+    crate::output::claim(&out, args.force)?;
     let mut dir = RunDir::create(&out, &json!({ "args": args, "scene": scene }))?;
     let cells = Cells::of(file);
     // Grain positions from a SplitMix64 stream of the scene's seed.

@@ -1,5 +1,4 @@
-//! `stripes collide`: one binary impact of two spheres, or of a sphere on a wall (thesis 3.2.5
-//! and chapter 4).
+//! `stripes collide`: one binary impact (SPEC section 5).
 
 use std::path::PathBuf;
 
@@ -36,55 +35,55 @@ pub struct Args {
     #[arg(long, value_parser = kind::<RollingKind>(RollingKind::NAMES), default_value = "none")]
     pub rolling: RollingKind,
     /// Radius of sphere 1 (m).
-    #[arg(long, default_value_t = 5e-4)]
+    #[arg(long, default_value_t = 5e-4, value_parser = crate::cli_values::not_nan)]
     pub r1: f64,
     /// Radius of sphere 2 (m); defaults to --r1.
-    #[arg(long)]
+    #[arg(long, value_parser = crate::cli_values::not_nan)]
     pub r2: Option<f64>,
     /// Density (kg/m^3), used for masses not given by --m1/--m2.
-    #[arg(long, default_value_t = 2500.0)]
+    #[arg(long, default_value_t = 2500.0, value_parser = crate::cli_values::not_nan)]
     pub rho: f64,
     /// Mass of sphere 1 (kg); defaults to rho 4/3 pi r1^3.
-    #[arg(long)]
+    #[arg(long, value_parser = crate::cli_values::not_nan)]
     pub m1: Option<f64>,
     /// Mass of sphere 2 (kg); defaults to rho 4/3 pi r2^3.
-    #[arg(long)]
+    #[arg(long, value_parser = crate::cli_values::not_nan)]
     pub m2: Option<f64>,
     /// Young's modulus Y (Pa), Hertz only.
-    #[arg(long, default_value = "1e6")]
+    #[arg(long, default_value = "1e6", value_parser = crate::cli_values::not_nan)]
     pub young: f64,
     /// Poisson ratio, Hertz only.
-    #[arg(long, default_value_t = 0.3)]
+    #[arg(long, default_value_t = 0.3, value_parser = crate::cli_values::not_nan)]
     pub poisson: f64,
     /// Dissipative constant A (s), Hertz only (eq 3.8).
-    #[arg(long, default_value = "8.5e-6")]
+    #[arg(long, default_value = "8.5e-6", value_parser = crate::cli_values::not_nan)]
     pub dissipation: f64,
     /// Normal stiffness k_n (N/m), linear only.
-    #[arg(long)]
+    #[arg(long, value_parser = crate::cli_values::not_nan)]
     pub kn: Option<f64>,
     /// Normal damping gamma_n (kg/s), linear only.
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = 0.0, value_parser = crate::cli_values::not_nan)]
     pub gamma_n: f64,
     /// Tangential spring stiffness k_t (N/m), Cundall-Strack only.
-    #[arg(long)]
+    #[arg(long, value_parser = crate::cli_values::not_nan)]
     pub kt: Option<f64>,
     /// Coulomb friction coefficient.
-    #[arg(long, default_value_t = 0.7)]
+    #[arg(long, default_value_t = 0.7, value_parser = crate::cli_values::not_nan)]
     pub mu: f64,
     /// Tangential damping gamma_t (N s/m), Haff-Werner only.
-    #[arg(long, default_value_t = 0.007)]
+    #[arg(long, default_value_t = 0.007, value_parser = crate::cli_values::not_nan)]
     pub gamma_t: f64,
     /// Rolling friction mu_r (s), Brilliantov-Pöschel only.
-    #[arg(long, default_value = "8.5e-6")]
+    #[arg(long, default_value = "8.5e-6", value_parser = crate::cli_values::not_nan)]
     pub mu_r: f64,
     /// Normal approach speed (m/s); with --eccentricity, the relative speed.
-    #[arg(long, default_value_t = 0.1, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 0.1, allow_negative_numbers = true, value_parser = crate::cli_values::not_nan)]
     pub v: f64,
     /// Tangential speed at impact (m/s).
-    #[arg(long, default_value_t = 0.0, conflicts_with = "eccentricity", allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 0.0, conflicts_with = "eccentricity", allow_negative_numbers = true, value_parser = crate::cli_values::not_nan)]
     pub vt: f64,
     /// Impact eccentricity e = d / (R1 + R2) in [0, 1) (Fig 4.2).
-    #[arg(long)]
+    #[arg(long, value_parser = crate::cli_values::not_nan)]
     pub eccentricity: Option<f64>,
     /// Initial spin of sphere 1, "x,y,z" (rad/s).
     #[arg(long, value_parser = parse_vec3, default_value = "0,0,0")]
@@ -96,10 +95,10 @@ pub struct Args {
     #[arg(long)]
     pub wall: bool,
     /// Time step (s); otherwise --steps-per-contact.
-    #[arg(long, conflicts_with = "steps_per_contact")]
+    #[arg(long, conflicts_with = "steps_per_contact", value_parser = crate::cli_values::not_nan)]
     pub dt: Option<f64>,
     /// Steps per estimated (undamped) contact time.
-    #[arg(long, default_value_t = 1000.0)]
+    #[arg(long, default_value_t = 1000.0, value_parser = crate::cli_values::not_nan)]
     pub steps_per_contact: f64,
     /// Time integrator: velocity-verlet or thesis (sec 3.5.1).
     #[arg(long, value_parser = kind::<Integrator>(Integrator::NAMES), default_value = "velocity-verlet")]
@@ -107,6 +106,9 @@ pub struct Args {
     /// Output directory.
     #[arg(long, default_value = "out/collide")]
     pub out: PathBuf,
+    /// Replace the files of an output directory that already holds some (default: refuse it).
+    #[arg(long)]
+    pub force: bool,
 }
 
 impl Args {
@@ -125,20 +127,8 @@ impl Args {
         if self.normal == NormalKind::Linear && !(self.kn.is_none_or(|kn| kn > 0.0) && self.gamma_n >= 0.0) {
             return Err("--kn must be > 0 and --gamma-n >= 0".into());
         }
-        // NaN fails every comparison, so each test is written to refuse it.
-        for (option, x) in [("--mu", self.mu), ("--gamma-t", self.gamma_t), ("--mu-r", self.mu_r)] {
-            if !(x >= 0.0) {
-                return Err(format!("{option} must be >= 0, got {x}").into());
-            }
-        }
-        for (option, x) in [
-            ("--rho", self.rho),
-            ("--r1", self.r1),
-            ("--steps-per-contact", self.steps_per_contact),
-        ] {
-            if !(x.is_finite() && x > 0.0) {
-                return Err(format!("{option} must be a positive number, got {x}").into());
-            }
+        if self.mu < 0.0 {
+            return Err("--mu must be >= 0".into());
         }
         let choice = LawChoice {
             normal: self.normal,
@@ -199,6 +189,7 @@ impl Args {
 pub fn run(args: Args) -> Result<String, CliError> {
     let collision = args.collision()?;
     let result = collision.run()?;
+    crate::output::claim(&args.out, args.force)?;
     let dir = RunDir::create(&args.out, &args)?;
     dir.finish(serde_json::to_value(&result)?)
 }

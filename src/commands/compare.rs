@@ -38,8 +38,12 @@ pub struct Args {
     #[arg(long, value_name = "DIR", default_value_os_t = crate::output::default_sample_cache())]
     pub sample_cache: PathBuf,
     /// Replace an earlier comparison in the output directory (refused without it).
-    #[arg(long)]
+    #[arg(long, conflicts_with = "resume")]
     pub force: bool,
+    /// Continue a stopped comparison in the output directory: the DEM run goes on from its
+    /// checkpoint (or is kept if it finished), the automaton and the analyses run again.
+    #[arg(long)]
+    pub resume: bool,
     /// No progress output.
     #[arg(long)]
     pub quiet: bool,
@@ -242,47 +246,102 @@ pub fn run(args: Args) -> Result<String, CliError> {
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "scene".into());
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from(format!("out/compare-{name}")));
-    if crate::output::non_empty(&out) && !args.force {
+    if crate::output::non_empty(&out) && !args.force && !args.resume {
         return Err(format!(
-            "{} already holds files (an earlier comparison?); use --force to replace it, or another --out",
+            "{} already holds files (an earlier comparison?); use --resume to continue it, --force to replace it, or another --out",
             out.display()
         )
         .into());
     }
-    let mut dir = RunDir::create(&out, &json!({ "args": &args, "scene": &file }))?;
+    if args.resume && !out.join("dem").join("checkpoint.bin").is_file() && args.dem_run.is_none() {
+        return Err(format!(
+            "--resume: {} holds no DEM run to continue (dem/checkpoint.bin); start it without --resume",
+            out.display()
+        )
+        .into());
+    }
+    // Everything that can be checked is checked before anything is written.
+    file.validate_lattice()?;
+    if let Some(d) = &args.dem_run {
+        check_dem_run(d, scene)?;
+    }
+    let fresh = !out.exists();
+    let result = compare(&args, &file, &out);
+    if result.is_err() && fresh && !out.join("dem").join("checkpoint.bin").is_file() {
+        // A failed start leaves nothing behind; a DEM run that got going is kept for --resume.
+        let _ = std::fs::remove_dir_all(&out);
+    }
+    result
+}
+
+/// `--dem-run`: its resolved scene must be this scene (every key but the thread count and
+/// the checkpoint interval), and so its sample.
+fn check_dem_run(d: &Path, scene: &particles::scene::Scene) -> Result<(), CliError> {
+    let dem_scene = load_scene(&d.join("scene.toml"), &[])?.dem;
+    // The whole resolved scene must agree, not only the sample: a 20 Hz DEM run compared
+    // with a 10 Hz automaton run is not "the same scene".
+    let differ = crate::scene_file::differences(&dem_scene, scene);
+    if !differ.is_empty() {
+        return Err(format!(
+            "--dem-run {}: its scene.toml differs from this scene in {} key(s) (its value -> this scene's): {}",
+            d.display(),
+            differ.len(),
+            differ.join("; ")
+        )
+        .into());
+    }
+    if sample_key(&dem_scene) != sample_key(scene) {
+        return Err(format!(
+            "--dem-run {}: its sample ({:016x}) is not the scene's ({:016x}); both models must start from the same sample",
+            d.display(),
+            sample_key(&dem_scene),
+            sample_key(scene)
+        )
+        .into());
+    }
+    Ok(())
+}
+
+fn compare(args: &Args, file: &crate::scene_file::SceneFile, out: &Path) -> Result<String, CliError> {
+    let scene = &file.dem;
+    let args_json = json!({ "args": args, "scene": file });
+    let mut dir = RunDir::create(out, &args_json)?;
 
     // 1. DEM.
     let dem_dir = match &args.dem_run {
         Some(d) => {
             stage(args.quiet, 1, &format!("DEM: reusing {}", d.display()));
-            let dem_scene = load_scene(&d.join("scene.toml"), &[])?.dem;
-            if sample_key(&dem_scene) != sample_key(scene) {
-                return Err(format!(
-                    "--dem-run {}: its sample ({:016x}) is not the scene's ({:016x}); both models must start from the same sample",
-                    d.display(),
-                    sample_key(&dem_scene),
-                    sample_key(scene)
-                )
-                .into());
-            }
             d.clone()
         }
         None => {
-            stage(args.quiet, 1, "DEM run");
             let d = out.join("dem");
-            run::run(run::Args {
-                scene: args.scene.clone(),
-                out: Some(d.clone()),
-                overrides: args.overrides.clone(),
-                resume: false,
-                force: args.force,
-                vtk: false,
-                thermo_interval: None,
-                sample_cache: args.sample_cache.clone(),
-                stop_after: None,
-                lammps_data: None,
-                quiet: args.quiet,
-            })?;
+            let finished = args.resume && d.join("summary.json").is_file();
+            stage(
+                args.quiet,
+                1,
+                if finished {
+                    "DEM run (finished before: kept)"
+                } else if args.resume {
+                    "DEM run (resumed from its checkpoint)"
+                } else {
+                    "DEM run"
+                },
+            );
+            if !finished {
+                run::run(run::Args {
+                    scene: args.scene.clone(),
+                    out: Some(d.clone()),
+                    overrides: args.overrides.clone(),
+                    resume: args.resume,
+                    force: args.force,
+                    vtk: false,
+                    thermo_interval: None,
+                    sample_cache: args.sample_cache.clone(),
+                    stop_after: None,
+                    lammps_data: None,
+                    quiet: args.quiet,
+                })?;
+            }
             d
         }
     };
@@ -294,6 +353,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
     let auto_line = automaton::run(automaton::Args {
         scene: Some(args.scene.clone()),
         out: Some(auto_dir.clone()),
+        force: true, // inside the comparison's own directory, claimed above
         overrides: args.overrides.clone(),
         rule: None,
         sample_cache: args.sample_cache.clone(),
@@ -308,6 +368,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
     stage(args.quiet, 3, "analysis");
     let dem_analysis_dir = out.join("dem-analysis");
     let dem_line = super::analyze::run(super::analyze::Args {
+        force: true,
         input: dem_dir.clone(),
         out: Some(dem_analysis_dir.clone()),
         ..Default::default()

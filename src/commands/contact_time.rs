@@ -14,7 +14,7 @@ use crate::output::{CliError, RunDir};
 #[derive(clap::Args, Debug, Serialize)]
 pub struct Args {
     /// Values per sweep.
-    #[arg(long, default_value_t = 13)]
+    #[arg(long, default_value_t = 13, value_parser = crate::cli_values::at_least_two)]
     pub points: usize,
     /// Steps per estimated contact time.
     #[arg(long, default_value_t = 1000.0)]
@@ -22,11 +22,15 @@ pub struct Args {
     /// Output directory.
     #[arg(long, default_value = "out/contact-time")]
     pub out: PathBuf,
+    /// Replace the files of an output directory that already holds some (default: refuse it).
+    #[arg(long)]
+    pub force: bool,
 }
 
 pub fn run(args: Args) -> Result<String, CliError> {
     let base = ContactTimeCase::default();
     let rows = study(base, args.points, args.steps_per_contact)?;
+    crate::output::claim(&args.out, args.force)?;
     let mut dir = RunDir::create(&args.out, &json!({ "args": &args, "base": base }))?;
     let mut summary = serde_json::Map::new();
     for (param, label, unit, log_x) in [

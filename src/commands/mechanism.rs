@@ -38,6 +38,9 @@ pub struct Args {
     /// Output directory (default: <RUN>/mechanism).
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Replace the files of an output directory that already holds some (default: refuse it).
+    #[arg(long)]
+    pub force: bool,
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
@@ -54,6 +57,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
     let bytes =
         std::fs::read(&ckpt_path).map_err(|e| format!("{}: cannot read ({e}); run `stripes run` to the end first", ckpt_path.display()))?;
     let out = args.out.clone().unwrap_or_else(|| args.run.join("mechanism"));
+    crate::output::claim(&out, args.force)?;
     let mut dir = RunDir::create(&out, &json!({ "args": &args, "scene": &scene }))?;
 
     let setup = tray::setup(&scene, tray::drive(&scene))?;

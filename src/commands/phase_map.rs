@@ -31,8 +31,7 @@ pub struct Args {
     #[arg(long, value_enum, default_value = "both")]
     pub model: Which,
     /// Prepared samples (seeds run.seed, run.seed + 1, ...) per cell.
-    #[arg(long, value_name = "N", default_value_t = 1, visible_alias = "samples",
-          value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..))]
+    #[arg(long, value_name = "N", default_value_t = 1, visible_alias = "samples", value_parser = crate::cli_values::at_least_one)]
     pub seeds: usize,
     /// Sweep directory.
     #[arg(long, default_value = "out/phase-map")]
@@ -100,7 +99,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
         kind: "phase-map".into(),
         scene: args.scene.clone(),
         overrides: args.sweep.overrides.clone(),
-        jobs: jobs(&freqs, &amps, &args.model.models(), args.seeds, scene.run.seed),
+        jobs: jobs(&freqs, &amps, &args.model.models(), args.seeds.max(1), scene.run.seed),
     };
     args.sweep.execute(&args.out, &sweep, report)
 }
@@ -222,10 +221,7 @@ pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
                 x_range: (freqs[0] - 0.5 * df, freqs[freqs.len() - 1] + 0.5 * df),
                 y_range: (amps[0] - 0.5 * da, amps[amps.len() - 1] + 0.5 * da),
                 values,
-                colorbar_label: match metric {
-                    "contrast" => "contrast (x a random layer's)".into(),
-                    _ => "mobility (mean diameters per period)".into(),
-                },
+                colorbar_label: metric.into(),
                 scale: None,
                 cell_names: None,
             };

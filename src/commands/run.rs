@@ -155,22 +155,32 @@ fn run_in_pool(args: Args, file: crate::scene_file::SceneFile, threads_why: Stri
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from(format!("out/run-{name}")));
     // Everything that can be checked is checked before anything is written and before the
     // (possibly long) preparation.
-    let fresh = claim_out_dir(&out, args.resume, args.force)?;
     let setup = tray::setup(scene, tray::drive(scene))?;
-    // A snapshot is taken at most once per step: more per period than steps per period
-    // would be capped silently.
-    let steps_per_period = 1.0 / (scene.drive.frequency * setup.dt);
-    if scene.run.snapshots_per_period as f64 > steps_per_period {
+    let gap = 1.0 / (scene.run.snapshots_per_period as f64 * scene.drive.frequency);
+    if gap < 2.0 * setup.dt {
         return Err(format!(
-            "scene `run.snapshots_per_period`: {} snapshots per period, but a period has only {:.0} steps of {:e} s; \
-             at most one snapshot per step is taken",
+            "scene `run.snapshots_per_period` = {}: snapshots {gap:e} s apart are closer than two steps of {:e} s; at most {} per period",
             scene.run.snapshots_per_period,
-            steps_per_period.floor(),
-            setup.dt
+            setup.dt,
+            (1.0 / (2.0 * setup.dt * scene.drive.frequency)).floor()
         )
         .into());
     }
     let warnings = tray::warnings(scene, setup.dt)?;
+    // Then the lock, held until this function returns (a second run into the same directory
+    // is refused, even with --force), and only then the directory's contents.
+    let existed = out.exists();
+    let lock = crate::run_lock::RunLock::acquire(&out)?;
+    let fresh = match claim_out_dir(&out, args.resume, args.force) {
+        Ok(_) => !existed,
+        Err(e) => {
+            drop(lock);
+            if !existed {
+                let _ = std::fs::remove_dir_all(&out);
+            }
+            return Err(e);
+        }
+    };
     for w in &warnings {
         eprintln!("warning: {w}");
     }

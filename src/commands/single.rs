@@ -22,12 +22,17 @@ use serde_json::json;
 use crate::output::{CliError, RunDir};
 
 /// Options of `stripes single`.
+/// The thesis' reference scene, the default of `--scene`.
+const THESIS_REFERENCE: &str = include_str!("../../scenes/thesis-reference.toml");
+
 #[derive(clap::Args, Debug, Serialize)]
 pub struct Args {
     /// Scene whose particle-wall law (after its toggles), grain density, drive, time step and
     /// integrator the sphere uses.
-    #[arg(long, default_value = "scenes/thesis-reference.toml")]
-    pub scene: PathBuf,
+    /// (default: the thesis' reference scene, `scenes/thesis-reference.toml`, built into the
+    /// program so that `stripes single` works from any directory).
+    #[arg(long)]
+    pub scene: Option<PathBuf>,
     /// Override a scene key, e.g. --set contact.wall_friction=inf (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub overrides: Vec<String>,
@@ -64,6 +69,9 @@ pub struct Args {
     /// Output directory.
     #[arg(long, default_value = "out/single")]
     pub out: PathBuf,
+    /// Replace the files of an output directory that already holds some (default: refuse it).
+    #[arg(long)]
+    pub force: bool,
 }
 
 /// The frequencies of `--frequency`: one value, or `LO:HI:N`.
@@ -127,7 +135,11 @@ struct Shaken {
 }
 
 pub fn run(args: Args) -> Result<String, CliError> {
-    let mut scene = crate::scene_file::load(&args.scene, &args.overrides)?.dem;
+    let mut scene = match &args.scene {
+        Some(path) => crate::scene_file::load(path, &args.overrides)?,
+        None => crate::scene_file::parse(THESIS_REFERENCE, &args.overrides, "scenes/thesis-reference.toml (built in)")?,
+    }
+    .dem;
     if let Some(a) = args.amplitude {
         scene.drive.amplitude = a;
     }
@@ -154,6 +166,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
     if args.dt.is_some_and(|dt| !(dt.is_finite() && dt > 0.0)) {
         return Err("--dt must be positive".into());
     }
+    crate::output::claim(&args.out, args.force)?;
     let mut dir = RunDir::create(&args.out, &json!({ "args": &args, "scene": &scene }))?;
     analysis::io::write_atomic(&args.out.join("scene.toml"), toml::to_string(&scene)?.as_bytes())?;
     dir.note_files([args.out.join("scene.toml")]);

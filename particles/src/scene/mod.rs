@@ -207,11 +207,6 @@ pub(crate) fn err(key: &str, message: impl Into<String>) -> SceneError {
     }
 }
 
-/// The most initial-lattice sites (`(L / 2.1 r_max) (W / 2.1 r_max)`) a scene may ask for:
-/// 2^26, about 1.6 GB of site and neighbour-grid arrays, beyond any tray of the thesis
-/// (its reference tray has about 7e3).
-pub const MAX_LATTICE_SITES: u64 = 1 << 26;
-
 impl Scene {
     /// Parses a scene from TOML text with `--set`-style overrides applied first. `origin`
     /// names the source in messages; an error an override causes names the override.
@@ -252,6 +247,24 @@ impl Scene {
         if 2.0 * self.particles.radius_max > self.tray.width.min(self.tray.length) {
             return Err(err("particles.radius_max", "a particle does not fit in the box"));
         }
+        // The preparation shuffles the sites of one lattice layer (spacing 2.1 R_max): a tray
+        // far larger than its grains need would size that from the box alone.
+        let spacing = 2.1 * self.particles.radius_max;
+        let sites = (self.tray.length / spacing).floor() * ((self.tray.width / spacing).floor() + 1.0);
+        let most = 64.0 * self.particles.count as f64 + (1u64 << 20) as f64;
+        if sites > most {
+            return Err(err(
+                "box.length",
+                format!(
+                    "with box.width = {} m the tray holds {sites:.3e} lattice sites of 2.1 R_max for {} grains \
+                     (preparing it would need {:.1e} bytes); at most {most:.3e} sites (64 per grain) are allowed: \
+                     shrink the box or add grains",
+                    self.tray.width,
+                    self.particles.count,
+                    8.0 * sites
+                ),
+            ));
+        }
         positive("material.density", self.material.density)?;
         positive("material.young", self.material.young)?;
         if !(self.material.poisson > -1.0 && self.material.poisson <= 0.5) {
@@ -283,23 +296,6 @@ impl Scene {
             return Err(err("run.snapshots_per_period", "must be at least 1"));
         }
         non_negative("run.checkpoint_interval", self.run.checkpoint_interval)?;
-        // Sizes derived from the scene, checked before anything is allocated by them: the
-        // initial lattice (spacing 2.1 r_max, see `prepare::initial_state`) and the
-        // neighbour grid (cells of at least 2 r_max) both scale with L W / r_max^2.
-        let spacing = 2.1 * self.particles.radius_max;
-        let sites = (self.tray.length / spacing).floor().max(1.0) * (self.tray.width / spacing).floor().max(1.0);
-        if sites > MAX_LATTICE_SITES as f64 {
-            return Err(err(
-                "box.length",
-                format!(
-                    "box.length x box.width = {} m x {} m holds {sites:.3e} lattice sites of spacing 2.1 particles.radius_max \
-                     (about {:.1} GB for the sample and the neighbour grid); at most {MAX_LATTICE_SITES} are allowed",
-                    self.tray.length,
-                    self.tray.width,
-                    sites * 24.0 / 1e9
-                ),
-            ));
-        }
         // Packing: the layer must fit on the floor.
         let phi = self.packing();
         if phi > 0.9 {

@@ -33,6 +33,17 @@ pub fn apply(doc: &mut toml::Table, assignment: &str) -> Result<(), SceneError> 
             .as_table_mut()
             .ok_or_else(|| err(&blame, format!("`{part}` is a value, not a table")))?;
     }
+    if table.get(*last).is_some_and(|v| v.is_table()) && !value.is_table() {
+        let keys: Vec<&str> = table[*last].as_table().map_or(vec![], |t| t.keys().map(|k| k.as_str()).collect());
+        return Err(err(
+            &blame,
+            format!(
+                "`{key}` is a table of keys ({}), not a value: set one of them, e.g. --set {key}.{}=...",
+                keys.join(", "),
+                keys.first().copied().unwrap_or("key")
+            ),
+        ));
+    }
     table.insert(last.to_string(), value);
     Ok(())
 }
@@ -82,6 +93,11 @@ fn plain_words(message: &str) -> String {
     ] {
         m = m.replace(&format!("expected {rust}"), &format!("expected {words}"));
     }
+    // `expected struct TrayBox`: a table of the scene, not a Rust type.
+    if let Some(at) = m.find("expected struct ") {
+        let end = m[at + 16..].find(|c: char| !c.is_alphanumeric()).map_or(m.len(), |e| at + 16 + e);
+        m.replace_range(at..end, "expected a table of keys");
+    }
     m
 }
 
@@ -108,6 +124,13 @@ mod tests {
         assert_eq!(e.key, "s.toml", "the file's own error names the file");
         let e = parse("a = 1", &["a.b=2".into()], "s.toml", read).unwrap_err();
         assert_eq!(e.key, "--set a.b=2");
+        // A table set to a value is named as a table, with its keys.
+        let e = parse("a = { b = 1 }", &["a=5".into()], "s.toml", read).unwrap_err();
+        assert!(e.to_string().contains("`a` is a table of keys (b)"), "{e}");
+        assert_eq!(
+            plain_words("invalid type: integer `5`, expected struct TrayBox"),
+            "invalid type: integer `5`, expected a table of keys"
+        );
         let e = parse("a = 1", &["novalue".into()], "s.toml", read).unwrap_err();
         assert_eq!(e.key, "--set novalue");
     }

@@ -1,0 +1,56 @@
+//! Value parsers for command-line flags: clap names the flag in every refusal, so a bad
+//! value is reported where it was typed, not later as a failure of something else.
+
+/// A number that is not NaN (infinite values are allowed: an uncapped friction is `inf`).
+pub fn not_nan(s: &str) -> Result<f64, String> {
+    let x: f64 = s.trim().parse().map_err(|_| format!("`{s}` is not a number"))?;
+    if x.is_nan() {
+        return Err("must be a number, not NaN".into());
+    }
+    Ok(x)
+}
+
+/// A finite number greater than zero.
+pub fn positive(s: &str) -> Result<f64, String> {
+    let x = not_nan(s)?;
+    if !(x.is_finite() && x > 0.0) {
+        return Err(format!("must be a positive finite number, got {x}"));
+    }
+    Ok(x)
+}
+
+/// A count of at least one.
+pub fn at_least_one(s: &str) -> Result<usize, String> {
+    at_least(s, 1)
+}
+
+/// A count of at least two (a sweep needs two ends).
+pub fn at_least_two(s: &str) -> Result<usize, String> {
+    at_least(s, 2)
+}
+
+fn at_least(s: &str, min: usize) -> Result<usize, String> {
+    let n: usize = s.trim().parse().map_err(|_| format!("`{s}` is not a whole number"))?;
+    if n < min {
+        return Err(format!("must be at least {min}, got {n}"));
+    }
+    Ok(n)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parsers_refuse_nan_non_positive_and_small_counts() {
+        assert!(not_nan("nan").is_err());
+        assert_eq!(not_nan("inf"), Ok(f64::INFINITY));
+        assert_eq!(not_nan("-2.5"), Ok(-2.5));
+        assert!(positive("0").is_err() && positive("-1e-3").is_err() && positive("inf").is_err());
+        assert_eq!(positive("1e-3"), Ok(1e-3));
+        assert!(at_least_one("0").is_err());
+        assert_eq!(at_least_one("3"), Ok(3));
+        assert!(at_least_two("1").is_err());
+        assert!(at_least_two("x").is_err());
+    }
+}
