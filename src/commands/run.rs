@@ -382,7 +382,8 @@ fn step(
     recorder.writer.sync()?;
     bar.finish_and_clear();
     thermo.write()?;
-    if let Some(w) = thermo.balance_warning(dt) {
+    let resolving = tray::viscous_friction_ratio(scene, dt)?.filter(|r| *r > 1.0).map(|r| dt / r);
+    if let Some(w) = thermo.balance_warning(dt, resolving) {
         eprintln!("warning: {w}");
         warnings.push(w);
     }
