@@ -197,3 +197,48 @@ fn small_silent_changes_are_refused_naming_the_option() {
     );
     std::fs::remove_dir_all(d).unwrap();
 }
+
+/// Regression: a sweep reused the results of its jobs after its scene file changed, and the
+/// report printed the new scene above the old results. The sweep's identity covers the
+/// resolved scene; a changed scene is refused naming the changed key.
+#[test]
+fn a_sweep_refuses_its_directory_after_its_scene_file_changed() {
+    let d = scratch("sweep");
+    let scene = tiny_scene(&d);
+    let samples = d.join("samples").display().to_string();
+    let out = d.join("pm").display().to_string();
+    let map = || {
+        stripes(&[
+            "phase-map",
+            &scene,
+            "--frequency",
+            "20",
+            "--amplitude",
+            "0.025",
+            "--model",
+            "automaton",
+            "--set",
+            "run.duration=0.1",
+            "--out",
+            &out,
+            "--sample-cache",
+            &samples,
+            "--quiet",
+        ])
+    };
+    let (ok, _, stderr) = map();
+    assert!(ok, "{stderr}");
+    // The same sweep again: every job is skipped, nothing refused.
+    let (ok, stdout, stderr) = map();
+    assert!(ok, "{stderr}");
+    assert!(stdout.contains("\"skipped\":1"), "{stdout}");
+    let text = std::fs::read_to_string(&scene).unwrap().replace("seed = 4", "seed = 5");
+    std::fs::write(&scene, text).unwrap();
+    let (ok, _, stderr) = map();
+    assert!(!ok, "a changed scene reused the old results");
+    assert!(
+        stderr.contains("another resolved scene") && stderr.contains("run.seed: 4 -> 5"),
+        "{stderr}"
+    );
+    std::fs::remove_dir_all(d).unwrap();
+}

@@ -195,6 +195,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
         scene: args.scene.clone(),
         overrides: args.sweep.overrides.clone(),
         jobs: all,
+        resolved: String::new(),
     };
     args.sweep.execute(&args.out, &sweep, report)
 }

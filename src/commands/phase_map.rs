@@ -100,6 +100,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
         scene: args.scene.clone(),
         overrides: args.sweep.overrides.clone(),
         jobs: jobs(&freqs, &amps, &args.model.models(), args.seeds.max(1), scene.run.seed),
+        resolved: String::new(),
     };
     args.sweep.execute(&args.out, &sweep, report)
 }
