@@ -513,6 +513,10 @@ fn compare(args: &Args, file: &crate::scene_file::SceneFile, out: &Path) -> Resu
     let report = out.join("report.md");
     analysis::io::write_atomic(&report, md.as_bytes())?;
     dir.note_files([report]);
+    // The two runs and their analyses are part of what this command wrote.
+    for sub in ["dem", "automaton"] {
+        dir.note_tree(Path::new(sub));
+    }
     dir.finish(json!({
         "scene": args.scene.display().to_string(),
         "sample_key": format!("{:016x}", sample_key(scene)),
