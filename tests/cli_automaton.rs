@@ -114,7 +114,7 @@ fn compare_runs_both_models_on_one_sample_and_writes_the_report() {
     for end in [
         "dem/snapshots.bin",
         "automaton/snapshots.bin",
-        "dem/analysis/summary.json",
+        "automaton/analysis/summary.json",
         "report.md",
     ] {
         assert!(files.iter().any(|f| f.ends_with(end)), "{end} not listed in {files:?}");
