@@ -33,11 +33,11 @@ pub struct SweepArgs {
     /// Jobs run at once on this machine (default: all cores).
     #[arg(long)]
     pub jobs: Option<usize>,
-    /// Cache of prepared samples, shared by every job (default: $STRIPES_SAMPLE_CACHE, else
+    /// Cache of prepared samples, shared by every run (default: $STRIPES_SAMPLE_CACHE, else
     /// out/samples).
     #[arg(long, value_name = "DIR", default_value_os_t = crate::output::default_sample_cache())]
     pub sample_cache: PathBuf,
-    /// No progress bar.
+    /// No progress output (warnings still go to stderr, the summary to stdout).
     #[arg(long)]
     pub quiet: bool,
 }

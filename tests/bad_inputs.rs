@@ -242,3 +242,16 @@ fn a_sweep_refuses_its_directory_after_its_scene_file_changed() {
     );
     std::fs::remove_dir_all(d).unwrap();
 }
+
+/// Regression: `automaton SCENE --calibrate RUN` ignored the scene without a word.
+#[test]
+fn automaton_refuses_a_scene_beside_calibrate() {
+    let d = scratch("calibrate");
+    let scene = tiny_scene(&d);
+    refused(
+        &["automaton", &scene, "--calibrate", "some-run"],
+        &["cannot be used with '--calibrate"],
+        None,
+    );
+    std::fs::remove_dir_all(d).unwrap();
+}

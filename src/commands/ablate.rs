@@ -25,7 +25,8 @@ pub struct Args {
     /// Also the packing sweep of Table 3.6: these particle counts in the same box.
     #[arg(long, value_delimiter = ',')]
     pub packing: Vec<usize>,
-    /// Which model(s) to ablate.
+    /// Which model(s) to ablate: dem (`stripes run`), automaton (`stripes automaton`) or
+    /// both, on the same samples.
     #[arg(long, value_enum, default_value = "dem")]
     pub model: crate::commands::phase_map::Which,
     /// Sweep directory.

@@ -33,7 +33,7 @@ pub struct Args {
     /// same sample as the scene).
     #[arg(long)]
     pub dem_run: Option<PathBuf>,
-    /// Cache of prepared samples, shared by all runs (default: $STRIPES_SAMPLE_CACHE, else
+    /// Cache of prepared samples, shared by every run (default: $STRIPES_SAMPLE_CACHE, else
     /// out/samples).
     #[arg(long, value_name = "DIR", default_value_os_t = crate::output::default_sample_cache())]
     pub sample_cache: PathBuf,
@@ -44,7 +44,7 @@ pub struct Args {
     /// checkpoint (or is kept if it finished), the automaton and the analyses run again.
     #[arg(long)]
     pub resume: bool,
-    /// No progress output.
+    /// No progress output (warnings still go to stderr, the summary to stdout).
     #[arg(long)]
     pub quiet: bool,
 }

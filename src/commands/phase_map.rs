@@ -27,7 +27,8 @@ pub struct Args {
     /// Drive amplitudes, LO:HI:N or a list such as 0.002,0.005,0.01 (m).
     #[arg(long, default_value = "0.005:0.04:8")]
     pub amplitude: String,
-    /// Which model(s) to run.
+    /// Which model(s) to run: dem (`stripes run`), automaton (`stripes automaton`) or both,
+    /// on the same samples.
     #[arg(long, value_enum, default_value = "both")]
     pub model: Which,
     /// Prepared samples (seeds run.seed, run.seed + 1, ...) per cell.
@@ -43,11 +44,13 @@ pub struct Args {
 /// Models of a phase map.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
 pub enum Which {
-    /// The DEM (`stripes run`).
+    // The values are described in the options' help (`--model`), so that `--help` prints
+    // the same short form as every other command's.
+    // The DEM (`stripes run`).
     Dem,
-    /// The cellular automaton (`stripes automaton`).
+    // The cellular automaton (`stripes automaton`).
     Automaton,
-    /// Both, on the same samples.
+    // Both, on the same samples.
     Both,
 }
 

@@ -54,7 +54,7 @@ pub struct Args {
     /// Simulated seconds between rows of thermo.csv (default: a tenth of the drive period).
     #[arg(long, value_name = "SECONDS")]
     pub thermo_interval: Option<f64>,
-    /// Cache of prepared samples, shared by all runs (default: $STRIPES_SAMPLE_CACHE, else
+    /// Cache of prepared samples, shared by every run (default: $STRIPES_SAMPLE_CACHE, else
     /// out/samples).
     #[arg(long, value_name = "DIR", default_value_os_t = crate::output::default_sample_cache())]
     pub sample_cache: PathBuf,
@@ -66,7 +66,7 @@ pub struct Args {
     /// Die after this many steps as `kill -9` would (a test hook for checkpoints and --resume).
     #[arg(long, hide = true)]
     pub stop_after: Option<u64>,
-    /// No progress output.
+    /// No progress output (warnings still go to stderr, the summary to stdout).
     #[arg(long)]
     pub quiet: bool,
 }
