@@ -1,0 +1,237 @@
+//! The parameters of an event-driven run, validated once: every error names its field.
+//!
+//! The box spans `0 <= x <= width` (periodic, or between side walls) and `0 <= z <= height`
+//! above the floor's mean position; the lid, if any, stands at `z = height`. Horizontal walls
+//! oscillate as `A sin(2 pi f t + phi)`. Particles are disks or spheres (the inertia factor
+//! `q`) of up to two species, with radii uniform in a range and a mass per particle.
+
+use crate::collision::Rule;
+use crate::error::{invalid, EventsError};
+use crate::wall::Motion;
+
+/// One species.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Species {
+    pub count: usize,
+    /// Radii uniform in `[radius_min, radius_max]` (m).
+    pub radius_min: f64,
+    pub radius_max: f64,
+    /// Mass of each particle (kg).
+    pub mass: f64,
+}
+
+/// The side walls.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SideWalls {
+    /// No side walls: x is periodic.
+    Periodic,
+    /// Fixed walls at x = 0 and x = width.
+    Fixed,
+    /// Walls at x = 0 and x = width that move vertically with the floor (friction only).
+    WithFloor,
+}
+
+/// The collision rule of every contact class. Pair rules are indexed by species pair:
+/// `pair[0]` for 1-1, `pair[1]` for 1-2, `pair[2]` for 2-2; wall rules by species.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Rules {
+    pub pair: Vec<Rule>,
+    pub floor: Vec<Rule>,
+    pub side: Vec<Rule>,
+    pub lid: Vec<Rule>,
+}
+
+impl Rules {
+    /// One rule for every pair and one for every wall, for `species` species.
+    pub fn uniform(pair: Rule, wall: Rule, species: usize) -> Self {
+        let pairs = if species == 2 { 3 } else { 1 };
+        Rules {
+            pair: vec![pair; pairs],
+            floor: vec![wall.clone(); species],
+            side: vec![wall.clone(); species],
+            lid: vec![wall; species],
+        }
+    }
+
+    /// The rule between species `a` and `b`.
+    pub fn pair(&self, a: usize, b: usize) -> &Rule {
+        &self.pair[a + b]
+    }
+}
+
+/// Guards against inelastic collapse, each a choice with its cost:
+/// - `min_rebound_speed` (the sawtooth paper): a collision never leaves a normal relative
+///   speed below it, so a grain resting on a floor keeps hopping with at least this speed
+///   (it adds energy where grains should rest: a hop of `v^2 / 2g`);
+/// - `tc` (the TC model of Luding and McNamara): a particle that collided less than `tc`
+///   ago collides elastically (it keeps the gas from collapsing; dense clusters are too
+///   elastic below the time scale `tc`).
+///
+/// Without a guard, a run that collapses stops: more than `collapse_events` collisions of
+/// one particle within `collapse_window` seconds is an error naming the particles.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Guard {
+    pub min_rebound_speed: Option<f64>,
+    pub tc: Option<f64>,
+    pub collapse_window: f64,
+    pub collapse_events: u32,
+}
+
+impl Default for Guard {
+    fn default() -> Self {
+        Guard {
+            min_rebound_speed: None,
+            tc: None,
+            collapse_window: 1e-6,
+            collapse_events: 1000,
+        }
+    }
+}
+
+/// Everything that defines a run.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Config {
+    /// Box width along x (m).
+    pub width: f64,
+    /// Box height above the floor's mean position (m): the lid's mean position, and the top
+    /// of the region particles are placed in.
+    pub height: f64,
+    pub side_walls: SideWalls,
+    /// Gravity (m/s^2, >= 0, pointing to -z).
+    pub gravity: f64,
+    /// Inertia factor `I / (m R^2)` (2/5 spheres, 1/2 disks).
+    pub q: f64,
+    pub species: Vec<Species>,
+    /// The floor at `z = 0` and its motion (`None`: no floor, allowed only without gravity).
+    pub floor: Option<Motion>,
+    /// The lid at `z = height` and its motion (`None`: open top).
+    pub lid: Option<Motion>,
+    pub rules: Rules,
+    pub guard: Guard,
+    /// Initial velocities uniform in `[-initial_speed, initial_speed]` per component (m/s).
+    pub initial_speed: f64,
+    pub seed: u64,
+}
+
+impl Config {
+    /// The largest radius of all species (m).
+    pub fn radius_max(&self) -> f64 {
+        self.species.iter().map(|s| s.radius_max).fold(0.0, f64::max)
+    }
+
+    /// Checks every parameter; the error names the first one out of range.
+    pub fn validate(&self) -> Result<(), EventsError> {
+        let positive = |field: &str, x: f64| {
+            if x.is_finite() && x > 0.0 {
+                Ok(())
+            } else {
+                Err(invalid(field, format!("must be a positive number, got {x}")))
+            }
+        };
+        positive("width", self.width)?;
+        positive("height", self.height)?;
+        if !(self.gravity.is_finite() && self.gravity >= 0.0) {
+            return Err(invalid("gravity", format!("must be >= 0, got {}", self.gravity)));
+        }
+        if !(self.q > 0.0 && self.q <= 1.0) {
+            return Err(invalid(
+                "q",
+                format!("the inertia factor I/(m R^2) must lie in (0, 1], got {}", self.q),
+            ));
+        }
+        if self.species.is_empty() || self.species.len() > 2 {
+            return Err(invalid("species", format!("one or two species, got {}", self.species.len())));
+        }
+        for (k, s) in self.species.iter().enumerate() {
+            let f = |name: &str| format!("species[{k}].{name}");
+            if s.count == 0 {
+                return Err(invalid(&f("count"), "must be at least 1"));
+            }
+            positive(&f("radius_min"), s.radius_min)?;
+            positive(&f("radius_max"), s.radius_max)?;
+            if s.radius_max < s.radius_min {
+                return Err(invalid(&f("radius_max"), "must be >= radius_min"));
+            }
+            positive(&f("mass"), s.mass)?;
+        }
+        let d = 2.0 * self.radius_max();
+        if d >= self.width || d >= self.height {
+            return Err(invalid(
+                "radius_max",
+                format!(
+                    "a particle of diameter {d} m does not fit in the box {} x {} m",
+                    self.width, self.height
+                ),
+            ));
+        }
+        for (name, m) in [("floor", self.floor), ("lid", self.lid)] {
+            if let Some(m) = m {
+                if !(m.amplitude.is_finite() && m.amplitude >= 0.0) {
+                    return Err(invalid(&format!("{name}.amplitude"), format!("must be >= 0, got {}", m.amplitude)));
+                }
+                if m.amplitude > 0.0 && !(m.frequency.is_finite() && m.frequency > 0.0) {
+                    return Err(invalid(
+                        &format!("{name}.frequency"),
+                        format!("must be positive, got {}", m.frequency),
+                    ));
+                }
+                if !m.phase.is_finite() {
+                    return Err(invalid(&format!("{name}.phase"), "must be finite"));
+                }
+            }
+        }
+        let swing = self.floor.map_or(0.0, |m| m.amplitude) + self.lid.map_or(0.0, |m| m.amplitude);
+        if self.lid.is_some() && 2.0 * swing + d >= self.height {
+            return Err(invalid(
+                "amplitude",
+                format!(
+                    "floor and lid swing by {swing} m each way: they would meet a particle of diameter {d} m in a box {} m high",
+                    self.height
+                ),
+            ));
+        }
+        if self.floor.is_none() && self.gravity > 0.0 {
+            return Err(invalid("floor", "gravity needs a floor"));
+        }
+        let n = self.species.len();
+        let pairs = if n == 2 { 3 } else { 1 };
+        if self.rules.pair.len() != pairs {
+            return Err(invalid("rules.pair", format!("needs {pairs} rule(s) for {n} species")));
+        }
+        for (name, rules) in [
+            ("rules.floor", &self.rules.floor),
+            ("rules.side", &self.rules.side),
+            ("rules.lid", &self.rules.lid),
+        ] {
+            if rules.len() != n {
+                return Err(invalid(name, format!("needs one rule per species ({n})")));
+            }
+        }
+        for (k, r) in self.rules.pair.iter().enumerate() {
+            r.validate(&format!("rules.pair[{k}]"))?;
+        }
+        for (name, rules) in [
+            ("rules.floor", &self.rules.floor),
+            ("rules.side", &self.rules.side),
+            ("rules.lid", &self.rules.lid),
+        ] {
+            for (k, r) in rules.iter().enumerate() {
+                r.validate(&format!("{name}[{k}]"))?;
+            }
+        }
+        if let Some(v) = self.guard.min_rebound_speed {
+            positive("guard.min_rebound_speed", v)?;
+        }
+        if let Some(tc) = self.guard.tc {
+            positive("guard.tc", tc)?;
+        }
+        positive("guard.collapse_window", self.guard.collapse_window)?;
+        if self.guard.collapse_events < 2 {
+            return Err(invalid("guard.collapse_events", "must be at least 2"));
+        }
+        if !(self.initial_speed.is_finite() && self.initial_speed >= 0.0) {
+            return Err(invalid("initial_speed", format!("must be >= 0, got {}", self.initial_speed)));
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,144 @@
+//! What a run measures, sampled at a fixed drive phase: per-species number density and
+//! granular temperatures (x, z, rotation) against height, the mean height `H` of the centres
+//! above the floor's mean position, the mean horizontal velocity `<v_x>`, the velocity
+//! distributions, and the energy ledger.
+
+use crate::sim::Simulation;
+
+/// Height profiles of one species, accumulated over samples.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Profile {
+    /// Particles counted per bin (summed over samples).
+    pub count: Vec<f64>,
+    /// Sums of `m v_x^2`, `m v_z^2` and `I w^2` per bin (J).
+    pub mvx2: Vec<f64>,
+    pub mvz2: Vec<f64>,
+    pub iw2: Vec<f64>,
+    /// Sums of `v_x` and `v_z` per bin (m/s), for the local mean flow.
+    pub vx: Vec<f64>,
+    pub vz: Vec<f64>,
+    pub m: Vec<f64>,
+}
+
+/// Everything sampled.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Observer {
+    /// Bin height (m) and number of bins, from `z = 0`.
+    pub bin: f64,
+    pub bins: usize,
+    pub species: Vec<Profile>,
+    pub samples: u64,
+    /// Sum over samples of the mean height of the centres (m).
+    pub height_sum: f64,
+    /// Sum over samples of the mean `v_x` (m/s).
+    pub vx_sum: f64,
+    /// Every sampled `v_x`, `v_z` and `w`, per species.
+    pub vx: Vec<Vec<f64>>,
+    pub vz: Vec<Vec<f64>>,
+    pub w: Vec<Vec<f64>>,
+}
+
+impl Observer {
+    pub fn new(species: usize, bin: f64, height: f64) -> Self {
+        let bins = (height / bin).ceil().max(1.0) as usize;
+        let zero = || Profile {
+            count: vec![0.0; bins],
+            mvx2: vec![0.0; bins],
+            mvz2: vec![0.0; bins],
+            iw2: vec![0.0; bins],
+            vx: vec![0.0; bins],
+            vz: vec![0.0; bins],
+            m: vec![0.0; bins],
+        };
+        Observer {
+            bin,
+            bins,
+            species: (0..species).map(|_| zero()).collect(),
+            samples: 0,
+            height_sum: 0.0,
+            vx_sum: 0.0,
+            vx: vec![Vec::new(); species],
+            vz: vec![Vec::new(); species],
+            w: vec![Vec::new(); species],
+        }
+    }
+
+    /// Adds the state at the simulation's time.
+    pub fn sample(&mut self, sim: &Simulation) {
+        let n = sim.len();
+        let (mut h, mut vx) = (0.0, 0.0);
+        for i in 0..n {
+            let (r, v) = sim.state(i);
+            let k = sim.species[i];
+            let m = sim.mass[i];
+            h += r.y;
+            vx += v.x;
+            let b = ((r.y / self.bin).floor().max(0.0) as usize).min(self.bins - 1);
+            let p = &mut self.species[k];
+            p.count[b] += 1.0;
+            p.mvx2[b] += m * v.x * v.x;
+            p.mvz2[b] += m * v.y * v.y;
+            p.iw2[b] += sim.config.q * m * sim.radius[i].powi(2) * sim.w[i].powi(2);
+            p.vx[b] += v.x;
+            p.vz[b] += v.y;
+            p.m[b] += m;
+            self.vx[k].push(v.x);
+            self.vz[k].push(v.y);
+            self.w[k].push(sim.w[i]);
+        }
+        self.height_sum += h / n as f64;
+        self.vx_sum += vx / n as f64;
+        self.samples += 1;
+    }
+
+    /// Mean height of the centres above the floor's mean position (m).
+    pub fn mean_height(&self) -> f64 {
+        self.height_sum / self.samples.max(1) as f64
+    }
+
+    /// Mean horizontal velocity (m/s).
+    pub fn mean_vx(&self) -> f64 {
+        self.vx_sum / self.samples.max(1) as f64
+    }
+
+    /// Per bin of species `k`: `(z, number density per m of height per sample, T_x, T_z,
+    /// T_rot)`, temperatures `m <(v - <v>)^2>` per degree of freedom (J); bins without
+    /// particles give NaN temperatures.
+    pub fn profile(&self, k: usize) -> Vec<[f64; 5]> {
+        let p = &self.species[k];
+        let s = self.samples.max(1) as f64;
+        (0..self.bins)
+            .map(|b| {
+                let c = p.count[b];
+                let mean_m = p.m[b] / c;
+                let (ux, uz) = (p.vx[b] / c, p.vz[b] / c);
+                [
+                    (b as f64 + 0.5) * self.bin,
+                    c / s / self.bin,
+                    p.mvx2[b] / c - mean_m * ux * ux,
+                    p.mvz2[b] / c - mean_m * uz * uz,
+                    p.iw2[b] / c,
+                ]
+            })
+            .collect()
+    }
+
+    /// Whole-box temperatures of species `k`: `(T_x, T_z, T_rot)` (J).
+    pub fn temperatures(&self, k: usize) -> (f64, f64, f64) {
+        let p = &self.species[k];
+        let c: f64 = p.count.iter().sum();
+        (
+            p.mvx2.iter().sum::<f64>() / c,
+            p.mvz2.iter().sum::<f64>() / c,
+            p.iw2.iter().sum::<f64>() / c,
+        )
+    }
+}
+
+/// The ledger's residual `|E - E0 - (W - D)|` relative to the largest of `E0`, `W` and `D`.
+pub fn ledger_error(sim: &Simulation, e0: f64) -> f64 {
+    let e = sim.energy();
+    let l = sim.ledger;
+    let scale = e0.abs().max(l.wall_work.abs()).max(l.dissipated).max(1e-300);
+    (e - e0 - (l.wall_work - l.dissipated)).abs() / scale
+}

@@ -1,0 +1,532 @@
+//! The event loop: the only place that knows the order in which events are predicted,
+//! checked and carried out.
+//!
+//! Each particle has one predicted event (the earliest of: a collision with a neighbour, a
+//! wall contact, leaving its cell, or a look again at a horizon) and a lazy clock: its
+//! position and velocity are stored at the time of its last event and flown forward only
+//! when needed. A pair event remembers the partner's collision count, and is dropped when the
+//! partner has collided since. After a particle's motion changes, only its own event is
+//! predicted again; a neighbour that would now meet it earlier is found because the pair is
+//! predicted from this particle's side.
+
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+use crate::cells::Grid;
+use crate::collision::{collide, Body, Rule};
+use crate::config::{Config, SideWalls};
+use crate::error::EventsError;
+use crate::flight::{fly, pair_time};
+use crate::queue::Queue;
+use crate::wall::{Motion, Wall, WallKind};
+use crate::Vec2;
+
+/// What a particle's next event is.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Next {
+    Pair { j: usize, count: u64 },
+    Wall { w: usize },
+    Cell { to: (usize, usize), wrap: f64 },
+    Look,
+    Nothing,
+}
+
+/// Counters of a run.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Counts {
+    pub pair: u64,
+    pub wall: u64,
+    pub cell: u64,
+    /// Events dropped because a partner had moved on (not counted as work done).
+    pub stale: u64,
+}
+
+/// The energy ledger (J): work done by the walls, energy dissipated in collisions.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Ledger {
+    pub wall_work: f64,
+    pub dissipated: f64,
+}
+
+/// A running event-driven simulation.
+pub struct Simulation {
+    pub config: Config,
+    /// Time of the simulation (s): every event up to it has been carried out.
+    pub time: f64,
+    // Per particle, at its own clock `t`:
+    r: Vec<Vec2>,
+    v: Vec<Vec2>,
+    pub w: Vec<f64>,
+    t: Vec<f64>,
+    pub radius: Vec<f64>,
+    pub mass: Vec<f64>,
+    pub species: Vec<usize>,
+    cell: Vec<(usize, usize)>,
+    collisions: Vec<u64>,
+    last_collision: Vec<f64>,
+    next: Vec<Next>,
+    // Collapse watch: start of the window and collisions in it, per particle.
+    window: Vec<(f64, u32)>,
+    last_partner: Vec<usize>,
+    grid: Grid,
+    members: Vec<Vec<usize>>,
+    walls: Vec<Wall>,
+    queue: Queue,
+    pub counts: Counts,
+    pub ledger: Ledger,
+    /// Free times between successive pair collisions of a particle (s), per species.
+    pub free_times: [Vec<f64>; 2],
+    horizon: f64,
+}
+
+impl Simulation {
+    /// Places the particles (a random choice of sites of a square lattice of spacing
+    /// `2.02 R_max`, species shuffled), gives them random velocities, and predicts every
+    /// particle's first event.
+    pub fn new(config: Config) -> Result<Self, EventsError> {
+        config.validate()?;
+        let mut rng = ChaCha8Rng::seed_from_u64(config.seed);
+        let mut walls = Vec::new();
+        let rmax = config.radius_max();
+        let floor_top = config.floor.map_or(0.0, |m| m.amplitude);
+        let lid_low = config.height - config.lid.map_or(0.0, |m| m.amplitude);
+        if let Some(m) = config.floor {
+            walls.push(Wall {
+                kind: WallKind::Floor,
+                position: 0.0,
+                motion: m,
+            });
+        }
+        if let Some(m) = config.lid {
+            walls.push(Wall {
+                kind: WallKind::Lid,
+                position: config.height,
+                motion: m,
+            });
+        }
+        if config.side_walls != SideWalls::Periodic {
+            let motion = match (config.side_walls, config.floor) {
+                (SideWalls::WithFloor, Some(m)) => m,
+                _ => Motion::FIXED,
+            };
+            walls.push(Wall {
+                kind: WallKind::Left,
+                position: 0.0,
+                motion,
+            });
+            walls.push(Wall {
+                kind: WallKind::Right,
+                position: config.width,
+                motion,
+            });
+        }
+        // Sites in the box between the walls' extreme positions.
+        let spacing = 2.02 * rmax;
+        let (x_lo, x_hi) = (rmax * 1.01, config.width - rmax * 1.01);
+        let (z_lo, z_hi) = (floor_top + rmax * 1.01, lid_low - rmax * 1.01);
+        let nx = ((x_hi - x_lo) / spacing).floor() as usize + 1;
+        let nz = if z_hi >= z_lo {
+            ((z_hi - z_lo) / spacing).floor() as usize + 1
+        } else {
+            0
+        };
+        let total: usize = config.species.iter().map(|s| s.count).sum();
+        if nx * nz < total || x_hi < x_lo {
+            return Err(EventsError::DoNotFit {
+                placed: nx * nz,
+                wanted: total,
+                message: format!(
+                    "a lattice of spacing {spacing:e} m holds {nx} x {nz} sites between the walls' extreme positions; enlarge width or height, or use fewer or smaller particles"
+                ),
+            });
+        }
+        // Under gravity the lowest sites, in random order within the rows used; without
+        // gravity any sites, so that the gas starts spread over the box.
+        let rows = if config.gravity > 0.0 { total.div_ceil(nx).min(nz) } else { nz };
+        let mut sites: Vec<usize> = (0..nx * rows).collect();
+        for k in (1..sites.len()).rev() {
+            sites.swap(k, rng.gen_range(0..=k));
+        }
+        let mut species: Vec<usize> = config
+            .species
+            .iter()
+            .enumerate()
+            .flat_map(|(k, s)| std::iter::repeat_n(k, s.count))
+            .collect();
+        for k in (1..species.len()).rev() {
+            species.swap(k, rng.gen_range(0..=k));
+        }
+        let (mut r, mut v, mut radius, mut mass) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        for (i, &k) in species.iter().enumerate() {
+            let s = &config.species[k];
+            let site = sites[i];
+            r.push(Vec2::new(x_lo + (site % nx) as f64 * spacing, z_lo + (site / nx) as f64 * spacing));
+            let u = config.initial_speed;
+            let mut draw = || if u > 0.0 { rng.gen_range(-u..=u) } else { 0.0 };
+            v.push(Vec2::new(draw(), draw()));
+            radius.push(if s.radius_max > s.radius_min {
+                rng.gen_range(s.radius_min..=s.radius_max)
+            } else {
+                s.radius_min
+            });
+            mass.push(s.mass);
+        }
+        let n = r.len();
+        let z_grid_lo = -config.floor.map_or(0.0, |m| m.amplitude);
+        let z_grid_hi = config.height + config.lid.map_or(0.0, |m| m.amplitude);
+        let grid = Grid::new(
+            config.width,
+            z_grid_lo,
+            z_grid_hi,
+            2.0 * rmax * 1.0001,
+            config.side_walls == SideWalls::Periodic,
+        );
+        let cell: Vec<(usize, usize)> = r.iter().map(|p| grid.cell(*p)).collect();
+        let mut members = vec![Vec::new(); grid.nx * grid.nz];
+        for (i, c) in cell.iter().enumerate() {
+            members[grid.index(*c)].push(i);
+        }
+        let fastest = walls.iter().map(|w| w.motion.frequency).fold(0.0, f64::max);
+        let horizon = if fastest > 0.0 { 0.25 / fastest } else { f64::INFINITY };
+        let mut sim = Simulation {
+            time: 0.0,
+            w: vec![0.0; n],
+            t: vec![0.0; n],
+            collisions: vec![0; n],
+            last_collision: vec![f64::NEG_INFINITY; n],
+            next: vec![Next::Nothing; n],
+            window: vec![(0.0, 0); n],
+            last_partner: vec![usize::MAX; n],
+            queue: Queue::new(n),
+            counts: Counts::default(),
+            ledger: Ledger::default(),
+            free_times: [Vec::new(), Vec::new()],
+            r,
+            v,
+            radius,
+            mass,
+            species,
+            cell,
+            grid,
+            members,
+            walls,
+            horizon,
+            config,
+        };
+        for i in 0..n {
+            sim.predict(i);
+        }
+        Ok(sim)
+    }
+
+    /// Number of particles.
+    pub fn len(&self) -> usize {
+        self.r.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.r.is_empty()
+    }
+
+    /// The walls (floor, lid, left, right, as present).
+    pub fn walls(&self) -> &[Wall] {
+        &self.walls
+    }
+
+    /// Position and velocity of particle `i` at the simulation time.
+    pub fn state(&self, i: usize) -> (Vec2, Vec2) {
+        fly(self.r[i], self.v[i], self.config.gravity, self.time - self.t[i])
+    }
+
+    /// Moves particle `i`'s clock to `t` (its trajectory does not change).
+    fn advance(&mut self, i: usize, t: f64) {
+        let (r, v) = fly(self.r[i], self.v[i], self.config.gravity, t - self.t[i]);
+        self.r[i] = r;
+        self.v[i] = v;
+        self.t[i] = t;
+    }
+
+    /// Brings every particle's clock to the simulation time, then replaces their state.
+    /// For tests and set-ups: every event is predicted again.
+    pub fn set_state(&mut self, r: &[Vec2], v: &[Vec2], w: &[f64]) -> Result<(), EventsError> {
+        if r.len() != self.len() || v.len() != self.len() || w.len() != self.len() {
+            return Err(crate::error::invalid("state", "one position, velocity and spin per particle"));
+        }
+        for m in self.members.iter_mut() {
+            m.clear();
+        }
+        for i in 0..self.len() {
+            self.r[i] = r[i];
+            self.v[i] = v[i];
+            self.w[i] = w[i];
+            self.t[i] = self.time;
+            self.cell[i] = self.grid.cell(r[i]);
+            let c = self.grid.index(self.cell[i]);
+            self.members[c].push(i);
+        }
+        for i in 0..self.len() {
+            self.predict(i);
+        }
+        Ok(())
+    }
+
+    /// The periodic separation `r_i - r_j` at the common time (both clocks there).
+    fn separation(&self, i: usize, j: usize) -> Vec2 {
+        let mut d = self.r[i] - self.r[j];
+        if self.grid.periodic {
+            let w = self.config.width;
+            d.x -= w * (d.x / w).round();
+        }
+        d
+    }
+
+    /// Predicts particle `i`'s next event from its clock time and schedules it.
+    fn predict(&mut self, i: usize) {
+        let t0 = self.t[i];
+        let g = self.config.gravity;
+        let mut best = (t0 + self.horizon, Next::Look);
+        if !self.horizon.is_finite() {
+            best = (f64::INFINITY, Next::Nothing);
+        }
+        // Neighbours.
+        let (cx, cz) = self.cell[i];
+        let cols: Vec<usize> = self.grid.columns(cx).collect();
+        let rows: Vec<usize> = self.grid.rows(cz).collect();
+        for &iz in &rows {
+            for &ix in &cols {
+                let c = self.grid.index((ix, iz));
+                for k in 0..self.members[c].len() {
+                    let j = self.members[c][k];
+                    if j == i {
+                        continue;
+                    }
+                    let (rj, vj) = fly(self.r[j], self.v[j], g, t0 - self.t[j]);
+                    let mut d = self.r[i] - rj;
+                    if self.grid.periodic {
+                        let w = self.config.width;
+                        d.x -= w * (d.x / w).round();
+                    }
+                    if let Some(s) = pair_time(d, self.v[i] - vj, self.radius[i] + self.radius[j]) {
+                        if t0 + s < best.0 {
+                            best = (
+                                t0 + s,
+                                Next::Pair {
+                                    j,
+                                    count: self.collisions[j],
+                                },
+                            );
+                        }
+                    }
+                }
+            }
+        }
+        for (w, wall) in self.walls.iter().enumerate() {
+            let horizon = (best.0 - t0).min(if self.horizon.is_finite() { self.horizon } else { f64::MAX });
+            if let Some(t) = wall.contact_time(self.r[i], self.v[i], self.radius[i], g, t0, horizon) {
+                if t < best.0 || (t == best.0 && !matches!(best.1, Next::Pair { .. })) {
+                    best = (t, Next::Wall { w });
+                }
+            }
+        }
+        if let Some(c) = self.grid.crossing(self.cell[i], self.r[i], self.v[i], g, t0) {
+            if c.time < best.0 {
+                best = (c.time, Next::Cell { to: c.to, wrap: c.wrap });
+            }
+        }
+        self.next[i] = best.1;
+        if best.1 != Next::Nothing {
+            self.queue.schedule(i, best.0);
+        }
+    }
+
+    /// Carries out every event up to `t_end` and moves the simulation time there.
+    pub fn run_until(&mut self, t_end: f64) -> Result<(), EventsError> {
+        while let Some((t, i)) = self.queue.peek() {
+            if t > t_end {
+                break;
+            }
+            self.queue.pop();
+            self.time = t;
+            self.event(i, t)?;
+        }
+        self.time = t_end;
+        Ok(())
+    }
+
+    fn event(&mut self, i: usize, t: f64) -> Result<(), EventsError> {
+        match self.next[i] {
+            Next::Pair { j, count } => {
+                if self.collisions[j] != count {
+                    self.counts.stale += 1;
+                    self.advance(i, t);
+                    self.predict(i);
+                    return Ok(());
+                }
+                self.advance(i, t);
+                self.advance(j, t);
+                self.pair_collision(i, j, t)?;
+                self.predict(i);
+                self.predict(j);
+            }
+            Next::Wall { w } => {
+                self.advance(i, t);
+                self.wall_collision(i, w, t)?;
+                self.predict(i);
+            }
+            Next::Cell { to, wrap } => {
+                self.advance(i, t);
+                self.r[i].x += wrap;
+                let from = self.grid.index(self.cell[i]);
+                if let Some(k) = self.members[from].iter().position(|&x| x == i) {
+                    self.members[from].swap_remove(k);
+                }
+                self.cell[i] = to;
+                self.members[self.grid.index(to)].push(i);
+                self.counts.cell += 1;
+                self.predict(i);
+            }
+            Next::Look => {
+                self.advance(i, t);
+                self.predict(i);
+            }
+            Next::Nothing => {}
+        }
+        Ok(())
+    }
+
+    /// The coefficients forced by a guard, if any, for a collision of `i` (and `j`) at `t`.
+    fn guarded(&self, i: usize, j: Option<usize>, t: f64) -> Option<(f64, f64)> {
+        let tc = self.config.guard.tc?;
+        let recent = |k: usize| t - self.last_collision[k] < tc;
+        (recent(i) || j.is_some_and(recent)).then_some((1.0, -1.0))
+    }
+
+    /// Raises `e` so that the normal speed after is at least the guard's minimum.
+    fn min_rebound(&self, gn: f64, e: f64, beta: f64) -> Option<(f64, f64)> {
+        let v = self.config.guard.min_rebound_speed?;
+        (e * gn.abs() < v && gn != 0.0).then(|| ((v / gn.abs()).min(1.0), beta))
+    }
+
+    fn watch(&mut self, i: usize, partner: usize, t: f64) -> Result<(), EventsError> {
+        let g = self.config.guard;
+        let (start, count) = self.window[i];
+        if t - start > g.collapse_window {
+            self.window[i] = (t, 1);
+        } else {
+            self.window[i] = (start, count + 1);
+            if count + 1 > g.collapse_events {
+                let mut particles = vec![i];
+                if partner != usize::MAX {
+                    particles.push(partner);
+                }
+                return Err(EventsError::Collapse {
+                    particles,
+                    time: t,
+                    events: self.counts.pair + self.counts.wall,
+                    message: format!(
+                        "particle {i} collided {} times within {:e} s; choose a collapse guard (guard.min_rebound_speed or guard.tc) or a velocity-dependent restitution",
+                        count + 1,
+                        g.collapse_window
+                    ),
+                });
+            }
+        }
+        self.last_partner[i] = partner;
+        Ok(())
+    }
+
+    fn body(&self, i: usize) -> Body {
+        Body {
+            v: self.v[i],
+            w: self.w[i],
+            r: self.radius[i],
+            m: self.mass[i],
+            q: self.config.q,
+        }
+    }
+
+    fn pair_collision(&mut self, i: usize, j: usize, t: f64) -> Result<(), EventsError> {
+        let d = self.separation(i, j);
+        let sigma = self.radius[i] + self.radius[j];
+        if d.norm() < sigma * (1.0 - 1e-6) {
+            return Err(EventsError::Overlap {
+                particle: i,
+                partner: format!("particle {j}"),
+                time: t,
+                depth: sigma - d.norm(),
+            });
+        }
+        let n = d / d.norm();
+        let rule: Rule = self.config.rules.pair(self.species[i], self.species[j]).clone();
+        let (b1, b2) = (self.body(i), self.body(j));
+        let mut o = collide(b1, b2, n, &rule, self.guarded(i, Some(j), t));
+        if let Some(c) = self.min_rebound(o.gn, o.e, o.beta) {
+            o = collide(b1, b2, n, &rule, Some(c));
+        }
+        (self.v[i], self.w[i], self.v[j], self.w[j]) = (o.v1, o.w1, o.v2, o.w2);
+        self.ledger.dissipated += o.dissipated;
+        for (k, partner) in [(i, j), (j, i)] {
+            let last = self.last_collision[k];
+            if last.is_finite() {
+                self.free_times[self.species[k]].push(t - last);
+            }
+            self.last_collision[k] = t;
+            self.collisions[k] += 1;
+            self.watch(k, partner, t)?;
+        }
+        self.counts.pair += 1;
+        Ok(())
+    }
+
+    fn wall_collision(&mut self, i: usize, w: usize, t: f64) -> Result<(), EventsError> {
+        let wall = self.walls[w];
+        let rules = match wall.kind {
+            WallKind::Floor => &self.config.rules.floor,
+            WallKind::Lid => &self.config.rules.lid,
+            WallKind::Left | WallKind::Right => &self.config.rules.side,
+        };
+        let rule = rules[self.species[i]].clone();
+        let b1 = self.body(i);
+        let b2 = Body {
+            v: wall.velocity(t),
+            w: 0.0,
+            r: 0.0,
+            m: f64::INFINITY,
+            q: self.config.q,
+        };
+        let n = wall.normal();
+        let mut o = collide(b1, b2, n, &rule, self.guarded(i, None, t));
+        if let Some(c) = self.min_rebound(o.gn, o.e, o.beta) {
+            o = collide(b1, b2, n, &rule, Some(c));
+        }
+        let kinetic = |v: Vec2, w: f64| 0.5 * b1.m * v.norm_squared() + 0.5 * b1.q * b1.m * b1.r * b1.r * w * w;
+        let gained = kinetic(o.v1, o.w1) - kinetic(b1.v, b1.w);
+        (self.v[i], self.w[i]) = (o.v1, o.w1);
+        // Work of the wall = the particle's gain + what the collision dissipated.
+        self.ledger.wall_work += gained + o.dissipated;
+        self.ledger.dissipated += o.dissipated;
+        self.collisions[i] += 1;
+        self.last_collision[i] = t;
+        self.counts.wall += 1;
+        self.watch(i, usize::MAX, t)
+    }
+
+    /// Total energy at the simulation time (J): translation, rotation and height `z` in
+    /// gravity.
+    pub fn energy(&self) -> f64 {
+        (0..self.len())
+            .map(|i| {
+                let (r, v) = self.state(i);
+                let m = self.mass[i];
+                0.5 * m * v.norm_squared()
+                    + 0.5 * self.config.q * m * self.radius[i].powi(2) * self.w[i].powi(2)
+                    + m * self.config.gravity * r.y
+            })
+            .sum()
+    }
+
+    /// Collisions (pair + wall) so far.
+    pub fn collisions(&self) -> u64 {
+        self.counts.pair + self.counts.wall
+    }
+}

@@ -1,0 +1,341 @@
+//! The event-driven engine against closed forms: time reversal, equipartition and the
+//! barometric law of an elastic gas, Haff's law of a cooling gas, the bouncing ball's
+//! period-1 orbit, and the collapse guards.
+
+use events::collision::{Restitution, Rule};
+use events::config::{Config, Guard, Rules, SideWalls, Species};
+use events::observe::{ledger_error, Observer};
+use events::wall::Motion;
+use events::{EventsError, Simulation, Vec2};
+
+fn species(count: usize, r: f64, m: f64) -> Species {
+    Species {
+        count,
+        radius_min: r,
+        radius_max: r,
+        mass: m,
+    }
+}
+
+fn fixed_box(width: f64, height: f64, gravity: f64, sp: Vec<Species>, pair: Rule, wall: Rule) -> Config {
+    let n = sp.len();
+    Config {
+        width,
+        height,
+        side_walls: SideWalls::Fixed,
+        gravity,
+        q: 0.5,
+        species: sp,
+        floor: Some(Motion::FIXED),
+        lid: Some(Motion::FIXED),
+        rules: Rules::uniform(pair, wall, n),
+        guard: Guard::default(),
+        initial_speed: 1.0,
+        seed: 7,
+    }
+}
+
+/// An elastic column of disks (head-on collisions, walls and gravity), run forward over
+/// 1e4 collisions and back: every disk returns to its start to round-off.
+#[test]
+fn elastic_runs_are_time_reversible_over_ten_thousand_collisions() {
+    let cfg = fixed_box(0.03, 1.0, 9.81, vec![species(8, 0.01, 1e-3)], Rule::smooth(1.0), Rule::smooth(1.0));
+    let mut sim = Simulation::new(cfg).unwrap();
+    let n = sim.len();
+    // A vertical column at x = 0.015, 5 cm apart, moving only vertically.
+    let r0: Vec<Vec2> = (0..n).map(|k| Vec2::new(0.015, 0.05 + 0.05 * k as f64)).collect();
+    let v0: Vec<Vec2> = (0..n).map(|k| Vec2::new(0.0, 1.0 - 0.3 * k as f64)).collect();
+    sim.set_state(&r0, &v0, &vec![0.0; n]).unwrap();
+    let mut t = 0.0;
+    while sim.collisions() < 10_000 {
+        t += 0.05;
+        sim.run_until(t).unwrap();
+    }
+    let forward = sim.collisions();
+    let (r1, v1): (Vec<Vec2>, Vec<Vec2>) = (0..n).map(|i| sim.state(i)).unzip();
+    let back: Vec<Vec2> = v1.iter().map(|v| -v).collect();
+    sim.set_state(&r1, &back, &vec![0.0; n]).unwrap();
+    sim.run_until(2.0 * t).unwrap();
+    let worst = (0..n).map(|i| (sim.state(i).0 - r0[i]).norm()).fold(0.0, f64::max);
+    println!(
+        "{forward} collisions forward, {} in all; largest return error {worst:e} m",
+        sim.collisions()
+    );
+    assert!(worst < 1e-9, "returned within {worst:e} m");
+    for (i, v) in v0.iter().enumerate() {
+        assert!((sim.state(i).1 + v).norm() < 1e-8);
+    }
+}
+
+/// An elastic binary gas of rough disks (beta = +1) between fixed walls under gravity:
+/// equipartition between the species and between translation and rotation, and barometric
+/// density profiles `n_i ~ exp(-m_i g z / T)`.
+#[test]
+fn an_elastic_gas_shares_its_energy_equally_and_thins_out_barometrically() {
+    let rough = Rule::Walton {
+        e: Restitution::Constant(1.0),
+        mu: f64::INFINITY,
+        beta0: 1.0,
+    };
+    let mut cfg = fixed_box(
+        4.0,
+        30.0,
+        1.0,
+        vec![species(150, 0.02, 1.0), species(150, 0.02, 2.0)],
+        rough,
+        Rule::smooth(1.0),
+    );
+    cfg.initial_speed = 2.5;
+    cfg.seed = 3;
+    let mut sim = Simulation::new(cfg).unwrap();
+    let e0 = sim.energy();
+    sim.run_until(150.0).unwrap();
+    let mut obs = Observer::new(2, 0.5, 30.0);
+    for k in 1..=600 {
+        sim.run_until(150.0 + 0.5 * k as f64).unwrap();
+        obs.sample(&sim);
+    }
+    let (tx1, tz1, tr1) = obs.temperatures(0);
+    let (tx2, tz2, tr2) = obs.temperatures(1);
+    let t = (tx1 + tz1 + tx2 + tz2) / 4.0;
+    println!(
+        "T: {tx1:.3} {tz1:.3} {tx2:.3} {tz2:.3}, rot {tr1:.3} {tr2:.3}; {} collisions",
+        sim.collisions()
+    );
+    for (name, x) in [
+        ("T_x,1", tx1),
+        ("T_z,1", tz1),
+        ("T_x,2", tx2),
+        ("T_z,2", tz2),
+        ("T_rot,1", tr1),
+        ("T_rot,2", tr2),
+    ] {
+        assert!((x / t - 1.0).abs() < 0.06, "{name} = {x} against {t}");
+    }
+    // Barometric slopes: a least-squares fit of ln n against z over the bins with counts.
+    for (k, m) in [(0usize, 1.0), (1, 2.0)] {
+        let pts: Vec<(f64, f64)> = obs
+            .profile(k)
+            .iter()
+            .filter(|p| p[1] * 600.0 * 0.5 > 200.0 && p[0] > 0.5)
+            .map(|p| (p[0], p[1].ln()))
+            .collect();
+        let nn = pts.len() as f64;
+        let (sx, sy) = (pts.iter().map(|p| p.0).sum::<f64>(), pts.iter().map(|p| p.1).sum::<f64>());
+        let sxx = pts.iter().map(|p| p.0 * p.0).sum::<f64>();
+        let sxy = pts.iter().map(|p| p.0 * p.1).sum::<f64>();
+        let slope = (nn * sxy - sx * sy) / (nn * sxx - sx * sx);
+        let expected = -m * 1.0 / t;
+        println!("species {k}: slope {slope:.3}, expected {expected:.3} over {} bins", pts.len());
+        assert!(
+            (slope / expected - 1.0).abs() < 0.1,
+            "species {k}: slope {slope} against {expected}"
+        );
+    }
+    // Elastic: nothing dissipated, and the energy kept to round-off.
+    assert!(sim.ledger.dissipated.abs() < 1e-12 * e0);
+    assert!(ledger_error(&sim, e0) < 1e-9, "{}", ledger_error(&sim, e0));
+}
+
+/// Smooth inelastic disks cooling without gravity: per collision `T = T0 exp(-(1 - e^2) C / 2)`
+/// with `C` the collisions per particle, and in time Haff's `T0 / (1 + t / t0)^2` with `t0`
+/// from the Enskog collision rate, until clusters form.
+#[test]
+fn a_cooling_gas_follows_haffs_law() {
+    for e in [0.9, 0.97, 0.99] {
+        let (n, r, width, height) = (400usize, 0.005, 1.0, 1.0);
+        let mut cfg = fixed_box(width, height, 0.0, vec![species(n, r, 1.0)], Rule::smooth(e), Rule::smooth(1.0));
+        cfg.floor = Some(Motion::FIXED);
+        cfg.seed = 11;
+        let mut sim = Simulation::new(cfg).unwrap();
+        // Spread evenly: let the elastic walls and a short elastic period mix the lattice.
+        let t_of = |sim: &Simulation| {
+            (0..sim.len())
+                .map(|i| 0.5 * sim.mass[i] * sim.state(i).1.norm_squared())
+                .sum::<f64>()
+                / sim.len() as f64
+        };
+        // Two collisions per particle first, so that the velocities are Maxwellian and the
+        // lattice forgotten; the laws start from there.
+        let mut t = 0.0;
+        while sim.counts.pair < n as u64 {
+            t += 1e-3;
+            sim.run_until(t).unwrap();
+        }
+        let (t0_temp, c0, start) = (t_of(&sim), sim.counts.pair, sim.time);
+        // Enskog: omega = 2 n sigma chi sqrt(pi T / m), chi = (1 - 7 phi / 16) / (1 - phi)^2.
+        let area = width * height;
+        let phi = n as f64 * std::f64::consts::PI * r * r / area;
+        let chi = (1.0 - 7.0 * phi / 16.0) / (1.0 - phi).powi(2);
+        let omega0 = 2.0 * (n as f64 / area) * (2.0 * r) * chi * (std::f64::consts::PI * t0_temp).sqrt();
+        let tau0 = 4.0 / ((1.0 - e * e) * omega0);
+        let (mut worst_c, mut worst_t) = (0.0f64, 0.0f64);
+        // Until T has fallen to a quarter (before clusters in this dilute gas).
+        let mut k = 0;
+        loop {
+            k += 1;
+            let t = start + 0.02 * tau0 * k as f64;
+            sim.run_until(t).unwrap();
+            let temp = t_of(&sim);
+            if temp < 0.25 * t0_temp {
+                break;
+            }
+            let c = 2.0 * (sim.counts.pair - c0) as f64 / n as f64;
+            let per_collision = t0_temp * (-(1.0 - e * e) * c / 2.0).exp();
+            let haff = t0_temp / (1.0 + (t - start) / tau0).powi(2);
+            worst_c = worst_c.max((temp / per_collision - 1.0).abs());
+            worst_t = worst_t.max((temp / haff - 1.0).abs());
+        }
+        println!(
+            "e = {e}: {} collisions, worst per-collision {worst_c:.3}, worst Haff {worst_t:.3}",
+            sim.counts.pair
+        );
+        assert!(worst_c < 0.05, "e = {e}: per collision off by {worst_c}");
+        assert!(worst_t < 0.05, "e = {e}: Haff's law off by {worst_t}");
+    }
+}
+
+fn ball_on_plate(e: f64, gamma: f64, frequency: f64) -> Config {
+    let omega = 2.0 * std::f64::consts::PI * frequency;
+    let g = 9.81;
+    Config {
+        width: 0.01,
+        height: 1.0,
+        side_walls: SideWalls::Periodic,
+        gravity: g,
+        q: 0.4,
+        species: vec![species(1, 1e-3, 1e-5)],
+        floor: Some(Motion {
+            amplitude: gamma * g / (omega * omega),
+            frequency,
+            phase: 0.0,
+        }),
+        lid: None,
+        rules: Rules::uniform(Rule::smooth(1.0), Rule::smooth(e), 1),
+        // While the plate pushes harder than gravity the ball sticks to it; the guard lets it
+        // hop with 0.1 mm/s instead of colliding without end.
+        guard: Guard {
+            min_rebound_speed: Some(1e-4),
+            ..Guard::default()
+        },
+        initial_speed: 0.0,
+        seed: 1,
+    }
+}
+
+/// The bouncing ball's period-1 orbit: the ball leaves the plate at phase `phi` with speed
+/// `g T / 2` and lands one period later at the same phase, which the restitution law allows
+/// when `cos(phi) = pi (1 - e) / (Gamma (1 + e))`: the orbit exists for `Gamma` above
+/// `pi (1 - e) / (1 + e)`. Started on it, slightly off, the ball keeps one bounce per period
+/// and returns to it (the orbit is stable where the plate decelerates at impact, below
+/// `sqrt((pi (1 - e) / (1 + e))^2 + 4 (1 + e^2)^2 / (1 + e)^2)`).
+#[test]
+fn a_bouncing_ball_holds_the_period_one_orbit_above_its_threshold() {
+    let (e, f, g) = (0.5, 20.0, 9.81);
+    let low = std::f64::consts::PI * (1.0 - e) / (1.0 + e);
+    let high = (low * low + 4.0 * (1.0 + e * e).powi(2) / (1.0 + e).powi(2)).sqrt();
+    let period = 1.0 / f;
+    for gamma in [low * 1.05, 0.5 * (low + high)] {
+        let phi = (low / gamma).acos();
+        let mut cfg = ball_on_plate(e, gamma, f);
+        cfg.guard = Guard::default();
+        cfg.floor = cfg.floor.map(|m| Motion { phase: phi, ..m });
+        let mut sim = Simulation::new(cfg).unwrap();
+        let a = sim.config.floor.unwrap().amplitude;
+        // Launched from the plate at phase phi, 0.1 % faster than the orbit.
+        let u = 0.5 * g * period * 1.001;
+        sim.set_state(&[Vec2::new(0.005, a * phi.sin() + 1e-3)], &[Vec2::new(0.0, u)], &[0.0])
+            .unwrap();
+        let mut heights = Vec::new();
+        for k in 1..=200 {
+            let before = sim.counts.wall;
+            // The k-th landing (and launch) comes at k T; the top of the next flight half a
+            // period later, where the height is sampled.
+            sim.run_until((k as f64 + 0.5) * period).unwrap();
+            assert_eq!(sim.counts.wall - before, 1, "Gamma {gamma:.3}: one bounce in period {k}");
+            heights.push(sim.state(0).0.y);
+        }
+        let tail = &heights[150..];
+        let spread = tail.iter().cloned().fold(f64::MIN, f64::max) - tail.iter().cloned().fold(f64::MAX, f64::min);
+        println!("Gamma {gamma:.3} in ({low:.3}, {high:.3}): period-1 orbit, stroboscopic spread {spread:e} m");
+        assert!(spread < 1e-9, "Gamma {gamma}: the orbit wanders by {spread:e} m");
+    }
+}
+
+/// Without a guard, a ball bouncing inelastically on a fixed floor collapses (infinitely
+/// many bounces in finite time): the run stops with an error naming it, never hangs. With a
+/// guard it keeps hopping, never sinks, and the run finishes.
+#[test]
+fn a_resting_grain_collapses_without_a_guard_and_rests_with_one() {
+    let mut cfg = ball_on_plate(0.5, 0.0, 1.0);
+    cfg.floor = Some(Motion::FIXED);
+    cfg.guard = Guard::default();
+    let mut sim = Simulation::new(cfg.clone()).unwrap();
+    match sim.run_until(10.0) {
+        Err(EventsError::Collapse {
+            particles, time, events, ..
+        }) => {
+            assert_eq!(particles, vec![0]);
+            assert!(time > 0.0 && time < 1.0 && events >= 1000, "t = {time}, {events} events");
+        }
+        other => panic!("expected a collapse, got {other:?}"),
+    }
+    for guard in [
+        Guard {
+            min_rebound_speed: Some(1e-3),
+            ..Guard::default()
+        },
+        Guard {
+            tc: Some(1e-4),
+            ..Guard::default()
+        },
+    ] {
+        let mut g = cfg.clone();
+        g.guard = guard;
+        let mut sim = Simulation::new(g).unwrap();
+        for k in 1..=100 {
+            sim.run_until(0.1 * k as f64).unwrap();
+            let z = sim.state(0).0.y;
+            assert!(z >= 1e-3 * (1.0 - 1e-9), "sank to {z} with {guard:?}");
+        }
+        assert!(sim.collisions() > 10);
+    }
+}
+
+/// Bad input is refused, naming the field.
+#[test]
+fn bad_parameters_are_refused_by_name() {
+    let base = fixed_box(0.1, 0.1, 9.81, vec![species(10, 1e-3, 1e-5)], Rule::smooth(0.9), Rule::smooth(0.9));
+    let field = |c: Config| match Simulation::new(c) {
+        Err(EventsError::Invalid { field, .. }) => field,
+        Err(e) => format!("{e}"),
+        Ok(_) => "accepted".into(),
+    };
+    let mut c = base.clone();
+    c.rules.pair[0] = Rule::smooth(1.5);
+    assert_eq!(field(c), "rules.pair[0].e");
+    let mut c = base.clone();
+    c.rules.floor[0] = Rule::Walton {
+        e: Restitution::Constant(0.9),
+        mu: 0.1,
+        beta0: 2.0,
+    };
+    assert_eq!(field(c), "rules.floor[0].beta0");
+    let mut c = base.clone();
+    c.rules.lid[0] = Rule::Walton {
+        e: Restitution::Constant(0.9),
+        mu: -0.1,
+        beta0: 0.0,
+    };
+    assert_eq!(field(c), "rules.lid[0].mu");
+    let mut c = base.clone();
+    c.floor = Some(Motion {
+        amplitude: 0.06,
+        frequency: 50.0,
+        phase: 0.0,
+    });
+    assert_eq!(field(c), "amplitude");
+    let mut c = base.clone();
+    c.species[0].count = 100_000;
+    assert!(matches!(Simulation::new(c), Err(EventsError::DoNotFit { .. })));
+}
