@@ -419,7 +419,9 @@ fn compare(args: &Args, file: &crate::scene_file::SceneFile, out: &Path) -> Resu
     md.push_str(&format!("# DEM and automaton on `{}`\n\n", args.scene.display()));
     md.push_str(&format!(
         "Same scene and same prepared sample (key `{:016x}`), same analysis (`stripes analyze`: exact area fraction in 1 mm cells, \
-         stripes above 1.5 x the mean area fraction and at least five mean diameters wide, the analysis defaults). {} grains on a {} m x {} m tray, \
+         stripes above 1.5 x the mean area fraction, capped halfway from the mean to a jammed layer's 0.82, and at least five mean \
+         diameters wide; the phase is `stripes` when a band holds its place over the last 10 drive periods, or when the contrast \
+         is at least 2 with a stripe in the final frames; the analysis defaults). {} grains on a {} m x {} m tray, \
          {} Hz, {} m, {} s.\n\n",
         sample_key(scene),
         scene.particles.count,
