@@ -228,6 +228,9 @@ fn a_sweep_refuses_its_directory_after_its_scene_file_changed() {
     };
     let (ok, _, stderr) = map();
     assert!(ok, "{stderr}");
+    // Regression: the mobility colour bar had no unit.
+    let svg = std::fs::read_to_string(Path::new(&out).join("phase_automaton_mobility.svg")).unwrap();
+    assert!(svg.contains("mobility (mean diameters per period)"), "the colour bar has no unit");
     // The same sweep again: every job is skipped, nothing refused.
     let (ok, stdout, stderr) = map();
     assert!(ok, "{stderr}");

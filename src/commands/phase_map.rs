@@ -225,7 +225,10 @@ pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
                 x_range: (freqs[0] - 0.5 * df, freqs[freqs.len() - 1] + 0.5 * df),
                 y_range: (amps[0] - 0.5 * da, amps[amps.len() - 1] + 0.5 * da),
                 values,
-                colorbar_label: metric.into(),
+                colorbar_label: match metric {
+                    "contrast" => "contrast (x a random layer's)".into(),
+                    _ => "mobility (mean diameters per period)".into(),
+                },
                 scale: None,
                 cell_names: None,
             };
