@@ -1,4 +1,4 @@
-//! The command-line contract of `stripes analyze` (SPEC sections 4-5): the same layer read
+//! The command-line contract of `stripes analyze`: the same layer read
 //! from a `snapshots.bin` and from a LAMMPS dump gives the same stripes and phase, the
 //! summary is the last stdout line and the plots and tables are written.
 

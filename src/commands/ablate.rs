@@ -37,7 +37,7 @@ pub struct Args {
 }
 
 /// A configuration of the ablation: its name, overrides, and the thesis' outcome
-/// (onset range in s, final count mean and spread) where the thesis reports one (SPEC 2).
+/// (onset range in s, final count mean and spread) where the thesis reports one (thesis 3.5.4).
 pub struct Config {
     pub name: String,
     pub overrides: Vec<String>,
@@ -118,7 +118,7 @@ pub fn dem_configs(packing: &[usize]) -> Vec<Config> {
 }
 
 /// The automaton's own ablations: the reference and each ingredient of the `physical` rule
-/// switched off (SPEC section 3), plus the same packings as the DEM.
+/// switched off, plus the same packings as the DEM.
 pub fn automaton_configs(packing: &[usize]) -> Vec<Config> {
     let c = |name: &str, o: &[&str]| Config {
         name: name.into(),

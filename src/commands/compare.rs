@@ -82,7 +82,7 @@ fn fmt_opt(v: Option<&Value>) -> String {
     }
 }
 
-/// What the thesis reports for its reference tray (SPEC 2; thesis 3.5.4, Table 3.5).
+/// What the thesis reports for its reference tray (thesis 3.5.4, Table 3.5).
 const THESIS: &str = "stripes after 3-5 s and 4 +- 0.875 stripes after 20 s (N = 4000 on 0.4 m x 0.02 m, 20 Hz, 25 mm); \
 MSD per period plateaus at a1 ~ 1.6e-4 m^2 before and a2 ~ 8.9e-4 m^2 after the onset (frictionless ~ 4e-5 m^2)";
 
