@@ -66,6 +66,14 @@ fn every_command_refuses_a_directory_that_holds_files() {
         assert_eq!(std::fs::read_to_string(full.join("mine.txt")).unwrap(), "keep");
         assert_eq!(std::fs::read_dir(&full).unwrap().count(), 1, "{args:?} left files behind");
     }
+    // The directory is checked before a sample is prepared: a refused command leaves no
+    // sample behind either.
+    let fresh = d.join("fresh-cache");
+    for cmd in ["run", "automaton", "compare"] {
+        let (ok, _, _) = stripes(&[cmd, &scene, "--out", &f, "--sample-cache", &s(&fresh), "--quiet"]);
+        assert!(!ok);
+        assert!(!fresh.exists(), "`{cmd}` prepared a sample before refusing its directory");
+    }
     // With --force the command runs.
     let (ok, _, stderr) = stripes(&["collide", "--out", &f, "--force"]);
     assert!(ok, "{stderr}");
