@@ -9,6 +9,7 @@ mod cellular;
 mod cli_values;
 mod clock;
 mod commands;
+mod events_scene;
 mod observers;
 mod output;
 mod run_lock;
@@ -64,6 +65,9 @@ enum Command {
     /// Held, rolling and sliding grains inside and outside the dense bands of a finished run,
     /// continued from its checkpoint (thesis 3.4, 3.5).
     Mechanism(commands::mechanism::Args),
+    /// The event-driven model of a vibrated box (hard disks or spheres in a vertical plane,
+    /// Walton's collisions) on an event-driven scene (model = "events").
+    Events(commands::events::Args),
     /// Speed against error of every accuracy-for-speed choice (time step, Young's modulus,
     /// integrator, 2D/3D, normal law, neighbour skin): Markdown table and Pareto plot.
     Bench(commands::bench::Args),
@@ -84,6 +88,7 @@ fn main() -> ExitCode {
         Command::Automaton(a) => commands::automaton::run(a),
         Command::Compare(a) => commands::compare::run(a),
         Command::Bench(a) => commands::bench::run(a),
+        Command::Events(a) => commands::events::run(a),
         Command::Mechanism(a) => commands::mechanism::run(a),
     };
     match result {

@@ -30,6 +30,9 @@ pub fn load(path: &Path, set: &[String]) -> Result<SceneFile, SceneError> {
 /// Parses scene text (named `origin` in messages) with overrides.
 pub fn parse(text: &str, set: &[String], origin: &str) -> Result<SceneFile, SceneError> {
     overrides::parse(text, set, origin, |mut doc| {
+        if doc.get("model").and_then(|m| m.as_str()) == Some("events") {
+            return Err("this is an event-driven scene (model = \"events\"): run it with `stripes events`".into());
+        }
         let table = doc.remove("automaton");
         let dem = Scene::deserialize(toml::Value::Table(doc)).map_err(|e| e.to_string())?;
         let automaton = match table {

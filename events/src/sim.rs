@@ -290,10 +290,18 @@ impl Simulation {
         }
         // Neighbours.
         let (cx, cz) = self.cell[i];
-        let cols: Vec<usize> = self.grid.columns(cx).collect();
-        let rows: Vec<usize> = self.grid.rows(cz).collect();
-        for &iz in &rows {
-            for &ix in &cols {
+        let (mut cols, mut nc) = ([0usize; 3], 0);
+        for c in self.grid.columns(cx) {
+            cols[nc] = c;
+            nc += 1;
+        }
+        let (mut rows, mut nr) = ([0usize; 3], 0);
+        for r in self.grid.rows(cz) {
+            rows[nr] = r;
+            nr += 1;
+        }
+        for &iz in &rows[..nr] {
+            for &ix in &cols[..nc] {
                 let c = self.grid.index((ix, iz));
                 for k in 0..self.members[c].len() {
                     let j = self.members[c][k];

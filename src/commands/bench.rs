@@ -85,11 +85,14 @@ pub fn run(args: Args) -> Result<String, CliError> {
     let say = |name: &str| eprintln!("[{:6.1} s] {name}", t0.elapsed().as_secs_f64());
     let rows = pool.install(|| tradeoff::run(&config, say))?;
     let laws = pool.install(|| tradeoff::friction_laws(&config, &mut |name: &str| say(name)))?;
+    say("event-driven model, mixture scene");
+    let events = events_speed(if args.quick { 0.5 } else { 3.0 })?;
 
     let table = format!(
-        "{}\n## Friction laws\n\nSpeed of each friction law against Haff-Werner, timed in this run (medians of back-to-back pairs).\n\n{}",
+        "{}\n## Friction laws\n\nSpeed of each friction law against Haff-Werner, timed in this run (medians of back-to-back pairs).\n\n{}\n{}",
         tradeoff::markdown_table(&rows),
-        tradeoff::friction_table(&laws)
+        tradeoff::friction_table(&laws),
+        events.markdown()
     );
     analysis::io::write_atomic(&args.out.join("bench.md"), table.as_bytes())?;
     dir.note_files([args.out.join("bench.md")]);
@@ -200,5 +203,43 @@ pub fn run(args: Args) -> Result<String, CliError> {
         "defaults": defaults_on_front,
         "rows": rows,
         "friction_laws": laws,
+        "events": events,
     }))
+}
+
+/// The event-driven row: collisions per second of one core on the mixture scene
+/// (`scenes/mixture.toml`, built in), after a 1 s transient.
+#[derive(Debug, Serialize)]
+struct EventsSpeed {
+    simulated_s: f64,
+    collisions: u64,
+    cpu_s: f64,
+    collisions_per_s: f64,
+}
+
+impl EventsSpeed {
+    fn markdown(&self) -> String {
+        format!(
+            "## Event-driven model\n\nThe mixture scene (300 spheres, `scenes/mixture.toml`), one core: {} collisions in {:.2} s of CPU for {} s simulated, **{:.3e} collisions per second**. The DEM has no scene of this vertical box, so there is no DEM row beside it.\n",
+            self.collisions, self.cpu_s, self.simulated_s, self.collisions_per_s
+        )
+    }
+}
+
+fn events_speed(simulated: f64) -> Result<EventsSpeed, CliError> {
+    const MIXTURE: &str = include_str!("../../scenes/mixture.toml");
+    let scene: crate::events_scene::EventScene = toml::from_str(MIXTURE)?;
+    let mut sim = events::Simulation::new(scene.config()?)?;
+    sim.run_until(1.0)?;
+    let before = sim.collisions();
+    let cpu = crate::clock::Stopwatch::start(true);
+    sim.run_until(1.0 + simulated)?;
+    let cpu_s = cpu.seconds();
+    let collisions = sim.collisions() - before;
+    Ok(EventsSpeed {
+        simulated_s: simulated,
+        collisions,
+        cpu_s,
+        collisions_per_s: collisions as f64 / cpu_s.max(1e-9),
+    })
 }

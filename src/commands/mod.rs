@@ -10,6 +10,7 @@ pub mod collide;
 pub mod compare;
 pub mod contact_time;
 pub mod eccentricity;
+pub mod events;
 pub mod mechanism;
 pub mod phase_map;
 pub mod run;

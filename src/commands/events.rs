@@ -1,0 +1,190 @@
+//! `stripes events SCENE`: the event-driven model of a vibrated box (crate `events`) on an
+//! event-driven scene (`model = "events"`, see `docs/scenes.md`). It writes the run
+//! directory as `stripes run` does: `config.json`, `scene.toml`, `snapshots.bin` (the
+//! format `stripes analyze` reads, the vertical plane stored as x and z with y = R_max),
+//! `profiles.csv` with plots of the density and temperature profiles, and `summary.json`,
+//! printed last.
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use analysis::plot::{LinePlot, Mark};
+use analysis::snapshot::{Header, SnapshotWriter};
+use events::observe::{ledger_error, Observer};
+use events::Simulation;
+use serde::Serialize;
+use serde_json::json;
+
+use crate::output::{progress_bar, CliError, RunDir};
+
+#[derive(clap::Args, Debug, Serialize)]
+pub struct Args {
+    /// Event-driven scene file (TOML with model = "events"), e.g. scenes/mixture.toml.
+    pub scene: PathBuf,
+    /// Override a scene key, e.g. --set drive.amplitude=0.004 (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub overrides: Vec<String>,
+    /// Output directory (default: out/events-<scene name>).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Replace the files of an output directory that already holds some (default: refuse it).
+    #[arg(long)]
+    pub force: bool,
+    /// No progress output.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+pub fn run(args: Args) -> Result<String, CliError> {
+    let scene = crate::events_scene::load(&args.scene, &args.overrides)?;
+    let config = scene.config()?;
+    let name = args
+        .scene
+        .file_stem()
+        .map_or_else(|| "scene".into(), |s| s.to_string_lossy().into_owned());
+    let out = args.out.clone().unwrap_or_else(|| PathBuf::from(format!("out/events-{name}")));
+    crate::output::claim(&out, args.force)?;
+    // Placed before anything is written: particles that do not fit leave nothing behind.
+    let sim = Simulation::new(config)?;
+    let fresh = !out.exists();
+    let lock = crate::run_lock::RunLock::acquire(&out)?;
+    let result = simulate(&args, &scene, sim, &out);
+    drop(lock);
+    if result.is_err() && fresh {
+        let _ = std::fs::remove_dir_all(&out);
+    }
+    result
+}
+
+fn simulate(args: &Args, scene: &crate::events_scene::EventScene, mut sim: Simulation, out: &std::path::Path) -> Result<String, CliError> {
+    let mut dir = RunDir::create(out, &json!({ "args": args, "scene": scene }))?;
+    analysis::io::write_atomic(&out.join("scene.toml"), toml::to_string(scene)?.as_bytes())?;
+    let species = sim.config.species.len();
+    let rmax = sim.config.radius_max();
+    let mut snapshots = SnapshotWriter::create(
+        &out.join("snapshots.bin"),
+        Header {
+            length: sim.config.width,
+            width: 2.0 * rmax,
+            radii: sim.radius.clone(),
+        },
+    )?;
+    let f = scene.drive.frequency;
+    let dt_sample = 1.0 / (f * scene.run.samples_per_period as f64);
+    let samples = (scene.run.duration / dt_sample).floor() as u64;
+    let top = sim.config.height + sim.config.lid.map_or(0.0, |m| m.amplitude);
+    let mut obs = Observer::new(species, scene.run.bin, top);
+    let e0 = sim.energy();
+    let bar = progress_bar(samples, args.quiet, "events");
+    let wall = Instant::now();
+    // On-CPU time of the loop (events, samples and frames): the speed on an idle core.
+    let clock = crate::clock::Stopwatch::start(true);
+    for k in 1..=samples {
+        let t = k as f64 * dt_sample;
+        sim.run_until(t).map_err(|e| format!("{}: {e}", args.scene.display()))?;
+        if t >= scene.run.transient {
+            obs.sample(&sim);
+            let states: Vec<_> = (0..sim.len()).map(|i| sim.state(i)).collect();
+            snapshots.push(
+                t,
+                states.iter().map(|(r, _)| [r.x, rmax, r.y]),
+                states.iter().map(|(_, v)| [v.x, 0.0, v.y]),
+            )?;
+        }
+        bar.set_message(format!("t = {t:.3} s of {} s, {} collisions", scene.run.duration, sim.collisions()));
+        bar.set_position(k);
+    }
+    let stepping = clock.seconds();
+    bar.finish_and_clear();
+    snapshots.sync()?;
+    let wall_s = wall.elapsed().as_secs_f64();
+    let ledger = ledger_error(&sim, e0);
+    let mut warnings = Vec::new();
+    if ledger > 1e-9 {
+        warnings.push(format!(
+            "the energy ledger misses by {ledger:e} of the energy moved (expected round-off, below 1e-9)"
+        ));
+    }
+    if obs.samples == 0 {
+        warnings.push("no samples after run.transient: the profiles are empty".into());
+    }
+    // Profiles: per species, density and temperatures against height.
+    let profiles: Vec<Vec<[f64; 5]>> = (0..species).map(|k| obs.profile(k)).collect();
+    let mut header = vec!["z_m".to_string()];
+    for k in 1..=species {
+        for c in ["n_per_m", "tx_j", "tz_j", "trot_j"] {
+            header.push(format!("{c}_{k}"));
+        }
+    }
+    let rows: Vec<Vec<f64>> = (0..obs.bins)
+        .map(|b| {
+            let mut row = vec![profiles[0][b][0]];
+            for p in &profiles {
+                row.extend_from_slice(&p[b][1..]);
+            }
+            row
+        })
+        .collect();
+    let header_refs: Vec<&str> = header.iter().map(String::as_str).collect();
+    dir.csv("profiles.csv", &header_refs, &rows)?;
+    let mut density = LinePlot::new("Number density against height", "z (m)", "n (1/m per sample)");
+    let mut temperature = LinePlot::new("Granular temperature against height", "z (m)", "T (J)");
+    // Temperatures only where a bin saw at least 50 grains over the run (else noise).
+    let enough = |r: &[f64; 5]| r[1] * obs.samples as f64 * obs.bin >= 50.0;
+    let mut t_max: f64 = 0.0;
+    for (k, p) in profiles.iter().enumerate() {
+        density = density.series(
+            &format!("species {}", k + 1),
+            p.iter().map(|r| (r[0], r[1])).collect(),
+            Mark::LinePoints,
+        );
+        let kept: Vec<&[f64; 5]> = p.iter().filter(|r| enough(r)).collect();
+        t_max = kept.iter().map(|r| r[2].max(r[3])).fold(t_max, f64::max);
+        temperature = temperature
+            .series(
+                &format!("T_x, species {}", k + 1),
+                kept.iter().map(|r| (r[0], r[2])).collect(),
+                Mark::Line,
+            )
+            .series(
+                &format!("T_z, species {}", k + 1),
+                kept.iter().map(|r| (r[0], r[3])).collect(),
+                Mark::Dashed,
+            );
+    }
+    // Room above the data for the legend.
+    let temperature = temperature.include_y(0.0).include_y(1.4 * t_max);
+    dir.plot("density_profile", &density)?;
+    dir.plot("temperature_profile", &temperature)?;
+    dir.note_files([out.join("scene.toml"), out.join("snapshots.bin")]);
+    let temps: Vec<_> = (0..species)
+        .map(|k| {
+            let (tx, tz, tr) = obs.temperatures(k);
+            json!({ "t_x_j": tx, "t_z_j": tz, "t_rot_j": tr })
+        })
+        .collect();
+    for w in &warnings {
+        eprintln!("warning: {w}");
+    }
+    let collisions = sim.collisions();
+    dir.finish(json!({
+        "scene": args.scene.display().to_string(),
+        "particles": sim.len(),
+        "simulated_s": scene.run.duration,
+        "samples": obs.samples,
+        "collisions": collisions,
+        "pair_collisions": sim.counts.pair,
+        "wall_collisions": sim.counts.wall,
+        "cell_crossings": sim.counts.cell,
+        "collisions_per_s": collisions as f64 / stepping.max(1e-9),
+        "cpu_s": stepping,
+        "energy_ledger_error": ledger,
+        "wall_work_j": sim.ledger.wall_work,
+        "dissipated_j": sim.ledger.dissipated,
+        "mean_height_m": obs.mean_height(),
+        "current_x_m_per_s": obs.mean_vx(),
+        "temperatures": temps,
+        "wall_s": wall_s,
+        "warnings": warnings,
+    }))
+}

@@ -1,0 +1,454 @@
+//! The scene file of the event-driven model: a vertical box with a vibrated floor (and
+//! optionally a lid and side walls), one or two species, and a collision rule per contact
+//! class. It maps onto [`events::Config`]; the tray scenes of the DEM and the automaton are
+//! a different kind and stay as they are. `docs/scenes.md` documents every key.
+
+use std::path::Path;
+
+use events::collision::{Restitution, Rule};
+use events::config::{Config, Guard, Rules, SideWalls, Species};
+use events::wall::Motion;
+use particles::scene::{overrides, SceneError};
+use serde::{Deserialize, Serialize};
+
+/// One number for every species (or species pair), or one per species.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum PerSpecies {
+    One(f64),
+    Each(Vec<f64>),
+}
+
+impl PerSpecies {
+    fn get(&self, k: usize, key: &str, n: usize) -> Result<f64, SceneError> {
+        match self {
+            PerSpecies::One(x) => Ok(*x),
+            PerSpecies::Each(v) if v.len() == n => Ok(v[k]),
+            PerSpecies::Each(v) => Err(SceneError {
+                key: key.into(),
+                message: format!("needs one number or a list of {n}, got a list of {}", v.len()),
+            }),
+        }
+    }
+}
+
+/// `[box]`: the vertical box.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EventBox {
+    /// Width along x (m).
+    pub width: f64,
+    /// Height above the floor's mean position (m); the lid's mean position.
+    pub height: f64,
+    /// "fixed", "periodic" or "with-floor" (walls that move vertically with the floor).
+    #[serde(default = "fixed_walls")]
+    pub side_walls: String,
+    /// Gravity (m/s^2).
+    #[serde(default = "gravity")]
+    pub gravity: f64,
+}
+
+fn fixed_walls() -> String {
+    "fixed".into()
+}
+
+fn gravity() -> f64 {
+    9.81
+}
+
+/// `[drive]`: the vibration `A sin(2 pi f t + phase)` and which walls follow it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EventDrive {
+    pub frequency: f64,
+    pub amplitude: f64,
+    #[serde(default)]
+    pub phase: f64,
+    /// "vibrated" or "fixed".
+    #[serde(default = "vibrated")]
+    pub floor: String,
+    /// "vibrated", "fixed" or "none" (open top).
+    #[serde(default = "no_lid")]
+    pub lid: String,
+}
+
+fn vibrated() -> String {
+    "vibrated".into()
+}
+
+fn no_lid() -> String {
+    "none".into()
+}
+
+/// `[[particles.species]]`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EventSpecies {
+    pub count: usize,
+    pub radius_min: f64,
+    pub radius_max: f64,
+    /// Mass of each grain (kg).
+    pub mass: f64,
+}
+
+/// `[particles]`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EventParticles {
+    /// "sphere" (q = 2/5) or "disk" (q = 1/2).
+    #[serde(default = "sphere")]
+    pub shape: String,
+    pub species: Vec<EventSpecies>,
+    /// Initial velocities uniform in [-v, v] per component (m/s).
+    #[serde(default = "initial_speed")]
+    pub initial_speed: f64,
+}
+
+fn sphere() -> String {
+    "sphere".into()
+}
+
+fn initial_speed() -> f64 {
+    0.1
+}
+
+/// One contact class' rule: Walton's, with `e` per species (walls) or per species pair
+/// (1-1, 1-2, 2-2); with `v0` the restitution is the mixture paper's `e(g_n)`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EventRule {
+    pub e: PerSpecies,
+    #[serde(default)]
+    pub mu: f64,
+    #[serde(default = "smooth")]
+    pub beta0: f64,
+    /// Speed below which collisions become elastic (m/s); absent: constant `e`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub v0: Option<f64>,
+}
+
+fn smooth() -> f64 {
+    -1.0
+}
+
+impl EventRule {
+    fn elastic_smooth() -> Self {
+        EventRule {
+            e: PerSpecies::One(1.0),
+            mu: 0.0,
+            beta0: -1.0,
+            v0: None,
+        }
+    }
+
+    fn rules(&self, count: usize, key: &str) -> Result<Vec<Rule>, SceneError> {
+        (0..count)
+            .map(|k| {
+                let e = self.e.get(k, &format!("{key}.e"), count)?;
+                Ok(Rule::Walton {
+                    e: match self.v0 {
+                        Some(v0) => Restitution::VelocityDependent { e0: e, v0 },
+                        None => Restitution::Constant(e),
+                    },
+                    mu: self.mu,
+                    beta0: self.beta0,
+                })
+            })
+            .collect()
+    }
+}
+
+/// `[rules]`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EventRules {
+    pub pair: EventRule,
+    #[serde(default = "EventRule::elastic_smooth")]
+    pub floor: EventRule,
+    #[serde(default = "EventRule::elastic_smooth")]
+    pub side: EventRule,
+    #[serde(default = "EventRule::elastic_smooth")]
+    pub lid: EventRule,
+}
+
+/// `[guard]`: the collapse guards (none by default).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EventGuard {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub min_rebound_speed: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tc: Option<f64>,
+}
+
+/// `[run]`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EventRun {
+    /// Simulated time (s).
+    pub duration: f64,
+    /// Time before sampling starts (s).
+    #[serde(default)]
+    pub transient: f64,
+    #[serde(default = "seed")]
+    pub seed: u64,
+    /// Samples per drive period, at fixed phases (phase 0 first).
+    #[serde(default = "one")]
+    pub samples_per_period: u32,
+    /// Height bins of the profiles (m).
+    #[serde(default = "bin")]
+    pub bin: f64,
+}
+
+fn seed() -> u64 {
+    1
+}
+
+fn one() -> u32 {
+    1
+}
+
+fn bin() -> f64 {
+    1e-3
+}
+
+/// A scene of the event-driven model.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EventScene {
+    /// Must be "events": the kind of this scene file.
+    pub model: String,
+    #[serde(rename = "box")]
+    pub tray: EventBox,
+    pub drive: EventDrive,
+    pub particles: EventParticles,
+    pub rules: EventRules,
+    #[serde(default)]
+    pub guard: EventGuard,
+    pub run: EventRun,
+}
+
+/// Reads an event-driven scene with `--set` overrides; errors name the file or override.
+pub fn load(path: &Path, set: &[String]) -> Result<EventScene, SceneError> {
+    let origin = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|e| SceneError {
+        key: origin.clone(),
+        message: format!("cannot read: {e}"),
+    })?;
+    overrides::parse(&text, set, &origin, |doc| {
+        EventScene::deserialize(toml::Value::Table(doc)).map_err(|e| e.to_string())
+    })
+}
+
+fn bad(key: &str, message: impl Into<String>) -> SceneError {
+    SceneError {
+        key: key.into(),
+        message: message.into(),
+    }
+}
+
+impl EventScene {
+    /// The engine's configuration; every value is checked (here or by the engine, whose
+    /// errors name the field).
+    pub fn config(&self) -> Result<Config, SceneError> {
+        if self.model != "events" {
+            return Err(bad(
+                "model",
+                format!("must be \"events\" for `stripes events`, got {:?}", self.model),
+            ));
+        }
+        let motion = Motion {
+            amplitude: self.drive.amplitude,
+            frequency: self.drive.frequency,
+            phase: self.drive.phase,
+        };
+        let wall = |key: &str, v: &str, allow_none: bool| match v {
+            "vibrated" => Ok(Some(motion)),
+            "fixed" => Ok(Some(Motion::FIXED)),
+            "none" if allow_none => Ok(None),
+            _ => Err(bad(
+                key,
+                format!(
+                    "must be \"vibrated\", \"fixed\"{}, got {v:?}",
+                    if allow_none { " or \"none\"" } else { "" }
+                ),
+            )),
+        };
+        let side_walls = match self.tray.side_walls.as_str() {
+            "fixed" => SideWalls::Fixed,
+            "periodic" => SideWalls::Periodic,
+            "with-floor" => SideWalls::WithFloor,
+            v => {
+                return Err(bad(
+                    "box.side_walls",
+                    format!("must be \"fixed\", \"periodic\" or \"with-floor\", got {v:?}"),
+                ))
+            }
+        };
+        let q = match self.particles.shape.as_str() {
+            "sphere" => 0.4,
+            "disk" => 0.5,
+            v => return Err(bad("particles.shape", format!("must be \"sphere\" or \"disk\", got {v:?}"))),
+        };
+        let n = self.particles.species.len();
+        if n == 0 || n > 2 {
+            return Err(bad("particles.species", format!("one or two species, got {n}")));
+        }
+        let r = &self.rules;
+        let pairs = if n == 2 { 3 } else { 1 };
+        let rules = Rules {
+            pair: r.pair.rules(pairs, "rules.pair")?,
+            floor: r.floor.rules(n, "rules.floor")?,
+            side: r.side.rules(n, "rules.side")?,
+            lid: r.lid.rules(n, "rules.lid")?,
+        };
+        if !(self.run.duration.is_finite() && self.run.duration > 0.0) {
+            return Err(bad(
+                "run.duration",
+                format!("must be a positive time (s), got {}", self.run.duration),
+            ));
+        }
+        if !(self.run.transient.is_finite() && self.run.transient >= 0.0 && self.run.transient < self.run.duration) {
+            return Err(bad(
+                "run.transient",
+                format!("must lie in [0, run.duration), got {}", self.run.transient),
+            ));
+        }
+        if self.run.samples_per_period == 0 {
+            return Err(bad("run.samples_per_period", "must be at least 1"));
+        }
+        if !(self.run.bin.is_finite() && self.run.bin > 0.0) {
+            return Err(bad("run.bin", format!("must be a positive height (m), got {}", self.run.bin)));
+        }
+        if !(self.drive.frequency.is_finite() && self.drive.frequency > 0.0) {
+            return Err(bad(
+                "drive.frequency",
+                format!("must be positive (it sets the sampling phase), got {}", self.drive.frequency),
+            ));
+        }
+        let config = Config {
+            width: self.tray.width,
+            height: self.tray.height,
+            side_walls,
+            gravity: self.tray.gravity,
+            q,
+            species: self
+                .particles
+                .species
+                .iter()
+                .map(|s| Species {
+                    count: s.count,
+                    radius_min: s.radius_min,
+                    radius_max: s.radius_max,
+                    mass: s.mass,
+                })
+                .collect(),
+            floor: wall("drive.floor", &self.drive.floor, false)?,
+            lid: wall("drive.lid", &self.drive.lid, true)?,
+            rules,
+            guard: Guard {
+                min_rebound_speed: self.guard.min_rebound_speed,
+                tc: self.guard.tc,
+                ..Guard::default()
+            },
+            initial_speed: self.particles.initial_speed,
+            seed: self.run.seed,
+        };
+        config.validate().map_err(|e| match e {
+            events::EventsError::Invalid { field, message } => bad(&engine_key(&field), message),
+            other => bad("scene", other.to_string()),
+        })?;
+        Ok(config)
+    }
+}
+
+/// The scene key of an engine field (`rules.pair[0].e` stays, `width` is `box.width`).
+fn engine_key(field: &str) -> String {
+    match field {
+        "width" | "height" | "gravity" => format!("box.{field}"),
+        "amplitude" => "drive.amplitude".into(),
+        "q" => "particles.shape".into(),
+        "initial_speed" => "particles.initial_speed".into(),
+        f if f.starts_with("species") => format!("particles.{f}"),
+        f if f.starts_with("floor.") || f.starts_with("lid.") => format!("drive.{}", f.split_once('.').map_or(f, |x| x.1)),
+        f => f.to_string(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn mixture() -> String {
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/mixture.toml")).unwrap()
+    }
+
+    fn parse(text: &str, set: &[&str]) -> Result<EventScene, SceneError> {
+        let set: Vec<String> = set.iter().map(|s| s.to_string()).collect();
+        overrides::parse(text, &set, "test", |doc| {
+            EventScene::deserialize(toml::Value::Table(doc)).map_err(|e| e.to_string())
+        })
+    }
+
+    fn keys(prefix: &str, v: &toml::Value, out: &mut Vec<String>) {
+        match v {
+            toml::Value::Table(t) => {
+                for (k, x) in t {
+                    keys(&if prefix.is_empty() { k.clone() } else { format!("{prefix}.{k}") }, x, out);
+                }
+            }
+            toml::Value::Array(a) if a.iter().all(|x| x.is_table()) => {
+                for x in a {
+                    keys(prefix, x, out);
+                }
+            }
+            _ => out.push(prefix.to_string()),
+        }
+    }
+
+    #[test]
+    fn every_event_scene_key_is_documented() {
+        let scene = parse(&mixture(), &["guard.min_rebound_speed=1e-4", "guard.tc=1e-6"]).unwrap();
+        let doc = toml::Value::try_from(&scene).unwrap();
+        let mut all = Vec::new();
+        keys("", &doc, &mut all);
+        all.sort();
+        all.dedup();
+        assert!(all.len() > 25, "{all:?}");
+        let docs = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/scenes.md")).unwrap();
+        let section = &docs[docs.find("## Event-driven scenes").expect("the events section")..];
+        let missing: Vec<&String> = all
+            .iter()
+            .filter(|k| {
+                // A wall rule's keys are documented with the pair's ("likewise for each wall").
+                let k = k
+                    .replace("rules.floor.", "rules.pair.")
+                    .replace("rules.side.", "rules.pair.")
+                    .replace("rules.lid.", "rules.pair.");
+                !section.contains(&format!("`{k}`"))
+            })
+            .collect();
+        assert!(missing.is_empty(), "docs/scenes.md does not document {missing:?}");
+    }
+
+    #[test]
+    fn the_mixture_scene_maps_onto_the_paper_and_bad_values_name_their_key() {
+        let c = parse(&mixture(), &[]).unwrap().config().unwrap();
+        assert_eq!(c.species.len(), 2);
+        assert_eq!(c.species[0].count + c.species[1].count, 300);
+        assert!((c.width / 1.6e-3 - 48.0).abs() < 1e-9 && (c.height / 1.6e-3 - 32.0).abs() < 1e-9);
+        assert_eq!(c.floor.unwrap().frequency, 50.0);
+        let key = |set: &[&str]| match parse(&mixture(), set).and_then(|s| s.config()) {
+            Err(e) => e.key,
+            Ok(_) => "accepted".into(),
+        };
+        assert_eq!(key(&["rules.pair.e=[1.2, 0.8, 0.7]"]), "rules.pair[0].e");
+        assert_eq!(key(&["rules.pair.beta0=1.5"]), "rules.pair[0].beta0");
+        assert_eq!(key(&["rules.floor.mu=-1"]), "rules.floor[0].mu");
+        assert_eq!(key(&["drive.amplitude=0.03"]), "drive.amplitude");
+        assert_eq!(key(&["rules.pair.e=[0.9, 0.8]"]), "rules.pair.e");
+        assert_eq!(key(&["box.side_walls=round"]), "box.side_walls");
+        assert_eq!(key(&["model=tray"]), "model");
+        assert_eq!(key(&["run.transient=20"]), "run.transient");
+    }
+}

@@ -1,0 +1,109 @@
+//! `stripes events` as a new user calls it: the mixture scene (shortened) runs, writes its
+//! profiles and snapshots, `stripes analyze` reads the run, and bad input is refused with
+//! nothing left behind.
+
+mod common;
+use common::stripes;
+
+fn last_json(stdout: &str) -> serde_json::Value {
+    serde_json::from_str(stdout.lines().last().unwrap()).unwrap()
+}
+
+#[test]
+fn the_mixture_runs_writes_its_profiles_and_analyze_reads_it() {
+    let d = std::env::temp_dir().join(format!("stripes-cli-events-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    let out = d.join("mix").display().to_string();
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/mixture.toml");
+    let short = ["--set", "run.duration=0.6", "--set", "run.transient=0.2"];
+    let mut args = vec!["events", scene, "--out", &out, "--quiet"];
+    args.extend(short);
+    let (ok, stdout, stderr) = stripes(&args);
+    assert!(ok, "{stderr}");
+    let s = last_json(&stdout);
+    for key in [
+        "collisions",
+        "collisions_per_s",
+        "energy_ledger_error",
+        "mean_height_m",
+        "current_x_m_per_s",
+    ] {
+        assert!(s[key].is_number(), "{key} missing in {s}");
+    }
+    assert!(s["collisions"].as_u64().unwrap() > 10_000);
+    assert!(s["energy_ledger_error"].as_f64().unwrap() < 1e-9);
+    let h = s["mean_height_m"].as_f64().unwrap();
+    assert!(h > 0.0 && h < 0.0512, "{h}");
+    for f in [
+        "config.json",
+        "scene.toml",
+        "snapshots.bin",
+        "profiles.csv",
+        "density_profile.png",
+        "temperature_profile.png",
+        "summary.json",
+    ] {
+        assert!(d.join("mix").join(f).is_file(), "{f} missing");
+    }
+    // The same seed gives the same numbers.
+    let out2 = d.join("mix2").display().to_string();
+    let mut again = vec!["events", scene, "--out", &out2, "--quiet"];
+    again.extend(short);
+    let (ok, stdout2, _) = stripes(&again);
+    assert!(ok);
+    assert_eq!(last_json(&stdout2)["collisions"], s["collisions"]);
+    assert_eq!(last_json(&stdout2)["mean_height_m"], s["mean_height_m"]);
+    // A second run into the same directory is refused, --force replaces it.
+    let (ok, _, stderr) = stripes(&args);
+    assert!(!ok && stderr.contains("--force"), "{stderr}");
+    // `stripes analyze` reads the run (its period from config.json).
+    let (ok, stdout, stderr) = stripes(&["analyze", &out]);
+    assert!(ok, "{stderr}");
+    assert!(last_json(&stdout)["frames"].as_u64().unwrap_or(1) > 0);
+    std::fs::remove_dir_all(&d).unwrap();
+}
+
+#[test]
+fn bad_event_scenes_are_refused_and_leave_nothing() {
+    let d = std::env::temp_dir().join(format!("stripes-cli-events-bad-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/mixture.toml");
+    for (set, says) in [
+        ("box.width=0.01", "do not fit"),
+        ("rules.pair.e=[1.5, 0.8, 0.7]", "rules.pair[0].e"),
+        ("rules.pair.beta0=-2", "rules.pair[0].beta0"),
+        ("rules.pair.mu=-0.1", "rules.pair[0].mu"),
+        ("drive.amplitude=0.05", "drive.amplitude"),
+    ] {
+        let out = d.join("bad").display().to_string();
+        let (ok, _, stderr) = stripes(&["events", scene, "--set", set, "--out", &out, "--quiet"]);
+        assert!(!ok, "{set} accepted");
+        assert!(stderr.contains(says), "{set}: {stderr}");
+        assert!(!d.join("bad").exists(), "{set} left {out}");
+    }
+    // A grain on a fixed floor without a guard collapses: the run stops with an error naming
+    // the particle, and leaves nothing behind.
+    let out = d.join("collapse").display().to_string();
+    let (ok, _, stderr) = stripes(&[
+        "events",
+        scene,
+        "--out",
+        &out,
+        "--quiet",
+        "--set",
+        "drive.floor=fixed",
+        "--set",
+        "drive.lid=none",
+        "--set",
+        "rules.floor.e=0.5",
+        "--set",
+        "rules.pair.v0=1e-9",
+        "--set",
+        "run.duration=5",
+        "--set",
+        "run.transient=0",
+    ]);
+    assert!(!ok && stderr.contains("collapse") && stderr.contains("particles"), "{stderr}");
+    assert!(!d.join("collapse").exists());
+    let _ = std::fs::remove_dir_all(&d);
+}
