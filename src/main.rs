@@ -111,7 +111,39 @@ mod tests {
     use super::*;
     use clap::CommandFactory;
 
-    /// Issue 19, point 10: every option (and every value of a choice) of every subcommand has
+    /// Regression: `ablate` and `phase-map` printed a long help for `--help` while every
+    /// other command printed the short one; every command's `-h` and `--help` now agree, and
+    /// the options every command shares are described in the same words.
+    #[test]
+    fn help_is_one_form_and_shared_options_read_alike() {
+        let mut shared: std::collections::BTreeMap<&str, std::collections::BTreeSet<String>> = Default::default();
+        for sub in Cli::command().get_subcommands() {
+            for arg in sub.get_arguments() {
+                // clap prints the long form for `--help` as soon as one argument, or one
+                // value of a choice, has a long description.
+                let long = arg.get_long_help().is_some() || arg.get_possible_values().iter().any(|v| v.get_help().is_some());
+                assert!(
+                    !long,
+                    "`stripes {} --help` prints the long form for {:?}",
+                    sub.get_name(),
+                    arg.get_id()
+                );
+                for name in ["quiet", "sample-cache"] {
+                    if arg.get_long() == Some(name) {
+                        shared
+                            .entry(name)
+                            .or_default()
+                            .insert(arg.get_help().map(|h| h.to_string()).unwrap_or_default());
+                    }
+                }
+            }
+        }
+        for (name, helps) in shared {
+            assert_eq!(helps.len(), 1, "--{name} is described in {} ways: {helps:?}", helps.len());
+        }
+    }
+
+    /// Every option (and every value of a choice) of every subcommand has
     /// a description, and no default prints as a long decimal such as `0.000008`.
     #[test]
     fn every_option_is_described_and_defaults_are_short() {

@@ -72,6 +72,27 @@ impl RunDir {
         self.written.extend(files);
     }
 
+    /// Records every file under the subdirectory `sub` (written by the commands this one ran,
+    /// e.g. `compare`'s DEM and automaton runs), in path order, so the summary counts them.
+    pub fn note_tree(&mut self, sub: &Path) {
+        fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
+            let Ok(entries) = std::fs::read_dir(dir) else { return };
+            let mut paths: Vec<PathBuf> = entries.flatten().map(|e| e.path()).collect();
+            paths.sort();
+            for p in paths {
+                if p.is_dir() {
+                    walk(&p, out);
+                } else if p.file_name().is_some_and(|n| n != ".lock") {
+                    out.push(p);
+                }
+            }
+        }
+        let mut found = Vec::new();
+        walk(&self.path.join(sub), &mut found);
+        found.retain(|p| !self.written.contains(p));
+        self.written.extend(found);
+    }
+
     /// Writes `summary.json` (with the list of files written) and returns it as one line of
     /// JSON for stdout.
     pub fn finish(mut self, summary: serde_json::Value) -> Result<String, CliError> {

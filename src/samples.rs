@@ -123,7 +123,7 @@ fn decode_sample(bytes: &[u8]) -> Result<State, String> {
         return Err("not a stripes sample file".into());
     }
     let mut r = Reader::new(&bytes[8..]);
-    let n = r.u64()? as usize;
+    let n = r.count(5 * 8, "grains")?;
     let mut s = State::default();
     for _ in 0..n {
         let (pos, radius, mass) = (r.vec3()?, r.f64()?, r.f64()?);

@@ -33,11 +33,11 @@ pub struct SweepArgs {
     /// Jobs run at once on this machine (default: all cores).
     #[arg(long)]
     pub jobs: Option<usize>,
-    /// Cache of prepared samples, shared by every job (default: $STRIPES_SAMPLE_CACHE, else
+    /// Cache of prepared samples, shared by every run (default: $STRIPES_SAMPLE_CACHE, else
     /// out/samples).
     #[arg(long, value_name = "DIR", default_value_os_t = crate::output::default_sample_cache())]
     pub sample_cache: PathBuf,
-    /// No progress bar.
+    /// No progress output (warnings still go to stderr, the summary to stdout).
     #[arg(long)]
     pub quiet: bool,
 }
@@ -54,6 +54,11 @@ impl SweepArgs {
         report: impl Fn(&Path, &Sweep) -> Result<Value, CliError>,
     ) -> Result<String, CliError> {
         check_jobs(sweep)?;
+        // The job's identity covers the resolved scene, not only its path: results of an
+        // edited scene file are never reused.
+        let mut sweep = sweep.clone();
+        sweep.resolved = crate::scene_file::load(&sweep.scene, &sweep.overrides)?.to_toml()?;
+        let sweep = &sweep;
         store(root, sweep)?;
         let parallel = self
             .jobs
@@ -116,6 +121,11 @@ pub struct Sweep {
     /// Overrides applied to every job.
     pub overrides: Vec<String>,
     pub jobs: Vec<Job>,
+    /// The resolved scene (TOML, overrides applied) the jobs run: part of the sweep's
+    /// identity, so that a scene file edited after some jobs finished is not mixed with them.
+    /// Filled by [`SweepArgs::execute`]; empty in a `sweep.json` written before it existed.
+    #[serde(default)]
+    pub resolved: String,
 }
 
 /// `I/N`: this process runs the jobs whose index is `I mod N`.
@@ -198,6 +208,14 @@ pub fn store(root: &Path, sweep: &Sweep) -> Result<(), CliError> {
     let path = root.join("sweep.json");
     if let Ok(text) = std::fs::read_to_string(&path) {
         let old: Sweep = serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+        if old.resolved != sweep.resolved {
+            return Err(format!(
+                "{} holds a sweep of another resolved scene ({}); its results would be mixed with this one's: use another --out",
+                root.display(),
+                scene_change(&old.resolved, &sweep.resolved)
+            )
+            .into());
+        }
         if old != *sweep {
             return Err(format!(
                 "{} holds a different sweep (other scene, ranges, samples or overrides); use another --out",
@@ -209,6 +227,28 @@ pub fn store(root: &Path, sweep: &Sweep) -> Result<(), CliError> {
     }
     analysis::io::write_json_atomic(&path, sweep)?;
     Ok(())
+}
+
+/// What differs between two resolved scenes, in words: the changed keys (`key: a -> b`).
+fn scene_change(old: &str, new: &str) -> String {
+    if old.is_empty() {
+        return "the stored sweep predates the record of its resolved scene".into();
+    }
+    let parse = |t: &str| crate::scene_file::parse(t, &[], "sweep.json");
+    match (parse(old), parse(new)) {
+        (Ok(a), Ok(b)) => {
+            let mut keys = crate::scene_file::differences(&a.dem, &b.dem);
+            if a.automaton != b.automaton {
+                keys.push("the [automaton] table".into());
+            }
+            if keys.is_empty() {
+                "the scene text differs".into()
+            } else {
+                format!("changed: {}", keys.join(", "))
+            }
+        }
+        _ => "the scene text differs".into(),
+    }
 }
 
 /// Reads `sweep.json`.

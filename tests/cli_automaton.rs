@@ -108,6 +108,18 @@ fn compare_runs_both_models_on_one_sample_and_writes_the_report() {
     let s = last_json(&stdout);
     assert!(s["dem"]["analysis"].get("stripe_count_final").is_some(), "{s}");
     assert!(s["automaton"]["analysis"].get("stripe_count_final").is_some(), "{s}");
+    // Regression: the summary said "9 files" after writing about 80: the two runs and their
+    // analyses are listed too.
+    let files: Vec<&str> = s["files"].as_array().unwrap().iter().map(|f| f.as_str().unwrap()).collect();
+    for end in [
+        "dem/snapshots.bin",
+        "automaton/snapshots.bin",
+        "automaton/analysis/summary.json",
+        "report.md",
+    ] {
+        assert!(files.iter().any(|f| f.ends_with(end)), "{end} not listed in {files:?}");
+    }
+    assert!(files.len() > 40, "{} files listed", files.len());
     let report = std::fs::read_to_string(Path::new(&out).join("report.md")).unwrap();
     for needle in [
         "| DEM |",

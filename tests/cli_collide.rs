@@ -1,4 +1,4 @@
-//! The command-line contract of `stripes collide` and the study commands (SPEC section 5).
+//! The command-line contract of `stripes collide` and the study commands.
 
 mod common;
 use common::stripes;

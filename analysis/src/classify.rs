@@ -34,7 +34,7 @@
 //!    frame -> **stripes** (strong bands that move);
 //! 4. else -> **gas**: mobile grains without a lasting density contrast.
 //!
-//! Why rule 2: the DEM's stripes at 3 Hz, 10 mm and packing 0.46 (SPEC section 2) are three
+//! Why rule 2: the DEM's stripes at 3 Hz, 10 mm and packing 0.46 are three
 //! bands that hold their places for 30 s between grains that roll freely; the contrast is
 //! 1.8-1.9 there, because a band cannot be denser than a jammed layer (0.8), and rule 3
 //! alone called every such run `gas`.
@@ -44,7 +44,7 @@
 //! at 3 Hz, 10 mm (peak tray acceleration 3.6 m/s^2, below mu g = 7 m/s^2, region a) the
 //! grains still creep 0.05 diameters per period (a sphere can roll on an accelerating
 //! floor without sliding); at 20 Hz, 25 mm they drift 0.03 diameters per period, without
-//! contacts and with an unchanged density profile (SPEC section 2: a single sphere drifts
+//! contacts and with an unchanged density profile (as a single sphere, which drifts
 //! 0.02 diameters per period). Nothing happens in either. The thesis' plateau
 //! `a1 ~ 1.6e-4 m^2` is 25 diameters per period, a LAMMPS run of the tray gives 1.9, and
 //! independent steps of +-0.2 mm per period give 0.2: all mobile.

@@ -101,7 +101,13 @@ pub struct DumpNotes {
 struct Lines {
     lines: std::iter::Peekable<std::iter::Enumerate<std::io::Lines<std::io::BufReader<std::fs::File>>>>,
     name: String,
+    /// The file's size in bytes: no frame can hold more atoms than lines of at least
+    /// [`MIN_ATOM_LINE`] bytes fit in it.
+    size: u64,
 }
+
+/// The shortest atom line: five one-character values and their separators (`1 1 1 1 1\n`).
+const MIN_ATOM_LINE: u64 = 10;
 
 /// Why a frame could not be read; `cut` when the file ends inside it (or its last line is
 /// the bad one), as when a run is killed while writing.
@@ -181,6 +187,17 @@ fn read_frame(lines: &mut Lines, start: usize) -> Result<RawFrame, FrameError> {
             format!("{name} line {ln}: number of atoms `{}` is not an integer", l.trim()),
         ));
     };
+    // `n` comes from the file: checked against the file's size before it sizes anything.
+    if n as u64 > lines.size / MIN_ATOM_LINE {
+        return Err(FrameError {
+            message: format!(
+                "{name} line {ln}: timestep {step} claims {n} atoms, more than the {} bytes of the file can hold",
+                lines.size
+            ),
+            line: ln,
+            cut: false,
+        });
+    }
     let (ln, l) = next(lines, &mut last, "ITEM: BOX BOUNDS")?;
     if !l.starts_with("ITEM: BOX BOUNDS") {
         return Err(bad(
@@ -223,9 +240,7 @@ fn read_frame(lines: &mut Lines, start: usize) -> Result<RawFrame, FrameError> {
     };
     let names: Vec<&str> = cols.split_whitespace().collect();
     let c = columns(&names, &format!("{name} line {ln}")).map_err(|m| bad(lines, ln, m))?;
-    // `n` comes from the file: reserve no more than a modest start, the vector grows with the
-    // atoms actually read (a corrupt count must not allocate beyond the input).
-    let mut atoms = Vec::with_capacity(n.min(1 << 16));
+    let mut atoms = Vec::with_capacity(n);
     for _ in 0..n {
         let (ln, l) = match next(lines, &mut last, "an atom") {
             Ok(x) => x,
@@ -304,7 +319,9 @@ pub fn read_dump_noting(path: &Path, dt: f64) -> Result<(Header, Vec<Frame>, Dum
     }
     let file = std::fs::File::open(path).map_err(|e| format!("cannot open {}: {e}", path.display()))?;
     let name = path.display().to_string();
+    let size = file.metadata().map_err(|e| format!("cannot read {name}: {e}"))?.len();
     let mut lines = Lines {
+        size,
         lines: std::io::BufReader::new(file).lines().enumerate().peekable(),
         name: name.clone(),
     };

@@ -1,5 +1,5 @@
 //! How grains move on the floor, inside and outside dense bands: the direct test of the
-//! stripe mechanism of thesis 3.4 (frustration) and 3.5 (SPEC section 2).
+//! stripe mechanism of thesis 3.4 (frustration) and 3.5.
 //!
 //! The hypothesis: a free sphere on a floor shaken at `Gamma < 7 mu / 2` rolls without slip,
 //! so its centre follows `2/7` of the floor's displacement and moves by `-5/7` of it relative

@@ -99,7 +99,8 @@ const PALETTE: [RGBColor; 10] = [
     RGBColor(140, 86, 75),
 ];
 
-/// Range of the values with a margin of 4% on each side; degenerate ranges are widened.
+/// Range of the values with a margin of 4% on each side (a log range starts on a power of
+/// ten); degenerate ranges are widened.
 fn padded(values: impl Iterator<Item = f64>, log: bool) -> Option<Range<f64>> {
     let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
     for v in values {
@@ -110,9 +111,13 @@ fn padded(values: impl Iterator<Item = f64>, log: bool) -> Option<Range<f64>> {
         return None;
     }
     if log {
+        // The lower end on a whole decade, so that the lowest decade has its tick label
+        // (plotters labels the powers of ten inside the range).
         let (a, b) = (lo.log10(), hi.log10());
         let pad = if b > a { 0.04 * (b - a) } else { 0.5 };
-        return Some(10f64.powf(a - pad)..10f64.powf(b + pad));
+        // Just below the decade: `powf` may land an ulp above the power of ten, whose tick
+        // would then fall outside the range.
+        return Some(0.98 * 10f64.powf((a - pad).floor())..10f64.powf(b + pad));
     }
     let pad = if hi > lo {
         0.04 * (hi - lo)
@@ -232,11 +237,41 @@ impl LinePlot {
             .copied()
             .filter(|&y| y.is_finite() && (!self.log_y || y > 0.0));
         let y = padded(all.iter().map(|p| p.1).chain(extra), self.log_y).unwrap_or(if self.log_y { 0.1..10.0 } else { 0.0..1.0 });
+        let y = self.legend_room(y);
         let png = with_extension(stem, "png");
         let svg = with_extension(stem, "svg");
         write_png(&png, |root| self.render_axes(root, x.clone(), y.clone()))?;
         write_svg(&svg, |root| self.render_axes(root, x.clone(), y.clone()))?;
         Ok(vec![png, svg])
+    }
+
+    /// The y range widened so that the legend's corner holds no data: the legend takes
+    /// about `LEGEND_LINE` pixels per series plus `LEGEND_PAD` of the plot area (the image
+    /// height less the caption, margins and x labels), and the data are kept to the rest,
+    /// below an upper legend or above a lower one (in log10 for a log axis).
+    fn legend_room(&self, y: Range<f64>) -> Range<f64> {
+        if self.series.len() < 2 {
+            return y;
+        }
+        const LEGEND_LINE: f64 = 22.0;
+        const LEGEND_PAD: f64 = 24.0;
+        let area = SIZE.1 as f64 - 2.0 * 20.0 - 40.0 - 55.0;
+        let f = ((self.series.len() as f64 * LEGEND_LINE + LEGEND_PAD) / area).min(0.6);
+        let (lo, hi) = if self.log_y {
+            (y.start.log10(), y.end.log10())
+        } else {
+            (y.start, y.end)
+        };
+        let span = (hi - lo) / (1.0 - f);
+        let (lo, hi) = match self.legend {
+            LegendCorner::UpperRight | LegendCorner::UpperLeft => (lo, lo + span),
+            LegendCorner::LowerRight | LegendCorner::LowerLeft => (hi - span, hi),
+        };
+        if self.log_y {
+            10f64.powf(lo)..10f64.powf(hi)
+        } else {
+            lo..hi
+        }
     }
 
     fn render_axes<DB: DrawingBackend>(

@@ -159,6 +159,17 @@ pub fn read_snapshots_counting(path: &Path) -> io::Result<(Header, Vec<Frame>, u
         width: f64_at(24),
         radii: (0..n).map(|k| f64_at(32 + 8 * k)).collect(),
     };
+    for (what, v) in [("box length", header.length), ("box width", header.width)] {
+        if !(v.is_finite() && v > 0.0) {
+            return Err(bad(&format!("header {what} {v} m is not a positive number")));
+        }
+    }
+    if let Some(k) = header.radii.iter().position(|r| !(r.is_finite() && *r > 0.0)) {
+        return Err(bad(&format!(
+            "grain {k} has radius {} m in the header, not a positive number",
+            header.radii[k]
+        )));
+    }
     let size = header.frame_size() as usize;
     let mut frames = Vec::new();
     let mut at = header_len;

@@ -8,7 +8,7 @@
 //!
 //! - [`RuleSet::Strict`]: the thesis' two rules exactly. In a submonolayer every grain stops
 //!   where the cell before the next grain's start is, so the pattern moves rigidly by one
-//!   cell per half step (against the flight) and nothing ever forms (SPEC section 3).
+//!   cell per half step (against the flight) and nothing ever forms.
 //! - [`RuleSet::Physical`] (default): the same rules in the tray frame plus a flight cap, a
 //!   sliding threshold, stochastic flights, knock-through along lines of touching grains,
 //!   lateral contacts and optional sideways moves ([`Physical`]), each switchable.

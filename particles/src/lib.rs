@@ -1,5 +1,5 @@
-//! Frictional soft-sphere DEM of a horizontally shaken submonolayer (SPEC section 2,
-//! thesis sections 3.2 and 3.5) and the two-body collision laboratory of thesis chapter 4.
+//! Frictional soft-sphere DEM of a horizontally shaken submonolayer (thesis
+//! sections 3.2 and 3.5) and the two-body collision laboratory of thesis chapter 4.
 //!
 //! Layout, one concept per module:
 //! - [`material`]: material constants and their mixing (eq 3.9-3.10);

@@ -25,7 +25,7 @@ pub const DEFAULT_SKIN: f64 = 0.2;
 /// [`NeighborSearch::VerletList`]).
 pub const MAX_SKIN: f64 = 2.0;
 
-/// Gravitational acceleration of the tray scenes (m/s^2, SPEC section 2).
+/// Gravitational acceleration of the tray scenes (m/s^2).
 pub const GRAVITY: f64 = 10.0;
 
 /// The time step of a scene (s): explicit, or error-controlled for `dt = "auto"` (the

@@ -8,7 +8,7 @@ use std::f64::consts::PI;
 pub enum Motion {
     /// At rest.
     Fixed,
-    /// Harmonic shaking `u(t) = amplitude sin(2 pi frequency t) direction` (SPEC section 1);
+    /// Harmonic shaking `u(t) = amplitude sin(2 pi frequency t) direction` (thesis 3.5);
     /// `amplitude` in m, `frequency` in Hz, `direction` a unit vector.
     Harmonic { amplitude: f64, frequency: f64, direction: Vec3 },
 }

@@ -25,7 +25,8 @@ pub struct Args {
     /// Also the packing sweep of Table 3.6: these particle counts in the same box.
     #[arg(long, value_delimiter = ',')]
     pub packing: Vec<usize>,
-    /// Which model(s) to ablate.
+    /// Which model(s) to ablate: dem (`stripes run`), automaton (`stripes automaton`) or
+    /// both, on the same samples.
     #[arg(long, value_enum, default_value = "dem")]
     pub model: crate::commands::phase_map::Which,
     /// Sweep directory.
@@ -36,7 +37,7 @@ pub struct Args {
 }
 
 /// A configuration of the ablation: its name, overrides, and the thesis' outcome
-/// (onset range in s, final count mean and spread) where the thesis reports one (SPEC 2).
+/// (onset range in s, final count mean and spread) where the thesis reports one (thesis 3.5.4).
 pub struct Config {
     pub name: String,
     pub overrides: Vec<String>,
@@ -117,7 +118,7 @@ pub fn dem_configs(packing: &[usize]) -> Vec<Config> {
 }
 
 /// The automaton's own ablations: the reference and each ingredient of the `physical` rule
-/// switched off (SPEC section 3), plus the same packings as the DEM.
+/// switched off, plus the same packings as the DEM.
 pub fn automaton_configs(packing: &[usize]) -> Vec<Config> {
     let c = |name: &str, o: &[&str]| Config {
         name: name.into(),
@@ -195,6 +196,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
         scene: args.scene.clone(),
         overrides: args.sweep.overrides.clone(),
         jobs: all,
+        resolved: String::new(),
     };
     args.sweep.execute(&args.out, &sweep, report)
 }

@@ -123,6 +123,12 @@ impl Args {
             plateau_after: window(&self.plateau_after, "plateau-after")?,
             ..Options::default()
         };
+        // Written so that NaN fails each test.
+        for (option, x) in [("--mobility-min", self.mobility_min), ("--contrast-min", self.contrast_min)] {
+            if !(x.is_finite() && x >= 0.0) {
+                return Err(format!("{option} must be a number >= 0, got {x}").into());
+            }
+        }
         o.classify.mobility_min = self.mobility_min;
         o.classify.contrast_min = self.contrast_min;
         if !(self.persistence_periods.is_finite() && self.persistence_periods > 0.0) {
@@ -371,13 +377,17 @@ fn draw(dir: &mut RunDir, r: &Report) -> Result<(), CliError> {
         traj = traj.series("start", vec![*a], Mark::Points).series("end", vec![*b], Mark::Points);
     }
     dir.plot("tracer_trajectory", &traj)?;
-    let phase = LinePlot::new(
-        &format!("Tracer {}: phase space", tr.index),
-        "x, followed across the periodic seam (m)",
-        "v_x (m/s)",
-    )
-    .series("snapshots", tr.points.iter().map(|p| (p.x_unwrapped, p.vx)).collect(), Mark::Points);
-    dir.plot("tracer_phase_space", &phase)?;
+    // Without velocities (an automaton run, a dump without `vx`) the phase space would be a
+    // line at v_x = 0: not drawn.
+    if tr.points.iter().any(|p| p.vx != 0.0) {
+        let phase = LinePlot::new(
+            &format!("Tracer {}: phase space", tr.index),
+            "x, followed across the periodic seam (m)",
+            "v_x (m/s)",
+        )
+        .series("snapshots", tr.points.iter().map(|p| (p.x_unwrapped, p.vx)).collect(), Mark::Points);
+        dir.plot("tracer_phase_space", &phase)?;
+    }
 
     let d = &r.radii;
     let steps = |v: &[f64]| -> Vec<(f64, f64)> {

@@ -26,8 +26,9 @@ use crate::scene_file::SceneFile;
 
 #[derive(clap::Args, Debug, Default, Serialize)]
 pub struct Args {
-    /// Scene file (TOML), the same as for `stripes run` (optional table [automaton]).
-    #[arg(required_unless_present = "calibrate")]
+    /// Scene file (TOML), the same as for `stripes run` (optional table [automaton]); not
+    /// with --calibrate, which uses each DEM run's own scene.toml.
+    #[arg(required_unless_present = "calibrate", conflicts_with = "calibrate")]
     pub scene: Option<PathBuf>,
     /// Output directory (default: out/automaton-<scene name>).
     #[arg(long)]
@@ -42,7 +43,7 @@ pub struct Args {
     /// the scene's [automaton] table). Default: the scene's automaton.rule, itself physical.
     #[arg(long, value_parser = rule_parser())]
     pub rule: Option<RuleSet>,
-    /// Cache of prepared samples, shared by all runs (default: $STRIPES_SAMPLE_CACHE, else
+    /// Cache of prepared samples, shared by every run (default: $STRIPES_SAMPLE_CACHE, else
     /// out/samples).
     #[arg(long, value_name = "DIR", default_value_os_t = crate::output::default_sample_cache())]
     pub sample_cache: PathBuf,
@@ -57,7 +58,7 @@ pub struct Args {
     /// snapshots.bin) and report the fit.
     #[arg(long, num_args = 1.., value_name = "RUN_DIR")]
     pub calibrate: Vec<PathBuf>,
-    /// No progress bar.
+    /// No progress output (warnings still go to stderr, the summary to stdout).
     #[arg(long)]
     pub quiet: bool,
 }

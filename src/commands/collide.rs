@@ -1,4 +1,5 @@
-//! `stripes collide`: one binary impact (SPEC section 5).
+//! `stripes collide`: one binary impact of two spheres, or of a sphere on a wall (thesis 3.2.5
+//! and chapter 4).
 
 use std::path::PathBuf;
 

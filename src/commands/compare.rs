@@ -37,7 +37,7 @@ pub struct Args {
     /// distance between the two seeds is the scale of the distance between the models.
     #[arg(long, value_name = "RUN_DIR")]
     pub seed_scale_run: Option<PathBuf>,
-    /// Cache of prepared samples, shared by all runs (default: $STRIPES_SAMPLE_CACHE, else
+    /// Cache of prepared samples, shared by every run (default: $STRIPES_SAMPLE_CACHE, else
     /// out/samples).
     #[arg(long, value_name = "DIR", default_value_os_t = crate::output::default_sample_cache())]
     pub sample_cache: PathBuf,
@@ -48,7 +48,7 @@ pub struct Args {
     /// checkpoint (or is kept if it finished), the automaton and the analyses run again.
     #[arg(long)]
     pub resume: bool,
-    /// No progress output.
+    /// No progress output (warnings still go to stderr, the summary to stdout).
     #[arg(long)]
     pub quiet: bool,
 }
@@ -118,7 +118,7 @@ fn fmt_opt(v: Option<&Value>) -> String {
     }
 }
 
-/// What the thesis reports for its reference tray (SPEC 2; thesis 3.5.4, Table 3.5).
+/// What the thesis reports for its reference tray (thesis 3.5.4, Table 3.5).
 const THESIS: &str = "stripes after 3-5 s and 4 +- 0.875 stripes after 20 s (N = 4000 on 0.4 m x 0.02 m, 20 Hz, 25 mm); \
 MSD per period plateaus at a1 ~ 1.6e-4 m^2 before and a2 ~ 8.9e-4 m^2 after the onset (frictionless ~ 4e-5 m^2)";
 
@@ -488,7 +488,9 @@ fn compare(args: &Args, file: &crate::scene_file::SceneFile, out: &Path) -> Resu
     md.push_str(&format!("# DEM and automaton on `{}`\n\n", args.scene.display()));
     md.push_str(&format!(
         "Same scene and same prepared sample (key `{:016x}`), same analysis (`stripes analyze`: exact area fraction in 1 mm cells, \
-         stripes above 1.5 x the mean area fraction and at least five mean diameters wide, the analysis defaults). {} grains on a {} m x {} m tray, \
+         stripes above 1.5 x the mean area fraction, capped halfway from the mean to a jammed layer's 0.82, and at least five mean \
+         diameters wide; the phase is `stripes` when a band holds its place over the last 10 drive periods, or when the contrast \
+         is at least 2 with a stripe in the final frames; the analysis defaults). {} grains on a {} m x {} m tray, \
          {} Hz, {} m, {} s.\n\n",
         sample_key(scene),
         scene.particles.count,
@@ -579,6 +581,11 @@ fn compare(args: &Args, file: &crate::scene_file::SceneFile, out: &Path) -> Resu
     }
     md.push_str("\n## Density maps (area fraction over x and t)\n\n| DEM | automaton |\n|---|---|\n");
     md.push_str("| ![DEM](density_map_dem.png) | ![automaton](density_map_automaton.png) |\n\n");
+    md.push_str(
+        "Bands narrower than the minimum stripe width (five mean grain diameters, `stripes analyze --min-width`) \
+         show in the maps but are not counted as stripes; the automaton's map often has such thin bands, one or \
+         two cells wide.\n\n",
+    );
     if let Some(m) = auto_summary.get("mapping") {
         md.push_str(&format!(
             "## Automaton mapping\n\nFlight cap {} cells (single-sphere DEM slide {} m per half period, Coulomb block {} m); \
@@ -594,6 +601,10 @@ fn compare(args: &Args, file: &crate::scene_file::SceneFile, out: &Path) -> Resu
     let report = out.join("report.md");
     analysis::io::write_atomic(&report, md.as_bytes())?;
     dir.note_files([report]);
+    // The two runs and their analyses are part of what this command wrote.
+    for sub in ["dem", "automaton"] {
+        dir.note_tree(Path::new(sub));
+    }
     dir.finish(json!({
         "scene": args.scene.display().to_string(),
         "sample_key": format!("{:016x}", sample_key(scene)),

@@ -30,7 +30,7 @@ pub struct Args {
     /// Replace the files of an output directory that already holds some (default: refuse it).
     #[arg(long)]
     pub force: bool,
-    /// No progress output.
+    /// No progress output (warnings still go to stderr, the summary to stdout).
     #[arg(long)]
     pub quiet: bool,
 }

@@ -31,7 +31,7 @@ pub struct Args {
     /// Samples per drive period.
     #[arg(long, default_value_t = 24)]
     pub per_period: u32,
-    /// Cache of prepared samples, the run's own (default: $STRIPES_SAMPLE_CACHE, else
+    /// Cache of prepared samples, shared by every run (default: $STRIPES_SAMPLE_CACHE, else
     /// out/samples).
     #[arg(long, value_name = "DIR", default_value_os_t = crate::output::default_sample_cache())]
     pub sample_cache: PathBuf,
@@ -41,7 +41,7 @@ pub struct Args {
     /// Replace the files of an output directory that already holds some (default: refuse it).
     #[arg(long)]
     pub force: bool,
-    /// No progress bar.
+    /// No progress output (warnings still go to stderr, the summary to stdout).
     #[arg(long)]
     pub quiet: bool,
 }

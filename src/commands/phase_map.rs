@@ -27,7 +27,8 @@ pub struct Args {
     /// Drive amplitudes, LO:HI:N or a list such as 0.002,0.005,0.01 (m).
     #[arg(long, default_value = "0.005:0.04:8")]
     pub amplitude: String,
-    /// Which model(s) to run.
+    /// Which model(s) to run: dem (`stripes run`), automaton (`stripes automaton`) or both,
+    /// on the same samples.
     #[arg(long, value_enum, default_value = "both")]
     pub model: Which,
     /// Prepared samples (seeds run.seed, run.seed + 1, ...) per cell.
@@ -43,11 +44,13 @@ pub struct Args {
 /// Models of a phase map.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
 pub enum Which {
-    /// The DEM (`stripes run`).
+    // The values are described in the options' help (`--model`), so that `--help` prints
+    // the same short form as every other command's.
+    // The DEM (`stripes run`).
     Dem,
-    /// The cellular automaton (`stripes automaton`).
+    // The cellular automaton (`stripes automaton`).
     Automaton,
-    /// Both, on the same samples.
+    // Both, on the same samples.
     Both,
 }
 
@@ -100,6 +103,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
         scene: args.scene.clone(),
         overrides: args.sweep.overrides.clone(),
         jobs: jobs(&freqs, &amps, &args.model.models(), args.seeds.max(1), scene.run.seed),
+        resolved: String::new(),
     };
     args.sweep.execute(&args.out, &sweep, report)
 }
@@ -221,7 +225,10 @@ pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
                 x_range: (freqs[0] - 0.5 * df, freqs[freqs.len() - 1] + 0.5 * df),
                 y_range: (amps[0] - 0.5 * da, amps[amps.len() - 1] + 0.5 * da),
                 values,
-                colorbar_label: metric.into(),
+                colorbar_label: match metric {
+                    "contrast" => "contrast (x a random layer's)".into(),
+                    _ => "mobility (mean diameters per period)".into(),
+                },
                 scale: None,
                 cell_names: None,
             };

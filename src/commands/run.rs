@@ -54,7 +54,7 @@ pub struct Args {
     /// Simulated seconds between rows of thermo.csv (default: a tenth of the drive period).
     #[arg(long, value_name = "SECONDS")]
     pub thermo_interval: Option<f64>,
-    /// Cache of prepared samples, shared by all runs (default: $STRIPES_SAMPLE_CACHE, else
+    /// Cache of prepared samples, shared by every run (default: $STRIPES_SAMPLE_CACHE, else
     /// out/samples).
     #[arg(long, value_name = "DIR", default_value_os_t = crate::output::default_sample_cache())]
     pub sample_cache: PathBuf,
@@ -66,7 +66,7 @@ pub struct Args {
     /// Die after this many steps as `kill -9` would (a test hook for checkpoints and --resume).
     #[arg(long, hide = true)]
     pub stop_after: Option<u64>,
-    /// No progress output.
+    /// No progress output (warnings still go to stderr, the summary to stdout).
     #[arg(long)]
     pub quiet: bool,
 }
@@ -314,7 +314,14 @@ fn start(
 }
 
 /// The time loop of a started run, then its summary.
-fn step(args: &Args, scene: &Scene, out: &Path, started: Started, warnings: Vec<String>, threads_why: String) -> Result<String, CliError> {
+fn step(
+    args: &Args,
+    scene: &Scene,
+    out: &Path,
+    started: Started,
+    mut warnings: Vec<String>,
+    threads_why: String,
+) -> Result<String, CliError> {
     let Started {
         mut dir,
         mut sim,
@@ -375,6 +382,11 @@ fn step(args: &Args, scene: &Scene, out: &Path, started: Started, warnings: Vec<
     recorder.writer.sync()?;
     bar.finish_and_clear();
     thermo.write()?;
+    let resolving = tray::viscous_friction_ratio(scene, dt)?.filter(|r| *r > 1.0).map(|r| dt / r);
+    if let Some(w) = thermo.balance_warning(dt, resolving) {
+        eprintln!("warning: {w}");
+        warnings.push(w);
+    }
     dir.note_files([thermo.path.clone(), out.join("snapshots.bin"), recorder.checkpoint.clone()]);
     dir.plot("thermo", &thermo.plot())?;
     if let Some(vtk) = &recorder.vtk {
@@ -391,6 +403,8 @@ fn step(args: &Args, scene: &Scene, out: &Path, started: Started, warnings: Vec<
         "stored": sim.stored_energy,
         "injected": sim.ledger.injected,
         "dissipated": sim.ledger.dissipated,
+        "balance": thermo.balance().map(|b| b.0),
+        "balance_relative": thermo.balance().map(|b| b.1),
     });
     let summary = json!({
         "scene": args.scene.display().to_string(),

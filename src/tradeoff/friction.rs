@@ -25,7 +25,8 @@ use particles::state::State;
 use particles::tray;
 use particles::SimError;
 
-/// Stiffness (N/m) of the Cundall-Strack row: the value of the quick-scene runs of issue 16.
+/// Stiffness (N/m) of the Cundall-Strack row: the value of the friction-law runs on the quick
+/// scene (docs/results/friction-laws).
 pub const CUNDALL_STRACK_KT: f64 = 50.0;
 
 /// Timing pairs per ratio (at least; more if [`Config::tray_repeats`] asks for more).

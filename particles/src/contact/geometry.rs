@@ -3,7 +3,7 @@
 use crate::Vec3;
 
 /// Geometry and kinematics of a contact between particle i and a partner j (a particle or
-/// a wall). Sign conventions (SPEC section 2):
+/// a wall). Sign conventions:
 /// - `n` is the unit normal pointing from j to i;
 /// - `overlap` is `xi = R_i + R_j - |r_i - r_j|` (eq 3.5), or `R_i - (r_i - r_w) . n_w` for a
 ///   wall (eq 3.17); positive in contact;

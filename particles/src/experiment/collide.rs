@@ -107,7 +107,7 @@ impl Collision {
     }
 }
 
-/// Outcome of a collision. Serialises to the JSON of SPEC section 5.
+/// Outcome of a collision; serialised as the summary of `stripes collide`.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct CollisionResult {
     pub eps_n: f64,

@@ -71,9 +71,14 @@ impl ContactTimeCase {
 }
 
 /// The four sweeps of Fig 3.5 around `base`, `points` values each (log-spaced except A,
-/// which is linear from 0), with `steps` steps per contact.
+/// which is linear from 0), with `steps` steps per contact; fewer than 2 points is an error.
 pub fn study(base: ContactTimeCase, points: usize, steps: f64) -> Result<Vec<ContactTimeRow>, SimError> {
-    let points = points.max(2);
+    if points < 2 {
+        return Err(SimError::InvalidParameter {
+            field: "points".into(),
+            message: format!("a sweep needs at least 2 values, got {points}"),
+        });
+    }
     let lin = |a: f64, b: f64| (0..points).map(move |k| a + (b - a) * k as f64 / (points - 1) as f64);
     let log = |a: f64, b: f64| lin(a.ln(), b.ln()).map(f64::exp);
     let mut rows = Vec::new();
