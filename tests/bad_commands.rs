@@ -4,7 +4,7 @@
 //! the `compare` and `single` ones (about a second each).
 
 mod common;
-use common::stripes;
+use common::{stripes, tiny_scene};
 
 use std::path::{Path, PathBuf};
 
@@ -12,19 +12,6 @@ fn scratch(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("stripes-bad-commands-{name}-{}", std::process::id()));
     std::fs::create_dir_all(&d).unwrap();
     d
-}
-
-/// A 2 cm x 5 mm tray with 40 grains, 0.02 s of preparation, 0.2 s of run.
-fn tiny_scene(dir: &Path) -> String {
-    let p = dir.join("tiny.toml");
-    std::fs::write(
-        &p,
-        "[box]\nlength = 0.02\nwidth = 0.005\n[drive]\nfrequency = 20.0\namplitude = 0.025\n\
-         [particles]\ncount = 40\nradius_min = 0.25e-3\nradius_max = 0.5e-3\n[prepare]\nduration = 0.02\n\
-         [run]\nduration = 0.2\ndt = 8e-6\nseed = 4\nthreads = 1\n",
-    )
-    .unwrap();
-    p.display().to_string()
 }
 
 fn s(p: &Path) -> String {

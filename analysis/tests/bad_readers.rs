@@ -3,10 +3,8 @@
 //! never allocate more than a small multiple of the input's size (an allocator counts the
 //! bytes live at once). Named regressions pin the claims that used to abort the process.
 
-use std::alloc::{GlobalAlloc, Layout, System};
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicUsize, Ordering};
-use std::sync::Mutex;
+use std::sync::atomic::Ordering;
 
 use analysis::input::load;
 use analysis::lammps::read_dump_noting;
@@ -14,29 +12,9 @@ use analysis::snapshot::read_snapshots_counting;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-/// Counts the bytes live at once, and their peak since the last reset.
-struct Counting;
-
-static LIVE: AtomicUsize = AtomicUsize::new(0);
-static PEAK: AtomicUsize = AtomicUsize::new(0);
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        let now = LIVE.fetch_add(layout.size(), Ordering::SeqCst) + layout.size();
-        PEAK.fetch_max(now, Ordering::SeqCst);
-        System.alloc(layout)
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        LIVE.fetch_sub(layout.size(), Ordering::SeqCst);
-        System.dealloc(ptr, layout)
-    }
-}
-
-#[global_allocator]
-static GLOBAL: Counting = Counting;
-
-/// The tests of this file share the counter: one at a time.
-static SERIAL: Mutex<()> = Mutex::new(());
+#[path = "../../test-support/counting_alloc.rs"]
+mod counting_alloc;
+use counting_alloc::{LIVE, PEAK, SERIAL};
 
 /// Bytes a reader may hold beyond the input: the file read whole, parsed values as `f64`
 /// (a text value of two bytes becomes eight, an `f32` becomes an `f64` in a position and

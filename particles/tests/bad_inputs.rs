@@ -5,9 +5,7 @@
 
 mod common;
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicUsize, Ordering};
-use std::sync::Mutex;
+use std::sync::atomic::Ordering;
 
 use particles::prepare::initial_state;
 use particles::scene::Scene;
@@ -17,28 +15,9 @@ use particles::wall::Motion;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-struct Counting;
-
-static LIVE: AtomicUsize = AtomicUsize::new(0);
-static PEAK: AtomicUsize = AtomicUsize::new(0);
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        let now = LIVE.fetch_add(layout.size(), Ordering::SeqCst) + layout.size();
-        PEAK.fetch_max(now, Ordering::SeqCst);
-        System.alloc(layout)
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        LIVE.fetch_sub(layout.size(), Ordering::SeqCst);
-        System.dealloc(ptr, layout)
-    }
-}
-
-#[global_allocator]
-static GLOBAL: Counting = Counting;
-
-/// The tests of this file share the counter: one at a time.
-static SERIAL: Mutex<()> = Mutex::new(());
+#[path = "../../test-support/counting_alloc.rs"]
+mod counting_alloc;
+use counting_alloc::{LIVE, PEAK, SERIAL};
 
 /// Bytes a reader may hold beyond the input: parsed records, a vector's doubling, a TOML
 /// tree, plus a fixed allowance for messages and small tables.

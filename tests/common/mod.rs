@@ -41,3 +41,19 @@ pub fn summary(out: &Output) -> serde_json::Value {
     let stdout = String::from_utf8_lossy(&out.stdout);
     serde_json::from_str(stdout.lines().last().expect("a summary line")).expect("JSON summary")
 }
+
+/// A 2 cm x 5 mm tray with 40 grains, 0.02 s of preparation and 0.2 s of run, written into
+/// `dir` (created); returns its path.
+#[allow(dead_code)]
+pub fn tiny_scene(dir: &Path) -> String {
+    std::fs::create_dir_all(dir).unwrap();
+    let p = dir.join("tiny.toml");
+    std::fs::write(
+        &p,
+        "[box]\nlength = 0.02\nwidth = 0.005\n[drive]\nfrequency = 20.0\namplitude = 0.025\n\
+         [particles]\ncount = 40\nradius_min = 0.25e-3\nradius_max = 0.5e-3\n[prepare]\nduration = 0.02\n\
+         [run]\nduration = 0.2\ndt = 8e-6\nseed = 4\nthreads = 1\n",
+    )
+    .unwrap();
+    p.display().to_string()
+}
