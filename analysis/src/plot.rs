@@ -615,6 +615,23 @@ fn write_svg(
 
 #[cfg(test)]
 mod tests {
+
+    /// Legends covered data in `thermo.png` and `stripe_count.png`: with two or more series
+    /// the y range grows so that the legend's corner holds no data, above the data for an
+    /// upper legend, below for a lower one; a single series needs no legend room.
+    #[test]
+    fn the_legend_gets_a_corner_without_data() {
+        let two = LinePlot::new("t", "x", "y")
+            .series("a", vec![(0.0, 0.0), (1.0, 1.0)], Mark::Line)
+            .series("b", vec![(0.0, 0.5)], Mark::Line);
+        let up = two.legend_room(0.0..1.0);
+        assert!(up.start == 0.0 && up.end > 1.1, "{up:?}");
+        let low = two.clone().legend(LegendCorner::LowerRight).legend_room(0.0..1.0);
+        assert!(low.end == 1.0 && low.start < -0.1, "{low:?}");
+        let one = LinePlot::new("t", "x", "y").series("a", vec![(0.0, 0.0)], Mark::Line);
+        assert_eq!(one.legend_room(0.0..1.0), 0.0..1.0);
+    }
+
     use super::*;
 
     fn temp_dir(name: &str) -> PathBuf {
