@@ -616,6 +616,17 @@ fn write_svg(
 #[cfg(test)]
 mod tests {
 
+    /// The MSD plot's lowest decade had no label: a log range now starts just below a power
+    /// of ten, so that the lowest decade's tick lies inside it.
+    #[test]
+    fn a_log_range_starts_just_below_a_decade() {
+        let r = padded([3.2e-9, 4.0e-6].into_iter(), true).unwrap();
+        assert!(r.start < 1e-9 && r.start > 0.9e-9, "{r:?}");
+        assert!(r.end > 4.0e-6);
+        let r = padded([1e-8, 1e-4].into_iter(), true).unwrap();
+        assert!(r.start < 1e-8 && r.start > 0.9e-9 * 0.9, "{r:?}");
+    }
+
     /// Legends covered data in `thermo.png` and `stripe_count.png`: with two or more series
     /// the y range grows so that the legend's corner holds no data, above the data for an
     /// upper legend, below for a lower one; a single series needs no legend room.
