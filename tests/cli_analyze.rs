@@ -230,6 +230,9 @@ fn one_frame_gets_no_phase() {
     assert!(s["phase"].is_null(), "{s}");
     assert!(s["phase_note"].as_str().unwrap().contains("too few frames"), "{s}");
     assert!(stderr.contains("too few frames"), "{stderr}");
+    // Persistence needs frames: one frame holds no stationary band and no spacing.
+    assert_eq!(s["stationary_stripe_count"], 0, "{s}");
+    assert!(s["stripe_spacing_m"].is_null(), "{s}");
     std::fs::remove_dir_all(run).unwrap();
 }
 
