@@ -46,7 +46,9 @@ pub fn pair_time(d: Vec2, u: Vec2, sigma: f64) -> Option<f64> {
 /// The first time `s > 0` at which `z0 + vz s - 1/2 g s^2` (g >= 0) reaches `level`, or `None`.
 /// `upward`: the crossing from below (else from above).
 pub fn height_time(z0: f64, vz: f64, gravity: f64, level: f64, upward: bool) -> Option<f64> {
-    // f(s) = -1/2 g s^2 + vz s + (z0 - level)
+    // z0 + vz s - 1/2 g s^2 = level: the roots are (vz -+ sqrt(vz^2 + 2 g c)) / g with
+    // c = z0 - level; the earlier one is the way up through the level, the later one the way
+    // down, each written where it keeps its digits.
     let c = z0 - level;
     if gravity == 0.0 {
         return match upward {
@@ -55,24 +57,22 @@ pub fn height_time(z0: f64, vz: f64, gravity: f64, level: f64, upward: bool) -> 
             _ => None,
         };
     }
-    let a = -0.5 * gravity;
-    let disc = vz * vz - 4.0 * a * c;
-    if disc < 0.0 {
+    let disc = vz * vz + 2.0 * gravity * c;
+    if disc <= 0.0 {
+        // Never reached, or only touched at the apex.
         return None;
     }
     let sq = disc.sqrt();
-    // Stable roots of a s^2 + vz s + c.
-    let qv = -0.5 * (vz + vz.signum() * sq);
-    let mut roots = [qv / a, if qv != 0.0 { c / qv } else { f64::NAN }];
-    roots.sort_by(f64::total_cmp);
-    roots.into_iter().filter(|s| s.is_finite() && *s > 0.0).find(|&s| {
-        let slope = vz - gravity * s;
-        if upward {
-            slope > 0.0
-        } else {
-            slope < 0.0
-        }
-    })
+    if upward {
+        // From below (c < 0) while rising.
+        (c < 0.0 && vz > 0.0).then(|| -2.0 * c / (vz + sq))
+    } else if vz >= 0.0 {
+        let s = (vz + sq) / gravity;
+        (s > 0.0).then_some(s)
+    } else {
+        // Falling: through the level below (c > 0).
+        (c > 0.0).then(|| 2.0 * c / (sq - vz))
+    }
 }
 
 #[cfg(test)]

@@ -1,84 +1,127 @@
-//! The event queue: one predicted event per particle, kept in a binary heap the size of the
-//! particle count plus stale entries. Rescheduling a particle bumps its generation; an entry
-//! whose generation is old is dropped when it comes up (Smallenburg's EDMD; DynamO's queue).
-//! Ties in time go to the lower particle index, so runs are deterministic.
-
-use std::cmp::Ordering;
-use std::collections::BinaryHeap;
-
-#[derive(Clone, Copy, Debug, PartialEq)]
-struct Entry {
-    time: f64,
-    particle: usize,
-    generation: u64,
-}
-
-impl Eq for Entry {}
-
-impl Ord for Entry {
-    fn cmp(&self, other: &Self) -> Ordering {
-        // Reversed: the heap's top is the earliest event.
-        other
-            .time
-            .total_cmp(&self.time)
-            .then_with(|| other.particle.cmp(&self.particle))
-            .then_with(|| other.generation.cmp(&self.generation))
-    }
-}
-
-impl PartialOrd for Entry {
-    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
-        Some(self.cmp(other))
-    }
-}
+//! The event queue: one predicted event per particle, kept in an indexed binary min-heap of
+//! exactly the particle count. Rescheduling a particle moves its one entry up or down in
+//! place, so the heap never holds stale entries (the "one event per particle" queue of
+//! Rapaport's and DynamO's EDMD, here a plain heap with a position index). Ties in time go
+//! to the lower particle index, so runs are deterministic.
 
 /// The queue of the particles' next events.
 #[derive(Clone, Debug, Default)]
 pub struct Queue {
-    heap: BinaryHeap<Entry>,
-    generation: Vec<u64>,
+    /// The heap: `(time, particle)`, the earliest event at the root.
+    heap: Vec<(f64, usize)>,
+    /// Each particle's place in `heap`, or `usize::MAX` when it is not in it.
+    place: Vec<usize>,
 }
 
 impl Queue {
     /// A queue for `n` particles, all unscheduled.
     pub fn new(n: usize) -> Self {
         Queue {
-            heap: BinaryHeap::with_capacity(2 * n),
-            generation: vec![0; n],
+            heap: Vec::with_capacity(n),
+            place: vec![usize::MAX; n],
         }
+    }
+
+    /// Whether event `a` comes before `b` (earlier time, then lower index).
+    #[inline]
+    fn before(a: (f64, usize), b: (f64, usize)) -> bool {
+        match a.0.total_cmp(&b.0) {
+            std::cmp::Ordering::Less => true,
+            std::cmp::Ordering::Greater => false,
+            std::cmp::Ordering::Equal => a.1 < b.1,
+        }
+    }
+
+    #[inline]
+    fn put(&mut self, k: usize, e: (f64, usize)) {
+        self.heap[k] = e;
+        self.place[e.1] = k;
+    }
+
+    fn sift_up(&mut self, mut k: usize) {
+        let i = self.heap[k];
+        while k > 0 {
+            let parent = (k - 1) / 2;
+            let p = self.heap[parent];
+            if !Self::before(i, p) {
+                break;
+            }
+            self.put(k, p);
+            k = parent;
+        }
+        self.put(k, i);
+    }
+
+    fn sift_down(&mut self, mut k: usize) {
+        let i = self.heap[k];
+        let n = self.heap.len();
+        loop {
+            let left = 2 * k + 1;
+            if left >= n {
+                break;
+            }
+            let right = left + 1;
+            let child = if right < n && Self::before(self.heap[right], self.heap[left]) {
+                right
+            } else {
+                left
+            };
+            let c = self.heap[child];
+            if !Self::before(c, i) {
+                break;
+            }
+            self.put(k, c);
+            k = child;
+        }
+        self.put(k, i);
     }
 
     /// Schedules particle `i` at `time`, replacing its earlier entry.
     pub fn schedule(&mut self, i: usize, time: f64) {
-        self.generation[i] += 1;
-        self.heap.push(Entry {
-            time,
-            particle: i,
-            generation: self.generation[i],
-        });
-        // Keep stale entries from piling up.
-        if self.heap.len() > 4 * self.generation.len() + 64 {
-            let live = &self.generation;
-            let kept: Vec<Entry> = self.heap.drain().filter(|e| e.generation == live[e.particle]).collect();
-            self.heap = kept.into();
-        }
-    }
-
-    /// The earliest live entry: `(time, particle)`, without removing it.
-    pub fn peek(&mut self) -> Option<(f64, usize)> {
-        while let Some(e) = self.heap.peek() {
-            if e.generation == self.generation[e.particle] {
-                return Some((e.time, e.particle));
+        match self.place[i] {
+            usize::MAX => {
+                self.heap.push((time, i));
+                let k = self.heap.len() - 1;
+                self.place[i] = k;
+                self.sift_up(k);
             }
-            self.heap.pop();
+            k => {
+                let old = self.heap[k].0;
+                self.heap[k].0 = time;
+                if time.total_cmp(&old).is_lt() {
+                    self.sift_up(k);
+                } else {
+                    self.sift_down(k);
+                }
+            }
         }
-        None
     }
 
-    /// Removes the earliest live entry.
+    /// Removes particle `i`'s entry, if any.
+    pub fn cancel(&mut self, i: usize) {
+        let k = self.place[i];
+        if k == usize::MAX {
+            return;
+        }
+        let last = self.heap.pop().expect("a placed particle is in the heap");
+        self.place[i] = usize::MAX;
+        if last.1 != i {
+            self.put(k, last);
+            self.sift_up(k);
+            let k = self.place[last.1];
+            self.sift_down(k);
+        }
+    }
+
+    /// The earliest entry: `(time, particle)`, without removing it.
+    pub fn peek(&self) -> Option<(f64, usize)> {
+        self.heap.first().copied()
+    }
+
+    /// Removes the earliest entry.
     pub fn pop(&mut self) -> Option<(f64, usize)> {
         let top = self.peek()?;
-        self.heap.pop();
+        self.cancel(top.1);
         Some(top)
     }
 }
@@ -86,9 +129,10 @@ impl Queue {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use proptest::prelude::*;
 
     #[test]
-    fn the_earliest_live_event_comes_first_and_rescheduling_drops_the_old_one() {
+    fn the_earliest_event_comes_first_and_rescheduling_replaces_the_old_one() {
         let mut q = Queue::new(3);
         q.schedule(0, 3.0);
         q.schedule(1, 1.0);
@@ -102,5 +146,34 @@ mod tests {
         q.schedule(2, 1.0);
         q.schedule(0, 1.0);
         assert_eq!(q.pop(), Some((1.0, 0)));
+    }
+
+    proptest! {
+        /// Against a plain reference: after any sequence of schedules and cancels, the queue
+        /// pops every scheduled particle once, in (time, index) order, with its last time.
+        #[test]
+        fn pops_follow_the_last_schedule_of_each_particle(
+            ops in proptest::collection::vec((0usize..20, 0u32..50, proptest::bool::weighted(0.1)), 0..200)
+        ) {
+            let mut q = Queue::new(20);
+            let mut reference: Vec<Option<f64>> = vec![None; 20];
+            for (i, t, cancel) in ops {
+                if cancel {
+                    q.cancel(i);
+                    reference[i] = None;
+                } else {
+                    q.schedule(i, t as f64);
+                    reference[i] = Some(t as f64);
+                }
+            }
+            let mut want: Vec<(f64, usize)> =
+                reference.iter().enumerate().filter_map(|(i, t)| t.map(|t| (t, i))).collect();
+            want.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+            let mut got = Vec::new();
+            while let Some(e) = q.pop() {
+                got.push(e);
+            }
+            prop_assert_eq!(got, want);
+        }
     }
 }

@@ -65,6 +65,9 @@ pub struct Simulation {
     collisions: Vec<u64>,
     last_collision: Vec<f64>,
     next: Vec<Next>,
+    /// The earliest pair or look event found by the last prediction, kept for when the
+    /// scheduled event is a cell crossing before it.
+    beyond_cell: Vec<(f64, Next)>,
     // Collapse watch: start of the window and collisions in it, per particle.
     window: Vec<(f64, u32)>,
     last_partner: Vec<usize>,
@@ -195,6 +198,7 @@ impl Simulation {
             collisions: vec![0; n],
             last_collision: vec![f64::NEG_INFINITY; n],
             next: vec![Next::Nothing; n],
+            beyond_cell: vec![(f64::INFINITY, Next::Nothing); n],
             window: vec![(0.0, 0); n],
             last_partner: vec![usize::MAX; n],
             queue: Queue::new(n),
@@ -280,52 +284,99 @@ impl Simulation {
         d
     }
 
-    /// Predicts particle `i`'s next event from its clock time and schedules it.
+    /// The distinct cells next to cell `c` (itself included): up to nine flat indices.
+    fn neighbourhood(&self, c: (usize, usize)) -> ([usize; 9], usize) {
+        let mut out = [0usize; 9];
+        let mut n = 0;
+        for iz in self.grid.rows(c.1) {
+            for ix in self.grid.columns(c.0) {
+                out[n] = self.grid.index((ix, iz));
+                n += 1;
+            }
+        }
+        (out, n)
+    }
+
+    /// Predicts particle `i`'s next event from its clock time and schedules it, looking at
+    /// every neighbour.
     fn predict(&mut self, i: usize) {
+        let (cells, n) = self.neighbourhood(self.cell[i]);
+        let start = if self.horizon.is_finite() {
+            (self.t[i] + self.horizon, Next::Look)
+        } else {
+            (f64::INFINITY, Next::Nothing)
+        };
+        self.predict_from(i, &cells[..n], start);
+    }
+
+    /// Predicts particle `i`'s next event after it entered a new cell from `from`. Its
+    /// motion has not changed, so the earliest pair (or look) event found before the
+    /// crossing still holds if its partner has not collided since; only the cells that
+    /// have just come into reach are searched, and the walls again. If the remembered event
+    /// went stale, every neighbour is searched.
+    fn predict_after_crossing(&mut self, i: usize, from: (usize, usize)) {
+        let remembered = self.beyond_cell[i];
+        let valid = match remembered.1 {
+            Next::Pair { j, count } => self.collisions[j] == count,
+            Next::Look | Next::Nothing => true,
+            Next::Wall { .. } | Next::Cell { .. } => false,
+        };
+        if !valid {
+            self.predict(i);
+            return;
+        }
+        let (old, n_old) = self.neighbourhood(from);
+        let (new, n_new) = self.neighbourhood(self.cell[i]);
+        let (mut fresh, mut n) = ([0usize; 9], 0);
+        for &c in &new[..n_new] {
+            if !old[..n_old].contains(&c) {
+                fresh[n] = c;
+                n += 1;
+            }
+        }
+        self.predict_from(i, &fresh[..n], remembered);
+    }
+
+    /// The earliest event of particle `i` among its pairs with the particles of `cells`, the
+    /// walls and its cell crossing, starting from the candidate `best`; scheduled.
+    fn predict_from(&mut self, i: usize, cells: &[usize], mut best: (f64, Next)) {
         let t0 = self.t[i];
         let g = self.config.gravity;
-        let mut best = (t0 + self.horizon, Next::Look);
-        if !self.horizon.is_finite() {
-            best = (f64::INFINITY, Next::Nothing);
-        }
-        // Neighbours.
-        let (cx, cz) = self.cell[i];
-        let (mut cols, mut nc) = ([0usize; 3], 0);
-        for c in self.grid.columns(cx) {
-            cols[nc] = c;
-            nc += 1;
-        }
-        let (mut rows, mut nr) = ([0usize; 3], 0);
-        for r in self.grid.rows(cz) {
-            rows[nr] = r;
-            nr += 1;
-        }
-        for &iz in &rows[..nr] {
-            for &ix in &cols[..nc] {
-                let c = self.grid.index((ix, iz));
-                for k in 0..self.members[c].len() {
-                    let j = self.members[c][k];
-                    if j == i {
-                        continue;
-                    }
-                    let (rj, vj) = fly(self.r[j], self.v[j], g, t0 - self.t[j]);
-                    let mut d = self.r[i] - rj;
-                    if self.grid.periodic {
-                        let w = self.config.width;
-                        d.x -= w * (d.x / w).round();
-                    }
-                    if let Some(s) = pair_time(d, self.v[i] - vj, self.radius[i] + self.radius[j]) {
-                        if t0 + s < best.0 {
-                            best = (
-                                t0 + s,
-                                Next::Pair {
-                                    j,
-                                    count: self.collisions[j],
-                                },
-                            );
-                        }
+        for &c in cells {
+            for k in 0..self.members[c].len() {
+                let j = self.members[c][k];
+                if j == i {
+                    continue;
+                }
+                let (rj, vj) = fly(self.r[j], self.v[j], g, t0 - self.t[j]);
+                let mut d = self.r[i] - rj;
+                if self.grid.periodic {
+                    // Both particles are inside [0, width], give or take a flight in a cell.
+                    let w = self.config.width;
+                    if d.x > 0.5 * w {
+                        d.x -= w;
+                    } else if d.x < -0.5 * w {
+                        d.x += w;
                     }
                 }
+                if let Some(s) = pair_time(d, self.v[i] - vj, self.radius[i] + self.radius[j]) {
+                    if t0 + s < best.0 {
+                        best = (
+                            t0 + s,
+                            Next::Pair {
+                                j,
+                                count: self.collisions[j],
+                            },
+                        );
+                    }
+                }
+            }
+        }
+        // Kept for the crossing, if the particle leaves its cell first.
+        let pairs = best;
+        if let Some(c) = self.grid.crossing(self.cell[i], self.r[i], self.v[i], g, t0) {
+            if c.time < best.0 {
+                best = (c.time, Next::Cell { to: c.to, wrap: c.wrap });
             }
         }
         for (w, wall) in self.walls.iter().enumerate() {
@@ -336,13 +387,11 @@ impl Simulation {
                 }
             }
         }
-        if let Some(c) = self.grid.crossing(self.cell[i], self.r[i], self.v[i], g, t0) {
-            if c.time < best.0 {
-                best = (c.time, Next::Cell { to: c.to, wrap: c.wrap });
-            }
-        }
         self.next[i] = best.1;
-        if best.1 != Next::Nothing {
+        self.beyond_cell[i] = pairs;
+        if best.1 == Next::Nothing {
+            self.queue.cancel(i);
+        } else {
             self.queue.schedule(i, best.0);
         }
     }
@@ -353,7 +402,7 @@ impl Simulation {
             if t > t_end {
                 break;
             }
-            self.queue.pop();
+            // The particle's entry stays at the top: the event reschedules it in place.
             self.time = t;
             self.event(i, t)?;
         }
@@ -388,16 +437,17 @@ impl Simulation {
                 if let Some(k) = self.members[from].iter().position(|&x| x == i) {
                     self.members[from].swap_remove(k);
                 }
+                let old = self.cell[i];
                 self.cell[i] = to;
                 self.members[self.grid.index(to)].push(i);
                 self.counts.cell += 1;
-                self.predict(i);
+                self.predict_after_crossing(i, old);
             }
             Next::Look => {
                 self.advance(i, t);
                 self.predict(i);
             }
-            Next::Nothing => {}
+            Next::Nothing => self.queue.cancel(i),
         }
         Ok(())
     }

@@ -133,9 +133,37 @@ impl Wall {
         (v - self.velocity(t)).dot(&self.normal())
     }
 
+    /// Whether a particle at `(r, v)` stays clear of every position the horizontal wall can
+    /// take (its mean line +- amplitude) for the next `span` seconds: a check without the
+    /// wall's phase, so without trigonometry. The height `z(s)` is a parabola that opens
+    /// downwards, so its lowest point on `[0, span]` is at an end, and its highest at an end
+    /// or at the apex.
+    fn clear_of(&self, r: Vec2, v: Vec2, radius: f64, gravity: f64, span: f64) -> bool {
+        if !span.is_finite() {
+            return false;
+        }
+        let reach = self.motion.amplitude.abs() + radius;
+        let z_end = r.y + v.y * span - 0.5 * gravity * span * span;
+        match self.kind {
+            WallKind::Floor => r.y.min(z_end) - reach > self.position,
+            WallKind::Lid => {
+                let apex = if gravity > 0.0 && v.y > 0.0 && v.y / gravity < span {
+                    r.y + 0.5 * v.y * v.y / gravity
+                } else {
+                    r.y.max(z_end)
+                };
+                apex.max(r.y.max(z_end)) + reach < self.position
+            }
+            WallKind::Left | WallKind::Right => false,
+        }
+    }
+
     /// The first time `t >= t0` before `t0 + horizon` at which a particle at `(r, v)` at `t0`
     /// meets the wall while approaching it, or `None`.
     pub fn contact_time(&self, r: Vec2, v: Vec2, radius: f64, gravity: f64, t0: f64, horizon: f64) -> Option<f64> {
+        if self.horizontal() && self.clear_of(r, v, radius, gravity, horizon) {
+            return None;
+        }
         let h0 = self.gap(r, radius, t0);
         let rate0 = self.gap_rate(v, t0);
         if h0 <= 0.0 && rate0 < 0.0 {
