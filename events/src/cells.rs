@@ -16,6 +16,9 @@ pub struct Grid {
     pub z0: f64,
     pub periodic: bool,
     pub width: f64,
+    /// For each cell, its distinct neighbouring cells (itself included), as flat indices,
+    /// and how many there are: computed once, read at every prediction.
+    near: Vec<([u32; 9], u8)>,
 }
 
 /// A cell crossing: the time and the cell entered.
@@ -40,7 +43,7 @@ impl Grid {
             }
         };
         let (nx, nz) = (count(width), count(z_hi - z_lo));
-        Grid {
+        let mut grid = Grid {
             nx,
             nz,
             dx: width / nx as f64,
@@ -48,7 +51,28 @@ impl Grid {
             z0: z_lo,
             periodic,
             width,
-        }
+            near: Vec::new(),
+        };
+        grid.near = (0..nx * nz)
+            .map(|c| {
+                let (mut out, mut n) = ([0u32; 9], 0u8);
+                for iz in grid.rows(c / nx) {
+                    for ix in grid.columns(c % nx) {
+                        out[n as usize] = grid.index((ix, iz)) as u32;
+                        n += 1;
+                    }
+                }
+                (out, n)
+            })
+            .collect();
+        grid
+    }
+
+    /// The distinct cells next to flat cell `c` (itself included).
+    #[inline]
+    pub fn near(&self, c: usize) -> &[u32] {
+        let (cells, n) = &self.near[c];
+        &cells[..*n as usize]
     }
 
     /// The cell of a position.
@@ -108,12 +132,15 @@ impl Grid {
         }
         if self.nz > 1 {
             let (lo, hi) = (self.z0 + c.1 as f64 * self.dz, self.z0 + (c.1 + 1) as f64 * self.dz);
-            if c.1 + 1 < self.nz {
-                if let Some(s) = height_time(r.y, v.y, gravity, hi, true) {
-                    take(s, (c.0, c.1 + 1), 0.0);
-                }
-            }
-            if c.1 > 0 {
+            // Rising through the top comes before falling through the bottom.
+            let up = if c.1 + 1 < self.nz {
+                height_time(r.y, v.y, gravity, hi, true)
+            } else {
+                None
+            };
+            if let Some(s) = up {
+                take(s, (c.0, c.1 + 1), 0.0);
+            } else if c.1 > 0 {
                 if let Some(s) = height_time(r.y, v.y, gravity, lo, false) {
                     take(s, (c.0, c.1 - 1), 0.0);
                 }

@@ -21,6 +21,14 @@ use crate::queue::Queue;
 use crate::wall::{Motion, Wall, WallKind};
 use crate::Vec2;
 
+/// A copy of a neighbourhood (at most nine cells), so that the grid is not borrowed while
+/// the prediction writes.
+fn copy9(cells: &[u32]) -> ([u32; 9], usize) {
+    let mut out = [0u32; 9];
+    out[..cells.len()].copy_from_slice(cells);
+    (out, cells.len())
+}
+
 /// What a particle's next event is.
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Next {
@@ -284,23 +292,11 @@ impl Simulation {
         d
     }
 
-    /// The distinct cells next to cell `c` (itself included): up to nine flat indices.
-    fn neighbourhood(&self, c: (usize, usize)) -> ([usize; 9], usize) {
-        let mut out = [0usize; 9];
-        let mut n = 0;
-        for iz in self.grid.rows(c.1) {
-            for ix in self.grid.columns(c.0) {
-                out[n] = self.grid.index((ix, iz));
-                n += 1;
-            }
-        }
-        (out, n)
-    }
-
     /// Predicts particle `i`'s next event from its clock time and schedules it, looking at
     /// every neighbour.
     fn predict(&mut self, i: usize) {
-        let (cells, n) = self.neighbourhood(self.cell[i]);
+        let cells = self.grid.near(self.grid.index(self.cell[i]));
+        let (cells, n) = copy9(cells);
         let start = if self.horizon.is_finite() {
             (self.t[i] + self.horizon, Next::Look)
         } else {
@@ -325,11 +321,11 @@ impl Simulation {
             self.predict(i);
             return;
         }
-        let (old, n_old) = self.neighbourhood(from);
-        let (new, n_new) = self.neighbourhood(self.cell[i]);
-        let (mut fresh, mut n) = ([0usize; 9], 0);
-        for &c in &new[..n_new] {
-            if !old[..n_old].contains(&c) {
+        let old = self.grid.near(self.grid.index(from));
+        let new = self.grid.near(self.grid.index(self.cell[i]));
+        let (mut fresh, mut n) = ([0u32; 9], 0);
+        for &c in new {
+            if !old.contains(&c) {
                 fresh[n] = c;
                 n += 1;
             }
@@ -339,10 +335,11 @@ impl Simulation {
 
     /// The earliest event of particle `i` among its pairs with the particles of `cells`, the
     /// walls and its cell crossing, starting from the candidate `best`; scheduled.
-    fn predict_from(&mut self, i: usize, cells: &[usize], mut best: (f64, Next)) {
+    fn predict_from(&mut self, i: usize, cells: &[u32], mut best: (f64, Next)) {
         let t0 = self.t[i];
         let g = self.config.gravity;
         for &c in cells {
+            let c = c as usize;
             for k in 0..self.members[c].len() {
                 let j = self.members[c][k];
                 if j == i {
