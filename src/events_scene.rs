@@ -80,6 +80,23 @@ fn no_lid() -> String {
     "none".into()
 }
 
+/// `[base]`: a sawtooth base in place of the flat floor (the ratchet paper's Fig. 5),
+/// moving with the floor's drive; absent, the floor is flat.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EventBase {
+    /// Must be "sawtooth".
+    pub shape: String,
+    /// Tooth width w (m); the box width must hold a whole number of teeth.
+    pub tooth_width: f64,
+    /// Tooth height h above the valleys (m).
+    pub tooth_height: f64,
+    /// a = l / w: the horizontal projection of a tooth's left side over its width.
+    pub asymmetry: f64,
+    /// Radius of the arc rounding each tip (m).
+    pub tip_radius: f64,
+}
+
 /// `[[particles.species]]`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -283,6 +300,8 @@ pub struct EventScene {
     #[serde(rename = "box")]
     pub tray: EventBox,
     pub drive: EventDrive,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub base: Option<EventBase>,
     pub particles: EventParticles,
     pub rules: EventRules,
     #[serde(default)]
@@ -402,6 +421,21 @@ impl EventScene {
                 })
                 .collect(),
             floor: wall("drive.floor", &self.drive.floor, false)?,
+            base: match &self.base {
+                None => None,
+                Some(b) if b.shape == "sawtooth" => Some(events::Sawtooth {
+                    width: b.tooth_width,
+                    height: b.tooth_height,
+                    asymmetry: b.asymmetry,
+                    tip_radius: b.tip_radius,
+                }),
+                Some(b) => {
+                    return Err(bad(
+                        "base.shape",
+                        format!("must be \"sawtooth\" (leave [base] out for a flat floor), got {:?}", b.shape),
+                    ))
+                }
+            },
             lid: wall("drive.lid", &self.drive.lid, true)?,
             rules,
             guard: Guard {
@@ -441,6 +475,28 @@ mod tests {
         std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/mixture.toml")).unwrap()
     }
 
+    fn ratchet() -> String {
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/ratchet.toml")).unwrap()
+    }
+
+    #[test]
+    fn the_ratchet_scene_maps_onto_the_paper_and_a_bad_base_names_its_key() {
+        let c = parse(&ratchet(), &[]).unwrap().config().unwrap();
+        let base = c.base.unwrap();
+        assert_eq!((base.width, base.height, base.asymmetry), (6e-3, 3e-3, 0.1));
+        assert!((c.width / base.width - 24.0).abs() < 1e-9);
+        assert_eq!(c.q, 0.5);
+        let key = |set: &[&str]| match parse(&ratchet(), set).and_then(|s| s.config()) {
+            Err(e) => e.key,
+            Ok(_) => "accepted".into(),
+        };
+        assert_eq!(key(&["base.tooth_width=0.007"]), "base.tooth_width");
+        assert_eq!(key(&["base.tip_radius=0.004"]), "base.tip_radius");
+        assert_eq!(key(&["base.asymmetry=-0.1"]), "base.asymmetry");
+        assert_eq!(key(&["base.shape=\"sine\""]), "base.shape");
+        assert_eq!(key(&["base.tooth_height=0.06"]), "base.tooth_height");
+    }
+
     fn parse(text: &str, set: &[&str]) -> Result<EventScene, SceneError> {
         let set: Vec<String> = set.iter().map(|s| s.to_string()).collect();
         overrides::parse(text, &set, "test", |doc| {
@@ -466,10 +522,11 @@ mod tests {
 
     #[test]
     fn every_event_scene_key_is_documented() {
-        let scene = parse(&mixture(), &["guard.min_rebound_speed=1e-4", "guard.tc=1e-6"]).unwrap();
-        let doc = toml::Value::try_from(&scene).unwrap();
         let mut all = Vec::new();
-        keys("", &doc, &mut all);
+        for text in [mixture(), ratchet()] {
+            let scene = parse(&text, &["guard.min_rebound_speed=1e-4", "guard.tc=1e-6"]).unwrap();
+            keys("", &toml::Value::try_from(&scene).unwrap(), &mut all);
+        }
         all.sort();
         all.dedup();
         assert!(all.len() > 25, "{all:?}");

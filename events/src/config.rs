@@ -7,6 +7,7 @@
 
 use crate::collision::Rule;
 use crate::error::{invalid, EventsError};
+use crate::sawtooth::Sawtooth;
 use crate::wall::Motion;
 
 /// One species.
@@ -105,6 +106,9 @@ pub struct Config {
     pub species: Vec<Species>,
     /// The floor at `z = 0` and its motion (`None`: no floor, allowed only without gravity).
     pub floor: Option<Motion>,
+    /// A sawtooth base in place of the flat floor, moving with the floor's motion, its
+    /// valleys at `z = 0`; the box width must hold a whole number of teeth.
+    pub base: Option<Sawtooth>,
     /// The lid at `z = height` and its motion (`None`: open top).
     pub lid: Option<Motion>,
     pub rules: Rules,
@@ -190,6 +194,28 @@ impl Config {
                     self.height
                 ),
             ));
+        }
+        if let Some(base) = &self.base {
+            base.validate().map_err(|(field, message)| invalid(field, message))?;
+            if self.floor.is_none() {
+                return Err(invalid("base", "a sawtooth base moves with the floor: it needs a floor"));
+            }
+            let teeth = self.width / base.width;
+            if (teeth - teeth.round()).abs() > 1e-9 * teeth.max(1.0) {
+                return Err(invalid(
+                    "base.tooth_width",
+                    format!("the box width {} m must hold a whole number of teeth, got {teeth}", self.width),
+                ));
+            }
+            if self.lid.is_some() && base.height + 2.0 * swing + d >= self.height {
+                return Err(invalid(
+                    "base.tooth_height",
+                    format!(
+                        "teeth {} m high swinging by {swing} m leave no room for a particle of diameter {d} m under the lid at {} m",
+                        base.height, self.height
+                    ),
+                ));
+            }
         }
         if self.floor.is_none() && self.gravity > 0.0 {
             return Err(invalid("floor", "gravity needs a floor"));

@@ -14,6 +14,7 @@
 //! - [`collision`]: the collision rules, pure functions of velocities, spins and the normal;
 //! - [`flight`]: parabolic flights and the exact pair contact time;
 //! - [`wall`]: fixed and oscillating walls, and their robust contact times;
+//! - [`sawtooth`]: the sawtooth base with rounded tips, and its contact times;
 //! - [`cells`]: the cell grid and its crossing times;
 //! - [`queue`]: the event queue (one predicted event per particle, generation counters);
 //! - [`observe`]: profiles, histograms, free times and the energy ledger;
@@ -28,6 +29,7 @@ pub mod error;
 pub mod flight;
 pub mod observe;
 pub mod queue;
+pub mod sawtooth;
 pub mod sim;
 pub mod wall;
 
@@ -37,5 +39,6 @@ pub type Vec2 = nalgebra::Vector2<f64>;
 pub use collision::{Restitution, Rule, Table};
 pub use config::{Config, Guard, Rules, SideWalls, Species};
 pub use error::EventsError;
+pub use sawtooth::Sawtooth;
 pub use sim::Simulation;
 pub use wall::{Motion, Wall, WallKind};

@@ -18,6 +18,7 @@ use crate::config::{Config, SideWalls};
 use crate::error::EventsError;
 use crate::flight::{fly, pair_time};
 use crate::queue::Queue;
+use crate::sawtooth::Sawtooth;
 use crate::wall::{Motion, Wall, WallKind};
 use crate::Vec2;
 
@@ -32,11 +33,32 @@ fn copy9(cells: &[u32]) -> ([u32; 9], usize) {
 /// What a particle's next event is.
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Next {
-    Pair { j: usize, count: u64 },
-    Wall { w: usize },
-    Cell { to: (usize, usize), wrap: f64 },
+    Pair {
+        j: usize,
+        count: u64,
+    },
+    Wall {
+        w: usize,
+    },
+    /// A piece (0 left side, 1 tip, 2 right side) of a tooth of the sawtooth base.
+    Tooth {
+        tooth: i64,
+        piece: u8,
+    },
+    Cell {
+        to: (usize, usize),
+        wrap: f64,
+    },
     Look,
     Nothing,
+}
+
+/// Which rules a surface collision uses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Surface {
+    Floor,
+    Lid,
+    Side,
 }
 
 /// Counters of a run.
@@ -99,9 +121,9 @@ impl Simulation {
         let mut rng = ChaCha8Rng::seed_from_u64(config.seed);
         let mut walls = Vec::new();
         let rmax = config.radius_max();
-        let floor_top = config.floor.map_or(0.0, |m| m.amplitude);
+        let floor_top = config.floor.map_or(0.0, |m| m.amplitude) + config.base.map_or(0.0, |b| b.height);
         let lid_low = config.height - config.lid.map_or(0.0, |m| m.amplitude);
-        if let Some(m) = config.floor {
+        if let (Some(m), None) = (config.floor, config.base) {
             walls.push(Wall {
                 kind: WallKind::Floor,
                 position: 0.0,
@@ -315,7 +337,7 @@ impl Simulation {
         let valid = match remembered.1 {
             Next::Pair { j, count } => self.collisions[j] == count,
             Next::Look | Next::Nothing => true,
-            Next::Wall { .. } | Next::Cell { .. } => false,
+            Next::Wall { .. } | Next::Tooth { .. } | Next::Cell { .. } => false,
         };
         if !valid {
             self.predict(i);
@@ -384,6 +406,26 @@ impl Simulation {
                 }
             }
         }
+        if let (Some(base), Some(motion)) = (self.config.base, self.config.floor) {
+            let span = (best.0 - t0).min(if self.horizon.is_finite() { self.horizon } else { f64::MAX });
+            if !base.clear_of(&motion, self.r[i], self.v[i], self.radius[i], g, span) {
+                // The particle stays in its column of cells until its next crossing.
+                let cx = self.cell[i].0 as f64 * self.grid.dx;
+                let (x_lo, x_hi) = (cx.min(self.r[i].x), (cx + self.grid.dx).max(self.r[i].x));
+                let x_hi = if self.grid.nx == 1 { x_lo.max(self.config.width) } else { x_hi };
+                for tooth in base.teeth(x_lo, x_hi, self.radius[i]) {
+                    for piece in 0..3u8 {
+                        let shape = base.piece(tooth, piece as usize);
+                        let horizon = (best.0 - t0).min(span);
+                        if let Some(t) = Sawtooth::contact_time(&shape, &motion, self.r[i], self.v[i], self.radius[i], g, t0, horizon) {
+                            if t < best.0 || (t == best.0 && !matches!(best.1, Next::Pair { .. })) {
+                                best = (t, Next::Tooth { tooth, piece });
+                            }
+                        }
+                    }
+                }
+            }
+        }
         self.next[i] = best.1;
         self.beyond_cell[i] = pairs;
         if best.1 == Next::Nothing {
@@ -424,7 +466,24 @@ impl Simulation {
             }
             Next::Wall { w } => {
                 self.advance(i, t);
-                self.wall_collision(i, w, t)?;
+                let wall = self.walls[w];
+                let kind = match wall.kind {
+                    WallKind::Floor => Surface::Floor,
+                    WallKind::Lid => Surface::Lid,
+                    WallKind::Left | WallKind::Right => Surface::Side,
+                };
+                self.surface_collision(i, wall.normal(), wall.velocity(t), kind, t)?;
+                self.predict(i);
+            }
+            Next::Tooth { tooth, piece } => {
+                self.advance(i, t);
+                let (base, motion) = match (self.config.base, self.config.floor) {
+                    (Some(b), Some(m)) => (b, m),
+                    _ => unreachable!("a tooth event needs a sawtooth base"),
+                };
+                let shape = base.piece(tooth, piece as usize);
+                let (_, _, n) = Sawtooth::gap(&shape, &motion, self.r[i], self.v[i], self.radius[i], t);
+                self.surface_collision(i, n, Vec2::new(0.0, motion.velocity(t)), Surface::Floor, t)?;
                 self.predict(i);
             }
             Next::Cell { to, wrap } => {
@@ -534,23 +593,23 @@ impl Simulation {
         Ok(())
     }
 
-    fn wall_collision(&mut self, i: usize, w: usize, t: f64) -> Result<(), EventsError> {
-        let wall = self.walls[w];
-        let rules = match wall.kind {
-            WallKind::Floor => &self.config.rules.floor,
-            WallKind::Lid => &self.config.rules.lid,
-            WallKind::Left | WallKind::Right => &self.config.rules.side,
+    /// A collision of particle `i` with a surface of infinite mass moving with `velocity`,
+    /// `n` the unit normal from the surface towards the particle.
+    fn surface_collision(&mut self, i: usize, n: Vec2, velocity: Vec2, kind: Surface, t: f64) -> Result<(), EventsError> {
+        let rules = match kind {
+            Surface::Floor => &self.config.rules.floor,
+            Surface::Lid => &self.config.rules.lid,
+            Surface::Side => &self.config.rules.side,
         };
         let rule = rules[self.species[i]].clone();
         let b1 = self.body(i);
         let b2 = Body {
-            v: wall.velocity(t),
+            v: velocity,
             w: 0.0,
             r: 0.0,
             m: f64::INFINITY,
             q: self.config.q,
         };
-        let n = wall.normal();
         let mut o = collide(b1, b2, n, &rule, self.guarded(i, None, t));
         if let Some(c) = self.min_rebound(o.gn, o.e, o.beta) {
             o = collide(b1, b2, n, &rule, Some(c));

@@ -207,48 +207,62 @@ impl Wall {
             };
             return (t0 + s <= end).then_some(t0 + s);
         }
-        let k = gravity + self.motion.max_acceleration();
         let at = |t: f64| {
             let (rr, vv) = fly(r, v, gravity, t - t0);
             (self.gap(rr, radius, t), self.gap_rate(vv, t))
         };
-        let (mut t, mut h, mut rate) = (t0, h0, rate0);
-        for _ in 0..100_000 {
-            let s = (rate + (rate * rate + 2.0 * k * h.max(0.0)).sqrt()) / k;
-            let next = t + s.max(TIME_TOLERANCE);
-            if next > end {
-                return None;
-            }
-            let (hn, rn) = at(next);
-            if hn <= 0.0 {
-                // The gap closed within (t, next] (round-off, or a touching particle that the
-                // wall catches up with): bisect to the first closing.
-                let (mut lo, mut hi) = (t, next);
-                while hi - lo > TIME_TOLERANCE {
-                    let mid = 0.5 * (lo + hi);
-                    if at(mid).0 > 0.0 {
-                        lo = mid;
-                    } else {
-                        hi = mid;
-                    }
-                }
-                let (_, rate_hi) = at(hi);
-                if rate_hi < 0.0 {
-                    return Some(hi);
-                }
-                // Touching but not approaching there: go on from the contact, gap zero.
-                (t, h, rate) = (hi, 0.0, rate_hi);
-                continue;
-            }
-            (t, h, rate) = (next, hn, rn);
-            if h <= 1e-12 * radius && rate < 0.0 {
-                return Some(t);
-            }
-        }
-        // A grazing approach that never quite touches within the iteration budget: the
-        // caller looks again at the horizon.
-        None
+        first_contact(at, gravity + self.motion.max_acceleration(), t0, end)
     }
+}
+
+/// The first time in `[t0, end]` at which a gap `h(t)` (m), given with its rate by `at(t)`,
+/// closes while closing, for a gap whose second derivative is at least `-k` (m/s^2); or
+/// `None`. From a time with gap `h >= 0` and rate `h'`, the gap stays positive for at least
+/// `s = (h' + sqrt(h'^2 + 2 k h)) / k`, the root of the bound `h + h' s - k s^2 / 2`:
+/// stepping by `s` brackets the first contact from below without stepping over it, and the
+/// last bracket is bisected to [`TIME_TOLERANCE`]. A gap closed by round-off at `t0` while
+/// closing is a contact now; one closed while opening is not, so nothing sinks.
+pub fn first_contact(at: impl Fn(f64) -> (f64, f64), k: f64, t0: f64, end: f64) -> Option<f64> {
+    let (h0, rate0) = at(t0);
+    if h0 <= 0.0 && rate0 < 0.0 {
+        return Some(t0);
+    }
+    let (mut t, mut h, mut rate) = (t0, h0.max(0.0), rate0);
+    for _ in 0..100_000 {
+        let s = (rate + (rate * rate + 2.0 * k * h.max(0.0)).sqrt()) / k;
+        let next = t + s.max(TIME_TOLERANCE);
+        if next > end {
+            return None;
+        }
+        let (hn, rn) = at(next);
+        if hn <= 0.0 {
+            // The gap closed within (t, next] (round-off, or a touching particle that the
+            // wall catches up with): bisect to the first closing.
+            let (mut lo, mut hi) = (t, next);
+            while hi - lo > TIME_TOLERANCE {
+                let mid = 0.5 * (lo + hi);
+                if at(mid).0 > 0.0 {
+                    lo = mid;
+                } else {
+                    hi = mid;
+                }
+            }
+            let (_, rate_hi) = at(hi);
+            if rate_hi < 0.0 {
+                return Some(hi);
+            }
+            // Touching but not approaching there: go on from the contact, gap zero.
+            (t, h, rate) = (hi, 0.0, rate_hi);
+            continue;
+        }
+        (t, h, rate) = (next, hn, rn);
+        if h <= 1e-15 && rate < 0.0 {
+            return Some(t);
+        }
+    }
+    // A grazing approach that never quite touches within the iteration budget: the caller
+    // looks again at its horizon.
+    None
 }
 
 #[cfg(test)]

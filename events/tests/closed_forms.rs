@@ -27,6 +27,7 @@ fn fixed_box(width: f64, height: f64, gravity: f64, sp: Vec<Species>, pair: Rule
         q: 0.5,
         species: sp,
         floor: Some(Motion::FIXED),
+        base: None,
         lid: Some(Motion::FIXED),
         rules: Rules::uniform(pair, wall, n),
         guard: Guard::default(),
@@ -210,6 +211,7 @@ fn ball_on_plate(e: f64, gamma: f64, frequency: f64) -> Config {
             frequency,
             phase: 0.0,
         }),
+        base: None,
         lid: None,
         rules: Rules::uniform(Rule::smooth(1.0), Rule::smooth(e), 1),
         // While the plate pushes harder than gravity the ball sticks to it; the guard lets it
