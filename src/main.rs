@@ -9,6 +9,7 @@ mod cellular;
 mod cli_values;
 mod clock;
 mod commands;
+mod events_checkpoint;
 mod events_scene;
 mod observers;
 mod output;

@@ -107,3 +107,54 @@ fn bad_event_scenes_are_refused_and_leave_nothing() {
     assert!(!d.join("collapse").exists());
     let _ = std::fs::remove_dir_all(&d);
 }
+
+#[test]
+fn a_ratchet_run_extended_with_resume_matches_the_whole_run_byte_for_byte() {
+    let d = std::env::temp_dir().join(format!("stripes-cli-events-resume-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/ratchet.toml");
+    let (whole, part) = (d.join("whole").display().to_string(), d.join("part").display().to_string());
+    let run = |out: &str, duration: &str, extra: &[&str]| {
+        let set = format!("run.duration={duration}");
+        let mut args = vec![
+            "events",
+            scene,
+            "--out",
+            out,
+            "--quiet",
+            "--set",
+            "run.transient=0.5",
+            "--set",
+            &set,
+        ];
+        args.extend_from_slice(extra);
+        stripes(&args)
+    };
+    let (ok, stdout, stderr) = run(&whole, "3", &[]);
+    assert!(ok, "{stderr}");
+    let full = last_json(&stdout);
+    assert!(run(&part, "1.5", &[]).0);
+    // Resuming needs --resume: a plain second run is refused.
+    assert!(!run(&part, "3", &[]).0);
+    let (ok, stdout, stderr) = run(&part, "3", &["--resume"]);
+    assert!(ok, "{stderr}");
+    let resumed = last_json(&stdout);
+    assert_eq!(resumed["resumed"], true);
+    for key in ["collisions", "current_x_m_per_s", "mean_height_m", "energy_ledger_error"] {
+        assert_eq!(resumed[key], full[key], "{key}");
+    }
+    for f in ["snapshots.bin", "profiles.csv"] {
+        let a = std::fs::read(d.join("whole").join(f)).unwrap();
+        let b = std::fs::read(d.join("part").join(f)).unwrap();
+        assert!(a == b, "{f} differs after --resume");
+    }
+    // Another scene, or a checkpoint cut short, is refused with the reason.
+    let (ok, _, stderr) = run(&part, "4", &["--resume", "--set", "rules.pair.e=0.7"]);
+    assert!(!ok && stderr.contains("scene differs"), "{stderr}");
+    let ckpt = d.join("part").join("checkpoint.bin");
+    let bytes = std::fs::read(&ckpt).unwrap();
+    std::fs::write(&ckpt, &bytes[..bytes.len() / 2]).unwrap();
+    let (ok, _, stderr) = run(&part, "4", &["--resume"]);
+    assert!(!ok && stderr.contains("cut short"), "{stderr}");
+    let _ = std::fs::remove_dir_all(&d);
+}

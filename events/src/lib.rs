@@ -40,5 +40,5 @@ pub use collision::{Restitution, Rule, Table};
 pub use config::{Config, Guard, Rules, SideWalls, Species};
 pub use error::EventsError;
 pub use sawtooth::Sawtooth;
-pub use sim::Simulation;
+pub use sim::{Next, Simulation, State};
 pub use wall::{Motion, Wall, WallKind};

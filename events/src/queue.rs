@@ -113,6 +113,12 @@ impl Queue {
         }
     }
 
+    /// Particle `i`'s scheduled time, if it is scheduled.
+    pub fn time_of(&self, i: usize) -> Option<f64> {
+        let k = self.place[i];
+        (k != usize::MAX).then(|| self.heap[k].0)
+    }
+
     /// The earliest entry: `(time, particle)`, without removing it.
     pub fn peek(&self) -> Option<(f64, usize)> {
         self.heap.first().copied()

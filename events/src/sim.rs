@@ -32,7 +32,7 @@ fn copy9(cells: &[u32]) -> ([u32; 9], usize) {
 
 /// What a particle's next event is.
 #[derive(Clone, Copy, Debug, PartialEq)]
-enum Next {
+pub enum Next {
     Pair {
         j: usize,
         count: u64,
@@ -51,6 +51,34 @@ enum Next {
     },
     Look,
     Nothing,
+}
+
+/// The complete state of a simulation as plain data (see [`Simulation::export_state`]). The
+/// engine knows no byte layout: whoever stores it chooses one.
+#[derive(Clone, Debug, PartialEq)]
+pub struct State {
+    pub time: f64,
+    /// Per particle, at its own clock `t`: position, velocity, spin.
+    pub r: Vec<Vec2>,
+    pub v: Vec<Vec2>,
+    pub w: Vec<f64>,
+    pub t: Vec<f64>,
+    pub radius: Vec<f64>,
+    pub species: Vec<usize>,
+    pub cell: Vec<(usize, usize)>,
+    pub collisions: Vec<u64>,
+    pub last_collision: Vec<f64>,
+    pub next: Vec<Next>,
+    pub beyond_cell: Vec<(f64, Next)>,
+    pub window: Vec<(f64, u32)>,
+    pub last_partner: Vec<usize>,
+    /// The particles of each cell, in their order.
+    pub members: Vec<Vec<usize>>,
+    /// Each particle's scheduled event time, if any.
+    pub scheduled: Vec<Option<f64>>,
+    pub counts: Counts,
+    pub ledger: Ledger,
+    pub free_times: [Vec<f64>; 2],
 }
 
 /// Which rules a surface collision uses.
@@ -638,6 +666,93 @@ impl Simulation {
                     + m * self.config.gravity * r.y
             })
             .sum()
+    }
+
+    /// The complete state, lazy clocks and predicted events included, as plain data: what a
+    /// run restored from it needs to continue bit for bit.
+    pub fn export_state(&self) -> State {
+        State {
+            time: self.time,
+            r: self.r.clone(),
+            v: self.v.clone(),
+            w: self.w.clone(),
+            t: self.t.clone(),
+            radius: self.radius.clone(),
+            species: self.species.clone(),
+            cell: self.cell.clone(),
+            collisions: self.collisions.clone(),
+            last_collision: self.last_collision.clone(),
+            next: self.next.clone(),
+            beyond_cell: self.beyond_cell.clone(),
+            window: self.window.clone(),
+            last_partner: self.last_partner.clone(),
+            members: self.members.clone(),
+            scheduled: (0..self.len()).map(|i| self.queue.time_of(i)).collect(),
+            counts: self.counts,
+            ledger: self.ledger,
+            free_times: self.free_times.clone(),
+        }
+    }
+
+    /// A simulation of `config` continued from `state` (from [`Simulation::export_state`]
+    /// of a run of the same configuration). The state is checked against the configuration:
+    /// an error names what does not match.
+    pub fn import_state(config: Config, state: State) -> Result<Self, EventsError> {
+        let mut sim = Simulation::new(config)?;
+        let n = sim.len();
+        let mismatch = |what: &str| crate::error::invalid("state", format!("{what} does not match the configuration"));
+        let lengths = [
+            state.r.len(),
+            state.v.len(),
+            state.w.len(),
+            state.t.len(),
+            state.radius.len(),
+            state.species.len(),
+            state.cell.len(),
+            state.collisions.len(),
+            state.last_collision.len(),
+            state.next.len(),
+            state.beyond_cell.len(),
+            state.window.len(),
+            state.last_partner.len(),
+            state.scheduled.len(),
+        ];
+        if lengths.iter().any(|&l| l != n) {
+            return Err(mismatch("the particle count"));
+        }
+        if state.radius != sim.radius || state.species != sim.species {
+            return Err(mismatch("the radii or species"));
+        }
+        if state.members.len() != sim.members.len()
+            || state.members.iter().map(Vec::len).sum::<usize>() != n
+            || state.members.iter().flatten().any(|&i| i >= n)
+            || state.cell.iter().any(|&(x, z)| x >= sim.grid.nx || z >= sim.grid.nz)
+        {
+            return Err(mismatch("the cell grid"));
+        }
+        sim.time = state.time;
+        sim.r = state.r;
+        sim.v = state.v;
+        sim.w = state.w;
+        sim.t = state.t;
+        sim.cell = state.cell;
+        sim.collisions = state.collisions;
+        sim.last_collision = state.last_collision;
+        sim.next = state.next;
+        sim.beyond_cell = state.beyond_cell;
+        sim.window = state.window;
+        sim.last_partner = state.last_partner;
+        sim.members = state.members;
+        sim.counts = state.counts;
+        sim.ledger = state.ledger;
+        sim.free_times = state.free_times;
+        sim.queue = Queue::new(n);
+        for (i, t) in state.scheduled.iter().enumerate() {
+            if let Some(t) = t {
+                sim.queue.schedule(i, *t);
+            }
+        }
+        Ok(sim)
     }
 
     /// Collisions (pair + wall) so far.

@@ -2,11 +2,12 @@
 //! event-driven scene (`model = "events"`, see `docs/scenes.md`). It writes the run
 //! directory as `stripes run` does: `config.json`, `scene.toml`, `snapshots.bin` (the
 //! format `stripes analyze` reads, the vertical plane stored as x and z with y = R_max),
-//! `profiles.csv` with plots of the density and temperature profiles, and `summary.json`,
-//! printed last.
+//! `profiles.csv` with plots of the density and temperature profiles, `checkpoint.bin`
+//! (every 30 s of wall time and at the end), and `summary.json`, printed last. `--resume`
+//! continues a run from its checkpoint bit for bit, also past its old `run.duration`.
 
 use std::path::PathBuf;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use analysis::plot::{LinePlot, Mark};
 use analysis::snapshot::{Header, SnapshotWriter};
@@ -15,6 +16,7 @@ use events::Simulation;
 use serde::Serialize;
 use serde_json::json;
 
+use crate::events_checkpoint;
 use crate::output::{progress_bar, CliError, RunDir};
 
 #[derive(clap::Args, Debug, Serialize)]
@@ -28,8 +30,12 @@ pub struct Args {
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// Replace the files of an output directory that already holds some (default: refuse it).
-    #[arg(long)]
+    #[arg(long, conflicts_with = "resume")]
     pub force: bool,
+    /// Continue the run in --out from its checkpoint.bin (the scene may change only
+    /// run.duration, e.g. to extend a finished run).
+    #[arg(long)]
+    pub resume: bool,
     /// No progress output (warnings still go to stderr, the summary to stdout).
     #[arg(long)]
     pub quiet: bool,
@@ -43,12 +49,39 @@ pub fn run(args: Args) -> Result<String, CliError> {
         .file_stem()
         .map_or_else(|| "scene".into(), |s| s.to_string_lossy().into_owned());
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from(format!("out/events-{name}")));
-    crate::output::claim(&out, args.force)?;
+    let fingerprint = fingerprint(&scene)?;
+    let resumed = if args.resume {
+        let path = out.join("checkpoint.bin");
+        let bytes = std::fs::read(&path).map_err(|e| format!("--resume: cannot read {} (nothing was written): {e}", path.display()))?;
+        let c = events_checkpoint::decode(&bytes).map_err(|e| format!("--resume: {}: {e}", path.display()))?;
+        if c.fingerprint != fingerprint {
+            return Err(format!(
+                "--resume: the scene differs from the one {} was written with (only run.duration may change; compare with {})",
+                path.display(),
+                out.join("scene.toml").display()
+            )
+            .into());
+        }
+        Some(c)
+    } else {
+        crate::output::claim(&out, args.force)?;
+        None
+    };
     // Placed before anything is written: particles that do not fit leave nothing behind.
-    let sim = Simulation::new(config)?;
+    let start = match resumed {
+        Some(c) => {
+            let sim = Simulation::import_state(config, c.state.clone())
+                .map_err(|e| format!("--resume: {}: {e}", out.join("checkpoint.bin").display()))?;
+            Start { sim, resumed: Some(c) }
+        }
+        None => Start {
+            sim: Simulation::new(config)?,
+            resumed: None,
+        },
+    };
     let fresh = !out.exists();
     let lock = crate::run_lock::RunLock::acquire(&out)?;
-    let result = simulate(&args, &scene, sim, &out);
+    let result = simulate(&args, &scene, start, fingerprint, &out);
     drop(lock);
     if result.is_err() && fresh {
         let _ = std::fs::remove_dir_all(&out);
@@ -56,30 +89,79 @@ pub fn run(args: Args) -> Result<String, CliError> {
     result
 }
 
-fn simulate(args: &Args, scene: &crate::events_scene::EventScene, mut sim: Simulation, out: &std::path::Path) -> Result<String, CliError> {
+/// The simulation to run, new or continued from a checkpoint.
+struct Start {
+    sim: Simulation,
+    resumed: Option<events_checkpoint::Checkpoint>,
+}
+
+/// What a checkpoint must match to be resumed: the scene, except `run.duration`.
+fn fingerprint(scene: &crate::events_scene::EventScene) -> Result<u64, CliError> {
+    let mut s = scene.clone();
+    s.run.duration = 0.0;
+    Ok(events_checkpoint::fnv1a(toml::to_string(&s)?.as_bytes()))
+}
+
+/// Wall time between checkpoints.
+const CHECKPOINT_EVERY: Duration = Duration::from_secs(30);
+
+fn simulate(
+    args: &Args,
+    scene: &crate::events_scene::EventScene,
+    start: Start,
+    fingerprint: u64,
+    out: &std::path::Path,
+) -> Result<String, CliError> {
+    let Start { mut sim, resumed } = start;
     let mut dir = RunDir::create(out, &json!({ "args": args, "scene": scene }))?;
     analysis::io::write_atomic(&out.join("scene.toml"), toml::to_string(scene)?.as_bytes())?;
     let species = sim.config.species.len();
     let rmax = sim.config.radius_max();
-    let mut snapshots = SnapshotWriter::create(
-        &out.join("snapshots.bin"),
-        Header {
-            length: sim.config.width,
-            width: 2.0 * rmax,
-            radii: sim.radius.clone(),
-        },
-    )?;
+    let header = Header {
+        length: sim.config.width,
+        width: 2.0 * rmax,
+        radii: sim.radius.clone(),
+    };
+    let snapshots_path = out.join("snapshots.bin");
     let f = scene.drive.frequency;
     let dt_sample = 1.0 / (f * scene.run.samples_per_period as f64);
     let samples = (scene.run.duration / dt_sample).floor() as u64;
     let top = sim.config.height + sim.config.lid.map_or(0.0, |m| m.amplitude);
-    let mut obs = Observer::new(species, scene.run.bin, top);
-    let e0 = sim.energy();
+    let (mut obs, e0, first, mut frames, mut snapshots) = match resumed {
+        Some(c) => {
+            let snapshots = SnapshotWriter::open_append(&snapshots_path, header, c.frames)
+                .map_err(|e| format!("--resume: {}: {e}", snapshots_path.display()))?;
+            (c.observer, c.e0, c.sample + 1, c.frames, snapshots)
+        }
+        None => {
+            let obs = Observer::new(species, scene.run.bin, top);
+            let e0 = sim.energy();
+            (obs, e0, 1, 0, SnapshotWriter::create(&snapshots_path, header)?)
+        }
+    };
+    let collisions_before = sim.collisions();
     let bar = progress_bar(samples, args.quiet, "events");
+    bar.set_position(first - 1);
     let wall = Instant::now();
+    let mut last_checkpoint = Instant::now();
+    let checkpoint_path = out.join("checkpoint.bin");
+    let checkpoint = |sim: &Simulation, obs: &Observer, sample: u64, frames: u64, snapshots: &mut SnapshotWriter| {
+        // The frames the checkpoint counts are on disk before it is.
+        snapshots.sync()?;
+        let c = events_checkpoint::Checkpoint {
+            fingerprint,
+            sample,
+            frames,
+            e0,
+            state: sim.export_state(),
+            observer: obs.clone(),
+        };
+        analysis::io::write_atomic(&checkpoint_path, &events_checkpoint::encode(&c))
+            .map_err(|e| CliError::from(format!("cannot write {}: {e}", checkpoint_path.display())))
+    };
     // On-CPU time of the loop (events, samples and frames): the speed on an idle core.
     let clock = crate::clock::Stopwatch::start(true);
-    for k in 1..=samples {
+    for k in first..=samples {
         let t = k as f64 * dt_sample;
         sim.run_until(t).map_err(|e| format!("{}: {e}", args.scene.display()))?;
         if t >= scene.run.transient {
@@ -90,13 +172,20 @@ fn simulate(args: &Args, scene: &crate::events_scene::EventScene, mut sim: Simul
                 states.iter().map(|(r, _)| [r.x, rmax, r.y]),
                 states.iter().map(|(_, v)| [v.x, 0.0, v.y]),
             )?;
+            frames += 1;
+        }
+        if last_checkpoint.elapsed() >= CHECKPOINT_EVERY {
+            checkpoint(&sim, &obs, k, frames, &mut snapshots)?;
+            last_checkpoint = Instant::now();
         }
         bar.set_message(format!("t = {t:.3} s of {} s, {} collisions", scene.run.duration, sim.collisions()));
         bar.set_position(k);
     }
     let stepping = clock.seconds();
     bar.finish_and_clear();
-    snapshots.sync()?;
+    // The end is a checkpoint too: `--resume` with a longer run.duration extends the run.
+    checkpoint(&sim, &obs, samples.max(first - 1), frames, &mut snapshots)?;
+    dir.note_files([checkpoint_path.clone()]);
     let wall_s = wall.elapsed().as_secs_f64();
     let ledger = ledger_error(&sim, e0);
     let mut warnings = Vec::new();
@@ -176,7 +265,8 @@ fn simulate(args: &Args, scene: &crate::events_scene::EventScene, mut sim: Simul
         "pair_collisions": sim.counts.pair,
         "wall_collisions": sim.counts.wall,
         "cell_crossings": sim.counts.cell,
-        "collisions_per_s": collisions as f64 / stepping.max(1e-9),
+        "collisions_per_s": (collisions - collisions_before) as f64 / stepping.max(1e-9),
+        "resumed": first > 1,
         "cpu_s": stepping,
         "energy_ledger_error": ledger,
         "wall_work_j": sim.ledger.wall_work,
