@@ -10,6 +10,7 @@ mod cli_values;
 mod clock;
 mod commands;
 mod events_checkpoint;
+mod events_measure;
 mod events_scene;
 mod observers;
 mod output;
@@ -69,6 +70,9 @@ enum Command {
     /// The event-driven model of a vibrated box (hard disks or spheres in a vertical plane,
     /// Walton's collisions) on an event-driven scene (model = "events").
     Events(commands::events::Args),
+    /// The event-driven model over a grid of scene values and seeds, in parallel: tables of
+    /// the current, height, K/R and temperatures, with plots.
+    EventsSweep(commands::events_sweep::Args),
     /// Speed against error of every accuracy-for-speed choice (time step, Young's modulus,
     /// integrator, 2D/3D, normal law, neighbour skin): Markdown table and Pareto plot.
     Bench(commands::bench::Args),
@@ -90,6 +94,7 @@ fn main() -> ExitCode {
         Command::Compare(a) => commands::compare::run(a),
         Command::Bench(a) => commands::bench::run(a),
         Command::Events(a) => commands::events::run(a),
+        Command::EventsSweep(a) => commands::events_sweep::run(a),
         Command::Mechanism(a) => commands::mechanism::run(a),
     };
     match result {

@@ -123,6 +123,19 @@ impl Observer {
             .collect()
     }
 
+    /// The ratio K/R of translational to rotational kinetic energy, over every sample and
+    /// species (infinite when nothing spins).
+    pub fn kinetic_ratio(&self) -> f64 {
+        let sum = |f: fn(&Profile) -> &Vec<f64>| self.species.iter().map(|p| f(p).iter().sum::<f64>()).sum::<f64>();
+        let k = sum(|p| &p.mvx2) + sum(|p| &p.mvz2);
+        let r = sum(|p| &p.iw2);
+        if r > 0.0 {
+            k / r
+        } else {
+            f64::INFINITY
+        }
+    }
+
     /// Whole-box temperatures of species `k`: `(T_x, T_z, T_rot)` (J).
     pub fn temperatures(&self, k: usize) -> (f64, f64, f64) {
         let p = &self.species[k];

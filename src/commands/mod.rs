@@ -11,6 +11,7 @@ pub mod compare;
 pub mod contact_time;
 pub mod eccentricity;
 pub mod events;
+pub mod events_sweep;
 pub mod mechanism;
 pub mod phase_map;
 pub mod run;

@@ -25,13 +25,32 @@ pub fn apply(doc: &mut toml::Table, assignment: &str) -> Result<(), SceneError> 
     }
     let (last, tables) = parts.split_last().expect("split yields at least one part");
     let mut table = doc;
-    for part in tables {
-        let entry = table
+    let mut k = 0;
+    while k < tables.len() {
+        let part = tables[k];
+        let mut entry = table
             .entry(part.to_string())
             .or_insert_with(|| toml::Value::Table(toml::Table::new()));
+        // An array of tables takes an index: `particles.species.0.count=49`.
+        if let toml::Value::Array(items) = entry {
+            let len = items.len();
+            let index = tables
+                .get(k + 1)
+                .and_then(|i| i.parse::<usize>().ok())
+                .filter(|&i| i < len)
+                .ok_or_else(|| {
+                    err(
+                        &blame,
+                        format!("`{part}` is a list of {len}: give an index below {len}, e.g. {part}.0.key"),
+                    )
+                })?;
+            entry = &mut items[index];
+            k += 1;
+        }
         table = entry
             .as_table_mut()
             .ok_or_else(|| err(&blame, format!("`{part}` is a value, not a table")))?;
+        k += 1;
     }
     if table.get(*last).is_some_and(|v| v.is_table()) && !value.is_table() {
         let keys: Vec<&str> = table[*last].as_table().map_or(vec![], |t| t.keys().map(|k| k.as_str()).collect());
@@ -110,6 +129,16 @@ mod tests {
             Some(k) => Err(format!("unknown field `{k}`")),
             None => Ok(doc),
         }
+    }
+
+    #[test]
+    fn an_index_reaches_into_an_array_of_tables() {
+        let text = "[[a]]\ncount = 1\n[[a]]\ncount = 2\n";
+        let doc = parse(text, &["a.1.count=7".into()], "s.toml", read).unwrap();
+        assert_eq!(doc["a"][1]["count"].as_integer(), Some(7));
+        assert_eq!(doc["a"][0]["count"].as_integer(), Some(1));
+        let e = parse(text, &["a.2.count=7".into()], "s.toml", read).unwrap_err();
+        assert!(e.message.contains("list of 2"), "{e:?}");
     }
 
     #[test]
