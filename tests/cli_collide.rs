@@ -81,3 +81,70 @@ fn eccentricity_study_writes_table_and_plots() {
     }
     std::fs::remove_dir_all(out).unwrap();
 }
+
+#[test]
+fn the_restitution_table_of_a_scene_feeds_the_event_driven_model() {
+    let d = std::env::temp_dir().join(format!("stripes-cli-collide-table-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    let out = d.join("table").display().to_string();
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/stripes.toml");
+    let (ok, stdout, stderr) = stripes(&[
+        "collide", "--table", "--scene", scene, "--g-n", "0.05,0.2", "--ratios", "0.1,1,5", "--out", &out,
+    ]);
+    assert!(ok, "{stderr}");
+    let s: serde_json::Value = serde_json::from_str(stdout.lines().last().unwrap()).unwrap();
+    assert_eq!(s["restitution"]["impacts"], 6);
+    assert_eq!(s["restitution_floor"]["impacts"], 6);
+    for f in [
+        "restitution.csv",
+        "restitution_floor.csv",
+        "restitution_beta.png",
+        "restitution_floor_eps_n.png",
+    ] {
+        assert!(d.join("table").join(f).is_file(), "{f} missing");
+    }
+    let text = std::fs::read_to_string(d.join("table").join("restitution.csv")).unwrap();
+    assert!(text.starts_with("g_n,g_t_over_g_n,eps_n,beta\n"), "{text}");
+    // Every coefficient is a restitution: eps_n in (0, 1], beta in [-1, 1].
+    for line in text.lines().skip(1) {
+        let v: Vec<f64> = line.split(',').map(|x| x.parse().unwrap()).collect();
+        assert!(v[2] > 0.0 && v[2] <= 1.0 && v[3] >= -1.0 && v[3] <= 1.0, "{line}");
+    }
+    // The event-driven model runs the ratchet with this table as its pair and floor rules.
+    let events = d.join("ev").display().to_string();
+    let ratchet = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/ratchet.toml");
+    let pair = format!("rules.pair={{table = \"{}\"}}", d.join("table").join("restitution.csv").display());
+    let floor = format!(
+        "rules.floor={{table = \"{}\"}}",
+        d.join("table").join("restitution_floor.csv").display()
+    );
+    let (ok, stdout, stderr) = stripes(&[
+        "events",
+        ratchet,
+        "--out",
+        &events,
+        "--quiet",
+        "--set",
+        &pair,
+        "--set",
+        &floor,
+        "--set",
+        "run.duration=2",
+        "--set",
+        "run.transient=0.5",
+    ]);
+    assert!(ok, "{stderr}");
+    let s: serde_json::Value = serde_json::from_str(stdout.lines().last().unwrap()).unwrap();
+    assert!(s["collisions"].as_u64().unwrap() > 1000, "{s}");
+    // A zero ratio is refused naming it.
+    let (ok, _, stderr) = stripes(&[
+        "collide",
+        "--table",
+        "--ratios",
+        "0,1",
+        "--out",
+        &d.join("bad").display().to_string(),
+    ]);
+    assert!(!ok && stderr.contains("must be positive"), "{stderr}");
+    let _ = std::fs::remove_dir_all(&d);
+}

@@ -1,5 +1,9 @@
 //! `stripes collide`: one binary impact of two spheres, or of a sphere on a wall (thesis 3.2.5
-//! and chapter 4).
+//! and chapter 4). With `--table`, the restitution table: the impact swept over the normal
+//! speed and the ratio g_t/g_n, for pairs (`restitution.csv`) and for the floor
+//! (`restitution_floor.csv`), with columns `g_n, g_t_over_g_n, eps_n, beta` (the table the
+//! event-driven model reads as its collision rule) and plots; `--scene` takes the laws,
+//! radius and density from a tray scene.
 
 use std::path::PathBuf;
 
@@ -10,6 +14,8 @@ use particles::integrate::Integrator;
 use particles::material::Material;
 use particles::Vec3;
 use serde::Serialize;
+
+use analysis::plot::{LinePlot, Mark};
 
 use crate::output::{parse_vec3, CliError, RunDir};
 
@@ -22,7 +28,7 @@ fn kind<K: std::str::FromStr<Err = String> + Clone + Send + Sync + 'static>(
 }
 
 /// Options of `stripes collide`. SI units. Defaults: the thesis' glass beads (Table 3.1).
-#[derive(clap::Args, Debug, Serialize)]
+#[derive(clap::Args, Clone, Debug, Serialize)]
 pub struct Args {
     /// Normal law: hertz (eq 3.8; --young, --poisson, --dissipation) or linear (eq 4.21;
     /// --kn, --gamma-n).
@@ -104,6 +110,25 @@ pub struct Args {
     /// Time integrator: velocity-verlet or thesis (sec 3.5.1).
     #[arg(long, value_parser = kind::<Integrator>(Integrator::NAMES), default_value = "velocity-verlet")]
     pub integrator: Integrator,
+    /// Sweep the impact over --g-n and --ratios, for pairs and for the floor, and write the
+    /// restitution tables (restitution.csv, restitution_floor.csv) with plots.
+    #[arg(long)]
+    pub table: bool,
+    /// With --table: the normal impact speeds g_n (m/s).
+    #[arg(long, value_delimiter = ',', default_value = "0.01,0.02,0.05,0.1,0.2,0.5,1", requires = "table")]
+    pub g_n: Vec<f64>,
+    /// With --table: the ratios g_t / g_n of tangential to normal contact-point speed (> 0).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "0.05,0.1,0.2,0.3,0.5,0.75,1,1.5,2,3,5,10",
+        requires = "table"
+    )]
+    pub ratios: Vec<f64>,
+    /// With --table: take the pair and wall laws, the mean radius and the density from this
+    /// tray scene (with its toggles) instead of the law options.
+    #[arg(long, requires = "table")]
+    pub scene: Option<PathBuf>,
     /// Output directory.
     #[arg(long, default_value = "out/collide")]
     pub out: PathBuf,
@@ -188,9 +213,81 @@ impl Args {
 }
 
 pub fn run(args: Args) -> Result<String, CliError> {
+    if args.table {
+        return run_table(args);
+    }
     let collision = args.collision()?;
     let result = collision.run()?;
     crate::output::claim(&args.out, args.force)?;
     let dir = RunDir::create(&args.out, &args)?;
     dir.finish(serde_json::to_value(&result)?)
+}
+
+/// `--table`: the restitution tables of pairs and of the floor, with plots.
+fn run_table(args: Args) -> Result<String, CliError> {
+    for &x in args.g_n.iter().chain(&args.ratios) {
+        if !(x.is_finite() && x > 0.0) {
+            return Err(format!("--g-n and --ratios must be positive numbers, got {x}").into());
+        }
+    }
+    let mut pair = Args {
+        wall: false,
+        eccentricity: None,
+        ..args.clone()
+    }
+    .collision()?;
+    let mut floor = pair;
+    floor.target = Target::Wall;
+    let mut source = "the law options".to_string();
+    if let Some(path) = &args.scene {
+        let scene = crate::scene_file::load(path, &[])?.dem;
+        let (pair_law, wall_law) = scene.laws()?;
+        let r = 0.5 * (scene.particles.radius_min + scene.particles.radius_max);
+        let m = scene.material().density * 4.0 / 3.0 * std::f64::consts::PI * r.powi(3);
+        pair.law = pair_law;
+        (pair.r1, pair.m1) = (r, m);
+        pair.target = Target::Sphere {
+            r,
+            m,
+            omega: Vec3::zeros(),
+        };
+        floor = pair;
+        floor.law = wall_law;
+        floor.target = Target::Wall;
+        source = format!("{} (radius {r:e} m, density {} kg/m^3)", path.display(), scene.material().density);
+    }
+    crate::output::claim(&args.out, args.force)?;
+    let mut dir = RunDir::create(&args.out, &args)?;
+    let mut summary = serde_json::Map::new();
+    for (name, base) in [("restitution", pair), ("restitution_floor", floor)] {
+        let rows = particles::experiment::restitution::table(&base, &args.g_n, &args.ratios)?;
+        let table: Vec<Vec<f64>> = rows.iter().map(|r| vec![r.g_n, r.g_t_over_g_n, r.eps_n, r.beta]).collect();
+        dir.csv(&format!("{name}.csv"), &["g_n", "g_t_over_g_n", "eps_n", "beta"], &table)?;
+        let what = if name == "restitution" { "pairs" } else { "the floor" };
+        let mut beta = LinePlot::new(&format!("Tangential restitution, {what}"), "g_t / g_n", "beta").log_x();
+        let mut eps = LinePlot::new(&format!("Normal restitution, {what}"), "g_n (m/s)", "eps_n").log_x();
+        for &vn in &args.g_n {
+            let line: Vec<(f64, f64)> = rows.iter().filter(|r| r.g_n == vn).map(|r| (r.g_t_over_g_n, r.beta)).collect();
+            beta = beta.series(&format!("g_n = {vn} m/s"), line, Mark::LinePoints);
+        }
+        let slow = args.ratios[0];
+        eps = eps.series(
+            &format!("g_t / g_n = {slow}"),
+            rows.iter().filter(|r| r.g_t_over_g_n == slow).map(|r| (r.g_n, r.eps_n)).collect(),
+            Mark::LinePoints,
+        );
+        dir.plot(&format!("{name}_beta"), &beta.include_y(-1.0).include_y(1.0))?;
+        dir.plot(&format!("{name}_eps_n"), &eps)?;
+        let (lo, hi) = rows
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), r| (a.min(r.beta), b.max(r.beta)));
+        summary.insert(
+            name.to_string(),
+            serde_json::json!({ "impacts": rows.len(), "beta_min": lo, "beta_max": hi,
+                "eps_n_min": rows.iter().map(|r| r.eps_n).fold(f64::INFINITY, f64::min),
+                "eps_n_max": rows.iter().map(|r| r.eps_n).fold(f64::NEG_INFINITY, f64::max) }),
+        );
+    }
+    summary.insert("laws_from".into(), source.into());
+    dir.finish(serde_json::Value::Object(summary))
 }

@@ -5,5 +5,6 @@ pub mod closed_form;
 pub mod collide;
 pub mod contact_time;
 pub mod eccentricity;
+pub mod restitution;
 pub mod single;
 pub mod step_control;
