@@ -104,8 +104,12 @@ pub struct EventSpecies {
     pub count: usize,
     pub radius_min: f64,
     pub radius_max: f64,
-    /// Mass of each grain (kg).
-    pub mass: f64,
+    /// Mass of each grain (kg); or give `density`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mass: Option<f64>,
+    /// Material density (kg/m^3): each grain's mass is rho (4/3) pi R^3.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub density: Option<f64>,
 }
 
 /// `[particles]`.
@@ -413,13 +417,25 @@ impl EventScene {
                 .particles
                 .species
                 .iter()
-                .map(|s| Species {
-                    count: s.count,
-                    radius_min: s.radius_min,
-                    radius_max: s.radius_max,
-                    mass: s.mass,
+                .enumerate()
+                .map(|(k, s)| {
+                    Ok(Species {
+                        count: s.count,
+                        radius_min: s.radius_min,
+                        radius_max: s.radius_max,
+                        mass: match (s.mass, s.density) {
+                            (Some(m), None) => events::Mass::Each(m),
+                            (None, Some(rho)) => events::Mass::Density(rho),
+                            _ => {
+                                return Err(bad(
+                                    &format!("particles.species.{k}"),
+                                    "give either mass (kg, every grain) or density (kg/m^3)",
+                                ))
+                            }
+                        },
+                    })
                 })
-                .collect(),
+                .collect::<Result<_, SceneError>>()?,
             floor: wall("drive.floor", &self.drive.floor, false)?,
             base: match &self.base {
                 None => None,

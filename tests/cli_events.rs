@@ -158,3 +158,67 @@ fn a_ratchet_run_extended_with_resume_matches_the_whole_run_byte_for_byte() {
     assert!(!ok && stderr.contains("cut short"), "{stderr}");
     let _ = std::fs::remove_dir_all(&d);
 }
+
+#[test]
+fn a_sweep_gives_the_same_tables_on_one_thread_and_on_two() {
+    let d = std::env::temp_dir().join(format!("stripes-cli-events-sweep-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/ratchet.toml");
+    let sweep = |name: &str, threads: &str| {
+        let out = d.join(name).display().to_string();
+        let (ok, stdout, stderr) = stripes(&[
+            "events-sweep",
+            scene,
+            "--vary",
+            "base.asymmetry=0.1,0.5",
+            "--seeds",
+            "2",
+            "--threads",
+            threads,
+            "--set",
+            "run.duration=2",
+            "--set",
+            "run.transient=0.5",
+            "--out",
+            &out,
+            "--quiet",
+        ]);
+        assert!(ok, "{stderr}");
+        (last_json(&stdout), d.join(name))
+    };
+    let (one, dir1) = sweep("one", "1");
+    let (_, dir2) = sweep("two", "2");
+    assert_eq!(one["runs"], 4);
+    // Measures other than the speed are identical whatever the thread count.
+    let table = |dir: &std::path::Path| -> Vec<Vec<String>> {
+        let text = std::fs::read_to_string(dir.join("runs.csv")).unwrap();
+        let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
+        let speed = header.iter().position(|h| *h == "collisions_per_s").unwrap();
+        text.lines()
+            .map(|l| {
+                l.split(',')
+                    .enumerate()
+                    .filter(|(k, _)| *k != speed)
+                    .map(|(_, v)| v.to_string())
+                    .collect()
+            })
+            .collect()
+    };
+    assert_eq!(table(&dir1), table(&dir2));
+    assert_eq!(table(&dir1).len(), 5);
+    let means = std::fs::read_to_string(dir1.join("means.csv")).unwrap();
+    assert!(
+        means.starts_with("base.asymmetry,runs,current_x_m_per_s_mean,current_x_m_per_s_stderr"),
+        "{means}"
+    );
+    assert_eq!(means.lines().count(), 3);
+    assert!(dir1.join("current_x.png").is_file());
+    // A value that is not a number is refused before anything runs.
+    let bad = d.join("bad").display().to_string();
+    let (ok, _, stderr) = stripes(&["events-sweep", scene, "--vary", "base.asymmetry=0.1,wide", "--out", &bad]);
+    assert!(
+        !ok && stderr.contains("`wide` is not a number") && !d.join("bad").exists(),
+        "{stderr}"
+    );
+    let _ = std::fs::remove_dir_all(&d);
+}

@@ -17,8 +17,28 @@ pub struct Species {
     /// Radii uniform in `[radius_min, radius_max]` (m).
     pub radius_min: f64,
     pub radius_max: f64,
-    /// Mass of each particle (kg).
-    pub mass: f64,
+    /// Mass of each particle (kg), or how it follows from the radius.
+    pub mass: Mass,
+}
+
+/// The mass of a species' particles.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Mass {
+    /// The same mass for every particle (kg).
+    Each(f64),
+    /// A material density (kg/m^3): `m = rho (4/3) pi R^3`, the mass of a bead of radius R
+    /// (for disks as for spheres; the shape sets only the inertia factor).
+    Density(f64),
+}
+
+impl Mass {
+    /// The mass of a particle of radius `r` (kg).
+    pub fn of(&self, r: f64) -> f64 {
+        match *self {
+            Mass::Each(m) => m,
+            Mass::Density(rho) => rho * 4.0 / 3.0 * std::f64::consts::PI * r.powi(3),
+        }
+    }
 }
 
 /// The side walls.
@@ -157,7 +177,10 @@ impl Config {
             if s.radius_max < s.radius_min {
                 return Err(invalid(&f("radius_max"), "must be >= radius_min"));
             }
-            positive(&f("mass"), s.mass)?;
+            match s.mass {
+                Mass::Each(m) => positive(&f("mass"), m)?,
+                Mass::Density(rho) => positive(&f("density"), rho)?,
+            }
         }
         let d = 2.0 * self.radius_max();
         if d >= self.width || d >= self.height {

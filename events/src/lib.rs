@@ -37,7 +37,7 @@ pub mod wall;
 pub type Vec2 = nalgebra::Vector2<f64>;
 
 pub use collision::{Restitution, Rule, Table};
-pub use config::{Config, Guard, Rules, SideWalls, Species};
+pub use config::{Config, Guard, Mass, Rules, SideWalls, Species};
 pub use error::EventsError;
 pub use sawtooth::Sawtooth;
 pub use sim::{Next, Simulation, State};

@@ -225,12 +225,13 @@ impl Simulation {
             let u = config.initial_speed;
             let mut draw = || if u > 0.0 { rng.gen_range(-u..=u) } else { 0.0 };
             v.push(Vec2::new(draw(), draw()));
-            radius.push(if s.radius_max > s.radius_min {
+            let r = if s.radius_max > s.radius_min {
                 rng.gen_range(s.radius_min..=s.radius_max)
             } else {
                 s.radius_min
-            });
-            mass.push(s.mass);
+            };
+            radius.push(r);
+            mass.push(s.mass.of(r));
         }
         let n = r.len();
         let z_grid_lo = -config.floor.map_or(0.0, |m| m.amplitude);

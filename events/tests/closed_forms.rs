@@ -13,7 +13,7 @@ fn species(count: usize, r: f64, m: f64) -> Species {
         count,
         radius_min: r,
         radius_max: r,
-        mass: m,
+        mass: events::Mass::Each(m),
     }
 }
 

@@ -23,13 +23,13 @@ fn config(sawtooth: bool) -> Config {
                 count: 20,
                 radius_min: 1.0e-3,
                 radius_max: 1.1e-3,
-                mass: 1e-5,
+                mass: events::Mass::Each(1e-5),
             },
             Species {
                 count: 10,
                 radius_min: 1.0e-3,
                 radius_max: 1.0e-3,
-                mass: 3e-6,
+                mass: events::Mass::Each(3e-6),
             },
         ],
         floor: Some(Motion {

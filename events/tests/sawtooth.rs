@@ -26,7 +26,7 @@ fn ratchet(height: f64, asymmetry: f64, frequency: f64, count: usize, seed: u64)
             count,
             radius_min: 1.05e-3,
             radius_max: 1.155e-3,
-            mass: 1e-5,
+            mass: events::Mass::Each(1e-5),
         }],
         floor: Some(Motion {
             amplitude: 2e-3,

@@ -1,7 +1,8 @@
 //! `stripes events-sweep SCENE --vary KEY=V1,V2,... [--vary ...] [--seeds N]`: the
 //! event-driven model over a grid of scene values and seeds, run in parallel in memory.
-//! It writes `runs.csv` (one row per run), `means.csv` (per grid point: the mean and the
-//! standard error over seeds of every measure), a plot of the current, the height and K/R
+//! It writes `runs.csv` (one row per run; a failed run, e.g. a collapse, is a row of NaN and
+//! a warning), `means.csv` (per grid point: the runs that finished, and the mean and the
+//! standard error over them of every measure), a plot of the current, the height and K/R
 //! against the first varied key (one line per value of the others), and `summary.json`,
 //! printed last. The reports of the vibrated-layer papers are made with it.
 
@@ -146,13 +147,27 @@ pub fn run(args: Args) -> Result<String, CliError> {
     });
     bar.finish_and_clear();
     let wall_s = wall.elapsed().as_secs_f64();
+    // A run that fails (a collapse without a guard, say) is reported and left out of the
+    // means, not allowed to sink the others.
     let mut measured = Vec::new();
+    let mut failures = Vec::new();
     for ((p, seed, _), r) in jobs.iter().zip(results) {
-        let set: Vec<String> = axes.iter().zip(p).map(|(a, v)| format!("{}={v}", a.key)).collect();
-        measured.push(r.map_err(|e| format!("run {} seed {seed}: {e}", set.join(" ")))?);
+        match r {
+            Ok(m) => measured.push(Some(m)),
+            Err(e) => {
+                let set: Vec<String> = axes.iter().zip(p).map(|(a, v)| format!("{}={v}", a.key)).collect();
+                let line = format!("{} seed {seed}: {e}", set.join(" "));
+                eprintln!("warning: run {line}");
+                failures.push(line);
+                measured.push(None);
+            }
+        }
     }
+    let Some(example) = measured.iter().flatten().next().cloned() else {
+        return Err(format!("every run failed; the first: {}", failures[0]).into());
+    };
     let mut dir = RunDir::create(&out, &json!({ "args": args }))?;
-    let columns: Vec<&str> = measures(&measured[0]).iter().map(|(n, _)| *n).collect();
+    let columns: Vec<&str> = measures(&example).iter().map(|(n, _)| *n).collect();
     let mut header: Vec<&str> = axes.iter().map(|a| a.key.as_str()).collect();
     header.push("seed");
     header.extend(&columns);
@@ -162,7 +177,10 @@ pub fn run(args: Args) -> Result<String, CliError> {
         .map(|((p, seed, _), m)| {
             let mut row = p.clone();
             row.push(*seed as f64);
-            row.extend(measures(m).iter().map(|(_, v)| *v));
+            match m {
+                Some(m) => row.extend(measures(m).iter().map(|(_, v)| *v)),
+                None => row.extend(std::iter::repeat_n(f64::NAN, columns.len())),
+            }
             row
         })
         .collect();
@@ -170,6 +188,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
     // Means and standard errors over seeds, per grid point.
     let per = args.seeds as usize;
     let mut mean_header: Vec<String> = axes.iter().map(|a| a.key.clone()).collect();
+    mean_header.push("runs".into());
     for c in &columns {
         mean_header.push(format!("{c}_mean"));
         mean_header.push(format!("{c}_stderr"));
@@ -178,8 +197,9 @@ pub fn run(args: Args) -> Result<String, CliError> {
         .iter()
         .enumerate()
         .map(|(k, p)| {
-            let group = &measured[k * per..(k + 1) * per];
+            let group: Vec<&Measured> = measured[k * per..(k + 1) * per].iter().flatten().collect();
             let mut row = p.clone();
+            row.push(group.len() as f64);
             for c in 0..columns.len() {
                 let xs: Vec<f64> = group.iter().map(|m| measures(m)[c].1).collect();
                 let (mean, err) = mean_stderr(&xs);
@@ -200,7 +220,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
             let line: Vec<(f64, f64)> = (0..first.values.len())
                 .map(|i| {
                     let row = &means[i * rest + r];
-                    (row[0], row[axes.len() + 2 * c])
+                    (row[0], row[axes.len() + 1 + 2 * c])
                 })
                 .filter(|(_, y)| y.is_finite())
                 .collect();
@@ -221,8 +241,8 @@ pub fn run(args: Args) -> Result<String, CliError> {
         }
         dir.plot(&columns[c].replace("_m_per_s", "").replace("_m", ""), &plot)?;
     }
-    let cpu: f64 = measured.iter().map(|m| m.cpu_s).sum();
-    let collisions: u64 = measured.iter().map(|m| m.collisions).sum();
+    let cpu: f64 = measured.iter().flatten().map(|m| m.cpu_s).sum();
+    let collisions: u64 = measured.iter().flatten().map(|m| m.collisions).sum();
     let summary = dir.finish(json!({
         "scene": args.scene.display().to_string(),
         "runs": measured.len(),
@@ -233,14 +253,18 @@ pub fn run(args: Args) -> Result<String, CliError> {
         "cpu_s": cpu,
         "collisions": collisions,
         "collisions_per_cpu_s": collisions as f64 / cpu.max(1e-9),
-        "worst_energy_ledger_error": measured.iter().map(|m| m.energy_ledger_error).fold(0.0, f64::max),
+        "worst_energy_ledger_error": measured.iter().flatten().map(|m| m.energy_ledger_error).fold(0.0, f64::max),
+        "failed": failures,
     }));
     drop(lock);
     summary
 }
 
-/// Mean and standard error of the mean (0 for one value).
+/// Mean and standard error of the mean (0 for one value; NaN for none).
 fn mean_stderr(xs: &[f64]) -> (f64, f64) {
+    if xs.is_empty() {
+        return (f64::NAN, f64::NAN);
+    }
     let n = xs.len() as f64;
     let mean = xs.iter().sum::<f64>() / n;
     if xs.len() < 2 {
