@@ -41,9 +41,26 @@ fn the_mixture_runs_writes_its_profiles_and_analyze_reads_it() {
         "profiles.csv",
         "density_profile.png",
         "temperature_profile.png",
+        "velocity_distribution.csv",
+        "velocity_distribution.png",
+        "free_times.csv",
+        "free_times.png",
         "summary.json",
     ] {
         assert!(d.join("mix").join(f).is_file(), "{f} missing");
+    }
+    // The rescaled v_x density of each species integrates to about one over [-6, 6) (bins
+    // of 0.2), and so does the paper's fit.
+    let text = std::fs::read_to_string(d.join("mix").join("velocity_distribution.csv")).unwrap();
+    let rows: Vec<Vec<f64>> = text
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(rows.len(), 60);
+    for col in 1..=3 {
+        let integral: f64 = rows.iter().map(|r| r[col] * 0.2).sum();
+        assert!((integral - 1.0).abs() < 0.03, "column {col}: {integral}");
     }
     // The same seed gives the same numbers.
     let out2 = d.join("mix2").display().to_string();

@@ -21,6 +21,7 @@
 pub mod autocorr;
 pub mod classify;
 pub mod density;
+pub mod histogram;
 pub mod input;
 pub mod io;
 pub mod lammps;
