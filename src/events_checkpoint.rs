@@ -12,7 +12,7 @@ use events::observe::{Observer, Profile};
 use events::sim::{Counts, Ledger};
 use events::{Next, State, Vec2};
 
-const MAGIC: &[u8] = b"STRIPES-EVENTS-CKPT-1\n";
+const MAGIC: &[u8] = b"STRIPES-EVENTS-CKPT-2\n";
 
 /// Where a run stands at a checkpoint.
 #[derive(Clone, Debug, PartialEq)]
@@ -201,10 +201,13 @@ pub fn encode(c: &Checkpoint) -> Vec<u8> {
     let b = &c.observer;
     o.f(b.bin);
     o.u(b.bins as u64);
-    o.u(b.species.len() as u64);
-    for p in &b.species {
-        for v in [&p.count, &p.mvx2, &p.mvz2, &p.iw2, &p.vx, &p.vz, &p.m] {
-            o.fs(v);
+    o.u(b.across_bins as u64);
+    for profiles in [&b.species, &b.across] {
+        o.u(profiles.len() as u64);
+        for p in profiles {
+            for v in [&p.count, &p.mvx2, &p.mvz2, &p.iw2, &p.vx, &p.vz, &p.m] {
+                o.fs(v);
+            }
         }
     }
     o.u(b.samples);
@@ -299,21 +302,28 @@ pub fn decode(bytes: &[u8]) -> Result<Checkpoint, String> {
         ledger,
         free_times,
     };
-    let (bin, bins) = (i.f()?, i.u()? as usize);
-    let n = i.len(56)?;
-    let species = (0..n)
-        .map(|_| {
-            Ok(Profile {
-                count: i.fs()?,
-                mvx2: i.fs()?,
-                mvz2: i.fs()?,
-                iw2: i.fs()?,
-                vx: i.fs()?,
-                vz: i.fs()?,
-                m: i.fs()?,
-            })
-        })
-        .collect::<Result<Vec<_>, String>>()?;
+    let (bin, bins, across_bins) = (i.f()?, i.u()? as usize, i.u()? as usize);
+    let mut profiles = Vec::new();
+    for _ in 0..2 {
+        let n = i.len(56)?;
+        profiles.push(
+            (0..n)
+                .map(|_| {
+                    Ok(Profile {
+                        count: i.fs()?,
+                        mvx2: i.fs()?,
+                        mvz2: i.fs()?,
+                        iw2: i.fs()?,
+                        vx: i.fs()?,
+                        vz: i.fs()?,
+                        m: i.fs()?,
+                    })
+                })
+                .collect::<Result<Vec<_>, String>>()?,
+        );
+    }
+    let across = profiles.pop().expect("two");
+    let species = profiles.pop().expect("two");
     let (samples, height_sum, vx_sum) = (i.u()?, i.f()?, i.f()?);
     let mut lists = Vec::new();
     for _ in 0..3 {
@@ -326,7 +336,7 @@ pub fn decode(bytes: &[u8]) -> Result<Checkpoint, String> {
     if i.at != payload.len() {
         return Err(format!("{} bytes left over after the checkpoint", payload.len() - i.at));
     }
-    if species.iter().any(|p| p.count.len() != bins) {
+    if species.iter().any(|p| p.count.len() != bins) || across.iter().any(|p| p.count.len() != across_bins) {
         return Err("the profiles do not have the bins they claim".into());
     }
     Ok(Checkpoint {
@@ -339,6 +349,8 @@ pub fn decode(bytes: &[u8]) -> Result<Checkpoint, String> {
             bin,
             bins,
             species,
+            across_bins,
+            across,
             samples,
             height_sum,
             vx_sum,
@@ -358,7 +370,7 @@ mod tests {
         let scene = crate::events_scene::load(path, &["run.duration=0.5".into(), "run.transient=0".into()]).unwrap();
         let mut sim = events::Simulation::new(scene.config().unwrap()).unwrap();
         let e0 = sim.energy();
-        let mut observer = Observer::new(1, 1e-3, 0.06);
+        let mut observer = Observer::new(1, 1e-3, 0.06, sim.config.width);
         for k in 1..=20 {
             sim.run_until(k as f64 * 0.01).unwrap();
             observer.sample(&sim);

@@ -41,6 +41,8 @@ fn the_mixture_runs_writes_its_profiles_and_analyze_reads_it() {
         "profiles.csv",
         "density_profile.png",
         "temperature_profile.png",
+        "profiles_across.csv",
+        "density_across.png",
         "velocity_distribution.csv",
         "velocity_distribution.png",
         "free_times.csv",

@@ -1,11 +1,13 @@
 //! What a run measures, sampled at a fixed drive phase: per-species number density and
-//! granular temperatures (x, z, rotation) against height, the mean height `H` of the centres
+//! granular temperatures (x, z, rotation) against height and across the box (along x), the
+//! mean height `H` of the centres
 //! above the floor's mean position, the mean horizontal velocity `<v_x>`, the velocity
 //! distributions, and the energy ledger.
 
 use crate::sim::Simulation;
 
-/// Height profiles of one species, accumulated over samples.
+/// Profiles of one species along one axis (height, or x across the box), accumulated over
+/// samples.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Profile {
     /// Particles counted per bin (summed over samples).
@@ -20,13 +22,62 @@ pub struct Profile {
     pub m: Vec<f64>,
 }
 
+impl Profile {
+    fn zero(bins: usize) -> Self {
+        Profile {
+            count: vec![0.0; bins],
+            mvx2: vec![0.0; bins],
+            mvz2: vec![0.0; bins],
+            iw2: vec![0.0; bins],
+            vx: vec![0.0; bins],
+            vz: vec![0.0; bins],
+            m: vec![0.0; bins],
+        }
+    }
+
+    fn add(&mut self, b: usize, m: f64, vx: f64, vz: f64, iw2: f64) {
+        self.count[b] += 1.0;
+        self.mvx2[b] += m * vx * vx;
+        self.mvz2[b] += m * vz * vz;
+        self.iw2[b] += iw2;
+        self.vx[b] += vx;
+        self.vz[b] += vz;
+        self.m[b] += m;
+    }
+
+    /// Per bin of size `bin`: `(centre, count per m per sample, T_x, T_z, T_rot)`, the
+    /// temperatures about the bin's mean flow; empty bins give NaN temperatures.
+    fn rows(&self, bin: f64, samples: u64) -> Vec<[f64; 5]> {
+        let s = samples.max(1) as f64;
+        (0..self.count.len())
+            .map(|b| {
+                let c = self.count[b];
+                let mean_m = self.m[b] / c;
+                let (ux, uz) = (self.vx[b] / c, self.vz[b] / c);
+                [
+                    (b as f64 + 0.5) * bin,
+                    c / s / bin,
+                    self.mvx2[b] / c - mean_m * ux * ux,
+                    self.mvz2[b] / c - mean_m * uz * uz,
+                    self.iw2[b] / c,
+                ]
+            })
+            .collect()
+    }
+}
+
 /// Everything sampled.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Observer {
-    /// Bin height (m) and number of bins, from `z = 0`.
+    /// Bin size (m), the same along both axes, and the number of bins in height, from `z = 0`.
     pub bin: f64,
     pub bins: usize,
+    /// Per species, the profiles against height.
     pub species: Vec<Profile>,
+    /// Number of bins across the box, from `x = 0` to its width.
+    pub across_bins: usize,
+    /// Per species, the profiles across the box (the mixture paper's Figs 6-7).
+    pub across: Vec<Profile>,
     pub samples: u64,
     /// Sum over samples of the mean height of the centres (m).
     pub height_sum: f64,
@@ -39,21 +90,17 @@ pub struct Observer {
 }
 
 impl Observer {
-    pub fn new(species: usize, bin: f64, height: f64) -> Self {
+    /// An empty observer of `species` species, with bins of `bin` metres over `height` (from
+    /// the floor's mean position) and over `width` (across the box).
+    pub fn new(species: usize, bin: f64, height: f64, width: f64) -> Self {
         let bins = (height / bin).ceil().max(1.0) as usize;
-        let zero = || Profile {
-            count: vec![0.0; bins],
-            mvx2: vec![0.0; bins],
-            mvz2: vec![0.0; bins],
-            iw2: vec![0.0; bins],
-            vx: vec![0.0; bins],
-            vz: vec![0.0; bins],
-            m: vec![0.0; bins],
-        };
+        let across_bins = (width / bin).round().max(1.0) as usize;
         Observer {
             bin,
             bins,
-            species: (0..species).map(|_| zero()).collect(),
+            species: (0..species).map(|_| Profile::zero(bins)).collect(),
+            across_bins,
+            across: (0..species).map(|_| Profile::zero(across_bins)).collect(),
             samples: 0,
             height_sum: 0.0,
             vx_sum: 0.0,
@@ -73,15 +120,12 @@ impl Observer {
             let m = sim.mass[i];
             h += r.y;
             vx += v.x;
+            let iw2 = sim.config.q * m * sim.radius[i].powi(2) * sim.w[i].powi(2);
             let b = ((r.y / self.bin).floor().max(0.0) as usize).min(self.bins - 1);
-            let p = &mut self.species[k];
-            p.count[b] += 1.0;
-            p.mvx2[b] += m * v.x * v.x;
-            p.mvz2[b] += m * v.y * v.y;
-            p.iw2[b] += sim.config.q * m * sim.radius[i].powi(2) * sim.w[i].powi(2);
-            p.vx[b] += v.x;
-            p.vz[b] += v.y;
-            p.m[b] += m;
+            self.species[k].add(b, m, v.x, v.y, iw2);
+            let x = r.x.rem_euclid(sim.config.width) / sim.config.width;
+            let c = ((x * self.across_bins as f64) as usize).min(self.across_bins - 1);
+            self.across[k].add(c, m, v.x, v.y, iw2);
             self.vx[k].push(v.x);
             self.vz[k].push(v.y);
             self.w[k].push(sim.w[i]);
@@ -105,22 +149,13 @@ impl Observer {
     /// T_rot)`, temperatures `m <(v - <v>)^2>` per degree of freedom (J); bins without
     /// particles give NaN temperatures.
     pub fn profile(&self, k: usize) -> Vec<[f64; 5]> {
-        let p = &self.species[k];
-        let s = self.samples.max(1) as f64;
-        (0..self.bins)
-            .map(|b| {
-                let c = p.count[b];
-                let mean_m = p.m[b] / c;
-                let (ux, uz) = (p.vx[b] / c, p.vz[b] / c);
-                [
-                    (b as f64 + 0.5) * self.bin,
-                    c / s / self.bin,
-                    p.mvx2[b] / c - mean_m * ux * ux,
-                    p.mvz2[b] / c - mean_m * uz * uz,
-                    p.iw2[b] / c,
-                ]
-            })
-            .collect()
+        self.species[k].rows(self.bin, self.samples)
+    }
+
+    /// The same across the box, per bin of x of species `k`: `(x, number density per m of
+    /// width per sample, T_x, T_z, T_rot)`; the bins divide the width evenly.
+    pub fn profile_across(&self, k: usize, width: f64) -> Vec<[f64; 5]> {
+        self.across[k].rows(width / self.across_bins as f64, self.samples)
     }
 
     /// The ratio K/R of translational to rotational kinetic energy, over every sample and

@@ -91,7 +91,7 @@ fn an_elastic_gas_shares_its_energy_equally_and_thins_out_barometrically() {
     let mut sim = Simulation::new(cfg).unwrap();
     let e0 = sim.energy();
     sim.run_until(150.0).unwrap();
-    let mut obs = Observer::new(2, 0.5, 30.0);
+    let mut obs = Observer::new(2, 0.5, 30.0, sim.config.width);
     for k in 1..=600 {
         sim.run_until(150.0 + 0.5 * k as f64).unwrap();
         obs.sample(&sim);
@@ -132,6 +132,18 @@ fn an_elastic_gas_shares_its_energy_equally_and_thins_out_barometrically() {
             (slope / expected - 1.0).abs() < 0.1,
             "species {k}: slope {slope} against {expected}"
         );
+    }
+    // Across the box nothing acts: each species fills the width evenly, with the same
+    // temperature in every column, and counts the same grains as against height.
+    for k in 0..2 {
+        let across = obs.profile_across(k, 4.0);
+        assert_eq!(across.len(), 8);
+        let total: f64 = across.iter().map(|p| p[1] * 0.5).sum();
+        assert!((total - 150.0).abs() < 1e-9, "species {k}: {total} grains across");
+        for p in &across {
+            assert!((p[1] * 0.5 / (150.0 / 8.0) - 1.0).abs() < 0.08, "species {k}: {p:?}");
+            assert!((p[2] / t - 1.0).abs() < 0.1, "species {k}: T_x {p:?} against {t}");
+        }
     }
     // Elastic: nothing dissipated, and the energy kept to round-off.
     assert!(sim.ledger.dissipated.abs() < 1e-12 * e0);

@@ -86,7 +86,7 @@ fn no_grain_is_ever_inside_a_tooth_and_the_ledger_closes() {
 
 fn current(height: f64, asymmetry: f64, frequency: f64, count: usize) -> f64 {
     let mut sim = Simulation::new(ratchet(height, asymmetry, frequency, count, 1)).unwrap();
-    let mut obs = Observer::new(1, 1e-3, 0.06);
+    let mut obs = Observer::new(1, 1e-3, 0.06, sim.config.width);
     sim.run_until(3.0).unwrap();
     for k in 1..=20 * 6 * 25 {
         sim.run_until(3.0 + k as f64 / (6.0 * frequency)).unwrap();

@@ -134,7 +134,7 @@ fn simulate(
             (c.observer, c.e0, c.sample + 1, c.frames, snapshots)
         }
         None => {
-            let obs = Observer::new(species, scene.run.bin, top);
+            let obs = Observer::new(species, scene.run.bin, top, sim.config.width);
             let e0 = sim.energy();
             (obs, e0, 1, 0, SnapshotWriter::create(&snapshots_path, header)?)
         }
@@ -197,54 +197,12 @@ fn simulate(
     if obs.samples == 0 {
         warnings.push("no samples after run.transient: the profiles are empty".into());
     }
-    // Profiles: per species, density and temperatures against height.
-    let profiles: Vec<Vec<[f64; 5]>> = (0..species).map(|k| obs.profile(k)).collect();
-    let mut header = vec!["z_m".to_string()];
-    for k in 1..=species {
-        for c in ["n_per_m", "tx_j", "tz_j", "trot_j"] {
-            header.push(format!("{c}_{k}"));
-        }
-    }
-    let rows: Vec<Vec<f64>> = (0..obs.bins)
-        .map(|b| {
-            let mut row = vec![profiles[0][b][0]];
-            for p in &profiles {
-                row.extend_from_slice(&p[b][1..]);
-            }
-            row
-        })
-        .collect();
-    let header_refs: Vec<&str> = header.iter().map(String::as_str).collect();
-    dir.csv("profiles.csv", &header_refs, &rows)?;
-    let mut density = LinePlot::new("Number density against height", "z (m)", "n (1/m per sample)");
-    let mut temperature = LinePlot::new("Granular temperature against height", "z (m)", "T (J)");
-    // Temperatures only where a bin saw at least 50 grains over the run (else noise).
-    let enough = |r: &[f64; 5]| r[1] * obs.samples as f64 * obs.bin >= 50.0;
-    let mut t_max: f64 = 0.0;
-    for (k, p) in profiles.iter().enumerate() {
-        density = density.series(
-            &format!("species {}", k + 1),
-            p.iter().map(|r| (r[0], r[1])).collect(),
-            Mark::LinePoints,
-        );
-        let kept: Vec<&[f64; 5]> = p.iter().filter(|r| enough(r)).collect();
-        t_max = kept.iter().map(|r| r[2].max(r[3])).fold(t_max, f64::max);
-        temperature = temperature
-            .series(
-                &format!("T_x, species {}", k + 1),
-                kept.iter().map(|r| (r[0], r[2])).collect(),
-                Mark::Line,
-            )
-            .series(
-                &format!("T_z, species {}", k + 1),
-                kept.iter().map(|r| (r[0], r[3])).collect(),
-                Mark::Dashed,
-            );
-    }
-    // Room above the data for the legend.
-    let temperature = temperature.include_y(0.0).include_y(1.4 * t_max);
-    dir.plot("density_profile", &density)?;
-    dir.plot("temperature_profile", &temperature)?;
+    // Profiles: per species, density and temperatures against height and across the box.
+    let up: Vec<Vec<[f64; 5]>> = (0..species).map(|k| obs.profile(k)).collect();
+    profile_files(&mut dir, &up, &HEIGHT, obs.bin, obs.samples)?;
+    let width = sim.config.width;
+    let across: Vec<Vec<[f64; 5]>> = (0..species).map(|k| obs.profile_across(k, width)).collect();
+    profile_files(&mut dir, &across, &ACROSS, width / obs.across_bins as f64, obs.samples)?;
     distributions(&mut dir, &obs, &sim)?;
     dir.note_files([out.join("scene.toml"), out.join("snapshots.bin")]);
     let temps: Vec<_> = (0..species)
@@ -375,4 +333,83 @@ fn distributions(dir: &mut RunDir, obs: &Observer, sim: &Simulation) -> Result<(
         dir.plot("free_times", &plot)?;
     }
     Ok(())
+}
+
+/// The files of one axis' profiles.
+struct Axis {
+    column: &'static str,
+    csv: &'static str,
+    density: &'static str,
+    temperature: &'static str,
+    along: &'static str,
+    label: &'static str,
+}
+
+const HEIGHT: Axis = Axis {
+    column: "z_m",
+    csv: "profiles.csv",
+    density: "density_profile",
+    temperature: "temperature_profile",
+    along: "against height",
+    label: "z (m)",
+};
+
+const ACROSS: Axis = Axis {
+    column: "x_m",
+    csv: "profiles_across.csv",
+    density: "density_across",
+    temperature: "temperature_across",
+    along: "across the box",
+    label: "x (m)",
+};
+
+/// Writes per-species profiles (rows `(position, n, T_x, T_z, T_rot)` on bins of `bin`
+/// metres) as a table and two plots; temperatures are drawn only where a bin saw at least 50
+/// grains over the run (else noise).
+fn profile_files(dir: &mut RunDir, profiles: &[Vec<[f64; 5]>], axis: &Axis, bin: f64, samples: u64) -> Result<(), CliError> {
+    let mut header = vec![axis.column.to_string()];
+    for k in 1..=profiles.len() {
+        for c in ["n_per_m", "tx_j", "tz_j", "trot_j"] {
+            header.push(format!("{c}_{k}"));
+        }
+    }
+    let rows: Vec<Vec<f64>> = (0..profiles[0].len())
+        .map(|b| {
+            let mut row = vec![profiles[0][b][0]];
+            for p in profiles {
+                row.extend_from_slice(&p[b][1..]);
+            }
+            row
+        })
+        .collect();
+    let header_refs: Vec<&str> = header.iter().map(String::as_str).collect();
+    dir.csv(axis.csv, &header_refs, &rows)?;
+    let mut density = LinePlot::new(&format!("Number density {}", axis.along), axis.label, "n (1/m per sample)");
+    let mut temperature = LinePlot::new(&format!("Granular temperature {}", axis.along), axis.label, "T (J)");
+    let enough = |r: &[f64; 5]| r[1] * samples as f64 * bin >= 50.0;
+    let mut t_max: f64 = 0.0;
+    for (k, p) in profiles.iter().enumerate() {
+        density = density.series(
+            &format!("species {}", k + 1),
+            p.iter().map(|r| (r[0], r[1])).collect(),
+            Mark::LinePoints,
+        );
+        let kept: Vec<&[f64; 5]> = p.iter().filter(|r| enough(r)).collect();
+        t_max = kept.iter().map(|r| r[2].max(r[3])).fold(t_max, f64::max);
+        temperature = temperature
+            .series(
+                &format!("T_x, species {}", k + 1),
+                kept.iter().map(|r| (r[0], r[2])).collect(),
+                Mark::Line,
+            )
+            .series(
+                &format!("T_z, species {}", k + 1),
+                kept.iter().map(|r| (r[0], r[3])).collect(),
+                Mark::Dashed,
+            );
+    }
+    // Room above the data for the legend.
+    let temperature = temperature.include_y(0.0).include_y(1.4 * t_max);
+    dir.plot(axis.density, &density)?;
+    dir.plot(axis.temperature, &temperature)
 }
