@@ -19,6 +19,8 @@ pub struct Measured {
     pub current_x_m_per_s: f64,
     /// Translational over rotational kinetic energy.
     pub k_over_r: f64,
+    /// `T_2 / T_1` over the middle third of the box's height (NaN with one species).
+    pub temperature_ratio_bulk: f64,
     /// Per species: whole-box `T_x`, `T_z`, `T_rot` (J).
     pub temperatures: Vec<[f64; 3]>,
     pub samples: u64,
@@ -52,6 +54,7 @@ pub fn measure(scene: &EventScene) -> Result<Measured, String> {
         mean_height_m: obs.mean_height(),
         current_x_m_per_s: obs.mean_vx(),
         k_over_r: obs.kinetic_ratio(),
+        temperature_ratio_bulk: bulk_ratio(&obs, sim.config.height),
         temperatures: (0..sim.config.species.len())
             .map(|k| {
                 let (x, z, r) = obs.temperatures(k);
@@ -60,4 +63,10 @@ pub fn measure(scene: &EventScene) -> Result<Measured, String> {
             .collect(),
         samples: obs.samples,
     })
+}
+
+/// `T_2 / T_1` over the middle third of a box of `height` (between the floor's and the lid's
+/// mean positions): the mixture paper's "bulk", away from the walls that heat each species.
+pub fn bulk_ratio(obs: &Observer, height: f64) -> f64 {
+    obs.temperature_ratio(height / 3.0, 2.0 * height / 3.0)
 }

@@ -61,7 +61,13 @@ fn gravity() -> f64 {
 #[serde(deny_unknown_fields)]
 pub struct EventDrive {
     pub frequency: f64,
-    pub amplitude: f64,
+    /// The amplitude A (m); or give `peak_speed` instead, never both.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub amplitude: Option<f64>,
+    /// The peak speed V = 2 pi f A (m/s), which sets A at the scene's frequency: a sweep over
+    /// the frequency at fixed V varies the amplitude with it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub peak_speed: Option<f64>,
     #[serde(default)]
     pub phase: f64,
     /// "vibrated" or "fixed".
@@ -328,6 +334,22 @@ fn bad(key: &str, message: impl Into<String>) -> SceneError {
     }
 }
 
+impl EventDrive {
+    /// The amplitude, given or from `peak_speed / (2 pi frequency)`.
+    pub fn amplitude(&self) -> Result<f64, SceneError> {
+        match (self.amplitude, self.peak_speed) {
+            (Some(a), None) => Ok(a),
+            (None, Some(v)) if v.is_finite() && v >= 0.0 => Ok(v / (2.0 * std::f64::consts::PI * self.frequency)),
+            (None, Some(v)) => Err(bad("drive.peak_speed", format!("must be a speed >= 0 (m/s), got {v}"))),
+            (Some(_), Some(_)) => Err(bad("drive.peak_speed", "give drive.amplitude or drive.peak_speed, not both")),
+            (None, None) => Err(bad(
+                "drive.amplitude",
+                "missing: give drive.amplitude (m) or drive.peak_speed (m/s)",
+            )),
+        }
+    }
+}
+
 impl EventScene {
     /// The engine's configuration; every value is checked (here or by the engine, whose
     /// errors name the field).
@@ -339,7 +361,7 @@ impl EventScene {
             ));
         }
         let motion = Motion {
-            amplitude: self.drive.amplitude,
+            amplitude: self.drive.amplitude()?,
             frequency: self.drive.frequency,
             phase: self.drive.phase,
         };
@@ -539,7 +561,8 @@ mod tests {
     #[test]
     fn every_event_scene_key_is_documented() {
         let mut all = Vec::new();
-        for text in [mixture(), ratchet()] {
+        let vibrated_box = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/vibrated-box.toml")).unwrap();
+        for text in [mixture(), ratchet(), vibrated_box] {
             let scene = parse(&text, &["guard.min_rebound_speed=1e-4", "guard.tc=1e-6"]).unwrap();
             keys("", &toml::Value::try_from(&scene).unwrap(), &mut all);
         }
@@ -582,6 +605,26 @@ mod tests {
         assert_eq!(key(&["model=tray"]), "model");
         assert_eq!(key(&["run.transient=20"]), "run.transient");
         assert_eq!(key(&["rules.floor.e=[1.0, 1.0]", "rules.floor.table=x.csv"]), "rules.floor.table");
+        assert_eq!(key(&["drive.peak_speed=0.5"]), "drive.peak_speed");
+    }
+
+    #[test]
+    fn a_peak_speed_sets_the_amplitude_at_the_scene_frequency() {
+        let box_scene = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/vibrated-box.toml")).unwrap();
+        for f in [40.0, 100.0, 500.0] {
+            let s = parse(&box_scene, &[&format!("drive.frequency={f}"), "drive.peak_speed=0.8"]).unwrap();
+            let a = s.config().unwrap().floor.unwrap().amplitude;
+            assert!((a * 2.0 * std::f64::consts::PI * f - 0.8).abs() < 1e-12, "{f} Hz: A = {a}");
+        }
+        let both = parse(&box_scene, &["drive.amplitude=0.001"]).unwrap().config().unwrap_err();
+        assert_eq!(both.key, "drive.peak_speed");
+        let mut neither = parse(&box_scene, &[]).unwrap();
+        neither.drive.peak_speed = None;
+        assert_eq!(neither.config().unwrap_err().key, "drive.amplitude");
+        assert_eq!(
+            parse(&box_scene, &["drive.peak_speed=-1"]).unwrap().config().unwrap_err().key,
+            "drive.peak_speed"
+        );
     }
 
     #[test]

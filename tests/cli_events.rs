@@ -34,6 +34,9 @@ fn the_mixture_runs_writes_its_profiles_and_analyze_reads_it() {
     assert!(s["energy_ledger_error"].as_f64().unwrap() < 1e-9);
     let h = s["mean_height_m"].as_f64().unwrap();
     assert!(h > 0.0 && h < 0.0512, "{h}");
+    // The light grains are colder than the heavy ones in the bulk (the paper: about 0.6).
+    let ratio = s["temperature_ratio_bulk"].as_f64().unwrap();
+    assert!(ratio > 0.2 && ratio < 1.0, "{ratio}");
     for f in [
         "config.json",
         "scene.toml",

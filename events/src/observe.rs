@@ -171,6 +171,27 @@ impl Observer {
         }
     }
 
+    /// The translational temperature ratio `T_2 / T_1`, with `T_k = (T_x + T_z) / 2` of
+    /// species k over the grains whose centres lie in `[z_lo, z_hi)` (the mixture paper's
+    /// `gamma`, its Figs 2-3); NaN with one species or an empty range.
+    pub fn temperature_ratio(&self, z_lo: f64, z_hi: f64) -> f64 {
+        if self.species.len() < 2 {
+            return f64::NAN;
+        }
+        let t = |p: &Profile| {
+            let (mut e, mut c) = (0.0, 0.0);
+            for b in 0..self.bins {
+                let z = (b as f64 + 0.5) * self.bin;
+                if z >= z_lo && z < z_hi {
+                    e += 0.5 * (p.mvx2[b] + p.mvz2[b]);
+                    c += p.count[b];
+                }
+            }
+            e / c
+        };
+        t(&self.species[1]) / t(&self.species[0])
+    }
+
     /// Whole-box temperatures of species `k`: `(T_x, T_z, T_rot)` (J).
     pub fn temperatures(&self, k: usize) -> (f64, f64, f64) {
         let p = &self.species[k];

@@ -133,6 +133,10 @@ fn an_elastic_gas_shares_its_energy_equally_and_thins_out_barometrically() {
             "species {k}: slope {slope} against {expected}"
         );
     }
+    // Equipartition holds at every height, so in any layer (here the dense bottom one).
+    let ratio = obs.temperature_ratio(0.0, 2.0);
+    assert!((ratio - 1.0).abs() < 0.06, "T2/T1 = {ratio} in the bottom layer");
+    assert!(obs.temperature_ratio(40.0, 50.0).is_nan(), "no grain above the box");
     // Across the box nothing acts: each species fills the width evenly, with the same
     // temperature in every column, and counts the same grains as against height.
     for k in 0..2 {

@@ -232,6 +232,7 @@ fn simulate(
         "dissipated_j": sim.ledger.dissipated,
         "mean_height_m": obs.mean_height(),
         "current_x_m_per_s": obs.mean_vx(),
+        "temperature_ratio_bulk": crate::events_measure::bulk_ratio(&obs, sim.config.height),
         "temperatures": temps,
         "wall_s": wall_s,
         "warnings": warnings,

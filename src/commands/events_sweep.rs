@@ -40,6 +40,10 @@ pub struct Args {
     /// Replace the files of an output directory that already holds some.
     #[arg(long)]
     pub force: bool,
+    /// Draw the plots on a logarithmic x axis, and H and K/R on a logarithmic y axis too
+    /// (a power law shows as a line).
+    #[arg(long)]
+    pub log: bool,
     /// No progress output.
     #[arg(long)]
     pub quiet: bool,
@@ -95,6 +99,9 @@ fn measures(m: &Measured) -> Vec<(&'static str, f64)> {
         ("collisions_per_s", m.collisions_per_s),
         ("energy_ledger_error", m.energy_ledger_error),
     ];
+    if m.temperatures.len() == 2 {
+        out.push(("temperature_ratio_bulk", m.temperature_ratio_bulk));
+    }
     let names = [["t_x_j_1", "t_z_j_1", "t_rot_j_1"], ["t_x_j_2", "t_z_j_2", "t_rot_j_2"]];
     for (k, t) in m.temperatures.iter().enumerate() {
         for c in 0..3 {
@@ -238,6 +245,12 @@ pub fn run(args: Args) -> Result<String, CliError> {
         }
         if c == 0 {
             plot = plot.include_y(0.0);
+        }
+        if args.log {
+            plot = plot.log_x();
+            if c > 0 {
+                plot = plot.log_y();
+            }
         }
         dir.plot(&columns[c].replace("_m_per_s", "").replace("_m", ""), &plot)?;
     }
