@@ -10,9 +10,10 @@
 
 use events::observe::{Observer, Profile};
 use events::sim::{Counts, Ledger};
+use events::thinned::Thinned;
 use events::{Next, State, Vec2};
 
-const MAGIC: &[u8] = b"STRIPES-EVENTS-CKPT-2\n";
+const MAGIC: &[u8] = b"STRIPES-EVENTS-CKPT-3\n";
 
 /// Where a run stands at a checkpoint.
 #[derive(Clone, Debug, PartialEq)]
@@ -196,8 +197,11 @@ pub fn encode(c: &Checkpoint) -> Vec<u8> {
     }
     o.f(s.ledger.wall_work);
     o.f(s.ledger.dissipated);
-    o.fs(&s.free_times[0]);
-    o.fs(&s.free_times[1]);
+    for t in &s.free_times {
+        o.fs(&t.kept);
+        o.u(t.stride);
+        o.u(t.skipped);
+    }
     let b = &c.observer;
     o.f(b.bin);
     o.u(b.bins as u64);
@@ -216,6 +220,9 @@ pub fn encode(c: &Checkpoint) -> Vec<u8> {
     for lists in [&b.vx, &b.vz, &b.w] {
         o.u(lists.len() as u64);
         lists.iter().for_each(|v| o.fs(v));
+    }
+    for x in [b.velocity_stride, b.velocity_skipped, b.velocity_samples] {
+        o.u(x);
     }
     let payload = o.0;
     let mut bytes = MAGIC.to_vec();
@@ -280,7 +287,14 @@ pub fn decode(bytes: &[u8]) -> Result<Checkpoint, String> {
         wall_work: i.f()?,
         dissipated: i.f()?,
     };
-    let free_times = [i.fs()?, i.fs()?];
+    let mut thinned = || -> Result<Thinned, String> {
+        Ok(Thinned {
+            kept: i.fs()?,
+            stride: i.u()?,
+            skipped: i.u()?,
+        })
+    };
+    let free_times = [thinned()?, thinned()?];
     let state = State {
         time,
         r,
@@ -333,6 +347,7 @@ pub fn decode(bytes: &[u8]) -> Result<Checkpoint, String> {
     let ws = lists.pop().expect("three");
     let vz = lists.pop().expect("three");
     let vx = lists.pop().expect("three");
+    let (velocity_stride, velocity_skipped, velocity_samples) = (i.u()?, i.u()?, i.u()?);
     if i.at != payload.len() {
         return Err(format!("{} bytes left over after the checkpoint", payload.len() - i.at));
     }
@@ -357,6 +372,9 @@ pub fn decode(bytes: &[u8]) -> Result<Checkpoint, String> {
             vx,
             vz,
             w: ws,
+            velocity_stride,
+            velocity_skipped,
+            velocity_samples,
         },
     })
 }

@@ -18,6 +18,7 @@
 //! - [`cells`]: the cell grid and its crossing times;
 //! - [`queue`]: the event queue (one predicted event per particle, generation counters);
 //! - [`observe`]: profiles, histograms, free times and the energy ledger;
+//! - [`thinned`]: a bounded, evenly thinned record of a stream (the free times);
 //! - [`sim`]: the only place that knows the order of the event loop.
 //!
 //! This crate knows no file format and no other crate of the workspace.
@@ -31,6 +32,7 @@ pub mod observe;
 pub mod queue;
 pub mod sawtooth;
 pub mod sim;
+pub mod thinned;
 pub mod wall;
 
 /// A vector in the plane of motion: `x` along the floor, `y` = the vertical `z`.

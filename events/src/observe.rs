@@ -83,10 +83,16 @@ pub struct Observer {
     pub height_sum: f64,
     /// Sum over samples of the mean `v_x` (m/s).
     pub vx_sum: f64,
-    /// Every sampled `v_x`, `v_z` and `w`, per species.
+    /// The sampled `v_x`, `v_z` and `w` per species, of every `velocity_stride`-th sample:
+    /// all of them until a list would pass [`Observer::VELOCITY_CAP`], then every other kept
+    /// sample is dropped and the stride doubles, so that they stay an even subsample in time.
     pub vx: Vec<Vec<f64>>,
     pub vz: Vec<Vec<f64>>,
     pub w: Vec<Vec<f64>>,
+    pub velocity_stride: u64,
+    /// Samples since the last one whose velocities were kept, and how many were kept.
+    pub velocity_skipped: u64,
+    pub velocity_samples: u64,
 }
 
 impl Observer {
@@ -107,11 +113,23 @@ impl Observer {
             vx: vec![Vec::new(); species],
             vz: vec![Vec::new(); species],
             w: vec![Vec::new(); species],
+            velocity_stride: 1,
+            velocity_skipped: 0,
+            velocity_samples: 0,
         }
     }
 
+    /// The most velocities kept per species and component.
+    pub const VELOCITY_CAP: usize = 1 << 20;
+
     /// Adds the state at the simulation's time.
     pub fn sample(&mut self, sim: &Simulation) {
+        self.velocity_skipped += 1;
+        let keep = self.velocity_skipped >= self.velocity_stride;
+        if keep {
+            self.velocity_skipped = 0;
+            self.velocity_samples += 1;
+        }
         let n = sim.len();
         let (mut h, mut vx) = (0.0, 0.0);
         for i in 0..n {
@@ -126,13 +144,33 @@ impl Observer {
             let x = r.x.rem_euclid(sim.config.width) / sim.config.width;
             let c = ((x * self.across_bins as f64) as usize).min(self.across_bins - 1);
             self.across[k].add(c, m, v.x, v.y, iw2);
-            self.vx[k].push(v.x);
-            self.vz[k].push(v.y);
-            self.w[k].push(sim.w[i]);
+            if keep {
+                self.vx[k].push(v.x);
+                self.vz[k].push(v.y);
+                self.w[k].push(sim.w[i]);
+            }
+        }
+        if keep && self.vx.iter().any(|v| v.len() >= Self::VELOCITY_CAP) {
+            self.thin_velocities();
         }
         self.height_sum += h / n as f64;
         self.vx_sum += vx / n as f64;
         self.samples += 1;
+    }
+
+    /// Drops every other kept sample's velocities (each sample holds the same number of
+    /// grains of a species) and doubles the stride.
+    fn thin_velocities(&mut self) {
+        let samples = self.velocity_samples as usize;
+        for lists in [&mut self.vx, &mut self.vz, &mut self.w] {
+            for v in lists.iter_mut() {
+                let chunk = v.len() / samples.max(1);
+                let kept: Vec<f64> = v.chunks(chunk.max(1)).skip(1).step_by(2).flatten().copied().collect();
+                *v = kept;
+            }
+        }
+        self.velocity_samples /= 2;
+        self.velocity_stride *= 2;
     }
 
     /// Mean height of the centres above the floor's mean position (m).

@@ -19,6 +19,7 @@ use crate::error::EventsError;
 use crate::flight::{fly, pair_time};
 use crate::queue::Queue;
 use crate::sawtooth::Sawtooth;
+use crate::thinned::Thinned;
 use crate::wall::{Motion, Wall, WallKind};
 use crate::Vec2;
 
@@ -78,7 +79,7 @@ pub struct State {
     pub scheduled: Vec<Option<f64>>,
     pub counts: Counts,
     pub ledger: Ledger,
-    pub free_times: [Vec<f64>; 2],
+    pub free_times: [Thinned; 2],
 }
 
 /// Which rules a surface collision uses.
@@ -135,8 +136,9 @@ pub struct Simulation {
     queue: Queue,
     pub counts: Counts,
     pub ledger: Ledger,
-    /// Free times between successive pair collisions of a particle (s), per species.
-    pub free_times: [Vec<f64>; 2],
+    /// Free times between successive pair collisions of a particle (s), per species, an
+    /// even subsample of at most `Thinned::CAP` of them.
+    pub free_times: [Thinned; 2],
     horizon: f64,
 }
 
@@ -263,7 +265,7 @@ impl Simulation {
             queue: Queue::new(n),
             counts: Counts::default(),
             ledger: Ledger::default(),
-            free_times: [Vec::new(), Vec::new()],
+            free_times: [Thinned::new(), Thinned::new()],
             r,
             v,
             radius,

@@ -400,3 +400,41 @@ fn bad_parameters_are_refused_by_name() {
     c.species[0].count = 100_000;
     assert!(matches!(Simulation::new(c), Err(EventsError::DoNotFit { .. })));
 }
+
+/// A run's kept velocities stay within the cap however long it samples, as whole samples
+/// evenly spaced in time; the free times likewise.
+#[test]
+fn the_kept_velocities_and_free_times_stay_bounded_and_even() {
+    let mut sim = Simulation::new(fixed_box(
+        4.0,
+        30.0,
+        1.0,
+        vec![species(30, 0.02, 1.0), species(20, 0.02, 2.0)],
+        Rule::smooth(1.0),
+        Rule::smooth(1.0),
+    ))
+    .unwrap();
+    sim.run_until(1.0).unwrap();
+    let mut obs = Observer::new(2, 0.5, 30.0, sim.config.width);
+    let samples = 3 * Observer::VELOCITY_CAP / 30 + 7;
+    for _ in 0..samples {
+        obs.sample(&sim);
+    }
+    assert_eq!(obs.samples as usize, samples);
+    assert!(obs.vx[0].len() < Observer::VELOCITY_CAP, "{}", obs.vx[0].len());
+    assert_eq!(obs.velocity_stride, 4);
+    // Whole samples: 30 and 20 grains each, and every grain's value where it should be.
+    let kept = obs.velocity_samples as usize;
+    assert_eq!(obs.vx[0].len(), 30 * kept);
+    assert_eq!(obs.w[1].len(), 20 * kept);
+    let first: Vec<f64> = (0..sim.len()).filter(|&i| sim.species[i] == 0).map(|i| sim.state(i).1.x).collect();
+    assert_eq!(&obs.vx[0][30 * (kept - 1)..], &first[..]);
+    // The profiles still count every sample.
+    let counted: f64 = obs.profile(0).iter().map(|p| p[1] * 0.5).sum::<f64>();
+    assert!((counted - 30.0).abs() < 1e-9, "{counted}");
+    // Free times: a long elastic run keeps at most the cap of them.
+    sim.run_until(50.0).unwrap();
+    let seen = sim.collisions();
+    assert!(sim.free_times[0].kept.len() <= events::thinned::Thinned::CAP);
+    assert!(sim.free_times[0].kept.len() as u64 <= 2 * seen);
+}

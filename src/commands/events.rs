@@ -294,7 +294,7 @@ fn distributions(dir: &mut RunDir, obs: &Observer, sim: &Simulation) -> Result<(
             );
         dir.plot("velocity_distribution", &plot)?;
     }
-    let times: Vec<&Vec<f64>> = sim.free_times.iter().take(species).collect();
+    let times: Vec<&Vec<f64>> = sim.free_times.iter().take(species).map(|t| &t.kept).collect();
     if times.iter().all(|t| !t.is_empty()) {
         let means: Vec<f64> = times.iter().map(|t| t.iter().sum::<f64>() / t.len() as f64).collect();
         let top = 5.0 * means.iter().copied().fold(0.0, f64::max);
