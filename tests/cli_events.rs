@@ -45,6 +45,7 @@ fn the_mixture_runs_writes_its_profiles_and_analyze_reads_it() {
         "density_profile.png",
         "temperature_profile.png",
         "profiles_across.csv",
+        "temperature_ratio.png",
         "density_across.png",
         "velocity_distribution.csv",
         "velocity_distribution.png",

@@ -200,6 +200,9 @@ fn simulate(
     // Profiles: per species, density and temperatures against height and across the box.
     let up: Vec<Vec<[f64; 5]>> = (0..species).map(|k| obs.profile(k)).collect();
     profile_files(&mut dir, &up, &HEIGHT, obs.bin, obs.samples)?;
+    if species == 2 {
+        temperature_ratio_plot(&mut dir, &up, obs.bin, obs.samples, sim.config.height)?;
+    }
     let width = sim.config.width;
     let across: Vec<Vec<[f64; 5]>> = (0..species).map(|k| obs.profile_across(k, width)).collect();
     profile_files(&mut dir, &across, &ACROSS, width / obs.across_bins as f64, obs.samples)?;
@@ -413,4 +416,33 @@ fn profile_files(dir: &mut RunDir, profiles: &[Vec<[f64; 5]>], axis: &Axis, bin:
     let temperature = temperature.include_y(0.0).include_y(1.4 * t_max);
     dir.plot(axis.density, &density)?;
     dir.plot(axis.temperature, &temperature)
+}
+
+/// The mixture paper's Fig. 2: the ratio `T_2 / T_1` of the translational temperatures
+/// (`(T_x + T_z) / 2`) against height, where both species saw at least 50 grains in a bin,
+/// beside its value over the middle third (the bulk).
+fn temperature_ratio_plot(dir: &mut RunDir, profiles: &[Vec<[f64; 5]>], bin: f64, samples: u64, height: f64) -> Result<(), CliError> {
+    let enough = |r: &[f64; 5]| r[1] * samples as f64 * bin >= 50.0;
+    let ratio: Vec<(f64, f64)> = profiles[0]
+        .iter()
+        .zip(&profiles[1])
+        .filter(|(a, b)| enough(a) && enough(b))
+        .map(|(a, b)| (a[0], (b[2] + b[3]) / (a[2] + a[3])))
+        .collect();
+    let mut plot = LinePlot::new("Temperature ratio T2/T1 against height", "z (m)", "T2/T1")
+        .series("T2/T1", ratio, Mark::LinePoints)
+        .include_y(0.0)
+        .include_y(1.0);
+    for z in [height / 3.0, 2.0 * height / 3.0] {
+        plot = plot.series(
+            if z < height / 2.0 {
+                "bulk (middle third): from"
+            } else {
+                "bulk: to"
+            },
+            vec![(z, 0.0), (z, 1.0)],
+            Mark::Dashed,
+        );
+    }
+    dir.plot("temperature_ratio", &plot)
 }
