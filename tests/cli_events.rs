@@ -82,7 +82,11 @@ fn the_mixture_runs_writes_its_profiles_and_analyze_reads_it() {
     // `stripes analyze` reads the run (its period from config.json).
     let (ok, stdout, stderr) = stripes(&["analyze", &out]);
     assert!(ok, "{stderr}");
-    assert!(last_json(&stdout)["frames"].as_u64().unwrap_or(1) > 0);
+    let a = last_json(&stdout);
+    assert!(a["frames"].as_u64().unwrap_or(1) > 0);
+    // A vertical box is not a tray: no stripe phase is claimed for it.
+    assert_eq!(a["phase"], "unclassified", "{a}");
+    assert!(a["warnings"].to_string().contains("vertical box"), "{a}");
     std::fs::remove_dir_all(&d).unwrap();
 }
 

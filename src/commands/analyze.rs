@@ -200,6 +200,15 @@ pub fn run(args: Args) -> Result<String, CliError> {
             eprintln!("warning: {e}");
             warnings.push(e);
         }
+        if event_driven(&run.file) {
+            // A vertical box seen from the side: grains stack in z, so the "area fraction"
+            // counts columns of grains and the tray's stripe classes mean nothing here.
+            let note = "an event-driven run of a vertical box: its frames are the (x, z) plane, so the area fraction is grains per column (not a packing) and the tray's phases do not apply; phase left unclassified. The density map, structure factor and bands still describe the horizontal profile over time";
+            eprintln!("warning: {note}");
+            warnings.push(note.into());
+            m.insert("phase".into(), "unclassified".into());
+            m.insert("phase_note".into(), note.into());
+        }
         m.insert("warnings".into(), serde_json::to_value(warnings)?);
     }
     dir.finish(summary)
@@ -427,6 +436,14 @@ fn draw(dir: &mut RunDir, r: &Report) -> Result<(), CliError> {
         Mark::Line,
     );
     dir.plot("autocorrelation", &ac)
+}
+
+/// Whether the run beside `file` is an event-driven one (`config.json`'s `scene.model`).
+fn event_driven(file: &std::path::Path) -> bool {
+    let config = file.parent().map(|d| d.join("config.json"));
+    let text = config.and_then(|c| std::fs::read_to_string(c).ok());
+    let value: Option<serde_json::Value> = text.and_then(|t| serde_json::from_str(&t).ok());
+    value.is_some_and(|v| v["scene"]["model"] == "events")
 }
 
 #[cfg(test)]
