@@ -412,8 +412,10 @@ fn profile_files(dir: &mut RunDir, profiles: &[Vec<[f64; 5]>], axis: &Axis, bin:
                 Mark::Dashed,
             );
     }
-    // Room above the data for the legend.
-    let temperature = temperature.include_y(0.0).include_y(1.4 * t_max);
+    // On a log axis: near a vibrated wall the temperature is tens of times the bulk's, and
+    // a tall box's rise above its minimum (the mixture paper's Fig. 11) would vanish on a
+    // linear one. Room above the data for the legend.
+    let temperature = temperature.log_y().include_y(5.0 * t_max);
     dir.plot(axis.density, &density)?;
     dir.plot(axis.temperature, &temperature)
 }
