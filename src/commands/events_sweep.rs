@@ -44,7 +44,7 @@ pub struct Args {
     /// (a power law shows as a line).
     #[arg(long)]
     pub log: bool,
-    /// No progress output.
+    /// No progress output (warnings still go to stderr, the summary to stdout).
     #[arg(long)]
     pub quiet: bool,
 }
