@@ -5,10 +5,12 @@
 //! Every subcommand that computes numbers writes a directory with the resolved configuration
 //! (`config.json`) and `summary.json`, and prints that summary as the last line of stdout.
 
+mod bytes;
 mod cellular;
 mod cli_values;
 mod clock;
 mod commands;
+mod dem_checkpoint;
 mod events_checkpoint;
 mod events_measure;
 mod events_scene;
@@ -17,6 +19,7 @@ mod output;
 mod run_lock;
 mod samples;
 mod scene_file;
+mod scene_text;
 mod sweep;
 mod thermo;
 mod threads;

@@ -89,7 +89,7 @@ impl Recorder {
     /// Writes the checkpoint after the snapshots it counts.
     fn checkpoint(&mut self, sim: &Simulation) -> Result<(), ObserverError> {
         self.writer.sync()?;
-        analysis::io::write_atomic(&self.checkpoint, &sim.checkpoint(self.fingerprint, self.frames))?;
+        analysis::io::write_atomic(&self.checkpoint, &crate::dem_checkpoint::encode(sim, self.fingerprint, self.frames))?;
         Ok(())
     }
 }

@@ -1,11 +1,13 @@
 //! A scene file as the commands read it: the DEM's scene ([`particles::scene::Scene`]) and
 //! the automaton's optional `[automaton]` table ([`automaton::Spec`]), each owned by its
-//! crate. `--set` overrides reach both tables ([`particles::scene::overrides`]).
+//! crate. `--set` overrides reach both tables ([`crate::scene_text::overrides`]).
 
 use std::path::Path;
 
-use particles::scene::{overrides, Scene, SceneError};
+use particles::scene::{Scene, SceneError};
 use serde::{Deserialize, Serialize};
+
+use crate::scene_text::overrides;
 
 /// Both models' view of one scene file. Serialises (for `config.json`) as the scene's
 /// tables plus `automaton` unless it holds only defaults.
@@ -147,7 +149,7 @@ pub fn differences(a: &Scene, b: &Scene) -> Vec<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use particles::prepare::sample_key;
+    use crate::samples::sample_key;
 
     const SCENE: &str = r#"
 [box]

@@ -6,6 +6,7 @@ use std::path::Path;
 
 use particles::scene::Scene;
 use particles::tray;
+use serde::Deserialize;
 
 #[test]
 fn the_stripe_scene_is_valid_warning_free_and_in_the_rolling_regime() {
@@ -14,7 +15,7 @@ fn the_stripe_scene_is_valid_warning_free_and_in_the_rolling_regime() {
     // by the command line's scene_file).
     let mut doc: toml::Table = toml::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
     doc.remove("automaton");
-    let scene = Scene::parse(&toml::to_string(&doc).unwrap(), &[], "scenes/stripes.toml").unwrap();
+    let scene = Scene::deserialize(toml::Value::Table(doc)).unwrap();
     scene.validate().unwrap();
     let setup = tray::setup(&scene, tray::drive(&scene)).unwrap();
     assert!(

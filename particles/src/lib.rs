@@ -12,6 +12,8 @@
 //! - `forces`: one force evaluation, gathered per particle in fixed blocks;
 //! - [`setup`]: what defines the dynamics (laws, walls, step, boundaries), and contact records;
 //! - [`sim`]: the only module that knows the order of the stages of a time step;
+//! - [`saved`]: a simulation's dynamic state as plain data, exported and imported so that a
+//!   run continues bit for bit (the root crate stores it; this crate knows no byte layout);
 //! - `parallel`: deterministic block parallelism (results independent of the thread count);
 //! - [`observe`]: energy, momentum and angular momentum of a state;
 //! - [`observer`]: [`observer::advance`] steps a run and hands it to observers after every
@@ -20,7 +22,6 @@
 //!   and eccentricity studies.
 
 pub mod boundary;
-pub mod checkpoint;
 pub mod contact;
 pub mod error;
 pub mod experiment;
@@ -32,6 +33,7 @@ pub mod observe;
 pub mod observer;
 mod parallel;
 pub mod prepare;
+pub mod saved;
 pub mod scene;
 pub mod setup;
 pub mod sim;

@@ -585,11 +585,43 @@ mod tests {
     /// A shaken Cundall-Strack tray on a narrow box, so that many grains meet the side walls:
     /// 60 grains, 0.02 m x 0.005 m, the thesis' drive.
     fn narrow_cundall_strack_tray() -> Simulation {
-        let text = "[box]\nlength = 0.02\nwidth = 0.005\n[drive]\nfrequency = 20.0\namplitude = 0.025\n\
-                    [particles]\ncount = 60\nradius_min = 0.25e-3\nradius_max = 0.5e-3\n\
-                    [contact]\ntangential = \"cundall-strack\"\ntangential_stiffness = 50\n\
-                    [run]\nduration = 0.1\ndt = 8e-6\nseed = 3\n";
-        let scene = crate::scene::Scene::parse(text, &[], "test").unwrap();
+        use crate::contact::choice::TangentialKind;
+        use crate::scene::*;
+        let scene = Scene {
+            tray: TrayBox {
+                length: 0.02,
+                width: 0.005,
+                height: None,
+            },
+            drive: Drive {
+                frequency: 20.0,
+                amplitude: 0.025,
+            },
+            particles: Particles {
+                count: 60,
+                radius_min: 0.25e-3,
+                radius_max: 0.5e-3,
+            },
+            material: Default::default(),
+            contact: ContactSpec {
+                tangential: TangentialKind::CundallStrack,
+                tangential_stiffness: Some(50.0),
+                ..Default::default()
+            },
+            toggles: Default::default(),
+            prepare: Default::default(),
+            run: Run {
+                duration: 0.1,
+                dt: TimeStep::Seconds(8e-6),
+                steps_per_contact: DEFAULT_STEPS_PER_CONTACT,
+                restitution_tolerance: DEFAULT_RESTITUTION_TOLERANCE,
+                seed: 3,
+                threads: 0,
+                snapshots_per_period: 1,
+                checkpoint_interval: DEFAULT_CHECKPOINT_INTERVAL,
+                integrator: Default::default(),
+            },
+        };
         scene.validate().unwrap();
         Simulation::new(
             crate::tray::setup(&scene, crate::tray::drive(&scene)).unwrap(),
@@ -618,9 +650,8 @@ mod tests {
         }
         assert_eq!(sim.setup.walls[0].name, "floor");
         assert!(side_springs > 100 && ended > 0, "side-wall springs {side_springs}, ended {ended}");
-        let saved = sim.checkpoint(7, 0);
         let mut resumed = narrow_cundall_strack_tray();
-        resumed.restore(&saved, 7).unwrap();
+        resumed.import_state(sim.export_state()).unwrap();
         assert_eq!(
             resumed.wall_touched,
             sim.wall_history.iter().map(|h| (*h != Vec3::zeros()) as u8).collect::<Vec<_>>()
@@ -629,7 +660,8 @@ mod tests {
             sim.step().unwrap();
             resumed.step().unwrap();
         }
-        assert!(sim.checkpoint(7, 0) == resumed.checkpoint(7, 0), "the restored run diverged");
+        let bits = |s: &Simulation| format!("{:?}", s.export_state());
+        assert!(bits(&sim) == bits(&resumed), "the restored run diverged");
     }
 
     proptest! {

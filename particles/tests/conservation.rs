@@ -13,6 +13,7 @@ use particles::boundary::Boundary;
 use particles::contact::{ContactLaw, NormalLaw, RollingLaw, TangentialLaw};
 use particles::observe;
 use particles::prepare::initial_state;
+use particles::scene::{TimeStep, Toggles};
 use particles::sim::Simulation;
 use particles::state::State;
 use particles::tray;
@@ -168,11 +169,8 @@ proptest! {
         walls in any::<bool>(),
         rolling in any::<bool>(),
     ) {
-        let toggles = format!(
-            "[toggles]\nfriction = {friction}\njumping = {jumping}\nwalls = {walls}\nrolling = {rolling}\n\
-             [run]\nduration = 0.1\ndt = 4e-6\nseed = {seed}\n"
-        );
-        let scene = common::tray_scene(0.01, 0.008, 40, &toggles, &[]);
+        let toggles = Toggles { friction, jumping, dissipation: true, walls, rolling };
+        let scene = common::tray_scene(0.01, 0.008, 40, TimeStep::Seconds(4e-6), seed, |s| s.toggles = toggles);
         let mut sim = Simulation::new(tray::setup(&scene, tray::drive(&scene)).unwrap(), initial_state(&scene).unwrap()).unwrap();
         let n = sim.state.len();
         for _ in 0..2500 {

@@ -8,11 +8,13 @@
 mod common;
 
 use particles::boundary::Boundary;
+use particles::contact::choice::TangentialKind;
 use particles::contact::{ContactLaw, NormalLaw, RollingLaw, TangentialLaw};
 use particles::experiment::closed_form::{gamma_for_damping_ratio, linear_dashpot};
 use particles::experiment::collide::{Collision, Impact, StepSize, Target};
 use particles::integrate::Integrator;
 use particles::prepare::initial_state;
+use particles::scene::TimeStep;
 use particles::sim::{Partner, Setup, Simulation};
 use particles::state::State;
 use particles::tray;
@@ -313,7 +315,7 @@ fn the_energy_ledger_of_a_long_shaken_run_closes() {
     // At dt = 4e-6 s it closes to 2.5e-5 of the injected work. At the thesis' 8e-6 s it
     // misses by 4e-3: the Haff-Werner viscous branch is unstable there for the smallest
     // grains (gamma_t dt / m_t = 2.4), and the run says so (`tray::warnings`).
-    let scene = common::tray_scene(0.006, 0.01, 60, "[run]\nduration = 0.1\ndt = 4e-6\nseed = 7\n", &[]);
+    let scene = common::tray_scene(0.006, 0.01, 60, TimeStep::Seconds(4e-6), 7, common::unchanged);
     assert!(tray::warnings(&scene, 4e-6).unwrap().is_empty());
     let at_thesis_dt = tray::warnings(&scene, 8e-6).unwrap();
     assert!(
@@ -341,13 +343,10 @@ fn the_energy_ledger_of_a_long_shaken_run_closes() {
 
 #[test]
 fn a_scene_whose_tangential_spring_is_too_stiff_is_refused_before_the_run() {
-    let scene = common::tray_scene(
-        0.02,
-        0.01,
-        10,
-        "[contact]\ntangential = \"cundall-strack\"\ntangential_stiffness = 1e5\n[run]\nduration = 0.1\ndt = 8e-6\nseed = 1\n",
-        &[],
-    );
+    let scene = common::tray_scene(0.02, 0.01, 10, TimeStep::Seconds(8e-6), 1, |s| {
+        s.contact.tangential = TangentialKind::CundallStrack;
+        s.contact.tangential_stiffness = Some(1e5);
+    });
     let e = tray::setup(&scene, tray::drive(&scene)).unwrap_err();
     assert!(matches!(e, SimError::TangentialSpringTooStiff { .. }), "{e:?}");
     assert!(e.to_string().contains("contact.tangential_stiffness"), "{e}");

@@ -10,7 +10,6 @@ use std::path::{Path, PathBuf};
 
 use analysis::io::read_csv;
 use analysis::plot::{Heatmap, LinePlot, Mark};
-use particles::prepare::sample_key;
 use serde::Serialize;
 use serde_json::{json, Value};
 
@@ -18,6 +17,7 @@ use super::automaton::{analysis_keys, analyze_dir};
 use super::{automaton, run};
 use crate::cellular::load_scene;
 use crate::output::{CliError, RunDir};
+use crate::samples::sample_key;
 
 #[derive(clap::Args, Debug, Serialize)]
 pub struct Args {

@@ -64,7 +64,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
     let dt = setup.dt;
     let (state, _) = crate::samples::load_or_prepare(&scene, &args.sample_cache, |_| {})?;
     let mut sim = Simulation::new(setup, state)?;
-    sim.restore(&bytes, super::run::checkpoint_fingerprint(&scene)?)
+    crate::dem_checkpoint::restore(&mut sim, &bytes, super::run::checkpoint_fingerprint(&scene)?)
         .map_err(|e| format!("{}: {e}", ckpt_path.display()))?;
     let start = sim.time;
 

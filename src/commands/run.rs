@@ -19,7 +19,6 @@ use std::time::Instant;
 use analysis::snapshot::Header;
 use particles::observe;
 use particles::observer::{advance, ObserverError};
-use particles::prepare;
 use particles::scene::Scene;
 use particles::sim::Simulation;
 use particles::tray;
@@ -28,6 +27,7 @@ use serde_json::json;
 
 use crate::observers::{ContactMeans, Progress, Recorder, RecorderPlan};
 use crate::output::{non_empty, progress_bar, CliError, RunDir};
+use crate::samples::sample_key;
 use crate::thermo::Thermo;
 use crate::vtk_series::VtkSeries;
 
@@ -133,7 +133,7 @@ pub(crate) fn checkpoint_fingerprint(scene: &Scene) -> Result<u64, CliError> {
     s.run.threads = 0;
     s.run.checkpoint_interval = 0.0;
     s.run.duration = 1.0;
-    Ok(observe::fnv1a(toml::to_string(&s)?.as_bytes()) ^ prepare::sample_key(scene))
+    Ok(observe::fnv1a(toml::to_string(&s)?.as_bytes()) ^ sample_key(scene))
 }
 
 pub fn run(args: Args) -> Result<String, CliError> {
@@ -245,9 +245,8 @@ fn start(
     let ckpt_path = out.join("checkpoint.bin");
     let mut frames = 0;
     if let Some(bytes) = &checkpoint {
-        frames = sim
-            .restore(bytes, fingerprint)
-            .map_err(|e| format!("--resume: {}: {e}", ckpt_path.display()))?;
+        frames =
+            crate::dem_checkpoint::restore(&mut sim, bytes, fingerprint).map_err(|e| format!("--resume: {}: {e}", ckpt_path.display()))?;
         thermo.resume(&out.join("thermo.csv"), sim.time)?;
     }
     let dir = RunDir::create(out, &json!({ "args": args, "scene": scene }))?;
@@ -423,7 +422,7 @@ fn step(
         "prepare_s": prepare_s,
         "sample_cache": args.sample_cache.display().to_string(),
         "thermo_interval_s": thermo.every as f64 * dt,
-        "sample_key": format!("{:016x}", prepare::sample_key(scene)),
+        "sample_key": format!("{:016x}", sample_key(scene)),
         "energy": energy,
         "contacts": { "pair_mean": pair_mean, "wall_mean": wall_mean },
         "neighbor_builds": sim.neighbor_builds(),

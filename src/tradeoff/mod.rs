@@ -166,14 +166,14 @@ pub fn base_scene(count: usize, duration: f64) -> Scene {
     "#,
         length = count as f64 / 1e4
     );
-    let scene = Scene::parse(&text, &[], "bench").expect("the bench scene parses");
+    let scene = crate::scene_text::parse_scene(&text, &[], "bench").expect("the bench scene parses");
     scene.validate().expect("the bench scene is valid");
     scene
 }
 
 pub(crate) fn with(scene: &Scene, overrides: &[String]) -> Result<Scene, SimError> {
     let text = toml::to_string(scene).expect("a scene serialises");
-    let s = Scene::parse(&text, overrides, "bench").map_err(|e| SimError::InvalidParameter {
+    let s = crate::scene_text::parse_scene(&text, overrides, "bench").map_err(|e| SimError::InvalidParameter {
         field: e.key.clone(),
         message: e.message,
     })?;
