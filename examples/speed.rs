@@ -7,6 +7,8 @@ mod scene_text;
 
 use particles::prepare::initial_state;
 use particles::sim::Simulation;
+use particles::time_step;
+use particles::timescale;
 use particles::tray;
 use std::time::Instant;
 
@@ -15,8 +17,8 @@ fn main() {
     let text = std::fs::read_to_string("scenes/thesis-reference.toml").unwrap();
     let scene = scene_text::parse_scene(&text, &args, "scenes/thesis-reference.toml").unwrap();
     scene.validate().unwrap();
-    let setup = tray::setup(&scene, tray::drive(&scene)).unwrap();
-    println!("dt {:e}, t_c {:e}", setup.dt, tray::shortest_contact_time(&scene).unwrap());
+    let setup = tray::setup(&scene, tray::drive(&scene), time_step::for_scene(&scene).unwrap()).unwrap();
+    println!("dt {:e}, t_c {:e}", setup.dt, timescale::shortest_contact_time(&scene).unwrap());
     let mut sim = Simulation::new(setup, initial_state(&scene).unwrap()).unwrap();
     let steps = 5000;
     let t0 = Instant::now();

@@ -27,9 +27,9 @@ use automaton::mapping::{self, FreeParams, SlideMeasure, TrayDrive};
 use automaton::{Automaton, Direction};
 use automaton::{Lattice, Params, RuleSet, YBoundary};
 use indicatif::ProgressBar;
+use particles::constants::GRAVITY;
 use particles::experiment::single::SphereOnFloor;
 use particles::scene::{Scene, TimeStep};
-use particles::tray::GRAVITY;
 use serde::Serialize;
 
 use crate::output::{progress_bar, CliError};
@@ -80,7 +80,7 @@ pub fn tray_drive(scene: &Scene) -> TrayDrive {
 pub fn slide_dem(scene: &Scene) -> Result<SlideMeasure, CliError> {
     let dt = match scene.run.dt {
         TimeStep::Seconds(dt) => dt,
-        TimeStep::Auto(_) => particles::tray::shortest_contact_time(scene)? / scene.run.steps_per_contact,
+        TimeStep::Auto(_) => particles::timescale::shortest_contact_time(scene)? / scene.run.steps_per_contact,
     };
     let sphere = SphereOnFloor::on_scene(scene, 0.5 * (scene.particles.radius_min + scene.particles.radius_max), dt)?;
     let duration = SLIDE_PERIODS / scene.drive.frequency;

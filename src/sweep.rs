@@ -398,7 +398,7 @@ pub fn check_jobs(sweep: &Sweep) -> Result<(), CliError> {
         let file = crate::scene_file::load(&sweep.scene, &job_overrides(sweep, job)).map_err(|e| blame(&e))?;
         file.validate().map_err(|e| blame(&e))?;
         if let particles::scene::TimeStep::Seconds(_) = file.dem.run.dt {
-            particles::tray::time_step(&file.dem).map_err(|e| blame(&e))?;
+            particles::time_step::for_scene(&file.dem).map_err(|e| blame(&e))?;
         }
     }
     Ok(())

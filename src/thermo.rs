@@ -13,7 +13,7 @@
 //! - `pair_contacts`, `wall_contacts`: live contacts at the row's force evaluation;
 //! - `max_overlap` (m): the largest overlap of any contact (grain-grain or grain-wall), and
 //!   `max_overlap_fraction`, the same over the smaller radius of its contact (the run stops
-//!   at `particles::sim::MAX_OVERLAP_FRACTION`); NaN in the t = 0 row (contacts are
+//!   at `particles::setup::MAX_OVERLAP_FRACTION`); NaN in the t = 0 row (contacts are
 //!   recorded from the first step on);
 //! - `off_floor`: grains whose bottom is above the floor (z > R), i.e. not touching it.
 //!
@@ -26,7 +26,8 @@ use std::path::{Path, PathBuf};
 use analysis::plot::{LinePlot, Mark};
 use particles::observe;
 use particles::observer::{Observer, ObserverError};
-use particles::sim::{Partner, Simulation};
+use particles::setup::Partner;
+use particles::sim::Simulation;
 
 use crate::output::CliError;
 

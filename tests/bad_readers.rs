@@ -24,6 +24,7 @@ use counting_alloc::{LIVE, PEAK, SERIAL};
 use particles::prepare::initial_state;
 use particles::scene::{Scene, SceneError};
 use particles::sim::Simulation;
+use particles::time_step;
 use particles::tray;
 use particles::wall::Motion;
 use rand::{Rng, SeedableRng};
@@ -61,7 +62,7 @@ fn parse_scene(text: &str, set: &[String], origin: &str) -> Result<Scene, SceneE
 }
 
 fn simulation(scene: &Scene) -> Simulation {
-    let setup = tray::setup(scene, Motion::Fixed).unwrap();
+    let setup = tray::setup(scene, Motion::Fixed, time_step::for_scene(scene).unwrap()).unwrap();
     Simulation::new(setup, initial_state(scene).unwrap()).unwrap()
 }
 

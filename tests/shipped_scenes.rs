@@ -4,7 +4,7 @@
 //! explains the one warning that step earns.
 
 use particles::scene::{AutoDt, Scene, TimeStep};
-use particles::tray;
+use particles::time_step;
 use serde::Deserialize;
 
 #[test]
@@ -25,8 +25,8 @@ fn no_shipped_scene_prints_a_warning() {
         let origin = path.display().to_string();
         let scene = Scene::deserialize(toml::Value::Table(doc)).unwrap_or_else(|e| panic!("{origin}: {e}"));
         scene.validate().unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-        let dt = tray::time_step(&scene).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-        let warnings = tray::warnings(&scene, dt).unwrap();
+        let dt = time_step::for_scene(&scene).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        let warnings = time_step::warnings(&scene, dt).unwrap();
         if path.file_name().unwrap() == "thesis-reference.toml" {
             let text = std::fs::read_to_string(&path).unwrap();
             assert_eq!(warnings.len(), 1, "{warnings:?}");
@@ -38,8 +38,8 @@ fn no_shipped_scene_prints_a_warning() {
             // With the documented remedy the literal scene is quiet too.
             let mut auto = scene.clone();
             auto.run.dt = TimeStep::Auto(AutoDt::Auto);
-            let dt = tray::time_step(&auto).unwrap();
-            assert!(tray::warnings(&auto, dt).unwrap().is_empty());
+            let dt = time_step::for_scene(&auto).unwrap();
+            assert!(time_step::warnings(&auto, dt).unwrap().is_empty());
         } else {
             assert!(warnings.is_empty(), "{} at dt = {dt:e} s: {warnings:?}", path.display());
         }
@@ -61,9 +61,12 @@ fn auto_step_stays_quiet_at_the_slowest_drives() {
         let mut scene = stripes.clone();
         scene.drive.frequency = f;
         scene.drive.amplitude = a;
-        let dt = tray::time_step(&scene).unwrap();
-        let ratio = tray::viscous_friction_ratio(&scene, dt).unwrap().unwrap();
-        assert!(ratio <= tray::VISCOUS_RATIO_AUTO * (1.0 + 1e-12), "{f} Hz, {a} m: ratio {ratio}");
-        assert!(tray::warnings(&scene, dt).unwrap().is_empty(), "{f} Hz, {a} m");
+        let dt = time_step::for_scene(&scene).unwrap();
+        let ratio = time_step::viscous_friction_ratio(&scene, dt).unwrap().unwrap();
+        assert!(
+            ratio <= time_step::VISCOUS_RATIO_AUTO * (1.0 + 1e-12),
+            "{f} Hz, {a} m: ratio {ratio}"
+        );
+        assert!(time_step::warnings(&scene, dt).unwrap().is_empty(), "{f} Hz, {a} m");
     }
 }

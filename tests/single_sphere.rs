@@ -5,10 +5,10 @@
 
 use std::path::Path;
 
+use particles::constants::GRAVITY;
 use particles::contact::RollingLaw;
 use particles::experiment::single::{self as sphere, Amplitudes, SphereOnFloor};
 use particles::scene::{Scene, TimeStep};
-use particles::tray::GRAVITY;
 use serde::Deserialize;
 
 /// Thesis 3.3: A = 25 mm, nu = 5-29 Hz.

@@ -12,6 +12,7 @@ use particles::neighbor::{NeighborList, NeighborSearch};
 use particles::prepare::initial_state;
 use particles::scene::{Scene, TimeStep};
 use particles::sim::Simulation;
+use particles::time_step;
 use particles::tray;
 use particles::Vec3;
 
@@ -93,13 +94,15 @@ fn tray_step(c: &mut Criterion) {
     let mut group = c.benchmark_group("tray-400");
     for (name, jumping) in [("step 3D", true), ("step pinned 2D", false)] {
         let scene = scene(jumping);
-        let setup = tray::setup(&scene, tray::drive(&scene)).expect("valid setup");
+        let setup = tray::setup(&scene, tray::drive(&scene), time_step::for_scene(&scene).expect("valid setup")).expect("valid setup");
         let mut sim = Simulation::new(setup, initial_state(&scene).expect("valid sample")).expect("valid start");
         group.bench_function(name, |b| b.iter(|| sim.step().expect("the tray runs")));
     }
     let scene = scene(true);
     let state = initial_state(&scene).expect("valid sample");
-    let boundary = tray::setup(&scene, tray::drive(&scene)).expect("valid setup").boundary;
+    let boundary = tray::setup(&scene, tray::drive(&scene), time_step::for_scene(&scene).expect("valid setup"))
+        .expect("valid setup")
+        .boundary;
     for skin in [0.0, 0.2e-3, 0.5e-3] {
         let search = NeighborSearch::verlet(skin);
         group.bench_function(format!("neighbour build, skin {skin:e} m"), |b| {

@@ -11,6 +11,8 @@
 //! - [`integrate`]: time integrators (velocity Verlet, and the thesis' scheme);
 //! - `forces`: one force evaluation, gathered per particle in fixed blocks;
 //! - [`setup`]: what defines the dynamics (laws, walls, step, boundaries), and contact records;
+//! - [`timescale`], [`time_step`], [`tray`]: a scene's time scales; its step (explicit, or
+//!   chosen with the collision lab); the tray built at that step;
 //! - [`sim`]: the only module that knows the order of the stages of a time step;
 //! - [`saved`]: a simulation's dynamic state as plain data, exported and imported so that a
 //!   run continues bit for bit (the root crate stores it; this crate knows no byte layout);
@@ -22,6 +24,7 @@
 //!   and eccentricity studies.
 
 pub mod boundary;
+pub mod constants;
 pub mod contact;
 pub mod error;
 pub mod experiment;
@@ -38,6 +41,7 @@ pub mod scene;
 pub mod setup;
 pub mod sim;
 pub mod state;
+pub mod time_step;
 pub mod timescale;
 pub mod tray;
 pub mod wall;

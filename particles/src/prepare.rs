@@ -11,10 +11,12 @@
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
+use crate::constants::GRAVITY;
 use crate::scene::{Scene, Toggles};
 use crate::sim::Simulation;
 use crate::state::State;
-use crate::tray::{self, GRAVITY};
+use crate::time_step;
+use crate::tray;
 use crate::wall::Motion;
 use crate::{SimError, Vec3};
 
@@ -103,7 +105,7 @@ pub fn initial_state(scene: &Scene) -> Result<State, SimError> {
 /// `progress` is called with the fraction done.
 pub fn prepare(scene: &Scene, mut progress: impl FnMut(f64)) -> Result<State, SimError> {
     let reference = reference(scene);
-    let setup = tray::setup(&reference, Motion::Fixed)?;
+    let setup = tray::setup(&reference, Motion::Fixed, time_step::for_scene(&reference)?)?;
     let steps = (reference.prepare.duration / setup.dt).round() as u64;
     let mut sim = Simulation::new(setup, initial_state(scene)?)?;
     for k in 0..steps {

@@ -18,7 +18,7 @@ use crate::boundary::Boundary;
 use crate::forces;
 use crate::neighbor::NeighborList;
 use crate::parallel::on_blocks;
-pub use crate::setup::{ContactRecord, Partner, Setup, Vertical, MAX_OVERLAP_FRACTION};
+use crate::setup::{ContactRecord, Partner, Setup, Vertical, MAX_OVERLAP_FRACTION};
 use crate::state::State;
 use crate::{SimError, Vec3};
 
@@ -624,7 +624,7 @@ mod tests {
         };
         scene.validate().unwrap();
         Simulation::new(
-            crate::tray::setup(&scene, crate::tray::drive(&scene)).unwrap(),
+            crate::tray::setup(&scene, crate::tray::drive(&scene), crate::time_step::for_scene(&scene).unwrap()).unwrap(),
             crate::prepare::initial_state(&scene).unwrap(),
         )
         .unwrap()

@@ -16,6 +16,7 @@ use particles::prepare::initial_state;
 use particles::scene::{TimeStep, Toggles};
 use particles::sim::Simulation;
 use particles::state::State;
+use particles::time_step;
 use particles::tray;
 use particles::Vec3;
 use proptest::prelude::*;
@@ -171,7 +172,7 @@ proptest! {
     ) {
         let toggles = Toggles { friction, jumping, dissipation: true, walls, rolling };
         let scene = common::tray_scene(0.01, 0.008, 40, TimeStep::Seconds(4e-6), seed, |s| s.toggles = toggles);
-        let mut sim = Simulation::new(tray::setup(&scene, tray::drive(&scene)).unwrap(), initial_state(&scene).unwrap()).unwrap();
+        let mut sim = Simulation::new(tray::setup(&scene, tray::drive(&scene), time_step::for_scene(&scene).unwrap()).unwrap(), initial_state(&scene).unwrap()).unwrap();
         let n = sim.state.len();
         for _ in 0..2500 {
             sim.step().unwrap();

@@ -15,8 +15,10 @@ use particles::experiment::collide::{Collision, Impact, StepSize, Target};
 use particles::integrate::Integrator;
 use particles::prepare::initial_state;
 use particles::scene::TimeStep;
-use particles::sim::{Partner, Setup, Simulation};
+use particles::setup::{Partner, Setup};
+use particles::sim::Simulation;
 use particles::state::State;
+use particles::time_step;
 use particles::tray;
 use particles::wall::{Motion, Wall};
 use particles::{SimError, Vec3};
@@ -316,13 +318,17 @@ fn the_energy_ledger_of_a_long_shaken_run_closes() {
     // misses by 4e-3: the Haff-Werner viscous branch is unstable there for the smallest
     // grains (gamma_t dt / m_t = 2.4), and the run says so (`tray::warnings`).
     let scene = common::tray_scene(0.006, 0.01, 60, TimeStep::Seconds(4e-6), 7, common::unchanged);
-    assert!(tray::warnings(&scene, 4e-6).unwrap().is_empty());
-    let at_thesis_dt = tray::warnings(&scene, 8e-6).unwrap();
+    assert!(time_step::warnings(&scene, 4e-6).unwrap().is_empty());
+    let at_thesis_dt = time_step::warnings(&scene, 8e-6).unwrap();
     assert!(
         at_thesis_dt.len() == 1 && at_thesis_dt[0].contains("contact.tangential_damping"),
         "{at_thesis_dt:?}"
     );
-    let mut sim = Simulation::new(tray::setup(&scene, tray::drive(&scene)).unwrap(), initial_state(&scene).unwrap()).unwrap();
+    let mut sim = Simulation::new(
+        tray::setup(&scene, tray::drive(&scene), time_step::for_scene(&scene).unwrap()).unwrap(),
+        initial_state(&scene).unwrap(),
+    )
+    .unwrap();
     let e0 = sim.total_energy();
     let steps = (0.1 / 4e-6) as u64;
     for _ in 0..steps {
@@ -347,7 +353,7 @@ fn a_scene_whose_tangential_spring_is_too_stiff_is_refused_before_the_run() {
         s.contact.tangential = TangentialKind::CundallStrack;
         s.contact.tangential_stiffness = Some(1e5);
     });
-    let e = tray::setup(&scene, tray::drive(&scene)).unwrap_err();
+    let e = time_step::for_scene(&scene).unwrap_err();
     assert!(matches!(e, SimError::TangentialSpringTooStiff { .. }), "{e:?}");
     assert!(e.to_string().contains("contact.tangential_stiffness"), "{e}");
 }

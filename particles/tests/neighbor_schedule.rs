@@ -9,6 +9,7 @@ use particles::neighbor::NeighborSearch;
 use particles::prepare::initial_state;
 use particles::scene::TimeStep;
 use particles::sim::Simulation;
+use particles::time_step;
 use particles::tray;
 
 /// The tray stepped 4000 times with `search` (the tray's own adaptive list if `None`), its
@@ -20,7 +21,7 @@ fn run(search: Option<NeighborSearch>, speed: f64, jumping: bool) -> (Vec<u64>, 
         s.prepare.speed = speed;
         s.toggles.jumping = jumping;
     });
-    let mut setup = tray::setup(&scene, tray::drive(&scene)).unwrap();
+    let mut setup = tray::setup(&scene, tray::drive(&scene), time_step::for_scene(&scene).unwrap()).unwrap();
     if let Some(search) = search {
         setup.neighbors = search;
     }
@@ -57,7 +58,10 @@ fn verlet_list_run_equals_all_pairs_run_bit_for_bit() {
 #[test]
 fn adaptive_skin_grows_in_a_gas_and_changes_no_result() {
     let scene = common::tray_scene(0.02, 0.01, 120, TimeStep::Seconds(8e-6), 5, common::unchanged);
-    let NeighborSearch::VerletList { skin, max_skin } = tray::setup(&scene, tray::drive(&scene)).unwrap().neighbors else {
+    let NeighborSearch::VerletList { skin, max_skin } = tray::setup(&scene, tray::drive(&scene), time_step::for_scene(&scene).unwrap())
+        .unwrap()
+        .neighbors
+    else {
         panic!("the tray uses a Verlet list");
     };
     let (adaptive, contacts, adaptive_builds, final_skin) = run(None, 1.0, true);

@@ -5,7 +5,8 @@ mod common;
 use particles::experiment::step_control::{choose, restitution_error, run_all, scene_probes, REFERENCE_STEPS};
 use particles::integrate::Integrator;
 use particles::scene::Scene;
-use particles::tray;
+use particles::time_step;
+use particles::timescale;
 use particles::SimError;
 
 /// 50 grains on 20 mm x 10 mm with the error-controlled step, at least 8 steps per
@@ -46,16 +47,16 @@ fn the_chosen_step_meets_the_tolerance_and_a_coarser_one_does_not() {
 
 #[test]
 fn auto_uses_the_tolerance_and_never_fewer_than_steps_per_contact() {
-    let t_c = tray::shortest_contact_time(&scene(common::unchanged)).unwrap();
-    let default = tray::time_step(&scene(common::unchanged)).unwrap();
+    let t_c = timescale::shortest_contact_time(&scene(common::unchanged)).unwrap();
+    let default = time_step::for_scene(&scene(common::unchanged)).unwrap();
     assert_eq!(t_c / default, 25.0, "thesis material at the default tolerance 1e-2");
-    let floored = tray::time_step(&scene(|s| s.run.steps_per_contact = 40.0)).unwrap();
+    let floored = time_step::for_scene(&scene(|s| s.run.steps_per_contact = 40.0)).unwrap();
     assert!((t_c / floored - 40.0).abs() < 1e-9);
 }
 
 #[test]
 fn an_unreachable_tolerance_is_refused_naming_the_key() {
-    let e = tray::time_step(&scene(|s| s.run.restitution_tolerance = 1e-9)).unwrap_err();
+    let e = time_step::for_scene(&scene(|s| s.run.restitution_tolerance = 1e-9)).unwrap_err();
     assert!(
         matches!(&e, SimError::InvalidParameter { field, .. } if field == "run.restitution_tolerance"),
         "{e:?}"

@@ -8,6 +8,7 @@ use particles::contact::choice::TangentialKind;
 use particles::prepare::initial_state;
 use particles::scene::{Scene, TimeStep};
 use particles::sim::Simulation;
+use particles::time_step;
 use particles::tray;
 
 /// A change of the scene.
@@ -18,7 +19,11 @@ fn run(threads: usize, edit: Edit) -> (Vec<u64>, String) {
     let scene = common::tray_scene(0.04, 0.02, 400, TimeStep::Seconds(8e-6), 11, edit);
     let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
     pool.install(|| {
-        let mut sim = Simulation::new(tray::setup(&scene, tray::drive(&scene)).unwrap(), initial_state(&scene).unwrap()).unwrap();
+        let mut sim = Simulation::new(
+            tray::setup(&scene, tray::drive(&scene), time_step::for_scene(&scene).unwrap()).unwrap(),
+            initial_state(&scene).unwrap(),
+        )
+        .unwrap();
         for _ in 0..1500 {
             sim.step().unwrap();
         }

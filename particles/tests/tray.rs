@@ -5,8 +5,10 @@ mod common;
 use particles::boundary::Boundary;
 use particles::prepare::initial_state;
 use particles::scene::{Scene, TimeStep};
-use particles::sim::{Setup, Simulation};
+use particles::setup::Setup;
+use particles::sim::Simulation;
 use particles::state::State;
+use particles::time_step;
 use particles::tray;
 use particles::{SimError, Vec3};
 
@@ -17,7 +19,11 @@ fn scene(edit: impl FnOnce(&mut Scene)) -> Scene {
 
 fn tray_sim(edit: impl FnOnce(&mut Scene)) -> Simulation {
     let s = scene(edit);
-    Simulation::new(tray::setup(&s, tray::drive(&s)).unwrap(), initial_state(&s).unwrap()).unwrap()
+    Simulation::new(
+        tray::setup(&s, tray::drive(&s), time_step::for_scene(&s).unwrap()).unwrap(),
+        initial_state(&s).unwrap(),
+    )
+    .unwrap()
 }
 
 /// Two grains colliding obliquely on the floor at `x0` (m) in a periodic tray.
@@ -42,7 +48,7 @@ fn seam_pair(setup: &Setup, x0: f64) -> Simulation {
 #[test]
 fn a_contact_across_the_periodic_seam_equals_the_same_pair_shifted() {
     let s = scene(common::unchanged);
-    let setup = tray::setup(&s, particles::wall::Motion::Fixed).unwrap();
+    let setup = tray::setup(&s, particles::wall::Motion::Fixed, time_step::for_scene(&s).unwrap()).unwrap();
     let l = s.tray.length;
     let mut middle = seam_pair(&setup, 0.5 * l);
     let mut seam = seam_pair(&setup, l - 4e-4); // the second grain lies across x = 0

@@ -21,6 +21,8 @@ use particles::observe;
 use particles::observer::{advance, ObserverError};
 use particles::scene::Scene;
 use particles::sim::Simulation;
+use particles::time_step;
+use particles::timescale;
 use particles::tray;
 use serde::Serialize;
 use serde_json::json;
@@ -155,7 +157,7 @@ fn run_in_pool(args: Args, file: crate::scene_file::SceneFile, threads_why: Stri
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from(format!("out/run-{name}")));
     // Everything that can be checked is checked before anything is written and before the
     // (possibly long) preparation.
-    let setup = tray::setup(scene, tray::drive(scene))?;
+    let setup = tray::setup(scene, tray::drive(scene), time_step::for_scene(scene)?)?;
     let gap = 1.0 / (scene.run.snapshots_per_period as f64 * scene.drive.frequency);
     if gap < 2.0 * setup.dt {
         return Err(format!(
@@ -166,7 +168,7 @@ fn run_in_pool(args: Args, file: crate::scene_file::SceneFile, threads_why: Stri
         )
         .into());
     }
-    let warnings = tray::warnings(scene, setup.dt)?;
+    let warnings = time_step::warnings(scene, setup.dt)?;
     // Then the lock, held until this function returns (a second run into the same directory
     // is refused, even with --force), and only then the directory's contents.
     let existed = out.exists();
@@ -220,7 +222,7 @@ fn start(
     args: &Args,
     file: &crate::scene_file::SceneFile,
     out: &Path,
-    setup: particles::sim::Setup,
+    setup: particles::setup::Setup,
     checkpoint: Option<Vec<u8>>,
 ) -> Result<Started, CliError> {
     let scene = &file.dem;
@@ -381,7 +383,7 @@ fn step(
     recorder.writer.sync()?;
     bar.finish_and_clear();
     thermo.write()?;
-    let resolving = tray::viscous_friction_ratio(scene, dt)?.filter(|r| *r > 1.0).map(|r| dt / r);
+    let resolving = time_step::viscous_friction_ratio(scene, dt)?.filter(|r| *r > 1.0).map(|r| dt / r);
     if let Some(w) = thermo.balance_warning(dt, resolving) {
         eprintln!("warning: {w}");
         warnings.push(w);
@@ -416,7 +418,7 @@ fn step(
         "particle_steps_per_s": (stepped as f64 * s.len() as f64) / stepping.max(1e-12),
         "threads": rayon::current_num_threads(),
         "threads_chosen_by": threads_why,
-        "steps_per_contact": tray::shortest_contact_time(scene)? / dt,
+        "steps_per_contact": timescale::shortest_contact_time(scene)? / dt,
         "snapshots": frames,
         "sample_cached": cached,
         "prepare_s": prepare_s,

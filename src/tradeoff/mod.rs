@@ -47,7 +47,8 @@ use serde::Serialize;
 use particles::integrate::Integrator;
 use particles::scene::Scene;
 use particles::scene::DEFAULT_RESTITUTION_TOLERANCE;
-use particles::tray;
+use particles::time_step;
+use particles::timescale;
 use particles::SimError;
 
 /// Which study a row belongs to.
@@ -266,8 +267,8 @@ impl Setting {
 /// The time step of a setting's scene: its steps per contact, or the scene's own step.
 pub(crate) fn setting_dt(scene: &Scene, steps: Option<f64>) -> Result<f64, SimError> {
     match steps {
-        Some(s) => Ok(tray::shortest_contact_time(scene)? / s),
-        None => tray::time_step(scene),
+        Some(s) => Ok(timescale::shortest_contact_time(scene)? / s),
+        None => time_step::for_scene(scene),
     }
 }
 

@@ -10,7 +10,8 @@ use particles::scene::{
     AutoDt, ContactSpec, Drive, Particles, Prepare, Run, Scene, TimeStep, Toggles, TrayBox, DEFAULT_CHECKPOINT_INTERVAL,
     DEFAULT_RESTITUTION_TOLERANCE, DEFAULT_STEPS_PER_CONTACT,
 };
-use particles::sim::{Setup, Simulation, Vertical};
+use particles::setup::{Setup, Vertical};
+use particles::sim::Simulation;
 use particles::Vec3;
 
 /// A tray of `count` grains with the thesis' radii (0.25-0.5 mm), drive (20 Hz, 25 mm) and
