@@ -30,6 +30,6 @@ fn main() {
         "{} particle-steps/s, builds {}, contacts (pair, wall) {:?}",
         (steps * scene.particles.count) as f64 / wall,
         sim.neighbor_builds(),
-        sim.contacts
+        sim.contact_counts
     );
 }

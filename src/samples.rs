@@ -14,7 +14,7 @@ use crate::bytes::{Reader, Writer};
 /// [`particles::prepare::reference`], which holds the seed.
 pub fn sample_key(scene: &Scene) -> u64 {
     let text = toml::to_string(&reference(scene)).expect("a scene serialises");
-    particles::observe::fnv1a(format!("sample revision {SAMPLE_REVISION}\n{text}").as_bytes())
+    particles::measure::fnv1a(format!("sample revision {SAMPLE_REVISION}\n{text}").as_bytes())
 }
 
 /// Loads the sample of `scene` from `dir` (file `sample-<key>.bin`, see [`sample_key`]) or

@@ -17,12 +17,13 @@
 //! - [`saved`]: a simulation's dynamic state as plain data, exported and imported so that a
 //!   run continues bit for bit (the root crate stores it; this crate knows no byte layout);
 //! - `parallel`: deterministic block parallelism (results independent of the thread count);
-//! - [`observe`]: energy, momentum and angular momentum of a state;
-//! - [`observer`]: [`observer::advance`] steps a run and hands it to observers after every
+//! - [`measure`]: energy, momentum and angular momentum of a state, and the state hash;
+//! - [`advance`]: [`advance::advance`] steps a run and hands it to observers after every
 //!   step; they, outside this crate, write files (this crate knows no file format);
 //! - [`experiment`]: the collision lab, the single sphere on the shaken plate, contact-time
 //!   and eccentricity studies.
 
+pub mod advance;
 pub mod boundary;
 pub mod constants;
 pub mod contact;
@@ -31,9 +32,8 @@ pub mod experiment;
 mod forces;
 pub mod integrate;
 pub mod material;
+pub mod measure;
 pub mod neighbor;
-pub mod observe;
-pub mod observer;
 mod parallel;
 pub mod prepare;
 pub mod saved;

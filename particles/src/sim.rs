@@ -56,8 +56,9 @@ pub struct Simulation {
     pub ledger: Ledger,
     /// Elastic energy stored in contacts at the last force evaluation (J).
     pub stored_energy: f64,
-    /// Live contacts at the last force evaluation: `(particle pairs, particle-wall)`.
-    pub contacts: (u64, u64),
+    /// Live contacts counted at the last force evaluation: `(particle pairs, particle-wall)`
+    /// (always kept; the per-contact records of [`Self::contact_records`] only on request).
+    pub contact_counts: (u64, u64),
     rotate: bool,
     /// Masses `1 / inv_mass` (kg), computed once.
     mass: Vec<f64>,
@@ -122,7 +123,7 @@ impl Simulation {
             steps: 0,
             ledger: Ledger::default(),
             stored_energy: 0.0,
-            contacts: (0, 0),
+            contact_counts: (0, 0),
             rotate,
             neighbors: NeighborList::default(),
             pair_history: Vec::new(),
@@ -144,7 +145,7 @@ impl Simulation {
     }
 
     /// Records per-contact diagnostics at every force evaluation from the next step on (see
-    /// [`Self::contacts`]). The forces are not re-evaluated: that would advance the
+    /// [`Self::contact_records`]). The forces are not re-evaluated: that would advance the
     /// Cundall-Strack springs a second time and change the trajectory.
     pub fn record_contacts(&mut self, on: bool) {
         self.record = on;
@@ -152,7 +153,7 @@ impl Simulation {
     }
 
     /// Contacts of the last force evaluation (empty unless recording); each pair once.
-    pub fn contacts(&self) -> &[ContactRecord] {
+    pub fn contact_records(&self) -> &[ContactRecord] {
         &self.records
     }
 
@@ -232,9 +233,9 @@ impl Simulation {
 
     /// Total mechanical energy: kinetic, rotational, gravitational and stored in contacts (J).
     pub fn total_energy(&self) -> f64 {
-        crate::observe::kinetic_energy(&self.state)
-            + crate::observe::rotational_energy(&self.state)
-            + crate::observe::potential_energy(&self.state, self.setup.gravity)
+        crate::measure::kinetic_energy(&self.state)
+            + crate::measure::rotational_energy(&self.state)
+            + crate::measure::potential_energy(&self.state, self.setup.gravity)
             + self.stored_energy
     }
 
@@ -484,10 +485,10 @@ impl Simulation {
         let mut first_bad = None;
         let mut violation: Option<(f64, usize, Partner, f64, f64)> = None;
         self.records.clear();
-        self.contacts = (0, 0);
+        self.contact_counts = (0, 0);
         for s in sums {
-            self.contacts.0 += s.pair_contacts;
-            self.contacts.1 += s.wall_contacts;
+            self.contact_counts.0 += s.pair_contacts;
+            self.contact_counts.1 += s.wall_contacts;
             stored += s.stored;
             dissipated += s.dissipated;
             injected += s.injected;

@@ -192,7 +192,11 @@ fn cundall_strack_with_kt_far_above_kn() {
     let (mut switches, mut sliding, mut steps_in_contact) = (0, None, 0);
     for _ in 0..4000 {
         sim.step().unwrap();
-        if let Some(c) = sim.contacts().iter().find(|c| c.partner == Partner::Particle(1) && c.normal > 0.0) {
+        if let Some(c) = sim
+            .contact_records()
+            .iter()
+            .find(|c| c.partner == Partner::Particle(1) && c.normal > 0.0)
+        {
             steps_in_contact += 1;
             let now = c.tangential >= (1.0 - 1e-9) * c.mu * c.normal;
             if sliding.is_some_and(|was| was != now) {

@@ -29,7 +29,7 @@ fn run(search: Option<NeighborSearch>, speed: f64, jumping: bool) -> (Vec<u64>, 
     let mut pair_contact_steps = 0;
     for _ in 0..4000 {
         sim.step().unwrap();
-        pair_contact_steps += (sim.contacts.0 > 0) as u64;
+        pair_contact_steps += (sim.contact_counts.0 > 0) as u64;
     }
     (
         common::state_bits(&sim),

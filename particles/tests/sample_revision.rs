@@ -5,7 +5,7 @@
 
 mod common;
 
-use particles::observe::fnv1a;
+use particles::measure::fnv1a;
 use particles::prepare::{self, SAMPLE_REVISION};
 
 /// `(SAMPLE_REVISION, hash of the sample)` the code last produced.

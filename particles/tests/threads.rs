@@ -27,7 +27,7 @@ fn run(threads: usize, edit: Edit) -> (Vec<u64>, String) {
         for _ in 0..1500 {
             sim.step().unwrap();
         }
-        let summary = format!("{:?} {:?} {:?}", sim.ledger, sim.stored_energy.to_bits(), sim.contacts);
+        let summary = format!("{:?} {:?} {:?}", sim.ledger, sim.stored_energy.to_bits(), sim.contact_counts);
         (common::state_bits(&sim), summary)
     })
 }

@@ -17,8 +17,8 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use analysis::snapshot::Header;
-use particles::observe;
-use particles::observer::{advance, ObserverError};
+use particles::advance::{advance, ObserverError};
+use particles::measure;
 use particles::scene::Scene;
 use particles::sim::Simulation;
 use particles::time_step;
@@ -27,8 +27,8 @@ use particles::tray;
 use serde::Serialize;
 use serde_json::json;
 
-use crate::observers::{ContactMeans, Progress, Recorder, RecorderPlan};
 use crate::output::{non_empty, progress_bar, CliError, RunDir};
+use crate::run_outputs::{ContactMeans, Progress, Recorder, RecorderPlan};
 use crate::samples::sample_key;
 use crate::thermo::Thermo;
 use crate::vtk_series::VtkSeries;
@@ -135,7 +135,7 @@ pub(crate) fn checkpoint_fingerprint(scene: &Scene) -> Result<u64, CliError> {
     s.run.threads = 0;
     s.run.checkpoint_interval = 0.0;
     s.run.duration = 1.0;
-    Ok(observe::fnv1a(toml::to_string(&s)?.as_bytes()) ^ sample_key(scene))
+    Ok(measure::fnv1a(toml::to_string(&s)?.as_bytes()) ^ sample_key(scene))
 }
 
 pub fn run(args: Args) -> Result<String, CliError> {
@@ -398,9 +398,9 @@ fn step(
     let s = &sim.state;
     let stepped = sim.steps - start_steps;
     let energy = json!({
-        "kinetic": observe::kinetic_energy(s),
-        "rotational": observe::rotational_energy(s),
-        "potential": observe::potential_energy(s, sim.setup.gravity),
+        "kinetic": measure::kinetic_energy(s),
+        "rotational": measure::rotational_energy(s),
+        "potential": measure::potential_energy(s, sim.setup.gravity),
         "stored": sim.stored_energy,
         "injected": sim.ledger.injected,
         "dissipated": sim.ledger.dissipated,
@@ -428,7 +428,7 @@ fn step(
         "energy": energy,
         "contacts": { "pair_mean": pair_mean, "wall_mean": wall_mean },
         "neighbor_builds": sim.neighbor_builds(),
-        "state_hash": format!("{:016x}", observe::state_hash(s)),
+        "state_hash": format!("{:016x}", measure::state_hash(s)),
         "warnings": warnings,
     });
     dir.json("scene.json", scene)?;

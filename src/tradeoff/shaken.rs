@@ -291,7 +291,7 @@ pub fn dense_packing(steps: u64, cpu_time: bool) -> Result<Row, SimError> {
         on_front: false,
         outcome: format!(
             "ran without error: {:.2e} particle-steps/s (4000 grains: {:.2e}); {} pair and {} wall contacts at the end; speed_ratio is the throughput ratio, error the energy-ledger error",
-            rate, base_rate, sim.contacts.0, sim.contacts.1
+            rate, base_rate, sim.contact_counts.0, sim.contact_counts.1
         ),
     })
 }
