@@ -381,7 +381,14 @@ fn compare(args: &Args, file: &crate::scene_file::SceneFile, out: &Path) -> Resu
             d
         }
     };
-    let dem_summary = read_json(&dem_dir.join("summary.json")).unwrap_or(Value::Null);
+    // A run reused with --dem-run may have stopped before its end, without summary.json: its
+    // speed is then unknown. A summary that is there but unreadable is an error, as is a
+    // missing one of the run just made.
+    let summary = dem_dir.join("summary.json");
+    let dem_summary = match &args.dem_run {
+        Some(_) if !summary.exists() => Value::Null,
+        _ => read_json(&summary)?,
+    };
 
     // 2. Automaton, same scene and sample.
     stage(args.quiet, 2, "automaton run");
