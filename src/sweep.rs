@@ -7,7 +7,7 @@
 //!   nothing that finished;
 //! - `--shard I/N` runs the jobs whose index is `I mod N` (a deterministic subset), so shards
 //!   can run on different machines or as the tasks of a Slurm job array or GNU parallel;
-//! - [`collect`] reads whatever results exist, in job order, so two shards collected equal a
+//! - `stripes collect` ([`crate::commands::collect`]) reads whatever results exist, in job order, so two shards collected equal a
 //!   single run.
 //!
 //! Jobs run in parallel on one machine (`--jobs`, default: all cores), each on one thread;

@@ -1,5 +1,5 @@
 //! Issue 19, point 15: no shipped scene prints a warning. Every `scenes/*.toml` loads,
-//! validates, gets its time step, and `tray::warnings` (what `stripes run` prints) is empty,
+//! validates, gets its time step, and `time_step::warnings` (what `stripes run` prints) is empty,
 //! except for the thesis' literal scene: it keeps the thesis' step of 8e-6 s, and its comment
 //! explains the one warning that step earns.
 

@@ -5,7 +5,7 @@
 //! A sample depends only on the box, the population, the material, the preparation
 //! parameters and the seed, never on the toggles or the drive: the relaxation always uses the
 //! reference physics (3D, side walls, all friction on), so every ablation and every point of
-//! a sweep starts from the same samples. [`reference`] is that dependency: the root crate's
+//! a sweep starts from the same samples. [`reference()`] is that dependency: the root crate's
 //! sample cache names a sample by it and [`SAMPLE_REVISION`].
 
 use rand::{Rng, SeedableRng};
@@ -39,7 +39,7 @@ pub fn reference(scene: &Scene) -> Scene {
 }
 
 /// Revision of the preparation's results, part of every sample's name in the root crate's
-/// cache (`src/samples.rs`, with the scene's [`reference`]). Bump it whenever a
+/// cache (`src/samples.rs`, with the scene's [`reference()`]). Bump it whenever a
 /// change to the DEM changes the bits of a prepared sample, so that no cache hands out samples
 /// of older code under the same name (a cache filled on 2026-11-22 did, before this existed).
 /// `particles/tests/sample_revision.rs` pins one small prepared sample and fails, naming this

@@ -377,7 +377,7 @@ impl Simulation {
     /// over which the resulting powers are booked (0 for a re-evaluation).
     ///
     /// With `finish`, each block of particles then runs the integrator's stage after the
-    /// forces ([`Integrator::after_kick`]) and the checks, while its data is still in cache.
+    /// forces ([`crate::integrate::Integrator::after_kick`]) and the checks, while its data is still in cache.
     /// The new velocities and spins are written into the half-step arrays (other blocks still
     /// read the predicted ones), which are swapped in afterwards. Returns the first particle
     /// that is non-finite or outside the container.

@@ -320,7 +320,7 @@ fn the_energy_ledger_of_a_long_shaken_run_closes() {
     // potential + stored energy changes by the work of the walls minus the dissipation.
     // At dt = 4e-6 s it closes to 2.5e-5 of the injected work. At the thesis' 8e-6 s it
     // misses by 4e-3: the Haff-Werner viscous branch is unstable there for the smallest
-    // grains (gamma_t dt / m_t = 2.4), and the run says so (`tray::warnings`).
+    // grains (gamma_t dt / m_t = 2.4), and the run says so (`time_step::warnings`).
     let scene = common::tray_scene(0.006, 0.01, 60, TimeStep::Seconds(4e-6), 7, common::unchanged);
     assert!(time_step::warnings(&scene, 4e-6).unwrap().is_empty());
     let at_thesis_dt = time_step::warnings(&scene, 8e-6).unwrap();

@@ -297,7 +297,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
         .into());
     }
     // Everything that can be checked is checked before anything is written.
-    file.validate_lattice()?;
+    crate::cellular::validate_lattice(&file)?;
     if let Some(d) = &args.dem_run {
         check_dem_run(d, scene)?;
     }

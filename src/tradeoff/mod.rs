@@ -6,7 +6,7 @@
 //! or the thesis' scheme), 3D against pinned 2D (tray), a cheaper normal law (a linear
 //! spring-dashpot matched to the Hertz law's restitution and contact time: no square roots),
 //! the neighbour skin and the rebuild policy (skin 0: rebuild every step), and the defaults
-//! (`dt = "auto"` at the default restitution tolerance, see [`super::step_control`]).
+//! (`dt = "auto"` at the default restitution tolerance, see [`particles::experiment::step_control`]).
 //!
 //! What is measured, per setting:
 //! - `speed_ratio`: time of the reference setting divided by the setting's, both measured
@@ -16,8 +16,8 @@
 //!   speed ratio counts steps per simulated second of contact instead (the wall-time ratio
 //!   of a long run at equal cost per step; the tray rows time the cost per step);
 //! - collision lab: `error` is the restitution error, the largest `|d eps_n|`, `|d eps_t|`
-//!   over the probe impacts of [`super::step_control`] against velocity Verlet at
-//!   [`super::step_control::REFERENCE_STEPS`] steps per contact with the reference material;
+//!   over the probe impacts of [`particles::experiment::step_control`] against velocity Verlet at
+//!   [`particles::experiment::step_control::REFERENCE_STEPS`] steps per contact with the reference material;
 //!   `energy_error` is the largest relative energy error of the same impacts made elastic
 //!   (no dissipation, no friction, no rolling resistance);
 //! - tray: `error` is the distance between density maps, the mean over sampled times (four
