@@ -27,9 +27,9 @@ use automaton::mapping::{self, FreeParams, SlideMeasure, TrayDrive};
 use automaton::{Automaton, Direction};
 use automaton::{Lattice, Params, RuleSet, YBoundary};
 use indicatif::ProgressBar;
+use particles::constants::GRAVITY;
 use particles::experiment::single::SphereOnFloor;
-use particles::scene::{Scene, TimeStep};
-use particles::tray::GRAVITY;
+use particles::scene::{Scene, SceneError, TimeStep};
 use serde::Serialize;
 
 use crate::output::{progress_bar, CliError};
@@ -66,6 +66,45 @@ impl Cells {
     }
 }
 
+/// The lattice of a scene file, checked by every command that runs the automaton (not by a
+/// DEM-only run, whose scene may be too dense or small for a lattice). It must be a lattice:
+/// at least 3 cells along the shaking, room for every grain in a cell of its own (the
+/// automaton models a submonolayer), and not far more cells than grains (the size is
+/// checked before anything is allocated).
+pub fn validate_lattice(file: &SceneFile) -> Result<(), SceneError> {
+    let c = Cells::of(file);
+    let grains = file.dem.particles.count as f64;
+    let cells = c.nx as f64 * c.ny as f64;
+    let fail = |message: String| {
+        Err(SceneError {
+            key: "automaton.cell".into(),
+            message,
+        })
+    };
+    if c.nx < 3 {
+        return fail(format!(
+            "gives {} cell(s) along box.length = {} m; the automaton needs at least 3 (a cell of at most {} m)",
+            c.nx,
+            file.dem.tray.length,
+            file.dem.tray.length / 3.0
+        ));
+    }
+    if cells < grains {
+        return fail(format!(
+            "gives {} x {} = {cells} cells for {grains} grains: the automaton models a submonolayer, one grain per cell; use a smaller cell",
+            c.nx, c.ny
+        ));
+    }
+    let most = 64.0 * grains + (1u64 << 20) as f64;
+    if cells > most {
+        return fail(format!(
+            "gives {cells:.3e} cells ({:.1e} bytes of lattice) for {grains} grains; at most {most:.3e} (64 per grain) are allowed: use a larger cell",
+            cells
+        ));
+    }
+    Ok(())
+}
+
 /// The tray seen by the automaton's mapping.
 pub fn tray_drive(scene: &Scene) -> TrayDrive {
     TrayDrive {
@@ -80,7 +119,7 @@ pub fn tray_drive(scene: &Scene) -> TrayDrive {
 pub fn slide_dem(scene: &Scene) -> Result<SlideMeasure, CliError> {
     let dt = match scene.run.dt {
         TimeStep::Seconds(dt) => dt,
-        TimeStep::Auto(_) => particles::tray::shortest_contact_time(scene)? / scene.run.steps_per_contact,
+        TimeStep::Auto(_) => particles::timescale::shortest_contact_time(scene)? / scene.run.steps_per_contact,
     };
     let sphere = SphereOnFloor::on_scene(scene, 0.5 * (scene.particles.radius_min + scene.particles.radius_max), dt)?;
     let duration = SLIDE_PERIODS / scene.drive.frequency;
@@ -301,7 +340,7 @@ pub struct Setup {
 
 pub fn setup(file: &SceneFile, samples: &Path, quiet: bool) -> Result<Setup, CliError> {
     // The lattice is checked before a sample is prepared for it.
-    file.validate_lattice()?;
+    validate_lattice(file)?;
     let scene = &file.dem;
     let b = progress_bar(1000, quiet, "prepare");
     let (state, _) = crate::samples::load_or_prepare(scene, samples, |f| b.set_position((f * 1000.0) as u64))?;

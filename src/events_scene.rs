@@ -8,8 +8,10 @@ use std::path::Path;
 use events::collision::{Restitution, Rule, Table};
 use events::config::{Config, Guard, Rules, SideWalls, Species};
 use events::wall::Motion;
-use particles::scene::{overrides, SceneError};
+use particles::scene::SceneError;
 use serde::{Deserialize, Serialize};
+
+use crate::scene_text::overrides;
 
 /// One number for every species (or species pair), or one per species.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

@@ -5,18 +5,21 @@
 //! Every subcommand that computes numbers writes a directory with the resolved configuration
 //! (`config.json`) and `summary.json`, and prints that summary as the last line of stdout.
 
+mod bytes;
 mod cellular;
 mod cli_values;
 mod clock;
 mod commands;
+mod dem_checkpoint;
 mod events_checkpoint;
 mod events_measure;
 mod events_scene;
-mod observers;
 mod output;
 mod run_lock;
+mod run_outputs;
 mod samples;
 mod scene_file;
+mod scene_text;
 mod sweep;
 mod thermo;
 mod threads;

@@ -1,12 +1,21 @@
 //! The cache of prepared samples: `sample-<key>.bin` files in a directory shared by all runs
-//! (key: [`particles::prepare::sample_key`]). The physics crate prepares a sample; this
-//! module stores and loads it.
+//! (key: [`sample_key`]). The physics crate prepares a sample; this module names, stores and
+//! loads it.
 
-use particles::checkpoint::{Reader, Writer};
-use particles::prepare::{prepare, sample_key};
+use particles::prepare::{prepare, reference, SAMPLE_REVISION};
 use particles::scene::Scene;
 use particles::state::State;
 use particles::Vec3;
+
+use crate::bytes::{Reader, Writer};
+
+/// A stable 64-bit name of the sample a scene starts from: FNV-1a of
+/// [`SAMPLE_REVISION`] and the canonical TOML of the scene's
+/// [`particles::prepare::reference`], which holds the seed.
+pub fn sample_key(scene: &Scene) -> u64 {
+    let text = toml::to_string(&reference(scene)).expect("a scene serialises");
+    particles::measure::fnv1a(format!("sample revision {SAMPLE_REVISION}\n{text}").as_bytes())
+}
 
 /// Loads the sample of `scene` from `dir` (file `sample-<key>.bin`, see [`sample_key`]) or
 /// prepares and stores it. Returns the state and whether it came from the cache.
@@ -158,7 +167,7 @@ mod tests {
             dt = 8e-6
             seed = 3
         "#;
-        let scene = Scene::parse(text, &[], "test").unwrap();
+        let scene = crate::scene_text::parse_scene(text, &[], "test").unwrap();
         let dir = std::env::temp_dir().join(format!("stripes-sample-{}", std::process::id()));
         let (fresh, cached) = load_or_prepare(&scene, &dir, |_| ()).unwrap();
         assert!(!cached);

@@ -1,11 +1,13 @@
 //! A scene file as the commands read it: the DEM's scene ([`particles::scene::Scene`]) and
 //! the automaton's optional `[automaton]` table ([`automaton::Spec`]), each owned by its
-//! crate. `--set` overrides reach both tables ([`particles::scene::overrides`]).
+//! crate. `--set` overrides reach both tables ([`crate::scene_text::overrides`]).
 
 use std::path::Path;
 
-use particles::scene::{overrides, Scene, SceneError};
+use particles::scene::{Scene, SceneError};
 use serde::{Deserialize, Serialize};
+
+use crate::scene_text::overrides;
 
 /// Both models' view of one scene file. Serialises (for `config.json`) as the scene's
 /// tables plus `automaton` unless it holds only defaults.
@@ -59,44 +61,6 @@ impl SceneFile {
         })
     }
 
-    /// Checked by every command that runs the automaton (not by a DEM-only run, whose scene
-    /// may be too dense or small for a lattice). The automaton's lattice must be a lattice: at least 3 cells along the shaking, room
-    /// for every grain in a cell of its own (the automaton models a submonolayer), and not
-    /// far more cells than grains (the size is checked before anything is allocated).
-    pub fn validate_lattice(&self) -> Result<(), SceneError> {
-        let c = crate::cellular::Cells::of(self);
-        let grains = self.dem.particles.count as f64;
-        let cells = c.nx as f64 * c.ny as f64;
-        let fail = |message: String| {
-            Err(SceneError {
-                key: "automaton.cell".into(),
-                message,
-            })
-        };
-        if c.nx < 3 {
-            return fail(format!(
-                "gives {} cell(s) along box.length = {} m; the automaton needs at least 3 (a cell of at most {} m)",
-                c.nx,
-                self.dem.tray.length,
-                self.dem.tray.length / 3.0
-            ));
-        }
-        if cells < grains {
-            return fail(format!(
-                "gives {} x {} = {cells} cells for {grains} grains: the automaton models a submonolayer, one grain per cell; use a smaller cell",
-                c.nx, c.ny
-            ));
-        }
-        let most = 64.0 * grains + (1u64 << 20) as f64;
-        if cells > most {
-            return fail(format!(
-                "gives {cells:.3e} cells ({:.1e} bytes of lattice) for {grains} grains; at most {most:.3e} (64 per grain) are allowed: use a larger cell",
-                cells
-            ));
-        }
-        Ok(())
-    }
-
     /// The resolved scene as TOML: the DEM's tables, then `[automaton]` unless it holds
     /// only defaults.
     pub fn to_toml(&self) -> Result<String, toml::ser::Error> {
@@ -147,7 +111,7 @@ pub fn differences(a: &Scene, b: &Scene) -> Vec<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use particles::prepare::sample_key;
+    use crate::samples::sample_key;
 
     const SCENE: &str = r#"
 [box]

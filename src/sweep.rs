@@ -7,7 +7,7 @@
 //!   nothing that finished;
 //! - `--shard I/N` runs the jobs whose index is `I mod N` (a deterministic subset), so shards
 //!   can run on different machines or as the tasks of a Slurm job array or GNU parallel;
-//! - [`collect`] reads whatever results exist, in job order, so two shards collected equal a
+//! - `stripes collect` ([`crate::commands::collect`]) reads whatever results exist, in job order, so two shards collected equal a
 //!   single run.
 //!
 //! Jobs run in parallel on one machine (`--jobs`, default: all cores), each on one thread;
@@ -112,11 +112,39 @@ pub struct Job {
     pub labels: serde_json::Map<String, Value>,
 }
 
+/// What a sweep is, and so what `collect` draws from its results. Stored in `sweep.json` by
+/// its command's name (`"ablate"`, `"phase-map"`); any other name is refused when the sweep
+/// is loaded.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum SweepKind {
+    /// `stripes ablate`: the reference and its toggles over samples.
+    Ablate,
+    /// `stripes phase-map`: a grid of drive frequencies and amplitudes.
+    PhaseMap,
+}
+
+impl SweepKind {
+    /// The command's name, as stored.
+    pub fn name(self) -> &'static str {
+        match self {
+            SweepKind::Ablate => "ablate",
+            SweepKind::PhaseMap => "phase-map",
+        }
+    }
+}
+
+impl std::fmt::Display for SweepKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
 /// The definition of a sweep, stored as `sweep.json`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Sweep {
-    /// `ablate` or `phase-map`: what `collect` draws.
-    pub kind: String,
+    /// What `collect` draws.
+    pub kind: SweepKind,
     pub scene: PathBuf,
     /// Overrides applied to every job.
     pub overrides: Vec<String>,
@@ -286,7 +314,7 @@ pub fn run(root: &Path, sweep: &Sweep, shard: Shard, parallel: usize, samples: &
         other_shards: sweep.jobs.len() - mine.len(),
         ..Progress::default()
     };
-    let bar = crate::output::progress_bar(todo.len() as u64, quiet, &sweep.kind);
+    let bar = crate::output::progress_bar(todo.len() as u64, quiet, sweep.kind.name());
     let pool = rayon::ThreadPoolBuilder::new().num_threads(parallel.max(1)).build()?;
     let next = AtomicUsize::new(0);
     let outcomes: Vec<(String, Result<(), String>)> = pool.install(|| {
@@ -398,7 +426,7 @@ pub fn check_jobs(sweep: &Sweep) -> Result<(), CliError> {
         let file = crate::scene_file::load(&sweep.scene, &job_overrides(sweep, job)).map_err(|e| blame(&e))?;
         file.validate().map_err(|e| blame(&e))?;
         if let particles::scene::TimeStep::Seconds(_) = file.dem.run.dt {
-            particles::tray::time_step(&file.dem).map_err(|e| blame(&e))?;
+            particles::time_step::for_scene(&file.dem).map_err(|e| blame(&e))?;
         }
     }
     Ok(())
@@ -554,6 +582,24 @@ pub fn label(result: &Value, key: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_sweep_kind_is_stored_by_its_command_name_and_an_unknown_one_is_refused_on_load() {
+        for kind in [SweepKind::Ablate, SweepKind::PhaseMap] {
+            let stored = serde_json::to_string(&kind).unwrap();
+            assert_eq!(stored, format!("\"{}\"", kind.name()));
+            assert_eq!(serde_json::from_str::<SweepKind>(&stored).unwrap(), kind);
+        }
+        let dir = std::env::temp_dir().join(format!("stripes-sweep-kind-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let json = |kind: &str| format!(r#"{{"kind": "{kind}", "scene": "s.toml", "overrides": [], "jobs": []}}"#);
+        std::fs::write(dir.join("sweep.json"), json("phase-map")).unwrap();
+        assert_eq!(load(&dir).unwrap().kind, SweepKind::PhaseMap);
+        std::fs::write(dir.join("sweep.json"), json("phase_map")).unwrap();
+        let e = load(&dir).unwrap_err().to_string();
+        assert!(e.contains("sweep.json") && e.contains("unknown variant `phase_map`"), "{e}");
+        std::fs::remove_dir_all(dir).unwrap();
+    }
 
     #[test]
     fn ranges_and_shards_parse_and_reject_nonsense() {

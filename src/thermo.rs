@@ -13,20 +13,21 @@
 //! - `pair_contacts`, `wall_contacts`: live contacts at the row's force evaluation;
 //! - `max_overlap` (m): the largest overlap of any contact (grain-grain or grain-wall), and
 //!   `max_overlap_fraction`, the same over the smaller radius of its contact (the run stops
-//!   at `particles::sim::MAX_OVERLAP_FRACTION`); NaN in the t = 0 row (contacts are
+//!   at `particles::setup::MAX_OVERLAP_FRACTION`); NaN in the t = 0 row (contacts are
 //!   recorded from the first step on);
 //! - `off_floor`: grains whose bottom is above the floor (z > R), i.e. not touching it.
 //!
 //! The table is kept in memory and rewritten with every checkpoint, so a killed run keeps
 //! it up to its last checkpoint and `--resume` continues it. As an observer
-//! ([`particles::observer`]) it asks for the contacts of the steps that make a row.
+//! ([`particles::advance`]) it asks for the contacts of the steps that make a row.
 
 use std::path::{Path, PathBuf};
 
 use analysis::plot::{LinePlot, Mark};
-use particles::observe;
-use particles::observer::{Observer, ObserverError};
-use particles::sim::{Partner, Simulation};
+use particles::advance::{Observer, ObserverError};
+use particles::measure;
+use particles::setup::Partner;
+use particles::sim::Simulation;
 
 use crate::output::CliError;
 
@@ -92,14 +93,14 @@ impl Thermo {
     pub fn push(&mut self, sim: &Simulation, recorded: bool) {
         let s = &sim.state;
         let (k, r, p) = (
-            observe::kinetic_energy(s),
-            observe::rotational_energy(s),
-            observe::potential_energy(s, sim.setup.gravity),
+            measure::kinetic_energy(s),
+            measure::rotational_energy(s),
+            measure::potential_energy(s, sim.setup.gravity),
         );
         let total = k + r + p + sim.stored_energy;
         let e0 = self.rows.first().map_or(total, |row| row[13]);
         let (mut overlap, mut fraction) = if recorded { (0.0f64, 0.0f64) } else { (f64::NAN, f64::NAN) };
-        for c in sim.contacts() {
+        for c in sim.contact_records() {
             let radius = match c.partner {
                 Partner::Particle(j) => s.radius[c.i].min(s.radius[j]),
                 Partner::Wall(_) => s.radius[c.i],
@@ -118,8 +119,8 @@ impl Thermo {
             l.injected,
             l.dissipated,
             l.injected - l.dissipated - (total - e0),
-            sim.contacts.0 as f64,
-            sim.contacts.1 as f64,
+            sim.contact_counts.0 as f64,
+            sim.contact_counts.1 as f64,
             overlap,
             fraction,
             off_floor as f64,

@@ -51,7 +51,7 @@ fn a_1000_m_box_is_refused_naming_the_key_and_the_size() {
 }
 
 /// Regression: `automaton.cell=1e-7` aborted on a 20 GB lattice; a cell larger than the box
-/// gave a 1 x 1 lattice and a phase. (The lattice checks are `SceneFile::validate_lattice`.)
+/// gave a 1 x 1 lattice and a phase. (The lattice checks are `cellular::validate_lattice`.)
 #[test]
 fn an_automaton_lattice_too_large_or_degenerate_is_refused_naming_the_key() {
     let d = scratch("cell");

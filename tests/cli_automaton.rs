@@ -148,6 +148,32 @@ fn compare_runs_both_models_on_one_sample_and_writes_the_report() {
     ]);
     assert!(ok, "{stderr}");
     assert_eq!(last_json(&stdout)["automaton"]["analysis"], s["automaton"]["analysis"]);
+    // Regression: a DEM summary that could not be read was taken for a missing one. A run
+    // stopped before its end has none, and is compared without its speed; a summary that
+    // is there but not JSON is an error naming it.
+    let reuse = || {
+        stripes(&[
+            "compare",
+            &scene,
+            "--set",
+            "run.duration=0.2",
+            "--dem-run",
+            &dem,
+            "--out",
+            &out2,
+            "--sample-cache",
+            &samples,
+            "--quiet",
+            "--force",
+        ])
+    };
+    let summary = Path::new(&dem).join("summary.json");
+    std::fs::write(&summary, "{ not json").unwrap();
+    let (ok, _, stderr) = reuse();
+    assert!(!ok && stderr.contains("summary.json"), "{stderr}");
+    std::fs::remove_file(&summary).unwrap();
+    let (ok, _, stderr) = reuse();
+    assert!(ok, "a DEM run without its summary: {stderr}");
     // A DEM run of another scene is refused: the whole scene is checked, and the refusal
     // names the key (another seed is another sample too).
     for (set, says) in [("run.seed=5", "run.seed: 4 -> 5"), ("drive.frequency=10", "drive.frequency")] {

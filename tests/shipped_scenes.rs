@@ -1,10 +1,11 @@
 //! Issue 19, point 15: no shipped scene prints a warning. Every `scenes/*.toml` loads,
-//! validates, gets its time step, and `tray::warnings` (what `stripes run` prints) is empty,
+//! validates, gets its time step, and `time_step::warnings` (what `stripes run` prints) is empty,
 //! except for the thesis' literal scene: it keeps the thesis' step of 8e-6 s, and its comment
 //! explains the one warning that step earns.
 
-use particles::scene::Scene;
-use particles::tray;
+use particles::scene::{AutoDt, Scene, TimeStep};
+use particles::time_step;
+use serde::Deserialize;
 
 #[test]
 fn no_shipped_scene_prints_a_warning() {
@@ -22,10 +23,10 @@ fn no_shipped_scene_prints_a_warning() {
         }
         doc.remove("automaton");
         let origin = path.display().to_string();
-        let scene = Scene::parse(&toml::to_string(&doc).unwrap(), &[], &origin).unwrap_or_else(|e| panic!("{origin}: {e}"));
+        let scene = Scene::deserialize(toml::Value::Table(doc)).unwrap_or_else(|e| panic!("{origin}: {e}"));
         scene.validate().unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-        let dt = tray::time_step(&scene).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-        let warnings = tray::warnings(&scene, dt).unwrap();
+        let dt = time_step::for_scene(&scene).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        let warnings = time_step::warnings(&scene, dt).unwrap();
         if path.file_name().unwrap() == "thesis-reference.toml" {
             let text = std::fs::read_to_string(&path).unwrap();
             assert_eq!(warnings.len(), 1, "{warnings:?}");
@@ -35,9 +36,10 @@ fn no_shipped_scene_prints_a_warning() {
                 "the warning is not explained in the scene"
             );
             // With the documented remedy the literal scene is quiet too.
-            let auto = Scene::parse(&toml::to_string(&doc).unwrap(), &["run.dt=\"auto\"".into()], &origin).unwrap();
-            let dt = tray::time_step(&auto).unwrap();
-            assert!(tray::warnings(&auto, dt).unwrap().is_empty());
+            let mut auto = scene.clone();
+            auto.run.dt = TimeStep::Auto(AutoDt::Auto);
+            let dt = time_step::for_scene(&auto).unwrap();
+            assert!(time_step::warnings(&auto, dt).unwrap().is_empty());
         } else {
             assert!(warnings.is_empty(), "{} at dt = {dt:e} s: {warnings:?}", path.display());
         }
@@ -54,12 +56,17 @@ fn auto_step_stays_quiet_at_the_slowest_drives() {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/stripes.toml");
     let mut doc: toml::Table = toml::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
     doc.remove("automaton");
-    for (f, a) in [("3.0", "0.002"), ("2.0", "0.001"), ("20.0", "0.025")] {
-        let sets = vec![format!("drive.frequency={f}"), format!("drive.amplitude={a}")];
-        let scene = Scene::parse(&toml::to_string(&doc).unwrap(), &sets, "stripes.toml").unwrap();
-        let dt = tray::time_step(&scene).unwrap();
-        let ratio = tray::viscous_friction_ratio(&scene, dt).unwrap().unwrap();
-        assert!(ratio <= tray::VISCOUS_RATIO_AUTO * (1.0 + 1e-12), "{f} Hz, {a} m: ratio {ratio}");
-        assert!(tray::warnings(&scene, dt).unwrap().is_empty(), "{f} Hz, {a} m");
+    let stripes = Scene::deserialize(toml::Value::Table(doc)).unwrap();
+    for (f, a) in [(3.0, 0.002), (2.0, 0.001), (20.0, 0.025)] {
+        let mut scene = stripes.clone();
+        scene.drive.frequency = f;
+        scene.drive.amplitude = a;
+        let dt = time_step::for_scene(&scene).unwrap();
+        let ratio = time_step::viscous_friction_ratio(&scene, dt).unwrap().unwrap();
+        assert!(
+            ratio <= time_step::VISCOUS_RATIO_AUTO * (1.0 + 1e-12),
+            "{f} Hz, {a} m: ratio {ratio}"
+        );
+        assert!(time_step::warnings(&scene, dt).unwrap().is_empty(), "{f} Hz, {a} m");
     }
 }

@@ -5,7 +5,9 @@
 use std::path::Path;
 
 use particles::scene::Scene;
+use particles::time_step;
 use particles::tray;
+use serde::Deserialize;
 
 #[test]
 fn the_stripe_scene_is_valid_warning_free_and_in_the_rolling_regime() {
@@ -14,13 +16,13 @@ fn the_stripe_scene_is_valid_warning_free_and_in_the_rolling_regime() {
     // by the command line's scene_file).
     let mut doc: toml::Table = toml::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
     doc.remove("automaton");
-    let scene = Scene::parse(&toml::to_string(&doc).unwrap(), &[], "scenes/stripes.toml").unwrap();
+    let scene = Scene::deserialize(toml::Value::Table(doc)).unwrap();
     scene.validate().unwrap();
-    let setup = tray::setup(&scene, tray::drive(&scene)).unwrap();
+    let setup = tray::setup(&scene, tray::drive(&scene), time_step::for_scene(&scene).unwrap()).unwrap();
     assert!(
-        tray::warnings(&scene, setup.dt).unwrap().is_empty(),
+        time_step::warnings(&scene, setup.dt).unwrap().is_empty(),
         "{:?}",
-        tray::warnings(&scene, setup.dt)
+        time_step::warnings(&scene, setup.dt)
     );
     assert!(scene.tray.length >= 0.1);
     assert!((scene.packing() - 0.46).abs() < 0.01, "packing {}", scene.packing());

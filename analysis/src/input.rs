@@ -46,19 +46,72 @@ pub struct Run {
     pub warnings: Vec<String>,
 }
 
-/// The drive period `1 / scene.drive.frequency` (s) from the `config.json` beside `file`, if
-/// there is one with a positive frequency.
-pub fn metadata_period(file: &Path) -> Option<f64> {
-    let config = file.parent()?.join("config.json");
-    let text = std::fs::read_to_string(config).ok()?;
-    let v: serde_json::Value = serde_json::from_str(&text).ok()?;
-    let f = v.get("scene")?.get("drive")?.get("frequency")?.as_f64()?;
-    (f.is_finite() && f > 0.0).then(|| 1.0 / f)
+/// Why the `config.json` beside a run could not give its drive period.
+#[derive(Debug)]
+pub enum MetadataError {
+    /// The file is there but cannot be read.
+    Unreadable { path: PathBuf, source: std::io::Error },
+    /// The file is not JSON.
+    NotJson { path: PathBuf, source: serde_json::Error },
+    /// `scene.drive.frequency` is there but not a number.
+    FrequencyNotANumber { path: PathBuf, value: serde_json::Value },
+}
+
+impl std::fmt::Display for MetadataError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            MetadataError::Unreadable { path, source } => write!(f, "cannot read {}: {source}", path.display()),
+            MetadataError::NotJson { path, source } => write!(f, "{} is not JSON: {source}", path.display()),
+            MetadataError::FrequencyNotANumber { path, value } => {
+                write!(f, "{}: scene.drive.frequency is {value}, not a number", path.display())
+            }
+        }
+    }
+}
+
+impl std::error::Error for MetadataError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            MetadataError::Unreadable { source, .. } => Some(source),
+            MetadataError::NotJson { source, .. } => Some(source),
+            MetadataError::FrequencyNotANumber { .. } => None,
+        }
+    }
+}
+
+/// The drive period `1 / scene.drive.frequency` (s) from the `config.json` beside `file`.
+/// `Ok(None)` when the run has no period to give: no `config.json`, no
+/// `scene.drive.frequency` in it, or a frequency that is not positive (no shaking). A
+/// `config.json` that is there but unreadable, not JSON, or holds a frequency that is not a
+/// number is an error, not a missing period.
+pub fn metadata_period(file: &Path) -> Result<Option<f64>, MetadataError> {
+    let Some(dir) = file.parent() else {
+        return Ok(None);
+    };
+    let path = dir.join("config.json");
+    let text = match std::fs::read_to_string(&path) {
+        Ok(text) => text,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
+        Err(source) => return Err(MetadataError::Unreadable { path, source }),
+    };
+    let v: serde_json::Value = serde_json::from_str(&text).map_err(|source| MetadataError::NotJson {
+        path: path.clone(),
+        source,
+    })?;
+    let Some(value) = v.get("scene").and_then(|s| s.get("drive")).and_then(|d| d.get("frequency")) else {
+        return Ok(None);
+    };
+    let f = value.as_f64().ok_or_else(|| MetadataError::FrequencyNotANumber {
+        path,
+        value: value.clone(),
+    })?;
+    Ok((f.is_finite() && f > 0.0).then(|| 1.0 / f))
 }
 
 /// Loads a run directory, a `snapshots.bin` file or a LAMMPS dump; `dt` (s) converts LAMMPS
 /// timesteps to time and is ignored for snapshots. Fails with a message naming the file
-/// when it is of neither kind, holds no complete frame, or its times do not increase.
+/// when it is of neither kind, holds no complete frame, its times do not increase, or the
+/// `config.json` beside it cannot be read ([`metadata_period`]).
 pub fn load(path: &Path, dt: f64) -> Result<Run, String> {
     let file = if path.is_dir() {
         path.join("snapshots.bin")
@@ -107,7 +160,7 @@ pub fn load(path: &Path, dt: f64) -> Result<Run, String> {
         }
     }
     let period = match kind {
-        InputKind::Snapshots => metadata_period(&file),
+        InputKind::Snapshots => metadata_period(&file).map_err(|e| e.to_string())?,
         InputKind::LammpsDump => None,
     };
     Ok(Run {
@@ -119,4 +172,38 @@ pub fn load(path: &Path, dt: f64) -> Result<Run, String> {
         velocity_columns,
         warnings,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_missing_period_is_only_a_missing_config_or_frequency_and_a_bad_config_is_an_error() {
+        let dir = std::env::temp_dir().join(format!("stripes-metadata-period-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let file = dir.join("snapshots.bin");
+        let config = dir.join("config.json");
+        assert!(metadata_period(&file).unwrap().is_none(), "no config.json");
+        std::fs::write(&config, r#"{"scene": {"drive": {"frequency": 20.0}}}"#).unwrap();
+        assert_eq!(metadata_period(&file).unwrap(), Some(0.05));
+        std::fs::write(&config, r#"{"args": {}}"#).unwrap();
+        assert!(metadata_period(&file).unwrap().is_none(), "no scene.drive.frequency");
+        std::fs::write(&config, r#"{"scene": {"drive": {"frequency": 0.0}}}"#).unwrap();
+        assert!(metadata_period(&file).unwrap().is_none(), "no shaking");
+        std::fs::write(&config, "{ cut off").unwrap();
+        let e = metadata_period(&file).unwrap_err();
+        assert!(
+            matches!(e, MetadataError::NotJson { .. }) && e.to_string().contains("config.json"),
+            "{e}"
+        );
+        std::fs::write(&config, r#"{"scene": {"drive": {"frequency": "fast"}}}"#).unwrap();
+        let e = metadata_period(&file).unwrap_err();
+        assert!(matches!(e, MetadataError::FrequencyNotANumber { .. }), "{e}");
+        std::fs::remove_file(&config).unwrap();
+        std::fs::create_dir(&config).unwrap();
+        let e = metadata_period(&file).unwrap_err();
+        assert!(matches!(e, MetadataError::Unreadable { .. }), "a directory in its place: {e}");
+        std::fs::remove_dir_all(dir).unwrap();
+    }
 }

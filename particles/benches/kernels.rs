@@ -10,8 +10,9 @@ use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use particles::contact::{self, ContactGeometry, ContactLaw, NormalLaw, RollingLaw, TangentialLaw};
 use particles::neighbor::{NeighborList, NeighborSearch};
 use particles::prepare::initial_state;
-use particles::scene::Scene;
+use particles::scene::{Scene, TimeStep};
 use particles::sim::Simulation;
+use particles::time_step;
 use particles::tray;
 use particles::Vec3;
 
@@ -81,22 +82,27 @@ fn contact_laws(c: &mut Criterion) {
     group.finish();
 }
 
-/// 400 grains at the thesis packing on 40 mm x 20 mm.
-fn scene(overrides: &[&str]) -> Scene {
-    common::tray_scene(0.04, 0.02, 400, "[run]\nduration = 1.0\ndt = 8e-6\nseed = 1\n", overrides)
+/// 400 grains at the thesis packing on 40 mm x 20 mm, jumping or pinned to the floor.
+fn scene(jumping: bool) -> Scene {
+    common::tray_scene(0.04, 0.02, 400, TimeStep::Seconds(8e-6), 1, |s| {
+        s.run.duration = 1.0;
+        s.toggles.jumping = jumping;
+    })
 }
 
 fn tray_step(c: &mut Criterion) {
     let mut group = c.benchmark_group("tray-400");
-    for (name, jumping) in [("step 3D", "true"), ("step pinned 2D", "false")] {
-        let scene = scene(&[&format!("toggles.jumping={jumping}")]);
-        let setup = tray::setup(&scene, tray::drive(&scene)).expect("valid setup");
+    for (name, jumping) in [("step 3D", true), ("step pinned 2D", false)] {
+        let scene = scene(jumping);
+        let setup = tray::setup(&scene, tray::drive(&scene), time_step::for_scene(&scene).expect("valid setup")).expect("valid setup");
         let mut sim = Simulation::new(setup, initial_state(&scene).expect("valid sample")).expect("valid start");
         group.bench_function(name, |b| b.iter(|| sim.step().expect("the tray runs")));
     }
-    let scene = scene(&[]);
+    let scene = scene(true);
     let state = initial_state(&scene).expect("valid sample");
-    let boundary = tray::setup(&scene, tray::drive(&scene)).expect("valid setup").boundary;
+    let boundary = tray::setup(&scene, tray::drive(&scene), time_step::for_scene(&scene).expect("valid setup"))
+        .expect("valid setup")
+        .boundary;
     for skin in [0.0, 0.2e-3, 0.5e-3] {
         let search = NeighborSearch::verlet(skin);
         group.bench_function(format!("neighbour build, skin {skin:e} m"), |b| {

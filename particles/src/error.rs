@@ -25,7 +25,7 @@ pub enum SimError {
     /// A contact did not end within the allowed number of steps.
     ContactDidNotEnd { steps: u64 },
     /// Two grains (or a grain and a wall) overlap by more than
-    /// [`crate::sim::MAX_OVERLAP_FRACTION`] of the smaller radius during the run: the soft-sphere
+    /// [`crate::setup::MAX_OVERLAP_FRACTION`] of the smaller radius during the run: the soft-sphere
     /// picture (small, flat contact face) no longer holds, so the run stops rather than go on
     /// with meaningless forces.
     ExcessiveOverlap {

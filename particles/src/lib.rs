@@ -11,31 +11,37 @@
 //! - [`integrate`]: time integrators (velocity Verlet, and the thesis' scheme);
 //! - `forces`: one force evaluation, gathered per particle in fixed blocks;
 //! - [`setup`]: what defines the dynamics (laws, walls, step, boundaries), and contact records;
+//! - [`timescale`], [`time_step`], [`tray`]: a scene's time scales; its step (explicit, or
+//!   chosen with the collision lab); the tray built at that step;
 //! - [`sim`]: the only module that knows the order of the stages of a time step;
+//! - [`saved`]: a simulation's dynamic state as plain data, exported and imported so that a
+//!   run continues bit for bit (the root crate stores it; this crate knows no byte layout);
 //! - `parallel`: deterministic block parallelism (results independent of the thread count);
-//! - [`observe`]: energy, momentum and angular momentum of a state;
-//! - [`observer`]: [`observer::advance`] steps a run and hands it to observers after every
+//! - [`measure`]: energy, momentum and angular momentum of a state, and the state hash;
+//! - [`advance`]: [`advance::advance`] steps a run and hands it to observers after every
 //!   step; they, outside this crate, write files (this crate knows no file format);
 //! - [`experiment`]: the collision lab, the single sphere on the shaken plate, contact-time
 //!   and eccentricity studies.
 
+pub mod advance;
 pub mod boundary;
-pub mod checkpoint;
+pub mod constants;
 pub mod contact;
 pub mod error;
 pub mod experiment;
 mod forces;
 pub mod integrate;
 pub mod material;
+pub mod measure;
 pub mod neighbor;
-pub mod observe;
-pub mod observer;
 mod parallel;
 pub mod prepare;
+pub mod saved;
 pub mod scene;
 pub mod setup;
 pub mod sim;
 pub mod state;
+pub mod time_step;
 pub mod timescale;
 pub mod tray;
 pub mod wall;

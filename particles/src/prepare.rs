@@ -5,15 +5,18 @@
 //! A sample depends only on the box, the population, the material, the preparation
 //! parameters and the seed, never on the toggles or the drive: the relaxation always uses the
 //! reference physics (3D, side walls, all friction on), so every ablation and every point of
-//! a sweep starts from the same samples. [`sample_key`] names that dependency.
+//! a sweep starts from the same samples. [`reference()`] is that dependency: the root crate's
+//! sample cache names a sample by it and [`SAMPLE_REVISION`].
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
+use crate::constants::GRAVITY;
 use crate::scene::{Scene, Toggles};
 use crate::sim::Simulation;
 use crate::state::State;
-use crate::tray::{self, GRAVITY};
+use crate::time_step;
+use crate::tray;
 use crate::wall::Motion;
 use crate::{SimError, Vec3};
 
@@ -35,19 +38,13 @@ pub fn reference(scene: &Scene) -> Scene {
     s
 }
 
-/// Revision of the preparation's results, part of every [`sample_key`]. Bump it whenever a
+/// Revision of the preparation's results, part of every sample's name in the root crate's
+/// cache (`src/samples.rs`, with the scene's [`reference()`]). Bump it whenever a
 /// change to the DEM changes the bits of a prepared sample, so that no cache hands out samples
 /// of older code under the same name (a cache filled on 2026-11-22 did, before this existed).
 /// `particles/tests/sample_revision.rs` pins one small prepared sample and fails, naming this
 /// constant, until it is bumped.
 pub const SAMPLE_REVISION: u64 = 4;
-
-/// A stable 64-bit name of the sample a scene starts from: FNV-1a of [`SAMPLE_REVISION`] and
-/// the canonical TOML of [`reference`], which holds the seed.
-pub fn sample_key(scene: &Scene) -> u64 {
-    let text = toml::to_string(&reference(scene)).expect("a scene serialises");
-    crate::observe::fnv1a(format!("sample revision {SAMPLE_REVISION}\n{text}").as_bytes())
-}
 
 /// The grains on their lattice, before relaxation.
 pub fn initial_state(scene: &Scene) -> Result<State, SimError> {
@@ -108,7 +105,7 @@ pub fn initial_state(scene: &Scene) -> Result<State, SimError> {
 /// `progress` is called with the fraction done.
 pub fn prepare(scene: &Scene, mut progress: impl FnMut(f64)) -> Result<State, SimError> {
     let reference = reference(scene);
-    let setup = tray::setup(&reference, Motion::Fixed)?;
+    let setup = tray::setup(&reference, Motion::Fixed, time_step::for_scene(&reference)?)?;
     let steps = (reference.prepare.duration / setup.dt).round() as u64;
     let mut sim = Simulation::new(setup, initial_state(scene)?)?;
     for k in 0..steps {

@@ -76,7 +76,7 @@ pub struct ContactRecord {
 /// (the grain's radius against a wall). Hertz theory assumes a contact face much smaller
 /// than the grains; at half the radius the centre of the smaller grain is close to its
 /// partner's surface and the forces mean nothing. A step that produces more stops the run
-/// with [`SimError::ExcessiveOverlap`]. (Thesis material, Y = 1e6 Pa: two of the smallest
+/// with [`crate::SimError::ExcessiveOverlap`]. (Thesis material, Y = 1e6 Pa: two of the smallest
 /// grains meeting head-on at the tray's peak speed, 3.1 m/s, reach 45% at 25 steps per
 /// contact, measured by `stripes bench`; coarser steps overshoot past the limit.)
 pub const MAX_OVERLAP_FRACTION: f64 = 0.5;

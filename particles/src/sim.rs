@@ -18,7 +18,7 @@ use crate::boundary::Boundary;
 use crate::forces;
 use crate::neighbor::NeighborList;
 use crate::parallel::on_blocks;
-pub use crate::setup::{ContactRecord, Partner, Setup, Vertical, MAX_OVERLAP_FRACTION};
+use crate::setup::{ContactRecord, Partner, Setup, Vertical, MAX_OVERLAP_FRACTION};
 use crate::state::State;
 use crate::{SimError, Vec3};
 
@@ -56,8 +56,9 @@ pub struct Simulation {
     pub ledger: Ledger,
     /// Elastic energy stored in contacts at the last force evaluation (J).
     pub stored_energy: f64,
-    /// Live contacts at the last force evaluation: `(particle pairs, particle-wall)`.
-    pub contacts: (u64, u64),
+    /// Live contacts counted at the last force evaluation: `(particle pairs, particle-wall)`
+    /// (always kept; the per-contact records of [`Self::contact_records`] only on request).
+    pub contact_counts: (u64, u64),
     rotate: bool,
     /// Masses `1 / inv_mass` (kg), computed once.
     mass: Vec<f64>,
@@ -122,7 +123,7 @@ impl Simulation {
             steps: 0,
             ledger: Ledger::default(),
             stored_energy: 0.0,
-            contacts: (0, 0),
+            contact_counts: (0, 0),
             rotate,
             neighbors: NeighborList::default(),
             pair_history: Vec::new(),
@@ -144,7 +145,7 @@ impl Simulation {
     }
 
     /// Records per-contact diagnostics at every force evaluation from the next step on (see
-    /// [`Self::contacts`]). The forces are not re-evaluated: that would advance the
+    /// [`Self::contact_records`]). The forces are not re-evaluated: that would advance the
     /// Cundall-Strack springs a second time and change the trajectory.
     pub fn record_contacts(&mut self, on: bool) {
         self.record = on;
@@ -152,7 +153,7 @@ impl Simulation {
     }
 
     /// Contacts of the last force evaluation (empty unless recording); each pair once.
-    pub fn contacts(&self) -> &[ContactRecord] {
+    pub fn contact_records(&self) -> &[ContactRecord] {
         &self.records
     }
 
@@ -232,9 +233,9 @@ impl Simulation {
 
     /// Total mechanical energy: kinetic, rotational, gravitational and stored in contacts (J).
     pub fn total_energy(&self) -> f64 {
-        crate::observe::kinetic_energy(&self.state)
-            + crate::observe::rotational_energy(&self.state)
-            + crate::observe::potential_energy(&self.state, self.setup.gravity)
+        crate::measure::kinetic_energy(&self.state)
+            + crate::measure::rotational_energy(&self.state)
+            + crate::measure::potential_energy(&self.state, self.setup.gravity)
             + self.stored_energy
     }
 
@@ -376,7 +377,7 @@ impl Simulation {
     /// over which the resulting powers are booked (0 for a re-evaluation).
     ///
     /// With `finish`, each block of particles then runs the integrator's stage after the
-    /// forces ([`Integrator::after_kick`]) and the checks, while its data is still in cache.
+    /// forces ([`crate::integrate::Integrator::after_kick`]) and the checks, while its data is still in cache.
     /// The new velocities and spins are written into the half-step arrays (other blocks still
     /// read the predicted ones), which are swapped in afterwards. Returns the first particle
     /// that is non-finite or outside the container.
@@ -484,10 +485,10 @@ impl Simulation {
         let mut first_bad = None;
         let mut violation: Option<(f64, usize, Partner, f64, f64)> = None;
         self.records.clear();
-        self.contacts = (0, 0);
+        self.contact_counts = (0, 0);
         for s in sums {
-            self.contacts.0 += s.pair_contacts;
-            self.contacts.1 += s.wall_contacts;
+            self.contact_counts.0 += s.pair_contacts;
+            self.contact_counts.1 += s.wall_contacts;
             stored += s.stored;
             dissipated += s.dissipated;
             injected += s.injected;
@@ -585,14 +586,46 @@ mod tests {
     /// A shaken Cundall-Strack tray on a narrow box, so that many grains meet the side walls:
     /// 60 grains, 0.02 m x 0.005 m, the thesis' drive.
     fn narrow_cundall_strack_tray() -> Simulation {
-        let text = "[box]\nlength = 0.02\nwidth = 0.005\n[drive]\nfrequency = 20.0\namplitude = 0.025\n\
-                    [particles]\ncount = 60\nradius_min = 0.25e-3\nradius_max = 0.5e-3\n\
-                    [contact]\ntangential = \"cundall-strack\"\ntangential_stiffness = 50\n\
-                    [run]\nduration = 0.1\ndt = 8e-6\nseed = 3\n";
-        let scene = crate::scene::Scene::parse(text, &[], "test").unwrap();
+        use crate::contact::choice::TangentialKind;
+        use crate::scene::*;
+        let scene = Scene {
+            tray: TrayBox {
+                length: 0.02,
+                width: 0.005,
+                height: None,
+            },
+            drive: Drive {
+                frequency: 20.0,
+                amplitude: 0.025,
+            },
+            particles: Particles {
+                count: 60,
+                radius_min: 0.25e-3,
+                radius_max: 0.5e-3,
+            },
+            material: Default::default(),
+            contact: ContactSpec {
+                tangential: TangentialKind::CundallStrack,
+                tangential_stiffness: Some(50.0),
+                ..Default::default()
+            },
+            toggles: Default::default(),
+            prepare: Default::default(),
+            run: Run {
+                duration: 0.1,
+                dt: TimeStep::Seconds(8e-6),
+                steps_per_contact: DEFAULT_STEPS_PER_CONTACT,
+                restitution_tolerance: DEFAULT_RESTITUTION_TOLERANCE,
+                seed: 3,
+                threads: 0,
+                snapshots_per_period: 1,
+                checkpoint_interval: DEFAULT_CHECKPOINT_INTERVAL,
+                integrator: Default::default(),
+            },
+        };
         scene.validate().unwrap();
         Simulation::new(
-            crate::tray::setup(&scene, crate::tray::drive(&scene)).unwrap(),
+            crate::tray::setup(&scene, crate::tray::drive(&scene), crate::time_step::for_scene(&scene).unwrap()).unwrap(),
             crate::prepare::initial_state(&scene).unwrap(),
         )
         .unwrap()
@@ -618,9 +651,8 @@ mod tests {
         }
         assert_eq!(sim.setup.walls[0].name, "floor");
         assert!(side_springs > 100 && ended > 0, "side-wall springs {side_springs}, ended {ended}");
-        let saved = sim.checkpoint(7, 0);
         let mut resumed = narrow_cundall_strack_tray();
-        resumed.restore(&saved, 7).unwrap();
+        resumed.import_state(sim.export_state()).unwrap();
         assert_eq!(
             resumed.wall_touched,
             sim.wall_history.iter().map(|h| (*h != Vec3::zeros()) as u8).collect::<Vec<_>>()
@@ -629,7 +661,8 @@ mod tests {
             sim.step().unwrap();
             resumed.step().unwrap();
         }
-        assert!(sim.checkpoint(7, 0) == resumed.checkpoint(7, 0), "the restored run diverged");
+        let bits = |s: &Simulation| format!("{:?}", s.export_state());
+        assert!(bits(&sim) == bits(&resumed), "the restored run diverged");
     }
 
     proptest! {

@@ -1,15 +1,11 @@
-//! The shaken tray of a scene: walls moving with the drive, boundaries, time step.
+//! The shaken tray of a scene: walls moving with the drive, boundaries, gravity, and the
+//! neighbour search. The time step is an input, chosen beforehand ([`crate::time_step`]).
 
 use crate::boundary::Boundary;
-use crate::contact::tangential::sphere_tangential_mass;
-use crate::contact::TangentialLaw;
-use crate::experiment::step_control;
+use crate::constants::GRAVITY;
 use crate::neighbor::NeighborSearch;
-use crate::scene::{Scene, TimeStep};
-use crate::sim::{Setup, Vertical};
-pub use crate::timescale::{
-    check_step_resolution, max_impact_speed, shortest_contact_time, shortest_spring_half_period, MIN_STEPS_PER_CONTACT,
-};
+use crate::scene::Scene;
+use crate::setup::{Setup, Vertical};
 use crate::wall::{Motion, Wall};
 use crate::{SimError, Vec3};
 
@@ -25,46 +21,6 @@ pub const DEFAULT_SKIN: f64 = 0.2;
 /// [`NeighborSearch::VerletList`]).
 pub const MAX_SKIN: f64 = 2.0;
 
-/// Gravitational acceleration of the tray scenes (m/s^2).
-pub const GRAVITY: f64 = 10.0;
-
-/// The time step of a scene (s): explicit, or error-controlled for `dt = "auto"` (the
-/// coarsest step meeting `run.restitution_tolerance`, no coarser than
-/// `shortest_contact_time / run.steps_per_contact`; see
-/// [`crate::experiment::step_control::choose`]). A step that leaves fewer than
-/// [`MIN_STEPS_PER_CONTACT`] steps per contact, or per half period of a stuck tangential
-/// spring, is refused before the run starts.
-pub fn time_step(scene: &Scene) -> Result<f64, SimError> {
-    let dt = contact_step(scene)?;
-    // An explicit step is checked against the contact time too; `auto` never gives fewer
-    // steps per contact than the minimum.
-    check_step_resolution(
-        dt,
-        MIN_STEPS_PER_CONTACT,
-        shortest_contact_time(scene)?,
-        shortest_spring_half_period(scene)?,
-        "run.dt",
-        "contact.tangential_stiffness",
-    )?;
-    Ok(dt)
-}
-
-fn contact_step(scene: &Scene) -> Result<f64, SimError> {
-    match scene.run.dt {
-        TimeStep::Seconds(dt) => Ok(dt),
-        TimeStep::Auto(_) => {
-            let floor = scene.run.steps_per_contact.max(MIN_STEPS_PER_CONTACT);
-            let choice = step_control::choose(scene, scene.run.restitution_tolerance, floor)?;
-            // Slow drives give slow impacts and long contacts; the step must still keep the
-            // Haff-Werner viscous branch stable for the smallest grains.
-            Ok(match viscous_friction_ratio(scene, choice.dt)? {
-                Some(ratio) if ratio > VISCOUS_RATIO_AUTO => choice.dt * VISCOUS_RATIO_AUTO / ratio,
-                _ => choice.dt,
-            })
-        }
-    }
-}
-
 /// The motion of the tray: `x_tray(t) = A sin(2 pi nu t)` along x.
 pub fn drive(scene: &Scene) -> Motion {
     Motion::Harmonic {
@@ -74,9 +30,9 @@ pub fn drive(scene: &Scene) -> Motion {
     }
 }
 
-/// Dynamics of a (validated) scene, with the tray driven by `motion` (use
-/// [`Motion::Fixed`] for sample preparation).
-pub fn setup(scene: &Scene, motion: Motion) -> Result<Setup, SimError> {
+/// Dynamics of a (validated) scene at time step `dt` (s, from [`crate::time_step::for_scene`]),
+/// with the tray driven by `motion` (use [`Motion::Fixed`] for sample preparation).
+pub fn setup(scene: &Scene, motion: Motion, dt: f64) -> Result<Setup, SimError> {
     let (pair_law, wall_law) = scene.laws()?;
     let (l, w, h) = (scene.tray.length, scene.tray.width, scene.tray.height.unwrap_or(f64::INFINITY));
     let mut walls = vec![Wall::new("floor", Vec3::zeros(), Vec3::z(), motion)];
@@ -92,7 +48,7 @@ pub fn setup(scene: &Scene, motion: Motion) -> Result<Setup, SimError> {
         wall_law,
         walls,
         gravity: Vec3::new(0.0, 0.0, -GRAVITY),
-        dt: time_step(scene)?,
+        dt,
         integrator: scene.run.integrator,
         boundary,
         neighbors: NeighborSearch::VerletList {
@@ -105,45 +61,4 @@ pub fn setup(scene: &Scene, motion: Motion) -> Result<Setup, SimError> {
         // default, thesis 3.5.3).
         container: Some((Vec3::new(0.0, 0.0, -scene.particles.radius_max), Vec3::new(l, w, h))),
     })
-}
-
-/// The largest [`viscous_friction_ratio`] `dt = "auto"` accepts: below the instability at 2,
-/// with a margin.
-pub const VISCOUS_RATIO_AUTO: f64 = 1.9;
-
-/// Ratio `gamma_t dt / m_t` of the Haff-Werner viscous branch for two of the smallest grains
-/// (`m_t` = [`sphere_tangential_mass`] of the pair), `None` without Haff-Werner friction
-/// between grains. The viscous friction force `-gamma_t v_t` is integrated explicitly: above
-/// 1 it reverses the slip within one step (it overshoots zero slip), above 2 the overshoot
-/// grows every step and the force chatters at the Coulomb limit.
-pub fn viscous_friction_ratio(scene: &Scene, dt: f64) -> Result<Option<f64>, SimError> {
-    let (pair, _) = scene.laws()?;
-    match pair.tangential {
-        TangentialLaw::HaffWerner { gamma_t, mu } if gamma_t > 0.0 && mu > 0.0 => {
-            let m = scene.material().sphere_mass(scene.particles.radius_min);
-            Ok(Some(gamma_t * dt / sphere_tangential_mass(0.5 * m)))
-        }
-        _ => Ok(None),
-    }
-}
-
-/// Problems of a scene at time step `dt` (s) that do not stop the run but make some
-/// results inaccurate, in words (empty when there are none). Today: the Haff-Werner viscous
-/// branch unstable at the step (ratio above 2, see [`viscous_friction_ratio`]; between 1
-/// and 2 it overshoots but decays, and the restitution tolerance of `dt = "auto"` accounts
-/// for what that costs); at the thesis step of
-/// 8e-6 s the ratio is 2.4, and the tangential restitution of the smallest grains at the
-/// tray's peak speed is off by a factor 2 (`stripes bench`).
-pub fn warnings(scene: &Scene, dt: f64) -> Result<Vec<String>, SimError> {
-    let mut out = Vec::new();
-    if let Some(ratio) = viscous_friction_ratio(scene, dt)? {
-        if ratio > 2.0 {
-            let what = "is unstable at this step: the friction force chatters at the Coulomb limit instead of stopping the slip";
-            out.push(format!(
-                "`contact.tangential_damping` with `run.dt` = {dt:e} s: gamma_t dt / m_t = {ratio:.2} for two of the smallest grains, so the viscous branch of the Haff-Werner friction {what}; friction near zero slip is wrong for these grains. A step below {:.2e} s resolves it (`run.dt = \"auto\"` does).",
-                2.0 * dt / ratio
-            ));
-        }
-    }
-    Ok(out)
 }

@@ -172,6 +172,9 @@ proptest! {
                 prop_assert!(overlap > limit * radius);
                 return Ok(());
             }
+            // So is refusing one the step cannot resolve: an overdamped slow impact whose contact
+            // lasts half a step (the saved case of `vn = 0.01` m/s) has no numbers to check.
+            Err(SimError::CollisionUnresolved { .. }) => return Ok(()),
             Err(e) => return Err(TestCaseError::fail(e.to_string())),
         };
         // Round-off: every step rounds both bodies' velocities (a few operations per
@@ -192,6 +195,9 @@ proptest! {
         let (a, b) = match (c.run(), swapped(&c).run()) {
             (Ok(a), Ok(b)) => (a, b),
             (Err(SimError::ExcessiveOverlap { .. }), Err(SimError::ExcessiveOverlap { .. })) => return Ok(()),
+            // Regression: an overdamped slow impact that both runs refuse alike (the contact
+            // lasts half a step) was reported as a difference; the same refusal mirrors too.
+            (Err(a @ SimError::CollisionUnresolved { .. }), Err(b)) if a == b => return Ok(()),
             (a, b) => return Err(TestCaseError::fail(format!("the swapped run differs in outcome: {a:?} / {b:?}"))),
         };
         let (vn, v) = c.speeds();

@@ -11,10 +11,12 @@ mod common;
 
 use particles::boundary::Boundary;
 use particles::contact::{ContactLaw, NormalLaw, RollingLaw, TangentialLaw};
-use particles::observe;
+use particles::measure;
 use particles::prepare::initial_state;
+use particles::scene::{TimeStep, Toggles};
 use particles::sim::Simulation;
 use particles::state::State;
+use particles::time_step;
 use particles::tray;
 use particles::Vec3;
 use proptest::prelude::*;
@@ -65,7 +67,7 @@ fn energy_error(law: ContactLaw, state: &State, steps: f64, duration: f64) -> (f
     while sim.time < duration {
         sim.step().unwrap();
         worst = worst.max((sim.total_energy() - e0).abs() / e0);
-        contacts += sim.contacts.0;
+        contacts += sim.contact_counts.0;
     }
     (worst, contacts)
 }
@@ -120,17 +122,17 @@ proptest! {
     #[test]
     fn momentum_is_conserved_in_free_space(d in draws(27), law in frictional()) {
         let state = cluster(27, &d, 0.5, 300.0, true);
-        let p0 = observe::momentum(&state);
+        let p0 = measure::momentum(&state);
         let scale: f64 = (0..state.len()).map(|i| state.mass(i) * state.vel[i].norm()).sum();
         let dt = contact_time(&law) / 30.0;
         let mut sim = Simulation::new(setup(law, Boundary::open(), dt), state).unwrap();
         let mut contacts = 0;
         for _ in 0..3000 {
             sim.step().unwrap();
-            contacts += sim.contacts.0;
+            contacts += sim.contact_counts.0;
         }
         prop_assert!(contacts > 0, "the grains never met");
-        let dp = (observe::momentum(&sim.state) - p0).norm();
+        let dp = (measure::momentum(&sim.state) - p0).norm();
         println!("momentum: {dp:.2e} of {scale:.2e}, {contacts} contact-steps");
         prop_assert!(dp < 1e-13 * scale, "momentum changed by {dp:e} (scale {scale:e})");
     }
@@ -140,7 +142,7 @@ proptest! {
     #[test]
     fn angular_momentum_is_conserved_with_friction_on(d in draws(27), law in frictional()) {
         let state = cluster(27, &d, 0.5, 300.0, true);
-        let l0 = observe::angular_momentum(&state);
+        let l0 = measure::angular_momentum(&state);
         let extent = 2.4 * R * 3.0;
         let scale: f64 = (0..state.len())
             .map(|i| state.mass(i) * state.vel[i].norm() * extent + state.inertia(i) * state.omega[i].norm())
@@ -150,10 +152,10 @@ proptest! {
         let mut friction_acted = false;
         for _ in 0..3000 {
             sim.step().unwrap();
-            friction_acted |= sim.contacts.0 > 0;
+            friction_acted |= sim.contact_counts.0 > 0;
         }
         prop_assert!(friction_acted);
-        let dl = (observe::angular_momentum(&sim.state) - l0).norm();
+        let dl = (measure::angular_momentum(&sim.state) - l0).norm();
         println!("angular momentum: {dl:.2e} of {scale:.2e}");
         prop_assert!(dl < 1e-12 * scale, "angular momentum changed by {dl:e} (scale {scale:e})");
     }
@@ -168,12 +170,9 @@ proptest! {
         walls in any::<bool>(),
         rolling in any::<bool>(),
     ) {
-        let toggles = format!(
-            "[toggles]\nfriction = {friction}\njumping = {jumping}\nwalls = {walls}\nrolling = {rolling}\n\
-             [run]\nduration = 0.1\ndt = 4e-6\nseed = {seed}\n"
-        );
-        let scene = common::tray_scene(0.01, 0.008, 40, &toggles, &[]);
-        let mut sim = Simulation::new(tray::setup(&scene, tray::drive(&scene)).unwrap(), initial_state(&scene).unwrap()).unwrap();
+        let toggles = Toggles { friction, jumping, dissipation: true, walls, rolling };
+        let scene = common::tray_scene(0.01, 0.008, 40, TimeStep::Seconds(4e-6), seed, |s| s.toggles = toggles);
+        let mut sim = Simulation::new(tray::setup(&scene, tray::drive(&scene), time_step::for_scene(&scene).unwrap()).unwrap(), initial_state(&scene).unwrap()).unwrap();
         let n = sim.state.len();
         for _ in 0..2500 {
             sim.step().unwrap();

@@ -8,13 +8,17 @@
 mod common;
 
 use particles::boundary::Boundary;
+use particles::contact::choice::TangentialKind;
 use particles::contact::{ContactLaw, NormalLaw, RollingLaw, TangentialLaw};
 use particles::experiment::closed_form::{gamma_for_damping_ratio, linear_dashpot};
 use particles::experiment::collide::{Collision, Impact, StepSize, Target};
 use particles::integrate::Integrator;
 use particles::prepare::initial_state;
-use particles::sim::{Partner, Setup, Simulation};
+use particles::scene::TimeStep;
+use particles::setup::{Partner, Setup};
+use particles::sim::Simulation;
 use particles::state::State;
+use particles::time_step;
 use particles::tray;
 use particles::wall::{Motion, Wall};
 use particles::{SimError, Vec3};
@@ -188,7 +192,11 @@ fn cundall_strack_with_kt_far_above_kn() {
     let (mut switches, mut sliding, mut steps_in_contact) = (0, None, 0);
     for _ in 0..4000 {
         sim.step().unwrap();
-        if let Some(c) = sim.contacts().iter().find(|c| c.partner == Partner::Particle(1) && c.normal > 0.0) {
+        if let Some(c) = sim
+            .contact_records()
+            .iter()
+            .find(|c| c.partner == Partner::Particle(1) && c.normal > 0.0)
+        {
             steps_in_contact += 1;
             let now = c.tangential >= (1.0 - 1e-9) * c.mu * c.normal;
             if sliding.is_some_and(|was| was != now) {
@@ -312,15 +320,19 @@ fn the_energy_ledger_of_a_long_shaken_run_closes() {
     // potential + stored energy changes by the work of the walls minus the dissipation.
     // At dt = 4e-6 s it closes to 2.5e-5 of the injected work. At the thesis' 8e-6 s it
     // misses by 4e-3: the Haff-Werner viscous branch is unstable there for the smallest
-    // grains (gamma_t dt / m_t = 2.4), and the run says so (`tray::warnings`).
-    let scene = common::tray_scene(0.006, 0.01, 60, "[run]\nduration = 0.1\ndt = 4e-6\nseed = 7\n", &[]);
-    assert!(tray::warnings(&scene, 4e-6).unwrap().is_empty());
-    let at_thesis_dt = tray::warnings(&scene, 8e-6).unwrap();
+    // grains (gamma_t dt / m_t = 2.4), and the run says so (`time_step::warnings`).
+    let scene = common::tray_scene(0.006, 0.01, 60, TimeStep::Seconds(4e-6), 7, common::unchanged);
+    assert!(time_step::warnings(&scene, 4e-6).unwrap().is_empty());
+    let at_thesis_dt = time_step::warnings(&scene, 8e-6).unwrap();
     assert!(
         at_thesis_dt.len() == 1 && at_thesis_dt[0].contains("contact.tangential_damping"),
         "{at_thesis_dt:?}"
     );
-    let mut sim = Simulation::new(tray::setup(&scene, tray::drive(&scene)).unwrap(), initial_state(&scene).unwrap()).unwrap();
+    let mut sim = Simulation::new(
+        tray::setup(&scene, tray::drive(&scene), time_step::for_scene(&scene).unwrap()).unwrap(),
+        initial_state(&scene).unwrap(),
+    )
+    .unwrap();
     let e0 = sim.total_energy();
     let steps = (0.1 / 4e-6) as u64;
     for _ in 0..steps {
@@ -341,14 +353,11 @@ fn the_energy_ledger_of_a_long_shaken_run_closes() {
 
 #[test]
 fn a_scene_whose_tangential_spring_is_too_stiff_is_refused_before_the_run() {
-    let scene = common::tray_scene(
-        0.02,
-        0.01,
-        10,
-        "[contact]\ntangential = \"cundall-strack\"\ntangential_stiffness = 1e5\n[run]\nduration = 0.1\ndt = 8e-6\nseed = 1\n",
-        &[],
-    );
-    let e = tray::setup(&scene, tray::drive(&scene)).unwrap_err();
+    let scene = common::tray_scene(0.02, 0.01, 10, TimeStep::Seconds(8e-6), 1, |s| {
+        s.contact.tangential = TangentialKind::CundallStrack;
+        s.contact.tangential_stiffness = Some(1e5);
+    });
+    let e = time_step::for_scene(&scene).unwrap_err();
     assert!(matches!(e, SimError::TangentialSpringTooStiff { .. }), "{e:?}");
     assert!(e.to_string().contains("contact.tangential_stiffness"), "{e}");
 }

@@ -7,22 +7,21 @@ mod common;
 
 use particles::neighbor::NeighborSearch;
 use particles::prepare::initial_state;
+use particles::scene::TimeStep;
 use particles::sim::Simulation;
+use particles::time_step;
 use particles::tray;
 
 /// The tray stepped 4000 times with `search` (the tray's own adaptive list if `None`), its
-/// grains stirred at `speed` m/s: checkpoint bytes, steps with grain-grain contacts,
+/// grains stirred at `speed` m/s (pinned to the floor unless `jumping`): the state's bits, steps with grain-grain contacts,
 /// list builds and the final skin (m).
-fn run(search: Option<NeighborSearch>, speed: f64, overrides: &[&str]) -> (Vec<u8>, u64, u64, f64) {
+fn run(search: Option<NeighborSearch>, speed: f64, jumping: bool) -> (Vec<u64>, u64, u64, f64) {
     // 120 grains on 20 mm x 10 mm, stirred so that the list is rebuilt often.
-    let scene = common::tray_scene(
-        0.02,
-        0.01,
-        120,
-        &format!("[prepare]\nspeed = {speed}\n[run]\nduration = 0.1\ndt = 8e-6\nseed = 5\n"),
-        overrides,
-    );
-    let mut setup = tray::setup(&scene, tray::drive(&scene)).unwrap();
+    let scene = common::tray_scene(0.02, 0.01, 120, TimeStep::Seconds(8e-6), 5, |s| {
+        s.prepare.speed = speed;
+        s.toggles.jumping = jumping;
+    });
+    let mut setup = tray::setup(&scene, tray::drive(&scene), time_step::for_scene(&scene).unwrap()).unwrap();
     if let Some(search) = search {
         setup.neighbors = search;
     }
@@ -30,22 +29,27 @@ fn run(search: Option<NeighborSearch>, speed: f64, overrides: &[&str]) -> (Vec<u
     let mut pair_contact_steps = 0;
     for _ in 0..4000 {
         sim.step().unwrap();
-        pair_contact_steps += (sim.contacts.0 > 0) as u64;
+        pair_contact_steps += (sim.contact_counts.0 > 0) as u64;
     }
-    (sim.checkpoint(0, 0), pair_contact_steps, sim.neighbor_builds(), sim.neighbor_skin())
+    (
+        common::state_bits(&sim),
+        pair_contact_steps,
+        sim.neighbor_builds(),
+        sim.neighbor_skin(),
+    )
 }
 
 #[test]
 fn verlet_list_run_equals_all_pairs_run_bit_for_bit() {
-    for overrides in [&[][..], &["toggles.jumping=false"][..]] {
-        let (list, contacts, builds, _) = run(None, 0.2, overrides);
-        let (all, _, _, _) = run(Some(NeighborSearch::AllPairs), 0.2, overrides);
+    for jumping in [true, false] {
+        let (list, contacts, builds, _) = run(None, 0.2, jumping);
+        let (all, _, _, _) = run(Some(NeighborSearch::AllPairs), 0.2, jumping);
         assert!(
             contacts > 100,
-            "{overrides:?}: the test needs grain-grain contacts ({contacts} steps with some)"
+            "jumping {jumping}: the test needs grain-grain contacts ({contacts} steps with some)"
         );
-        assert!(builds > 3, "{overrides:?}: the test needs rebuilds ({builds})");
-        assert!(list == all, "{overrides:?}: the Verlet-list run differs from the all-pairs run");
+        assert!(builds > 3, "jumping {jumping}: the test needs rebuilds ({builds})");
+        assert!(list == all, "jumping {jumping}: the Verlet-list run differs from the all-pairs run");
     }
 }
 
@@ -53,13 +57,16 @@ fn verlet_list_run_equals_all_pairs_run_bit_for_bit() {
 /// skin fixed, and neither changes a bit of the run.
 #[test]
 fn adaptive_skin_grows_in_a_gas_and_changes_no_result() {
-    let scene = common::tray_scene(0.02, 0.01, 120, "[run]\nduration = 0.1\ndt = 8e-6\nseed = 5\n", &[]);
-    let NeighborSearch::VerletList { skin, max_skin } = tray::setup(&scene, tray::drive(&scene)).unwrap().neighbors else {
+    let scene = common::tray_scene(0.02, 0.01, 120, TimeStep::Seconds(8e-6), 5, common::unchanged);
+    let NeighborSearch::VerletList { skin, max_skin } = tray::setup(&scene, tray::drive(&scene), time_step::for_scene(&scene).unwrap())
+        .unwrap()
+        .neighbors
+    else {
         panic!("the tray uses a Verlet list");
     };
-    let (adaptive, contacts, adaptive_builds, final_skin) = run(None, 1.0, &[]);
-    let (fixed, _, fixed_builds, fixed_skin) = run(Some(NeighborSearch::verlet(skin)), 1.0, &[]);
-    let (all, _, _, _) = run(Some(NeighborSearch::AllPairs), 1.0, &[]);
+    let (adaptive, contacts, adaptive_builds, final_skin) = run(None, 1.0, true);
+    let (fixed, _, fixed_builds, fixed_skin) = run(Some(NeighborSearch::verlet(skin)), 1.0, true);
+    let (all, _, _, _) = run(Some(NeighborSearch::AllPairs), 1.0, true);
     assert!(contacts > 100, "the test needs grain-grain contacts ({contacts} steps with some)");
     assert_eq!(fixed_skin, skin);
     assert!(

@@ -1,11 +1,11 @@
-//! Prepared samples are cached on disk under [`prepare::sample_key`], which cannot see the
+//! Prepared samples are cached on disk under a key of their scene, which cannot see the
 //! code that prepared them. This test pins the bits of one small prepared sample: a change to
 //! the DEM that moves them fails here, and the fix is to bump `prepare::SAMPLE_REVISION` (so
 //! that every cache prepares its samples afresh) and to pin the new hash.
 
 mod common;
 
-use particles::observe::fnv1a;
+use particles::measure::fnv1a;
 use particles::prepare::{self, SAMPLE_REVISION};
 
 /// `(SAMPLE_REVISION, hash of the sample)` the code last produced.
@@ -16,13 +16,10 @@ fn prepared_sample_is_pinned_to_the_sample_revision() {
     // 60 grains relaxed for 0.02 s: every force law, the integrator and the automatic time
     // step take part (revision 4: `dt = "auto"` learnt to keep the Haff-Werner viscous branch
     // stable at slow drives, which changed every sample prepared with it).
-    let scene = common::tray_scene(
-        0.02,
-        0.01,
-        60,
-        "[prepare]\nspeed = 0.05\nduration = 0.02\n[run]\nduration = 0.1\ndt = \"auto\"\nseed = 3\n",
-        &[],
-    );
+    let scene = common::tray_scene(0.02, 0.01, 60, common::AUTO, 3, |s| {
+        s.prepare.speed = 0.05;
+        s.prepare.duration = 0.02;
+    });
     let state = prepare::prepare(&scene, |_| {}).unwrap();
     let mut bytes = Vec::new();
     for i in 0..state.len() {

@@ -5,23 +5,22 @@ mod common;
 use particles::experiment::step_control::{choose, restitution_error, run_all, scene_probes, REFERENCE_STEPS};
 use particles::integrate::Integrator;
 use particles::scene::Scene;
-use particles::tray;
+use particles::time_step;
+use particles::timescale;
 use particles::SimError;
 
-/// 50 grains on 20 mm x 10 mm with the error-controlled step.
-fn scene(overrides: &[&str]) -> Scene {
-    common::tray_scene(
-        0.02,
-        0.01,
-        50,
-        "[run]\nduration = 0.1\ndt = \"auto\"\nsteps_per_contact = 8\nseed = 1\n",
-        overrides,
-    )
+/// 50 grains on 20 mm x 10 mm with the error-controlled step, at least 8 steps per
+/// contact, changed by `edit`.
+fn scene(edit: impl FnOnce(&mut Scene)) -> Scene {
+    common::tray_scene(0.02, 0.01, 50, common::AUTO, 1, |s| {
+        s.run.steps_per_contact = 8.0;
+        edit(s)
+    })
 }
 
 #[test]
 fn the_chosen_step_meets_the_tolerance_and_a_coarser_one_does_not() {
-    let s = scene(&[]);
+    let s = scene(common::unchanged);
     let reference = run_all(&scene_probes(&s, REFERENCE_STEPS, Integrator::VelocityVerlet).unwrap()).unwrap();
     for tol in [3e-2, 1e-2, 1e-3] {
         let c = choose(&s, tol, 8.0).unwrap();
@@ -48,16 +47,16 @@ fn the_chosen_step_meets_the_tolerance_and_a_coarser_one_does_not() {
 
 #[test]
 fn auto_uses_the_tolerance_and_never_fewer_than_steps_per_contact() {
-    let t_c = tray::shortest_contact_time(&scene(&[])).unwrap();
-    let default = tray::time_step(&scene(&[])).unwrap();
+    let t_c = timescale::shortest_contact_time(&scene(common::unchanged)).unwrap();
+    let default = time_step::for_scene(&scene(common::unchanged)).unwrap();
     assert_eq!(t_c / default, 25.0, "thesis material at the default tolerance 1e-2");
-    let floored = tray::time_step(&scene(&["run.steps_per_contact=40"])).unwrap();
+    let floored = time_step::for_scene(&scene(|s| s.run.steps_per_contact = 40.0)).unwrap();
     assert!((t_c / floored - 40.0).abs() < 1e-9);
 }
 
 #[test]
 fn an_unreachable_tolerance_is_refused_naming_the_key() {
-    let e = tray::time_step(&scene(&["run.restitution_tolerance=1e-9"])).unwrap_err();
+    let e = time_step::for_scene(&scene(|s| s.run.restitution_tolerance = 1e-9)).unwrap_err();
     assert!(
         matches!(&e, SimError::InvalidParameter { field, .. } if field == "run.restitution_tolerance"),
         "{e:?}"

@@ -4,20 +4,26 @@ mod common;
 
 use particles::boundary::Boundary;
 use particles::prepare::initial_state;
-use particles::scene::Scene;
-use particles::sim::{Setup, Simulation};
+use particles::scene::{Scene, TimeStep};
+use particles::setup::Setup;
+use particles::sim::Simulation;
 use particles::state::State;
+use particles::time_step;
 use particles::tray;
 use particles::{SimError, Vec3};
 
-/// 100 grains on 20 mm x 10 mm, 0.1 s at the thesis' step.
-fn scene(overrides: &[&str]) -> Scene {
-    common::tray_scene(0.02, 0.01, 100, "[run]\nduration = 0.1\ndt = 8e-6\nseed = 4\n", overrides)
+/// 100 grains on 20 mm x 10 mm, 0.1 s at the thesis' step, changed by `edit`.
+fn scene(edit: impl FnOnce(&mut Scene)) -> Scene {
+    common::tray_scene(0.02, 0.01, 100, TimeStep::Seconds(8e-6), 4, edit)
 }
 
-fn tray_sim(overrides: &[&str]) -> Simulation {
-    let s = scene(overrides);
-    Simulation::new(tray::setup(&s, tray::drive(&s)).unwrap(), initial_state(&s).unwrap()).unwrap()
+fn tray_sim(edit: impl FnOnce(&mut Scene)) -> Simulation {
+    let s = scene(edit);
+    Simulation::new(
+        tray::setup(&s, tray::drive(&s), time_step::for_scene(&s).unwrap()).unwrap(),
+        initial_state(&s).unwrap(),
+    )
+    .unwrap()
 }
 
 /// Two grains colliding obliquely on the floor at `x0` (m) in a periodic tray.
@@ -41,8 +47,8 @@ fn seam_pair(setup: &Setup, x0: f64) -> Simulation {
 
 #[test]
 fn a_contact_across_the_periodic_seam_equals_the_same_pair_shifted() {
-    let s = scene(&[]);
-    let setup = tray::setup(&s, particles::wall::Motion::Fixed).unwrap();
+    let s = scene(common::unchanged);
+    let setup = tray::setup(&s, particles::wall::Motion::Fixed, time_step::for_scene(&s).unwrap()).unwrap();
     let l = s.tray.length;
     let mut middle = seam_pair(&setup, 0.5 * l);
     let mut seam = seam_pair(&setup, l - 4e-4); // the second grain lies across x = 0
@@ -69,7 +75,7 @@ fn a_contact_across_the_periodic_seam_equals_the_same_pair_shifted() {
 #[test]
 fn pinned_mode_keeps_z_equal_to_the_radius_exactly() {
     // The prepared grains rest at z = R - overlap; pinning puts them at z = R.
-    let mut sim = tray_sim(&["toggles.jumping=false"]);
+    let mut sim = tray_sim(|s| s.toggles.jumping = false);
     for _ in 0..3000 {
         sim.step().unwrap();
     }
@@ -83,13 +89,13 @@ fn pinned_mode_keeps_z_equal_to_the_radius_exactly() {
 
 #[test]
 fn the_particle_count_is_conserved_and_grains_stay_in_the_box() {
-    let mut sim = tray_sim(&[]);
+    let mut sim = tray_sim(common::unchanged);
     let n = sim.state.len();
     for _ in 0..5000 {
         sim.step().unwrap();
     }
     assert_eq!(sim.state.len(), n);
-    let s = scene(&[]);
+    let s = scene(common::unchanged);
     for x in &sim.state.pos {
         assert!((0.0..s.tray.length).contains(&x.x) && (0.0..=s.tray.width).contains(&x.y) && x.z > 0.0);
     }
@@ -97,7 +103,7 @@ fn the_particle_count_is_conserved_and_grains_stay_in_the_box() {
 
 #[test]
 fn bad_runtime_input_names_the_particle_and_the_step() {
-    let base = tray_sim(&[]);
+    let base = tray_sim(common::unchanged);
     // Overlapping grains at the start.
     let mut st = base.state.clone();
     st.pos[7] = st.pos[3] + Vec3::new(1e-4, 0.0, 0.0);
@@ -133,7 +139,7 @@ fn bad_runtime_input_names_the_particle_and_the_step() {
     for _ in 0..12_500 {
         sim.step().unwrap();
     }
-    let mut sim = tray_sim(&["box.height=0.1"]);
+    let mut sim = tray_sim(|s| s.tray.height = Some(0.1));
     sim.state.vel[5] = Vec3::new(0.0, 0.0, 2.0);
     let e = (0..12_500).find_map(|_| sim.step().err()).expect("the grain passes the ceiling");
     assert!(matches!(e, SimError::Escaped { particle: 5, .. }), "{e:?}");

@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 use serde_json::{json, Value};
 
 use crate::output::CliError;
-use crate::sweep::{self, Job, Model, Sweep};
+use crate::sweep::{self, Job, Model, Sweep, SweepKind};
 
 #[derive(clap::Args, Debug, serde::Serialize)]
 pub struct Args {
@@ -192,7 +192,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
         ));
     }
     let sweep = Sweep {
-        kind: "ablate".into(),
+        kind: SweepKind::Ablate,
         scene: args.scene.clone(),
         overrides: args.sweep.overrides.clone(),
         jobs: all,

@@ -136,7 +136,7 @@ fn simulate(args: &Args, path: &Path, file: SceneFile) -> Result<String, CliErro
         .unwrap_or_else(|| "scene".into());
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from(format!("out/automaton-{name}")));
     // Checked before the directory is made, so a refused lattice leaves nothing behind.
-    file.validate_lattice()?;
+    crate::cellular::validate_lattice(&file)?;
     crate::output::claim(&out, args.force)?;
     let mut dir = RunDir::create(&out, &json!({ "args": args, "scene": &file }))?;
     analysis::io::write_atomic(&out.join("scene.toml"), file.to_toml()?.as_bytes())?;
@@ -194,7 +194,7 @@ fn simulate(args: &Args, path: &Path, file: SceneFile) -> Result<String, CliErro
 /// Speed on the scene's tray: a random layer of the scene's grain count, `strict` and
 /// `physical`, each for about `bench_seconds`.
 fn bench(args: &Args, path: &Path, file: &SceneFile) -> Result<String, CliError> {
-    file.validate_lattice()?;
+    crate::cellular::validate_lattice(file)?;
     let scene = &file.dem;
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from("out/automaton-bench"));
     crate::output::claim(&out, args.force)?;

@@ -1,9 +1,9 @@
 //! `stripes bench [--quick]`: speed against error of every accuracy-for-speed choice, on the
-//! collision lab and on a small shaken tray (study in `crate::tradeoff`).
+//! collision lab and on a small shaken tray (study in [`crate::tradeoff`]).
 //!
 //! Also times each friction law (none, Haff-Werner, Haff-Werner with `friction = inf`,
 //! Cundall-Strack) against Haff-Werner in the same run
-//! ([`particles::experiment::tradeoff::friction_laws`]): ratios, never absolute times.
+//! ([`crate::tradeoff::friction_laws`]): ratios, never absolute times.
 //!
 //! Writes `bench.md` (the Markdown tables), `bench.csv`, `friction_laws.csv`, `pareto.png` /
 //! `pareto.svg` and `summary.json` (`rows`: `name`, `speed_ratio`, `error` and the other

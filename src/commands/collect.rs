@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 
 use crate::output::CliError;
-use crate::sweep;
+use crate::sweep::{self, SweepKind};
 
 #[derive(clap::Args, Debug, serde::Serialize)]
 pub struct Args {
@@ -14,10 +14,9 @@ pub struct Args {
 
 pub fn run(args: Args) -> Result<String, CliError> {
     let sweep = sweep::load(&args.dir)?;
-    let summary = match sweep.kind.as_str() {
-        "phase-map" => crate::commands::phase_map::report(&args.dir, &sweep)?,
-        "ablate" => crate::commands::ablate::report(&args.dir, &sweep)?,
-        other => return Err(format!("{}: unknown sweep kind `{other}`", args.dir.display()).into()),
+    let summary = match sweep.kind {
+        SweepKind::PhaseMap => crate::commands::phase_map::report(&args.dir, &sweep)?,
+        SweepKind::Ablate => crate::commands::ablate::report(&args.dir, &sweep)?,
     };
     Ok(serde_json::to_string(&summary)?)
 }

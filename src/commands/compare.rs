@@ -10,7 +10,6 @@ use std::path::{Path, PathBuf};
 
 use analysis::io::read_csv;
 use analysis::plot::{Heatmap, LinePlot, Mark};
-use particles::prepare::sample_key;
 use serde::Serialize;
 use serde_json::{json, Value};
 
@@ -18,6 +17,7 @@ use super::automaton::{analysis_keys, analyze_dir};
 use super::{automaton, run};
 use crate::cellular::load_scene;
 use crate::output::{CliError, RunDir};
+use crate::samples::sample_key;
 
 #[derive(clap::Args, Debug, Serialize)]
 pub struct Args {
@@ -297,7 +297,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
         .into());
     }
     // Everything that can be checked is checked before anything is written.
-    file.validate_lattice()?;
+    crate::cellular::validate_lattice(&file)?;
     if let Some(d) = &args.dem_run {
         check_dem_run(d, scene)?;
     }
@@ -381,7 +381,14 @@ fn compare(args: &Args, file: &crate::scene_file::SceneFile, out: &Path) -> Resu
             d
         }
     };
-    let dem_summary = read_json(&dem_dir.join("summary.json")).unwrap_or(Value::Null);
+    // A run reused with --dem-run may have stopped before its end, without summary.json: its
+    // speed is then unknown. A summary that is there but unreadable is an error, as is a
+    // missing one of the run just made.
+    let summary = dem_dir.join("summary.json");
+    let dem_summary = match &args.dem_run {
+        Some(_) if !summary.exists() => Value::Null,
+        _ => read_json(&summary)?,
+    };
 
     // 2. Automaton, same scene and sample.
     stage(args.quiet, 2, "automaton run");

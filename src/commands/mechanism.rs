@@ -15,6 +15,7 @@ use analysis::mechanism::{ByDensity, Grain, Motion, Split, Tally};
 use analysis::plot::{LinePlot, Mark};
 use analysis::stripes::{detect, StripeParams};
 use particles::sim::Simulation;
+use particles::time_step;
 use particles::tray;
 use serde::Serialize;
 use serde_json::json;
@@ -60,11 +61,11 @@ pub fn run(args: Args) -> Result<String, CliError> {
     crate::output::claim(&out, args.force)?;
     let mut dir = RunDir::create(&out, &json!({ "args": &args, "scene": &scene }))?;
 
-    let setup = tray::setup(&scene, tray::drive(&scene))?;
+    let setup = tray::setup(&scene, tray::drive(&scene), time_step::for_scene(&scene)?)?;
     let dt = setup.dt;
     let (state, _) = crate::samples::load_or_prepare(&scene, &args.sample_cache, |_| {})?;
     let mut sim = Simulation::new(setup, state)?;
-    sim.restore(&bytes, super::run::checkpoint_fingerprint(&scene)?)
+    crate::dem_checkpoint::restore(&mut sim, &bytes, super::run::checkpoint_fingerprint(&scene)?)
         .map_err(|e| format!("{}: {e}", ckpt_path.display()))?;
     let start = sim.time;
 

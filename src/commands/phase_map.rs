@@ -15,7 +15,7 @@ use analysis::plot::Heatmap;
 use serde_json::{json, Value};
 
 use crate::output::CliError;
-use crate::sweep::{self, Job, Model, Sweep};
+use crate::sweep::{self, Job, Model, Sweep, SweepKind};
 
 #[derive(clap::Args, Debug, serde::Serialize)]
 pub struct Args {
@@ -99,7 +99,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
     let scene = crate::scene_file::load(&args.scene, &args.sweep.overrides)?.dem;
     scene.validate()?;
     let sweep = Sweep {
-        kind: "phase-map".into(),
+        kind: SweepKind::PhaseMap,
         scene: args.scene.clone(),
         overrides: args.sweep.overrides.clone(),
         jobs: jobs(&freqs, &amps, &args.model.models(), args.seeds.max(1), scene.run.seed),

@@ -17,17 +17,19 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use analysis::snapshot::Header;
-use particles::observe;
-use particles::observer::{advance, ObserverError};
-use particles::prepare;
+use particles::advance::{advance, ObserverError};
+use particles::measure;
 use particles::scene::Scene;
 use particles::sim::Simulation;
+use particles::time_step;
+use particles::timescale;
 use particles::tray;
 use serde::Serialize;
 use serde_json::json;
 
-use crate::observers::{ContactMeans, Progress, Recorder, RecorderPlan};
 use crate::output::{non_empty, progress_bar, CliError, RunDir};
+use crate::run_outputs::{ContactMeans, Progress, Recorder, RecorderPlan};
+use crate::samples::sample_key;
 use crate::thermo::Thermo;
 use crate::vtk_series::VtkSeries;
 
@@ -133,7 +135,7 @@ pub(crate) fn checkpoint_fingerprint(scene: &Scene) -> Result<u64, CliError> {
     s.run.threads = 0;
     s.run.checkpoint_interval = 0.0;
     s.run.duration = 1.0;
-    Ok(observe::fnv1a(toml::to_string(&s)?.as_bytes()) ^ prepare::sample_key(scene))
+    Ok(measure::fnv1a(toml::to_string(&s)?.as_bytes()) ^ sample_key(scene))
 }
 
 pub fn run(args: Args) -> Result<String, CliError> {
@@ -155,7 +157,7 @@ fn run_in_pool(args: Args, file: crate::scene_file::SceneFile, threads_why: Stri
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from(format!("out/run-{name}")));
     // Everything that can be checked is checked before anything is written and before the
     // (possibly long) preparation.
-    let setup = tray::setup(scene, tray::drive(scene))?;
+    let setup = tray::setup(scene, tray::drive(scene), time_step::for_scene(scene)?)?;
     let gap = 1.0 / (scene.run.snapshots_per_period as f64 * scene.drive.frequency);
     if gap < 2.0 * setup.dt {
         return Err(format!(
@@ -166,7 +168,7 @@ fn run_in_pool(args: Args, file: crate::scene_file::SceneFile, threads_why: Stri
         )
         .into());
     }
-    let warnings = tray::warnings(scene, setup.dt)?;
+    let warnings = time_step::warnings(scene, setup.dt)?;
     // Then the lock, held until this function returns (a second run into the same directory
     // is refused, even with --force), and only then the directory's contents.
     let existed = out.exists();
@@ -220,7 +222,7 @@ fn start(
     args: &Args,
     file: &crate::scene_file::SceneFile,
     out: &Path,
-    setup: particles::sim::Setup,
+    setup: particles::setup::Setup,
     checkpoint: Option<Vec<u8>>,
 ) -> Result<Started, CliError> {
     let scene = &file.dem;
@@ -245,9 +247,8 @@ fn start(
     let ckpt_path = out.join("checkpoint.bin");
     let mut frames = 0;
     if let Some(bytes) = &checkpoint {
-        frames = sim
-            .restore(bytes, fingerprint)
-            .map_err(|e| format!("--resume: {}: {e}", ckpt_path.display()))?;
+        frames =
+            crate::dem_checkpoint::restore(&mut sim, bytes, fingerprint).map_err(|e| format!("--resume: {}: {e}", ckpt_path.display()))?;
         thermo.resume(&out.join("thermo.csv"), sim.time)?;
     }
     let dir = RunDir::create(out, &json!({ "args": args, "scene": scene }))?;
@@ -382,7 +383,7 @@ fn step(
     recorder.writer.sync()?;
     bar.finish_and_clear();
     thermo.write()?;
-    let resolving = tray::viscous_friction_ratio(scene, dt)?.filter(|r| *r > 1.0).map(|r| dt / r);
+    let resolving = time_step::viscous_friction_ratio(scene, dt)?.filter(|r| *r > 1.0).map(|r| dt / r);
     if let Some(w) = thermo.balance_warning(dt, resolving) {
         eprintln!("warning: {w}");
         warnings.push(w);
@@ -397,9 +398,9 @@ fn step(
     let s = &sim.state;
     let stepped = sim.steps - start_steps;
     let energy = json!({
-        "kinetic": observe::kinetic_energy(s),
-        "rotational": observe::rotational_energy(s),
-        "potential": observe::potential_energy(s, sim.setup.gravity),
+        "kinetic": measure::kinetic_energy(s),
+        "rotational": measure::rotational_energy(s),
+        "potential": measure::potential_energy(s, sim.setup.gravity),
         "stored": sim.stored_energy,
         "injected": sim.ledger.injected,
         "dissipated": sim.ledger.dissipated,
@@ -417,17 +418,17 @@ fn step(
         "particle_steps_per_s": (stepped as f64 * s.len() as f64) / stepping.max(1e-12),
         "threads": rayon::current_num_threads(),
         "threads_chosen_by": threads_why,
-        "steps_per_contact": tray::shortest_contact_time(scene)? / dt,
+        "steps_per_contact": timescale::shortest_contact_time(scene)? / dt,
         "snapshots": frames,
         "sample_cached": cached,
         "prepare_s": prepare_s,
         "sample_cache": args.sample_cache.display().to_string(),
         "thermo_interval_s": thermo.every as f64 * dt,
-        "sample_key": format!("{:016x}", prepare::sample_key(scene)),
+        "sample_key": format!("{:016x}", sample_key(scene)),
         "energy": energy,
         "contacts": { "pair_mean": pair_mean, "wall_mean": wall_mean },
         "neighbor_builds": sim.neighbor_builds(),
-        "state_hash": format!("{:016x}", observe::state_hash(s)),
+        "state_hash": format!("{:016x}", measure::state_hash(s)),
         "warnings": warnings,
     });
     dir.json("scene.json", scene)?;

@@ -12,10 +12,11 @@
 use std::path::PathBuf;
 
 use analysis::plot::{LegendCorner, LinePlot, Mark};
+use particles::constants::GRAVITY;
 use particles::contact::RollingLaw;
 use particles::experiment::single::{self as sphere, Amplitudes, Sample, SphereOnFloor};
 use particles::scene::{Scene, TimeStep};
-use particles::tray::{self, GRAVITY};
+use particles::time_step;
 use serde::Serialize;
 use serde_json::json;
 
@@ -181,7 +182,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
         let dt = match (args.dt, at.run.dt) {
             (Some(dt), _) => dt,
             (None, TimeStep::Seconds(dt)) => dt,
-            (None, TimeStep::Auto(_)) => tray::time_step(&at)?,
+            (None, TimeStep::Auto(_)) => time_step::for_scene(&at)?,
         };
         let every = ((1.0 / f) / dt / 200.0).max(1.0) as u64; // about 200 samples per period
         for &m in &rolling_frictions {
@@ -389,7 +390,7 @@ fn stopping_test(dir: &mut RunDir, args: &Args, scene: &Scene, radius: f64) -> R
     let dt = match (args.dt, scene.run.dt) {
         (Some(dt), _) => dt,
         (None, TimeStep::Seconds(dt)) => dt,
-        (None, TimeStep::Auto(_)) => tray::time_step(scene)?,
+        (None, TimeStep::Auto(_)) => time_step::for_scene(scene)?,
     };
     let mut stop_plot = LinePlot::new(
         &format!("Distance of a {radius} m sphere launched at {} m/s", args.stop_speed),

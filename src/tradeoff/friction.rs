@@ -22,7 +22,8 @@ use super::{base_scene, with, Config, Setting};
 use particles::prepare::initial_state;
 use particles::scene::Scene;
 use particles::state::State;
-use particles::tray;
+use particles::time_step;
+use particles::timescale;
 use particles::SimError;
 
 /// Stiffness (N/m) of the Cundall-Strack row: the value of the friction-law runs on the quick
@@ -163,8 +164,8 @@ fn at_drive(base: &Scene, config: &Config, progress: &mut impl FnMut(&str)) -> R
     };
     let laws = laws();
     let hw_auto = auto(&laws[0].2)?;
-    let t_c = tray::shortest_contact_time(base)?;
-    let common_steps = t_c / tray::time_step(&hw_auto)?;
+    let t_c = timescale::shortest_contact_time(base)?;
+    let common_steps = t_c / time_step::for_scene(&hw_auto)?;
     let same_step = |name: &str| Setting::new(name, "friction law").steps(common_steps);
     let own_step = |name: &str| Setting::new(name, "friction law");
     let hw_same = same_step(&laws[0].1);
@@ -174,7 +175,7 @@ fn at_drive(base: &Scene, config: &Config, progress: &mut impl FnMut(&str)) -> R
     let mut rows = Vec::new();
     for (key, name, overrides) in &laws {
         let scene = auto(overrides)?;
-        let dt_auto = tray::time_step(&scene)?;
+        let dt_auto = time_step::for_scene(&scene)?;
         let reference = overrides.is_empty();
         let timed = timed_ratio((&hw_auto, &hw_same), (&scene, &same_step(name)), &state, pairs, config.cpu_time).and_then(|same| {
             let own = timed_ratio((&hw_auto, &hw_own), (&scene, &own_step(name)), &state, pairs, config.cpu_time)?;

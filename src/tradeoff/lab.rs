@@ -7,7 +7,7 @@ use particles::experiment::closed_form::{gamma_for_damping_ratio, linear_dashpot
 use particles::experiment::step_control::{self, REFERENCE_STEPS};
 use particles::integrate::Integrator;
 use particles::scene::{Scene, DEFAULT_RESTITUTION_TOLERANCE};
-use particles::tray;
+use particles::timescale;
 use particles::SimError;
 
 /// A linear spring-dashpot with the same head-on restitution `eps` and contact duration
@@ -47,7 +47,7 @@ fn lab_probes(scene: &Scene, s: &Setting, dt: f64, elastic: bool) -> Result<Vec<
         wall,
         r,
         scene.material().sphere_mass(r),
-        tray::max_impact_speed(scene),
+        timescale::max_impact_speed(scene),
         dt,
         s.integrator,
     ))
@@ -56,12 +56,12 @@ fn lab_probes(scene: &Scene, s: &Setting, dt: f64, elastic: bool) -> Result<Vec<
 /// The collision-lab study.
 pub(super) fn collision_study(config: &Config, progress: &mut impl FnMut(&str)) -> Result<Vec<Row>, SimError> {
     let base = base_scene(config.tray_count, config.tray_duration);
-    let t_c = tray::shortest_contact_time(&base)?;
+    let t_c = timescale::shortest_contact_time(&base)?;
     let reference = step_control::run_all(&step_control::scene_probes(&base, REFERENCE_STEPS, Integrator::VelocityVerlet)?)?;
     // The linear law matched to the reference's head-on pair impact.
     let r = base.particles.radius_min;
     let m_eff = 0.5 * base.material().sphere_mass(r);
-    let (kn, gamma_n) = matched_linear(m_eff, reference[0].eps_n, reference[0].t_c, tray::max_impact_speed(&base));
+    let (kn, gamma_n) = matched_linear(m_eff, reference[0].eps_n, reference[0].t_c, timescale::max_impact_speed(&base));
     let thesis_steps = t_c / THESIS_DT;
     let default_steps = step_control::choose(&base, DEFAULT_RESTITUTION_TOLERANCE, base.run.steps_per_contact)?.steps_per_contact;
 
@@ -134,7 +134,7 @@ fn lab_row(
             error: eps_error,
             wall_s: wall / reps as f64,
             dt,
-            steps_per_contact: tray::shortest_contact_time(&scene)? / dt,
+            steps_per_contact: timescale::shortest_contact_time(&scene)? / dt,
             eps_error: Some(eps_error),
             energy_error: Some(energy_error),
             density_distance: None,

@@ -6,7 +6,7 @@
 //! or the thesis' scheme), 3D against pinned 2D (tray), a cheaper normal law (a linear
 //! spring-dashpot matched to the Hertz law's restitution and contact time: no square roots),
 //! the neighbour skin and the rebuild policy (skin 0: rebuild every step), and the defaults
-//! (`dt = "auto"` at the default restitution tolerance, see [`super::step_control`]).
+//! (`dt = "auto"` at the default restitution tolerance, see [`particles::experiment::step_control`]).
 //!
 //! What is measured, per setting:
 //! - `speed_ratio`: time of the reference setting divided by the setting's, both measured
@@ -16,8 +16,8 @@
 //!   speed ratio counts steps per simulated second of contact instead (the wall-time ratio
 //!   of a long run at equal cost per step; the tray rows time the cost per step);
 //! - collision lab: `error` is the restitution error, the largest `|d eps_n|`, `|d eps_t|`
-//!   over the probe impacts of [`super::step_control`] against velocity Verlet at
-//!   [`super::step_control::REFERENCE_STEPS`] steps per contact with the reference material;
+//!   over the probe impacts of [`particles::experiment::step_control`] against velocity Verlet at
+//!   [`particles::experiment::step_control::REFERENCE_STEPS`] steps per contact with the reference material;
 //!   `energy_error` is the largest relative energy error of the same impacts made elastic
 //!   (no dissipation, no friction, no rolling resistance);
 //! - tray: `error` is the distance between density maps, the mean over sampled times (four
@@ -47,7 +47,8 @@ use serde::Serialize;
 use particles::integrate::Integrator;
 use particles::scene::Scene;
 use particles::scene::DEFAULT_RESTITUTION_TOLERANCE;
-use particles::tray;
+use particles::time_step;
+use particles::timescale;
 use particles::SimError;
 
 /// Which study a row belongs to.
@@ -166,14 +167,14 @@ pub fn base_scene(count: usize, duration: f64) -> Scene {
     "#,
         length = count as f64 / 1e4
     );
-    let scene = Scene::parse(&text, &[], "bench").expect("the bench scene parses");
+    let scene = crate::scene_text::parse_scene(&text, &[], "bench").expect("the bench scene parses");
     scene.validate().expect("the bench scene is valid");
     scene
 }
 
 pub(crate) fn with(scene: &Scene, overrides: &[String]) -> Result<Scene, SimError> {
     let text = toml::to_string(scene).expect("a scene serialises");
-    let s = Scene::parse(&text, overrides, "bench").map_err(|e| SimError::InvalidParameter {
+    let s = crate::scene_text::parse_scene(&text, overrides, "bench").map_err(|e| SimError::InvalidParameter {
         field: e.key.clone(),
         message: e.message,
     })?;
@@ -266,8 +267,8 @@ impl Setting {
 /// The time step of a setting's scene: its steps per contact, or the scene's own step.
 pub(crate) fn setting_dt(scene: &Scene, steps: Option<f64>) -> Result<f64, SimError> {
     match steps {
-        Some(s) => Ok(tray::shortest_contact_time(scene)? / s),
-        None => tray::time_step(scene),
+        Some(s) => Ok(timescale::shortest_contact_time(scene)? / s),
+        None => time_step::for_scene(scene),
     }
 }
 

@@ -11,6 +11,8 @@ use particles::prepare::initial_state;
 use particles::scene::Scene;
 use particles::sim::Simulation;
 use particles::state::State;
+use particles::time_step;
+use particles::timescale;
 use particles::tray;
 use particles::SimError;
 
@@ -33,7 +35,7 @@ pub(super) fn run_tray(
     steps_override: Option<f64>,
     cpu_time: bool,
 ) -> Result<TrayRun, SimError> {
-    let mut setup = tray::setup(scene, tray::drive(scene))?;
+    let mut setup = tray::setup(scene, tray::drive(scene), time_step::for_scene(scene)?)?;
     setup.dt = setting_dt(scene, steps_override.or(s.steps))?;
     setup.integrator = s.integrator;
     if let Some(k) = s.skin {
@@ -105,10 +107,10 @@ pub fn density_distance(a: &[Vec<f64>], b: &[Vec<f64>], mean_phi: f64) -> f64 {
 pub(super) fn tray_study(config: &Config, progress: &mut impl FnMut(&str)) -> Result<Vec<Row>, SimError> {
     let base = base_scene(config.tray_count, config.tray_duration);
     let state = initial_state(&base)?;
-    let thesis_steps = tray::shortest_contact_time(&base)? / THESIS_DT;
+    let thesis_steps = timescale::shortest_contact_time(&base)? / THESIS_DT;
     let auto = with(&base, &["run.dt=\"auto\"".into()])?;
-    let default_dt = tray::time_step(&auto)?;
-    let default_steps = tray::shortest_contact_time(&base)? / default_dt;
+    let default_dt = time_step::for_scene(&auto)?;
+    let default_steps = timescale::shortest_contact_time(&base)? / default_dt;
     // Linear law matched as in the lab.
     let reference_lab = step_control::run_all(&step_control::scene_probes(&base, REFERENCE_STEPS, Integrator::VelocityVerlet)?)?;
     let r = base.particles.radius_min;
@@ -116,7 +118,7 @@ pub(super) fn tray_study(config: &Config, progress: &mut impl FnMut(&str)) -> Re
         0.5 * base.material().sphere_mass(r),
         reference_lab[0].eps_n,
         reference_lab[0].t_c,
-        tray::max_impact_speed(&base),
+        timescale::max_impact_speed(&base),
     );
 
     let converged = run_tray(
@@ -222,7 +224,7 @@ fn tray_row(
             error: distance,
             wall_s: run.wall_s,
             dt: run.dt,
-            steps_per_contact: tray::shortest_contact_time(&scene)? / run.dt,
+            steps_per_contact: timescale::shortest_contact_time(&scene)? / run.dt,
             eps_error: None,
             energy_error: Some(run.ledger_error),
             density_distance: Some(distance),
@@ -253,7 +255,7 @@ fn tray_row(
 pub fn dense_packing(steps: u64, cpu_time: bool) -> Result<Row, SimError> {
     let throughput = |count: usize| -> Result<(f64, Simulation), SimError> {
         let scene = with(&base_scene(4000, 1.0), &[format!("particles.count={count}")])?;
-        let setup = tray::setup(&scene, tray::drive(&scene))?;
+        let setup = tray::setup(&scene, tray::drive(&scene), time_step::for_scene(&scene)?)?;
         let mut sim = Simulation::new(setup, initial_state(&scene)?)?;
         let t0 = Stopwatch::start(cpu_time);
         for _ in 0..steps {
@@ -264,7 +266,7 @@ pub fn dense_packing(steps: u64, cpu_time: bool) -> Result<Row, SimError> {
     let (base_rate, _) = throughput(4000)?;
     let e_start = {
         let scene = with(&base_scene(4000, 1.0), &["particles.count=8000".into()])?;
-        let setup = tray::setup(&scene, tray::drive(&scene))?;
+        let setup = tray::setup(&scene, tray::drive(&scene), time_step::for_scene(&scene)?)?;
         Simulation::new(setup, initial_state(&scene)?)?.total_energy()
     };
     let (rate, sim) = throughput(8000)?;
@@ -289,7 +291,7 @@ pub fn dense_packing(steps: u64, cpu_time: bool) -> Result<Row, SimError> {
         on_front: false,
         outcome: format!(
             "ran without error: {:.2e} particle-steps/s (4000 grains: {:.2e}); {} pair and {} wall contacts at the end; speed_ratio is the throughput ratio, error the energy-ledger error",
-            rate, base_rate, sim.contacts.0, sim.contacts.1
+            rate, base_rate, sim.contact_counts.0, sim.contact_counts.1
         ),
     })
 }

@@ -27,9 +27,10 @@ use crate::boundary::Boundary;
 use crate::contact::tangential::sphere_tangential_mass;
 use crate::contact::{geometry::tangential_velocity, ContactLaw};
 use crate::integrate::Integrator;
+use crate::measure;
 use crate::neighbor::NeighborSearch;
-use crate::observe;
-use crate::sim::{Setup, Simulation, Vertical};
+use crate::setup::{Setup, Vertical};
+use crate::sim::Simulation;
 use crate::state::State;
 use crate::timescale::check_step_resolution;
 use crate::wall::{Motion, Wall};
@@ -284,8 +285,8 @@ impl Collision {
         let e0 = r0.normalize();
         let c0 = self.contact_velocity(&state, e0);
 
-        let energy = |s: &State| observe::kinetic_energy(s) + observe::rotational_energy(s);
-        let (energy_before, p0, l0) = (energy(&state), observe::momentum(&state), observe::angular_momentum(&state));
+        let energy = |s: &State| measure::kinetic_energy(s) + measure::rotational_energy(s);
+        let (energy_before, p0, l0) = (energy(&state), measure::momentum(&state), measure::angular_momentum(&state));
         let setup = Setup {
             pair_law: self.law,
             wall_law: self.law,
@@ -308,7 +309,7 @@ impl Collision {
         let mut min_normal_force = f64::INFINITY;
         let t_c = loop {
             sim.step()?;
-            for c in sim.contacts() {
+            for c in sim.contact_records() {
                 if c.tangential > 0.0 {
                     max_friction_ratio = max_friction_ratio.max(c.tangential / (c.mu * c.normal));
                 }
@@ -383,8 +384,8 @@ impl Collision {
             contact_time_estimate: t_est,
             energy_before,
             energy_after,
-            momentum_error: (s.len() > 1).then(|| (observe::momentum(s) - p0).norm() / m_scale),
-            angular_momentum_error: (s.len() > 1).then(|| (observe::angular_momentum(s) - l0).norm() / l_scale),
+            momentum_error: (s.len() > 1).then(|| (measure::momentum(s) - p0).norm() / m_scale),
+            angular_momentum_error: (s.len() > 1).then(|| (measure::angular_momentum(s) - l0).norm() / l_scale),
             max_friction_ratio,
             min_normal_force,
             v1: s.vel[0].into(),

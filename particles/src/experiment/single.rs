@@ -38,13 +38,14 @@
 use serde::Serialize;
 
 use crate::boundary::Boundary;
+use crate::constants::GRAVITY;
 use crate::contact::ContactLaw;
 use crate::integrate::Integrator;
 use crate::neighbor::NeighborSearch;
 use crate::scene::Scene;
-use crate::sim::{Setup, Simulation, Vertical};
+use crate::setup::{Setup, Vertical};
+use crate::sim::Simulation;
 use crate::state::State;
-use crate::tray::GRAVITY;
 use crate::wall::{Motion, Wall};
 use crate::{SimError, Vec3};
 

@@ -1,12 +1,12 @@
-//! Scene files: the complete description of a shaken-tray run, in TOML.
+//! Scenes: the complete description of a shaken-tray run, as typed tables.
 //!
 //! Every key has a documented unit and a default written once (the `Default` impls below and
-//! the `run` constants); unknown keys are errors. Any key can be overridden from the command
-//! line as `--set dotted.key=value` ([`overrides`]). [`Scene::validate`] checks every value
-//! and names the offending key in its error; [`Scene::laws`] builds the contact laws whole.
-//! Every key is listed in `docs/scenes.md` (a test keeps the two in step).
+//! the `run` constants); unknown keys are errors. The types derive serde and mirror the
+//! tables of a scene file; this crate reads no text: the root crate parses scene files and
+//! their `--set dotted.key=value` overrides. [`Scene::validate`] checks every value and names
+//! the offending key in its error; [`Scene::laws`] builds the contact laws whole. Every key is
+//! listed in `docs/scenes.md` (a test keeps the two in step).
 
-pub mod overrides;
 mod run;
 
 pub use run::{AutoDt, Run, TimeStep, DEFAULT_CHECKPOINT_INTERVAL, DEFAULT_RESTITUTION_TOLERANCE, DEFAULT_STEPS_PER_CONTACT};
@@ -17,7 +17,7 @@ use crate::contact::choice::{LawChoice, LawParameters, Missing, NormalKind, Roll
 use crate::contact::{ContactLaw, RollingLaw, TangentialLaw};
 use crate::material::{mix, Material};
 
-/// A scene. Sections mirror the TOML tables.
+/// A scene. Sections mirror the tables of a scene file.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Scene {
@@ -86,7 +86,7 @@ pub struct ContactSpec {
     pub kn: Option<f64>,
     /// Linear law: damping gamma_n (kg/s); absent: 0.
     pub gamma_n: Option<f64>,
-    /// Coulomb coefficient between particles; `inf` (TOML `inf`) for no Coulomb cap.
+    /// Coulomb coefficient between particles; `inf` for no Coulomb cap.
     pub friction: f64,
     /// Coulomb coefficient between particles and walls (floor and sides); `inf` for no
     /// Coulomb cap (with Haff-Werner: the viscous branch alone, the thesis-like floor).
@@ -208,14 +208,6 @@ pub(crate) fn err(key: &str, message: impl Into<String>) -> SceneError {
 }
 
 impl Scene {
-    /// Parses a scene from TOML text with `--set`-style overrides applied first. `origin`
-    /// names the source in messages; an error an override causes names the override.
-    pub fn parse(text: &str, overrides: &[String], origin: &str) -> Result<Self, SceneError> {
-        overrides::parse(text, overrides, origin, |doc| {
-            Scene::deserialize(toml::Value::Table(doc)).map_err(|e| e.to_string())
-        })
-    }
-
     /// Checks every value. Errors name the key.
     pub fn validate(&self) -> Result<(), SceneError> {
         let check = |key: &str, x: f64, ok: bool, what: &str| {
@@ -355,6 +347,3 @@ impl Scene {
         Ok((pair, wall))
     }
 }
-
-#[cfg(test)]
-mod tests;

@@ -46,8 +46,8 @@ pub struct Run {
     pub steps_per_contact: f64,
     /// Largest accepted error of the restitution coefficients (eps_n, eps_t; absolute) for
     /// `dt = "auto"`. Left out of the serialised scene when it has its default, so that
-    /// sample keys ([`crate::prepare::sample_key`]) of scenes written before this key existed
-    /// still hold.
+    /// sample keys (the root crate's `samples::sample_key`, a hash of the serialised scene) of
+    /// scenes written before this key existed still hold.
     #[serde(default = "Run::restitution_tolerance", skip_serializing_if = "Run::is_default_tolerance")]
     pub restitution_tolerance: f64,
     /// Random seed of the sample (radii, lattice, initial velocities).

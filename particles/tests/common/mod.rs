@@ -4,27 +4,88 @@
 use particles::boundary::Boundary;
 use particles::contact::ContactLaw;
 use particles::integrate::Integrator;
+use particles::material::Material;
 use particles::neighbor::NeighborSearch;
-use particles::scene::Scene;
-use particles::sim::{Setup, Vertical};
+use particles::scene::{
+    AutoDt, ContactSpec, Drive, Particles, Prepare, Run, Scene, TimeStep, Toggles, TrayBox, DEFAULT_CHECKPOINT_INTERVAL,
+    DEFAULT_RESTITUTION_TOLERANCE, DEFAULT_STEPS_PER_CONTACT,
+};
+use particles::setup::{Setup, Vertical};
+use particles::sim::Simulation;
 use particles::Vec3;
 
-/// A tray of `count` grains with the thesis' radii (0.25-0.5 mm) and drive (20 Hz, 25 mm) on
-/// `length` x `width` m, followed by the TOML tables in `extra` (at least `[run]`).
-pub fn tray_toml(length: f64, width: f64, count: usize, extra: &str) -> String {
-    format!(
-        "[box]\nlength = {length}\nwidth = {width}\n\
-         [drive]\nfrequency = 20.0\namplitude = 0.025\n\
-         [particles]\ncount = {count}\nradius_min = 0.25e-3\nradius_max = 0.5e-3\n{extra}"
-    )
-}
-
-/// [`tray_toml`] parsed with `--set`-style `overrides` and validated.
-pub fn tray_scene(length: f64, width: f64, count: usize, extra: &str, overrides: &[&str]) -> Scene {
-    let o: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
-    let scene = Scene::parse(&tray_toml(length, width, count, extra), &o, "test").unwrap();
+/// A tray of `count` grains with the thesis' radii (0.25-0.5 mm), drive (20 Hz, 25 mm) and
+/// defaults on `length` x `width` m, run for 0.1 s at step `dt` from sample `seed`, then
+/// changed by `edit` and validated.
+pub fn tray_scene(length: f64, width: f64, count: usize, dt: TimeStep, seed: u64, edit: impl FnOnce(&mut Scene)) -> Scene {
+    let mut scene = Scene {
+        tray: TrayBox {
+            length,
+            width,
+            height: None,
+        },
+        drive: Drive {
+            frequency: 20.0,
+            amplitude: 0.025,
+        },
+        particles: Particles {
+            count,
+            radius_min: 0.25e-3,
+            radius_max: 0.5e-3,
+        },
+        material: Material::default(),
+        contact: ContactSpec::default(),
+        toggles: Toggles::default(),
+        prepare: Prepare::default(),
+        run: Run {
+            duration: 0.1,
+            dt,
+            steps_per_contact: DEFAULT_STEPS_PER_CONTACT,
+            restitution_tolerance: DEFAULT_RESTITUTION_TOLERANCE,
+            seed,
+            threads: 0,
+            snapshots_per_period: 1,
+            checkpoint_interval: DEFAULT_CHECKPOINT_INTERVAL,
+            integrator: Integrator::default(),
+        },
+    };
+    edit(&mut scene);
     scene.validate().unwrap();
     scene
+}
+
+/// The automatic time step, `run.dt = "auto"`.
+pub const AUTO: TimeStep = TimeStep::Auto(AutoDt::Auto);
+
+/// Leaves a scene as it is.
+pub fn unchanged(_: &mut Scene) {}
+
+/// The complete dynamic state of a run with every float as its bits, so that two runs agree
+/// only if they agree bit for bit (`-0.0` against `0.0` included).
+pub fn state_bits(sim: &Simulation) -> Vec<u64> {
+    let s = sim.export_state();
+    let mut out = vec![
+        s.time.to_bits(),
+        s.steps,
+        s.ledger.injected.to_bits(),
+        s.ledger.dissipated.to_bits(),
+        s.stored_energy.to_bits(),
+    ];
+    let vectors = [
+        &s.pos,
+        &s.vel,
+        &s.omega,
+        &s.vel_half,
+        &s.omega_half,
+        &s.force,
+        &s.torque,
+        &s.wall_histories,
+    ];
+    for v in vectors.into_iter().flatten().chain(s.pair_histories.iter().map(|(_, _, h)| h)) {
+        out.extend(v.iter().map(|c| c.to_bits()));
+    }
+    out.extend(s.pair_histories.iter().flat_map(|&(i, j, _)| [i as u64, j as u64]));
+    out
 }
 
 /// Mass (kg) of a grain of radius `r` (m) at the thesis' density, 2500 kg/m^3.

@@ -1,4 +1,4 @@
-//! Observables of a state: energies, momentum and angular momentum.
+//! Measures of a state: energies, momentum and angular momentum, and the state hash.
 
 use crate::state::State;
 use crate::Vec3;

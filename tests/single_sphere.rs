@@ -5,21 +5,22 @@
 
 use std::path::Path;
 
+use particles::constants::GRAVITY;
 use particles::contact::RollingLaw;
 use particles::experiment::single::{self as sphere, Amplitudes, SphereOnFloor};
 use particles::scene::{Scene, TimeStep};
-use particles::tray::GRAVITY;
+use serde::Deserialize;
 
 /// Thesis 3.3: A = 25 mm, nu = 5-29 Hz.
 const AMPLITUDE: f64 = 0.025;
 
-/// The thesis scene with `overrides`; its grain of radius 0.5 mm (thesis 3.3) on the floor,
+/// The thesis scene changed by `edit`; its grain of radius 0.5 mm (thesis 3.3) on the floor,
 /// without rolling friction.
-fn grain(overrides: &[&str]) -> (Scene, SphereOnFloor) {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/thesis-reference.toml");
-    let o: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
+fn grain(edit: impl FnOnce(&mut Scene)) -> (Scene, SphereOnFloor) {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/thesis-reference.toml");
     let text = std::fs::read_to_string(&path).unwrap();
-    let scene = Scene::parse(&text, &o, "thesis-reference").unwrap();
+    let mut scene = Scene::deserialize(toml::from_str::<toml::Value>(&text).unwrap()).unwrap();
+    edit(&mut scene);
     scene.validate().unwrap();
     let TimeStep::Seconds(dt) = scene.run.dt else {
         panic!("the thesis scene has an explicit step")
@@ -39,7 +40,7 @@ fn measure(g: &SphereOnFloor, frequency: f64) -> Amplitudes {
 
 #[test]
 fn an_uncapped_floor_rolls_the_sphere_without_slip_from_5_to_29_hz() {
-    let (_, g) = grain(&["contact.wall_friction=inf"]);
+    let (_, g) = grain(|s| s.contact.wall_friction = f64::INFINITY);
     let rolling = 2.0 * (2.0 / 7.0) * AMPLITUDE;
     for nu in (5..=29).step_by(2) {
         let a = measure(&g, nu as f64);
@@ -55,7 +56,7 @@ fn an_uncapped_floor_rolls_the_sphere_without_slip_from_5_to_29_hz() {
 
 #[test]
 fn a_coulomb_floor_lets_the_sphere_slide_above_gamma_7_mu_over_2() {
-    let (scene, g) = grain(&[]);
+    let (scene, g) = grain(|_| {});
     let mu = scene.contact.wall_friction;
     assert_eq!(mu, 0.7);
     // 5 Hz: Gamma = 2.47, just above 7 mu / 2 = 2.45; 5.5 and 6.5 Hz: between that and

@@ -1,12 +1,19 @@
 //! `--set dotted.key=value` overrides: the one parser of them, for every command and for
-//! every table of a scene file (the DEM's and the automaton's).
+//! every table of a scene file (the DEM's, the automaton's and the event-driven model's).
 //!
 //! A value is read as a TOML value (number, bool, string, array, `inf`) or, failing that, as
 //! a bare string, so `--set contact.rolling=none` needs no quotes. An error is blamed on what
 //! caused it: the scene file when the file alone is wrong, else the first override after
 //! which the scene no longer reads (`scene `--set run.durration=5`: unknown field ...`).
 
-use super::{err, SceneError};
+use particles::scene::SceneError;
+
+fn err(key: &str, message: impl Into<String>) -> SceneError {
+    SceneError {
+        key: key.into(),
+        message: message.into(),
+    }
+}
 
 /// Applies `key=value` to a TOML document; errors name the override.
 pub fn apply(doc: &mut toml::Table, assignment: &str) -> Result<(), SceneError> {
@@ -98,7 +105,7 @@ pub fn parse<T>(text: &str, overrides: &[String], origin: &str, read: impl Fn(to
 
 /// A deserialisation message in the user's words, not Rust's: type names (`usize`, `f64`,
 /// ...) and the untagged `run.dt` become what a scene file may hold.
-fn plain_words(message: &str) -> String {
+pub(crate) fn plain_words(message: &str) -> String {
     let mut m = message.replace(
         "data did not match any variant of untagged enum TimeStep",
         "expected a number of seconds or \"auto\"",
@@ -118,49 +125,4 @@ fn plain_words(message: &str) -> String {
         m.replace_range(at..end, "expected a table of keys");
     }
     m
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn read(doc: toml::Table) -> Result<toml::Table, String> {
-        match doc.keys().find(|k| k.as_str() != "a") {
-            Some(k) => Err(format!("unknown field `{k}`")),
-            None => Ok(doc),
-        }
-    }
-
-    #[test]
-    fn an_index_reaches_into_an_array_of_tables() {
-        let text = "[[a]]\ncount = 1\n[[a]]\ncount = 2\n";
-        let doc = parse(text, &["a.1.count=7".into()], "s.toml", read).unwrap();
-        assert_eq!(doc["a"][1]["count"].as_integer(), Some(7));
-        assert_eq!(doc["a"][0]["count"].as_integer(), Some(1));
-        let e = parse(text, &["a.2.count=7".into()], "s.toml", read).unwrap_err();
-        assert!(e.message.contains("list of 2"), "{e:?}");
-    }
-
-    #[test]
-    fn values_nest_and_errors_name_the_override_not_the_file() {
-        let doc = parse("a = { b = 1 }", &["a.c=inf".into(), "a.d=none".into()], "s.toml", read).unwrap();
-        assert_eq!(doc["a"]["c"].as_float(), Some(f64::INFINITY));
-        assert_eq!(doc["a"]["d"].as_str(), Some("none"));
-        let e = parse("a = 1", &["a=2".into(), "durration=5".into()], "s.toml", read).unwrap_err();
-        assert_eq!(e.key, "--set durration=5");
-        assert!(e.to_string().contains("unknown field `durration`"), "{e}");
-        let e = parse("b = 1", &["a=2".into()], "s.toml", read).unwrap_err();
-        assert_eq!(e.key, "s.toml", "the file's own error names the file");
-        let e = parse("a = 1", &["a.b=2".into()], "s.toml", read).unwrap_err();
-        assert_eq!(e.key, "--set a.b=2");
-        // A table set to a value is named as a table, with its keys.
-        let e = parse("a = { b = 1 }", &["a=5".into()], "s.toml", read).unwrap_err();
-        assert!(e.to_string().contains("`a` is a table of keys (b)"), "{e}");
-        assert_eq!(
-            plain_words("invalid type: integer `5`, expected struct TrayBox"),
-            "invalid type: integer `5`, expected a table of keys"
-        );
-        let e = parse("a = 1", &["novalue".into()], "s.toml", read).unwrap_err();
-        assert_eq!(e.key, "--set novalue");
-    }
 }

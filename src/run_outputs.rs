@@ -1,4 +1,4 @@
-//! The observers of a tray run ([`particles::observer`]): what `stripes run` writes and shows
+//! The outputs of a tray run, as observers ([`particles::advance`]): what `stripes run` writes and shows
 //! while the DEM steps. The physics hands each of them the simulation after every step; the
 //! file formats they write belong to `analysis` (snapshots, VTK) or are the simulation's own
 //! checkpoint bytes.
@@ -14,7 +14,7 @@ use std::path::PathBuf;
 
 use analysis::snapshot::{Header, SnapshotWriter};
 use indicatif::ProgressBar;
-use particles::observer::{Observer, ObserverError};
+use particles::advance::{Observer, ObserverError};
 use particles::sim::Simulation;
 
 use crate::vtk_series::VtkSeries;
@@ -89,7 +89,7 @@ impl Recorder {
     /// Writes the checkpoint after the snapshots it counts.
     fn checkpoint(&mut self, sim: &Simulation) -> Result<(), ObserverError> {
         self.writer.sync()?;
-        analysis::io::write_atomic(&self.checkpoint, &sim.checkpoint(self.fingerprint, self.frames))?;
+        analysis::io::write_atomic(&self.checkpoint, &crate::dem_checkpoint::encode(sim, self.fingerprint, self.frames))?;
         Ok(())
     }
 }
@@ -124,8 +124,8 @@ impl ContactMeans {
 
 impl Observer for ContactMeans {
     fn observe(&mut self, sim: &Simulation) -> Result<(), ObserverError> {
-        self.pair += sim.contacts.0 as f64;
-        self.wall += sim.contacts.1 as f64;
+        self.pair += sim.contact_counts.0 as f64;
+        self.wall += sim.contact_counts.1 as f64;
         self.steps += 1;
         Ok(())
     }

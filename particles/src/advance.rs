@@ -1,4 +1,4 @@
-//! Observers: how code outside the physics sees a run. The physics crate knows no file
+//! Advancing a run with observers: how code outside the physics sees a run. The physics crate knows no file
 //! format; [`advance`] steps a [`Simulation`] and hands it, read-only, to each observer after
 //! every step. An observer decides itself whether it is due (a snapshot at the next phase, a
 //! checkpoint every so many steps, a thermo row at its interval) and does its work: the
@@ -20,7 +20,7 @@ pub trait Observer {
     /// Called after each step with the simulation at its new time. Cheap when not due.
     fn observe(&mut self, sim: &Simulation) -> Result<(), ObserverError>;
 
-    /// Whether the observer needs the per-contact diagnostics ([`Simulation::contacts`]) of
+    /// Whether the observer needs the per-contact diagnostics ([`Simulation::contact_records`]) of
     /// step `step` (counted from 1), the step about to run. Recording costs time, so
     /// [`advance`] turns it on only for the steps some observer asks for.
     fn wants_contacts(&self, _step: u64) -> bool {

@@ -1,0 +1,115 @@
+//! The dynamic state of a [`Simulation`] as plain data: what a run continued from it needs to
+//! go on bit for bit as if it had never stopped. This crate knows no byte layout; whoever
+//! stores the state (the root crate's checkpoints) chooses one.
+
+use crate::sim::{Ledger, Simulation};
+use crate::Vec3;
+
+/// Everything of a running simulation that its scene and sample do not give back: time,
+/// step count, ledger, per-particle kinematics and forces, and the tangential springs.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SavedState {
+    /// Simulated time (s).
+    pub time: f64,
+    /// Completed steps.
+    pub steps: u64,
+    pub ledger: Ledger,
+    /// Elastic energy stored in contacts at the last force evaluation (J).
+    pub stored_energy: f64,
+    /// Per particle: position, velocity, spin, half-step velocity, half-step spin, force and
+    /// torque, in the order of [`crate::state::State`].
+    pub pos: Vec<Vec3>,
+    pub vel: Vec<Vec3>,
+    pub omega: Vec<Vec3>,
+    pub vel_half: Vec<Vec3>,
+    pub omega_half: Vec<Vec3>,
+    pub force: Vec<Vec3>,
+    pub torque: Vec<Vec3>,
+    /// Non-zero tangential springs of particle pairs, `(i, j, zeta)` with `i < j` in
+    /// neighbour-list order.
+    pub pair_histories: Vec<(usize, usize, Vec3)>,
+    /// Tangential springs of particle-wall contacts, slot `i * max(walls, 1) + k`.
+    pub wall_histories: Vec<Vec3>,
+}
+
+/// A [`SavedState`] that does not fit the simulation it is imported into (particle count,
+/// wall slots, or a spring between grains that are not neighbours).
+#[derive(Clone, Debug, PartialEq)]
+pub struct StateMismatch(pub String);
+
+impl std::fmt::Display for StateMismatch {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for StateMismatch {}
+
+impl SavedState {
+    /// Number of particles.
+    pub fn len(&self) -> usize {
+        self.pos.len()
+    }
+
+    /// True if the state holds no particle.
+    pub fn is_empty(&self) -> bool {
+        self.pos.is_empty()
+    }
+}
+
+impl Simulation {
+    /// The dynamic state as plain data (see [`SavedState`]).
+    pub fn export_state(&self) -> SavedState {
+        let s = &self.state;
+        SavedState {
+            time: self.time,
+            steps: self.steps,
+            ledger: self.ledger,
+            stored_energy: self.stored_energy,
+            pos: s.pos.clone(),
+            vel: s.vel.clone(),
+            omega: s.omega.clone(),
+            vel_half: s.vel_half.clone(),
+            omega_half: s.omega_half.clone(),
+            force: s.force.clone(),
+            torque: s.torque.clone(),
+            pair_histories: self.pair_histories(),
+            wall_histories: self.wall_histories().to_vec(),
+        }
+    }
+
+    /// Continues this simulation, built from the same scene and sample as the one that
+    /// exported `saved`, from that state. An error names what does not match; the simulation
+    /// is then left in an unspecified state and must not be stepped.
+    pub fn import_state(&mut self, saved: SavedState) -> Result<(), StateMismatch> {
+        let mismatch = StateMismatch;
+        let n = self.state.len();
+        if saved.len() != n {
+            return Err(mismatch(format!("the checkpoint has {} particles, the scene {n}", saved.len())));
+        }
+        let per_particle = [
+            &saved.vel,
+            &saved.omega,
+            &saved.vel_half,
+            &saved.omega_half,
+            &saved.force,
+            &saved.torque,
+        ];
+        if per_particle.iter().any(|v| v.len() != n) {
+            return Err(mismatch(format!("a per-particle field of the checkpoint does not hold {n} values")));
+        }
+        self.time = saved.time;
+        self.steps = saved.steps;
+        self.ledger = saved.ledger;
+        self.stored_energy = saved.stored_energy;
+        let s = &mut self.state;
+        s.pos = saved.pos;
+        s.vel = saved.vel;
+        s.omega = saved.omega;
+        s.vel_half = saved.vel_half;
+        s.omega_half = saved.omega_half;
+        s.force = saved.force;
+        s.torque = saved.torque;
+        self.set_histories(&saved.pair_histories, saved.wall_histories).map_err(mismatch)
+    }
+}
