@@ -14,12 +14,17 @@
 //!   gap test or overlap check there;
 //! - a wall's gap is tested before anything else of a grain is read; two consecutive walls
 //!   across the same axis (the tray's sides) share one pass that tests both gaps;
+//! - the floor (an axis wall that is not a pinned floor) is evaluated four grains at a time
+//!   on lanes (`floor_pass`), by the same kernels as every other contact
+//!   ([`contact::evaluate_lanes`], of which [`contact::evaluate`] is the one-lane case), so
+//!   it gives the same bits; runs that record contacts keep the one-contact path;
 //! - gravity uses masses computed once (no division per step);
 //! - per-contact history is only reset when the law has history (Cundall-Strack), and a
 //!   side wall's spring only when its flag says it may be non-zero.
 
 use crate::contact::geometry::Sphere;
-use crate::contact::{self, AxisNormal, ContactGeometry, ContactLaw, Normal};
+use crate::contact::lane::F64x4;
+use crate::contact::{self, AxisNormal, ContactGeometry, ContactLaw, Lane, LaneGeometry, Normal, V3};
 use crate::neighbor::NeighborList;
 use crate::setup::{ContactRecord, Partner, Setup, Vertical, MAX_OVERLAP_FRACTION};
 use crate::Vec3;
@@ -270,6 +275,9 @@ pub(crate) fn gather_block(
                 }
                 ContactGeometry::<AxisNormal<1>>::axis_wall(pos[k], vel[k], omega[k], radius[k], origin, sign, v_wall)
             }),
+            // The floor: four grains at a time (diagnostics runs keep the per-contact path,
+            // which records each contact).
+            PlaneKind::Axis { axis: 2, .. } if !inp.record => floor_pass::<2>(inp, (w, plane), out, &mut sums),
             PlaneKind::Axis { .. } => wall_pass::<_, false>(inp, (w, plane), out, &mut sums, |k| {
                 if radius[k] - sign * (pos[k].z - origin.z) < 0.0 {
                     return None;
@@ -502,4 +510,85 @@ fn add_wall_contact<N: Normal, const SUPPORT: bool>(
     if inp.record {
         sums.record(i, Partner::Wall(w), g, &c, law.tangential.mu());
     }
+}
+
+/// Contacts of the block's particles with wall `w` (`plane`, normal `sign * e_AXIS`, not a
+/// pinned floor), four grains at a time: the geometry and the laws run on [`F64x4`] lanes,
+/// the same kernels ([`contact::evaluate_lanes`]) that serve one contact, so every lane gives
+/// the bits the one-contact path would. Grains away from the wall are skipped four at a time;
+/// the results of the touching lanes are added in particle order, as [`wall_pass`] does.
+#[inline(never)]
+fn floor_pass<const AXIS: usize>(inp: &Inputs, (w, plane): (usize, &WallPlane), out: &mut BlockOut, sums: &mut BlockSums) {
+    let (first, force, torque, wall_history, wall_touched) = out.parts();
+    let (history_on, wall_stride) = wall_histories(inp);
+    let n = force.len();
+    let torque = &mut torque[..n];
+    let (pos, vel, omega, radius) = (
+        &inp.pos[first..first + n],
+        &inp.vel[first..first + n],
+        &inp.omega[first..first + n],
+        &inp.radius[first..first + n],
+    );
+    let mut acc = WallSums::default();
+    let (dt, sign, origin, v_wall) = (inp.setup.dt, plane.sign(), plane.origin[AXIS], plane.velocity);
+    inp.setup.wall_law.unswitched(|law| {
+        let mut k = 0;
+        while k < n {
+            // Lanes past the block's end repeat its last grain and are dropped.
+            let idx = [k, (k + 1).min(n - 1), (k + 2).min(n - 1), (k + 3).min(n - 1)];
+            let live = (n - k).min(4);
+            let r = F64x4::new(idx.map(|q| radius[q]));
+            let x = F64x4::new(idx.map(|q| pos[q][AXIS]));
+            let overlap = r - F64x4::splat(sign) * (x - F64x4::splat(origin));
+            // Bit l set: lane l touches (`overlap >= 0`, as the one-contact gap test).
+            let touching = (!Lane::lt(overlap, F64x4::splat(0.0)).move_mask()) & ((1 << live) - 1);
+            if touching == 0 {
+                if history_on {
+                    for q in k..k + live {
+                        wall_history[q * wall_stride + w] = Vec3::zeros();
+                        wall_touched[q * wall_stride + w] = 0;
+                    }
+                }
+                k += 4;
+                continue;
+            }
+            let g = LaneGeometry::<AxisNormal<AXIS>, F64x4>::axis_wall(
+                x,
+                V3::gather(vel, idx),
+                V3::gather(omega, idx),
+                r,
+                origin,
+                sign,
+                v_wall,
+            );
+            let slots = idx.map(|q| q * wall_stride + w);
+            let mut zeta = if history_on { V3::gather(wall_history, slots) } else { V3::zeros() };
+            let c = contact::evaluate_lanes(law, &g, &mut zeta, dt);
+            let (stored, dissipated, overlaps) = (c.stored_energy.to_array(), c.dissipation_rate.to_array(), overlap.to_array());
+            for l in 0..live {
+                let q = k + l;
+                if touching & (1 << l) == 0 {
+                    if history_on {
+                        wall_history[slots[l]] = Vec3::zeros();
+                        wall_touched[slots[l]] = 0;
+                    }
+                    continue;
+                }
+                if history_on {
+                    wall_history[slots[l]] = zeta.lane(l);
+                    wall_touched[slots[l]] = 1;
+                }
+                let f = c.force.lane(l);
+                force[q] += f;
+                torque[q] += c.torque_i.lane(l);
+                acc.contacts += 1;
+                acc.stored += stored[l];
+                acc.dissipated += dissipated[l];
+                acc.force += f;
+                sums.check_overlap(first + q, Partner::Wall(w), overlaps[l], radius[q]);
+            }
+            k += 4;
+        }
+    });
+    acc.add_to(plane, sums);
 }

@@ -632,6 +632,42 @@ mod tests {
         assert!(sim.checkpoint(7, 0) == resumed.checkpoint(7, 0), "the restored run diverged");
     }
 
+    #[test]
+    fn the_floor_pass_in_lanes_gives_the_bits_of_the_one_contact_path() {
+        // A run that records its contacts takes the one-contact path at the floor; one that
+        // does not takes the floor pass over lanes. Both run the same kernels, so the
+        // trajectories agree bit for bit: with a spring history (Cundall-Strack) and with
+        // the thesis' Haff-Werner floor, at a block size that is not a multiple of the lanes.
+        for law in ["tangential = \"cundall-strack\"\ntangential_stiffness = 50\n", ""] {
+            let text = format!(
+                "[box]\nlength = 0.02\nwidth = 0.005\n[drive]\nfrequency = 20.0\namplitude = 0.025\n\
+                 [particles]\ncount = 61\nradius_min = 0.25e-3\nradius_max = 0.5e-3\n\
+                 [contact]\n{law}[run]\nduration = 0.1\ndt = 8e-6\nseed = 5\n"
+            );
+            let scene = crate::scene::Scene::parse(&text, &[], "test").unwrap();
+            scene.validate().unwrap();
+            let new = || {
+                Simulation::new(
+                    crate::tray::setup(&scene, crate::tray::drive(&scene)).unwrap(),
+                    crate::prepare::initial_state(&scene).unwrap(),
+                )
+                .unwrap()
+            };
+            let (mut lanes, mut one) = (new(), new());
+            one.record_contacts(true);
+            let mut floor_contacts = 0;
+            for _ in 0..3000 {
+                lanes.step().unwrap();
+                one.step().unwrap();
+                floor_contacts += lanes.contacts.1;
+            }
+            assert!(floor_contacts > 3000 * 30, "{floor_contacts}");
+            assert!(lanes.state == one.state, "{law}: the trajectories differ");
+            assert!(lanes.wall_history == one.wall_history && lanes.wall_touched == one.wall_touched);
+            assert_eq!(lanes.ledger, one.ledger);
+        }
+    }
+
     proptest! {
         /// The block test fails whenever some particle is not sound, so the exact search
         /// for the first one runs; it passes a block of sound particles of ordinary size.
