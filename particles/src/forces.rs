@@ -277,7 +277,7 @@ pub(crate) fn gather_block(
             }),
             // The floor: four grains at a time (diagnostics runs keep the per-contact path,
             // which records each contact).
-            PlaneKind::Axis { axis: 2, .. } if !inp.record => floor_pass::<2>(inp, (w, plane), out, &mut sums),
+            PlaneKind::Axis { axis: 2, .. } if !inp.record => floor_pass_dispatch(inp, (w, plane), out, &mut sums),
             PlaneKind::Axis { .. } => wall_pass::<_, false>(inp, (w, plane), out, &mut sums, |k| {
                 if radius[k] - sign * (pos[k].z - origin.z) < 0.0 {
                     return None;
@@ -517,7 +517,7 @@ fn add_wall_contact<N: Normal, const SUPPORT: bool>(
 /// the same kernels ([`contact::evaluate_lanes`]) that serve one contact, so every lane gives
 /// the bits the one-contact path would. Grains away from the wall are skipped four at a time;
 /// the results of the touching lanes are added in particle order, as [`wall_pass`] does.
-#[inline(never)]
+#[inline(always)]
 fn floor_pass<const AXIS: usize>(inp: &Inputs, (w, plane): (usize, &WallPlane), out: &mut BlockOut, sums: &mut BlockSums) {
     let (first, force, torque, wall_history, wall_touched) = out.parts();
     let (history_on, wall_stride) = wall_histories(inp);
@@ -531,64 +531,104 @@ fn floor_pass<const AXIS: usize>(inp: &Inputs, (w, plane): (usize, &WallPlane), 
     );
     let mut acc = WallSums::default();
     let (dt, sign, origin, v_wall) = (inp.setup.dt, plane.sign(), plane.origin[AXIS], plane.velocity);
-    inp.setup.wall_law.unswitched(|law| {
-        let mut k = 0;
-        while k < n {
-            // Lanes past the block's end repeat its last grain and are dropped.
-            let idx = [k, (k + 1).min(n - 1), (k + 2).min(n - 1), (k + 3).min(n - 1)];
-            let live = (n - k).min(4);
-            let r = F64x4::new(idx.map(|q| radius[q]));
-            let x = F64x4::new(idx.map(|q| pos[q][AXIS]));
-            let overlap = r - F64x4::splat(sign) * (x - F64x4::splat(origin));
-            // Bit l set: lane l touches (`overlap >= 0`, as the one-contact gap test).
-            let touching = (!Lane::lt(overlap, F64x4::splat(0.0)).move_mask()) & ((1 << live) - 1);
-            if touching == 0 {
-                if history_on {
-                    for q in k..k + live {
-                        wall_history[q * wall_stride + w] = Vec3::zeros();
-                        wall_touched[q * wall_stride + w] = 0;
-                    }
-                }
-                k += 4;
-                continue;
-            }
-            let g = LaneGeometry::<AxisNormal<AXIS>, F64x4>::axis_wall(
-                x,
-                V3::gather(vel, idx),
-                V3::gather(omega, idx),
-                r,
-                origin,
-                sign,
-                v_wall,
-            );
-            let slots = idx.map(|q| q * wall_stride + w);
-            let mut zeta = if history_on { V3::gather(wall_history, slots) } else { V3::zeros() };
-            let c = contact::evaluate_lanes(law, &g, &mut zeta, dt);
-            let (stored, dissipated, overlaps) = (c.stored_energy.to_array(), c.dissipation_rate.to_array(), overlap.to_array());
-            for l in 0..live {
-                let q = k + l;
-                if touching & (1 << l) == 0 {
+    inp.setup.wall_law.unswitched(
+        #[inline(always)]
+        |law| {
+            let mut k = 0;
+            while k < n {
+                // Lanes past the block's end repeat its last grain and are dropped.
+                let idx = [k, (k + 1).min(n - 1), (k + 2).min(n - 1), (k + 3).min(n - 1)];
+                let live = (n - k).min(4);
+                let r = F64x4::new([radius[idx[0]], radius[idx[1]], radius[idx[2]], radius[idx[3]]]);
+                let x = F64x4::new([pos[idx[0]][AXIS], pos[idx[1]][AXIS], pos[idx[2]][AXIS], pos[idx[3]][AXIS]]);
+                let overlap = r - F64x4::splat(sign) * (x - F64x4::splat(origin));
+                // Bit l set: lane l touches (`overlap >= 0`, as the one-contact gap test).
+                let touching = !Lane::lt(overlap, F64x4::splat(0.0)).bits() & ((1 << live) - 1);
+                if touching == 0 {
                     if history_on {
-                        wall_history[slots[l]] = Vec3::zeros();
-                        wall_touched[slots[l]] = 0;
+                        for q in k..k + live {
+                            wall_history[q * wall_stride + w] = Vec3::zeros();
+                            wall_touched[q * wall_stride + w] = 0;
+                        }
                     }
+                    k += 4;
                     continue;
                 }
-                if history_on {
-                    wall_history[slots[l]] = zeta.lane(l);
-                    wall_touched[slots[l]] = 1;
+                let g = LaneGeometry::<AxisNormal<AXIS>, F64x4>::axis_wall(
+                    x,
+                    V3::gather(vel, idx),
+                    V3::gather(omega, idx),
+                    r,
+                    origin,
+                    sign,
+                    v_wall,
+                );
+                let slot = |l: usize| idx[l] * wall_stride + w;
+                let slots = [slot(0), slot(1), slot(2), slot(3)];
+                let mut zeta = if history_on { V3::gather(wall_history, slots) } else { V3::zeros() };
+                let c = contact::evaluate_lanes(law, &g, &mut zeta, dt);
+                let (stored, dissipated, overlaps) = (c.stored_energy.to_array(), c.dissipation_rate.to_array(), overlap.to_array());
+                for l in 0..live {
+                    let q = k + l;
+                    if touching & (1 << l) == 0 {
+                        if history_on {
+                            wall_history[slots[l]] = Vec3::zeros();
+                            wall_touched[slots[l]] = 0;
+                        }
+                        continue;
+                    }
+                    if history_on {
+                        wall_history[slots[l]] = zeta.lane(l);
+                        wall_touched[slots[l]] = 1;
+                    }
+                    let f = c.force.lane(l);
+                    force[q] += f;
+                    torque[q] += c.torque_i.lane(l);
+                    acc.contacts += 1;
+                    acc.stored += stored[l];
+                    acc.dissipated += dissipated[l];
+                    acc.force += f;
+                    sums.check_overlap(first + q, Partner::Wall(w), overlaps[l], radius[q]);
                 }
-                let f = c.force.lane(l);
-                force[q] += f;
-                torque[q] += c.torque_i.lane(l);
-                acc.contacts += 1;
-                acc.stored += stored[l];
-                acc.dissipated += dissipated[l];
-                acc.force += f;
-                sums.check_overlap(first + q, Partner::Wall(w), overlaps[l], radius[q]);
+                k += 4;
             }
-            k += 4;
-        }
-    });
+        },
+    );
     acc.add_to(plane, sums);
+}
+
+/// [`floor_pass`] for the floor (`AXIS` 2), compiled twice: for the baseline instruction
+/// set (two lanes per vector instruction on x86-64) and, where the processor has AVX2, for
+/// four lanes per instruction. Rust never fuses a multiplication and an addition on its own,
+/// so both give the same bits (the test below runs both).
+fn floor_pass_dispatch(inp: &Inputs, wp: (usize, &WallPlane), out: &mut BlockOut, sums: &mut BlockSums) {
+    #[cfg(target_arch = "x86_64")]
+    if avx2_lanes() {
+        // SAFETY: the processor has AVX2 (checked at run time).
+        return unsafe { floor_pass_avx2(inp, wp, out, sums) };
+    }
+    floor_pass_portable(inp, wp, out, sums)
+}
+
+/// Set to run the portable floor pass even where AVX2 is there (tests).
+#[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
+pub(crate) static PORTABLE_LANES: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// True if the floor pass uses AVX2.
+#[cfg(target_arch = "x86_64")]
+fn avx2_lanes() -> bool {
+    static AVX2: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
+    *AVX2.get_or_init(|| std::is_x86_feature_detected!("avx2")) && !PORTABLE_LANES.load(std::sync::atomic::Ordering::Relaxed)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[inline(never)]
+unsafe fn floor_pass_avx2(inp: &Inputs, wp: (usize, &WallPlane), out: &mut BlockOut, sums: &mut BlockSums) {
+    floor_pass::<2>(inp, wp, out, sums)
+}
+
+#[inline(never)]
+fn floor_pass_portable(inp: &Inputs, wp: (usize, &WallPlane), out: &mut BlockOut, sums: &mut BlockSums) {
+    floor_pass::<2>(inp, wp, out, sums)
 }

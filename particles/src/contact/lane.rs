@@ -8,7 +8,6 @@
 
 use crate::Vec3;
 use std::ops::{Add, AddAssign, Div, Mul, MulAssign, Neg, Sub};
-use wide::{f64x4, CmpEq, CmpLe, CmpLt};
 
 /// A number of one or more lanes.
 pub trait Lane:
@@ -92,52 +91,145 @@ impl Lane for f64 {
     }
 }
 
-/// Four `f64` lanes (two SSE2 registers on baseline x86-64, one AVX register where enabled).
-pub type F64x4 = f64x4;
+/// Four `f64` lanes: plain arrays whose element-wise loops the compiler turns into vector
+/// instructions (two SSE2 registers on baseline x86-64; one AVX register in code compiled
+/// for AVX2, see `forces::floor_pass`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C, align(32))]
+pub struct F64x4(pub [f64; 4]);
 
-impl Lane for f64x4 {
-    type Mask = f64x4;
+/// Four lane masks: all bits set for true, none for false.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C, align(32))]
+pub struct Mask4(pub [u64; 4]);
+
+impl F64x4 {
+    #[inline(always)]
+    pub fn new(a: [f64; 4]) -> Self {
+        Self(a)
+    }
+    #[inline(always)]
+    pub fn to_array(self) -> [f64; 4] {
+        self.0
+    }
+    #[inline(always)]
+    fn map(self, f: impl Fn(f64) -> f64) -> Self {
+        Self([f(self.0[0]), f(self.0[1]), f(self.0[2]), f(self.0[3])])
+    }
+    #[inline(always)]
+    fn zip(self, o: Self, f: impl Fn(f64, f64) -> f64) -> Self {
+        Self([
+            f(self.0[0], o.0[0]),
+            f(self.0[1], o.0[1]),
+            f(self.0[2], o.0[2]),
+            f(self.0[3], o.0[3]),
+        ])
+    }
+    #[inline(always)]
+    fn compare(self, o: Self, f: impl Fn(f64, f64) -> bool) -> Mask4 {
+        let m = |k: usize| 0u64.wrapping_sub(f(self.0[k], o.0[k]) as u64);
+        Mask4([m(0), m(1), m(2), m(3)])
+    }
+}
+
+impl Mask4 {
+    /// Bit `l` set if lane `l` is true.
+    #[inline(always)]
+    pub fn bits(self) -> u32 {
+        (0..4).fold(0, |b, l| b | (((self.0[l] >> 63) as u32) << l))
+    }
+}
+
+impl std::ops::BitOr for Mask4 {
+    type Output = Self;
+    #[inline(always)]
+    fn bitor(self, o: Self) -> Self {
+        Self([self.0[0] | o.0[0], self.0[1] | o.0[1], self.0[2] | o.0[2], self.0[3] | o.0[3]])
+    }
+}
+
+macro_rules! lanewise {
+    ($tr:ident, $f:ident, $op:tt) => {
+        impl $tr for F64x4 {
+            type Output = Self;
+            #[inline(always)]
+            fn $f(self, o: Self) -> Self {
+                self.zip(o, |a, b| a $op b)
+            }
+        }
+    };
+}
+lanewise!(Add, add, +);
+lanewise!(Sub, sub, -);
+lanewise!(Mul, mul, *);
+lanewise!(Div, div, /);
+
+impl Neg for F64x4 {
+    type Output = Self;
+    #[inline(always)]
+    fn neg(self) -> Self {
+        self.map(|a| -a)
+    }
+}
+
+impl AddAssign for F64x4 {
+    #[inline(always)]
+    fn add_assign(&mut self, o: Self) {
+        *self = *self + o;
+    }
+}
+
+impl MulAssign for F64x4 {
+    #[inline(always)]
+    fn mul_assign(&mut self, o: Self) {
+        *self = *self * o;
+    }
+}
+
+impl Lane for F64x4 {
+    type Mask = Mask4;
     #[inline(always)]
     fn splat(x: f64) -> Self {
-        f64x4::splat(x)
+        Self([x; 4])
     }
     #[inline(always)]
     fn sqrt(self) -> Self {
-        f64x4::sqrt(self)
+        self.map(f64::sqrt)
     }
     #[inline(always)]
     fn max(self, other: Self) -> Self {
-        // `f64::max` returns the other operand when one is NaN; `maxpd` returns the second:
-        // the same result whenever `other` is not NaN (the laws compare with constants).
-        f64x4::max(self, other)
+        // `maxpd`'s rule (the second operand when one is NaN), which equals `f64::max`
+        // whenever `other` is not NaN (the laws compare with constants).
+        self.zip(other, |a, b| if a > b { a } else { b })
     }
     #[inline(always)]
-    fn le(self, other: Self) -> Self {
-        self.cmp_le(other)
+    fn le(self, other: Self) -> Mask4 {
+        self.compare(other, |a, b| a <= b)
     }
     #[inline(always)]
-    fn lt(self, other: Self) -> Self {
-        self.cmp_lt(other)
+    fn lt(self, other: Self) -> Mask4 {
+        self.compare(other, |a, b| a < b)
     }
     #[inline(always)]
-    fn eq(self, other: Self) -> Self {
-        self.cmp_eq(other)
+    fn eq(self, other: Self) -> Mask4 {
+        self.compare(other, |a, b| a == b)
     }
     #[inline(always)]
-    fn mask(b: bool) -> Self {
-        f64x4::splat(if b { f64::from_bits(u64::MAX) } else { 0.0 })
+    fn mask(b: bool) -> Mask4 {
+        Mask4([0u64.wrapping_sub(b as u64); 4])
     }
     #[inline(always)]
-    fn select(m: Self, a: Self, b: Self) -> Self {
-        m.blend(a, b)
+    fn select(m: Mask4, a: Self, b: Self) -> Self {
+        let s = |k: usize| f64::from_bits((m.0[k] & a.0[k].to_bits()) | (!m.0[k] & b.0[k].to_bits()));
+        Self([s(0), s(1), s(2), s(3)])
     }
     #[inline(always)]
-    fn any(m: Self) -> bool {
-        m.any()
+    fn any(m: Mask4) -> bool {
+        (m.0[0] | m.0[1] | m.0[2] | m.0[3]) != 0
     }
     #[inline(always)]
-    fn all(m: Self) -> bool {
-        m.all()
+    fn all(m: Mask4) -> bool {
+        (m.0[0] & m.0[1] & m.0[2] & m.0[3]) != 0
     }
 }
 
@@ -244,22 +336,22 @@ impl From<V3<f64>> for Vec3 {
     }
 }
 
-impl V3<f64x4> {
+impl V3<F64x4> {
     /// Lanes `k[0..4]` of `a`.
     #[inline(always)]
     pub fn gather(a: &[Vec3], k: [usize; 4]) -> Self {
         let (p, q, r, s) = (a[k[0]], a[k[1]], a[k[2]], a[k[3]]);
         Self::new(
-            f64x4::new([p.x, q.x, r.x, s.x]),
-            f64x4::new([p.y, q.y, r.y, s.y]),
-            f64x4::new([p.z, q.z, r.z, s.z]),
+            F64x4([p.x, q.x, r.x, s.x]),
+            F64x4([p.y, q.y, r.y, s.y]),
+            F64x4([p.z, q.z, r.z, s.z]),
         )
     }
 
     /// Lane `l` as a vector.
     #[inline(always)]
     pub fn lane(&self, l: usize) -> Vec3 {
-        Vec3::new(self.x.as_array_ref()[l], self.y.as_array_ref()[l], self.z.as_array_ref()[l])
+        Vec3::new(self.x.0[l], self.y.0[l], self.z.0[l])
     }
 }
 
@@ -271,15 +363,15 @@ mod tests {
     fn lanes_give_the_bits_of_one_number() {
         let xs = [0.3, -1.7, 2.9e-7, 5.0];
         let ys = [1.1, 0.0, -3.0, 5.0];
-        let (a, b) = (f64x4::new(xs), f64x4::new(ys));
+        let (a, b) = (F64x4::new(xs), F64x4::new(ys));
         let lanes = [
             (a + b).to_array(),
             (a - b).to_array(),
             (a * b).to_array(),
-            (a / f64x4::splat(3.0)).to_array(),
+            (a / F64x4::splat(3.0)).to_array(),
             Lane::sqrt(a * a).to_array(),
-            Lane::max(a, f64x4::splat(0.0)).to_array(),
-            <f64x4 as Lane>::select(Lane::le(a, b), a, b).to_array(),
+            Lane::max(a, F64x4::splat(0.0)).to_array(),
+            <F64x4 as Lane>::select(Lane::le(a, b), a, b).to_array(),
         ];
         for l in 0..4 {
             let (x, y) = (xs[l], ys[l]);
@@ -288,8 +380,8 @@ mod tests {
                 assert_eq!(lanes[k][l].to_bits(), v.to_bits(), "op {k} lane {l}");
             }
         }
-        let m = Lane::lt(a, f64x4::splat(0.0));
-        assert!(<f64x4 as Lane>::any(m) && !<f64x4 as Lane>::all(m));
-        assert!(<f64x4 as Lane>::all(<f64x4 as Lane>::mask(true)));
+        let m = Lane::lt(a, F64x4::splat(0.0));
+        assert!(<F64x4 as Lane>::any(m) && !<F64x4 as Lane>::all(m));
+        assert!(<F64x4 as Lane>::all(<F64x4 as Lane>::mask(true)));
     }
 }
