@@ -520,7 +520,7 @@ fn add_wall_contact<N: Normal, const SUPPORT: bool>(
 #[inline(always)]
 fn floor_pass<const AXIS: usize>(inp: &Inputs, (w, plane): (usize, &WallPlane), out: &mut BlockOut, sums: &mut BlockSums) {
     let (first, force, torque, wall_history, wall_touched) = out.parts();
-    let (history_on, wall_stride) = wall_histories(inp);
+    let (_, wall_stride) = wall_histories(inp);
     let n = force.len();
     let torque = &mut torque[..n];
     let (pos, vel, omega, radius) = (
@@ -534,6 +534,9 @@ fn floor_pass<const AXIS: usize>(inp: &Inputs, (w, plane): (usize, &WallPlane), 
     inp.setup.wall_law.unswitched(
         #[inline(always)]
         |law| {
+            // From the copy of the law whose variants each instance knows: decided at
+            // compile time.
+            let history_on = law.has_history();
             let mut k = 0;
             while k < n {
                 // Lanes past the block's end repeat its last grain and are dropped.
@@ -618,7 +621,10 @@ pub(crate) static PORTABLE_LANES: std::sync::atomic::AtomicBool = std::sync::ato
 #[cfg(target_arch = "x86_64")]
 fn avx2_lanes() -> bool {
     static AVX2: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
-    *AVX2.get_or_init(|| std::is_x86_feature_detected!("avx2")) && !PORTABLE_LANES.load(std::sync::atomic::Ordering::Relaxed)
+    // `STRIPES_PORTABLE_LANES` set: the portable copy (for instruction-counting profilers
+    // that do not know every AVX2 instruction).
+    *AVX2.get_or_init(|| std::is_x86_feature_detected!("avx2") && std::env::var_os("STRIPES_PORTABLE_LANES").is_none())
+        && !PORTABLE_LANES.load(std::sync::atomic::Ordering::Relaxed)
 }
 
 #[cfg(target_arch = "x86_64")]
