@@ -178,45 +178,51 @@ pub(crate) fn gather_block(
     // to two candidates, and a loop nested per particle would mispredict its exit each time.
     // Each particle still adds its partners in slot order.
     let slots = base_slot..list.offsets[first + n];
-    pair_law.unswitched(|pair_law| {
-        for ((&i, &j), zeta) in list.owner[slots.clone()]
-            .iter()
-            .zip(&list.partners[slots])
-            .zip(pair_history.iter_mut())
-        {
-            let (i, j) = (i as usize, j as usize);
-            let xi = pos[i];
-            let d = setup.boundary.min_image(xi - pos[j]);
-            let a = Sphere {
-                x: xi,
-                v: vel[i],
-                w: omega[i],
-                r: radius[i],
-            };
-            let b = Sphere {
-                x: xi - d,
-                v: vel[j],
-                w: omega[j],
-                r: radius[j],
-            };
-            let Some(g) = ContactGeometry::pair(a, b) else {
-                if pair_history_on {
-                    *zeta = Vec3::zeros();
+    if !inp.record {
+        // Four slots at a time on lanes (diagnostics runs keep the per-contact path below,
+        // which records each contact): the same kernels, the same bits.
+        pair_pass_dispatch(inp, (first, slots), (force, torque), pair_history, &mut sums);
+    } else {
+        pair_law.unswitched(|pair_law| {
+            for ((&i, &j), zeta) in list.owner[slots.clone()]
+                .iter()
+                .zip(&list.partners[slots])
+                .zip(pair_history.iter_mut())
+            {
+                let (i, j) = (i as usize, j as usize);
+                let xi = pos[i];
+                let d = setup.boundary.min_image(xi - pos[j]);
+                let a = Sphere {
+                    x: xi,
+                    v: vel[i],
+                    w: omega[i],
+                    r: radius[i],
+                };
+                let b = Sphere {
+                    x: xi - d,
+                    v: vel[j],
+                    w: omega[j],
+                    r: radius[j],
+                };
+                let Some(g) = ContactGeometry::pair(a, b) else {
+                    if pair_history_on {
+                        *zeta = Vec3::zeros();
+                    }
+                    continue;
+                };
+                let c = contact::evaluate(pair_law, &g, zeta, dt);
+                force[i - first] += c.force;
+                torque[i - first] += c.torque_i;
+                sums.pair_contacts += (i < j) as u64;
+                sums.check_overlap(i, Partner::Particle(j), g.overlap, radius[i].min(radius[j]));
+                sums.stored += 0.5 * c.stored_energy;
+                sums.dissipated += 0.5 * c.dissipation_rate;
+                if inp.record && i < j {
+                    sums.record(i, Partner::Particle(j), &g, &c, pair_law.tangential.mu());
                 }
-                continue;
-            };
-            let c = contact::evaluate(pair_law, &g, zeta, dt);
-            force[i - first] += c.force;
-            torque[i - first] += c.torque_i;
-            sums.pair_contacts += (i < j) as u64;
-            sums.check_overlap(i, Partner::Particle(j), g.overlap, radius[i].min(radius[j]));
-            sums.stored += 0.5 * c.stored_energy;
-            sums.dissipated += 0.5 * c.dissipation_rate;
-            if inp.record && i < j {
-                sums.record(i, Partner::Particle(j), &g, &c, pair_law.tangential.mu());
             }
-        }
-    });
+        });
+    }
     // Walls, one wall at a time over the block: the loop body is short enough for the
     // processor to overlap the square roots and divisions of consecutive particles. Each
     // particle still sums gravity, pairs and walls in the same order.
@@ -637,4 +643,135 @@ unsafe fn floor_pass_avx2(inp: &Inputs, wp: (usize, &WallPlane), out: &mut Block
 #[inline(never)]
 fn floor_pass_portable(inp: &Inputs, wp: (usize, &WallPlane), out: &mut BlockOut, sums: &mut BlockSums) {
     floor_pass::<2>(inp, wp, out, sums)
+}
+
+/// The particle pairs of a block's neighbour-list slots `slots` (those of the particles
+/// `first..first + force.len()`, whose forces and torques are summed here; `pair_history`
+/// holds their springs), four slots at a time: the nearest images are taken per slot, the
+/// geometry and the laws run on [`F64x4`] lanes by the kernels that serve one contact, and
+/// the results of the lanes in contact are added in slot order, as the one-contact loop in
+/// [`gather_block`] does (each pair seen from both sides, half the energies each).
+#[inline(always)]
+fn pair_pass(
+    inp: &Inputs,
+    (first, slots): (usize, std::ops::Range<usize>),
+    (force, torque): (&mut [Vec3], &mut [Vec3]),
+    pair_history: &mut [Vec3],
+    sums: &mut BlockSums,
+) {
+    let (list, pos, vel, omega, radius) = (inp.list, inp.pos, inp.vel, inp.omega, inp.radius);
+    let (owner, partners) = (&list.owner[slots.clone()], &list.partners[slots]);
+    let m = owner.len();
+    let (dt, boundary) = (inp.setup.dt, inp.setup.boundary);
+    inp.setup.pair_law.unswitched(
+        #[inline(always)]
+        |law| {
+            let history_on = law.has_history();
+            let mut s = 0;
+            while s < m {
+                // Lanes past the block's last slot repeat it and are dropped.
+                let live = (m - s).min(4);
+                let at = [s, (s + 1).min(m - 1), (s + 2).min(m - 1), (s + 3).min(m - 1)];
+                let i = four(|l| owner[at[l]] as usize);
+                let j = four(|l| partners[at[l]] as usize);
+                // The separation exactly as the one-contact path computes it: from the
+                // nearest image `x_i - d` of `x_j`.
+                let d = four(|l| {
+                    let xi = pos[i[l]];
+                    xi - (xi - boundary.min_image(xi - pos[j[l]]))
+                });
+                let d = V3::new(
+                    F64x4::new([d[0].x, d[1].x, d[2].x, d[3].x]),
+                    F64x4::new([d[0].y, d[1].y, d[2].y, d[3].y]),
+                    F64x4::new([d[0].z, d[1].z, d[2].z, d[3].z]),
+                );
+                let (ri, rj) = (F64x4::new(four(|l| radius[i[l]])), F64x4::new(four(|l| radius[j[l]])));
+                let dist2 = d.norm_squared();
+                let sum = ri + rj;
+                // Bit l set: lane l in contact (as `ContactGeometry::pair`'s test).
+                let apart = Lane::lt(sum * sum, dist2) | Lane::equal(dist2, F64x4::splat(0.0));
+                let touching = !apart.bits() & ((1 << live) - 1);
+                if touching != 0 {
+                    let g = LaneGeometry::<V3<F64x4>, F64x4>::pair(
+                        d,
+                        dist2,
+                        (V3::gather(vel, i), V3::gather(vel, j)),
+                        (V3::gather(omega, i), V3::gather(omega, j)),
+                        (ri, rj),
+                    );
+                    let mut zeta = if history_on { V3::gather(pair_history, at) } else { V3::zeros() };
+                    let c = contact::evaluate_lanes(law, &g, &mut zeta, dt);
+                    let (stored, dissipated, overlap) = (c.stored_energy.to_array(), c.dissipation_rate.to_array(), g.overlap.to_array());
+                    let (ri, rj) = (ri.to_array(), rj.to_array());
+                    for l in 0..live {
+                        if touching & (1 << l) == 0 {
+                            if history_on {
+                                pair_history[s + l] = Vec3::zeros();
+                            }
+                            continue;
+                        }
+                        if history_on {
+                            pair_history[s + l] = zeta.lane(l);
+                        }
+                        let (i, j) = (i[l], j[l]);
+                        force[i - first] += c.force.lane(l);
+                        torque[i - first] += c.torque_i.lane(l);
+                        sums.pair_contacts += (i < j) as u64;
+                        sums.check_overlap(i, Partner::Particle(j), overlap[l], ri[l].min(rj[l]));
+                        sums.stored += 0.5 * stored[l];
+                        sums.dissipated += 0.5 * dissipated[l];
+                    }
+                } else if history_on {
+                    pair_history[s..s + live].fill(Vec3::zeros());
+                }
+                s += 4;
+            }
+        },
+    );
+}
+
+/// [`pair_pass`], compiled like the floor pass for the baseline instruction set and for AVX2.
+fn pair_pass_dispatch(
+    inp: &Inputs,
+    block: (usize, std::ops::Range<usize>),
+    out: (&mut [Vec3], &mut [Vec3]),
+    pair_history: &mut [Vec3],
+    sums: &mut BlockSums,
+) {
+    #[cfg(target_arch = "x86_64")]
+    if avx2_lanes() {
+        // SAFETY: the processor has AVX2 (checked at run time).
+        return unsafe { pair_pass_avx2(inp, block, out, pair_history, sums) };
+    }
+    pair_pass_portable(inp, block, out, pair_history, sums)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[inline(never)]
+unsafe fn pair_pass_avx2(
+    inp: &Inputs,
+    block: (usize, std::ops::Range<usize>),
+    out: (&mut [Vec3], &mut [Vec3]),
+    pair_history: &mut [Vec3],
+    sums: &mut BlockSums,
+) {
+    pair_pass(inp, block, out, pair_history, sums)
+}
+
+#[inline(never)]
+fn pair_pass_portable(
+    inp: &Inputs,
+    block: (usize, std::ops::Range<usize>),
+    out: (&mut [Vec3], &mut [Vec3]),
+    pair_history: &mut [Vec3],
+    sums: &mut BlockSums,
+) {
+    pair_pass(inp, block, out, pair_history, sums)
+}
+
+/// `[f(0), f(1), f(2), f(3)]`, written out (`array::map` is not always inlined).
+#[inline(always)]
+fn four<T>(f: impl Fn(usize) -> T) -> [T; 4] {
+    [f(0), f(1), f(2), f(3)]
 }

@@ -633,15 +633,15 @@ mod tests {
     }
 
     #[test]
-    fn the_floor_pass_in_lanes_gives_the_bits_of_the_one_contact_path() {
-        // A run that records its contacts takes the one-contact path at the floor; one that
-        // does not takes the floor pass over lanes. Both run the same kernels, so the
+    fn the_floor_and_pair_passes_in_lanes_give_the_bits_of_the_one_contact_path() {
+        // A run that records its contacts takes the one-contact path for pairs and the floor;
+        // one that does not takes the passes over lanes. Both run the same kernels, so the
         // trajectories agree bit for bit: with a spring history (Cundall-Strack) and with
         // the thesis' Haff-Werner floor, at a block size that is not a multiple of the lanes.
         for law in ["tangential = \"cundall-strack\"\ntangential_stiffness = 50\n", ""] {
             let text = format!(
                 "[box]\nlength = 0.02\nwidth = 0.005\n[drive]\nfrequency = 20.0\namplitude = 0.025\n\
-                 [particles]\ncount = 61\nradius_min = 0.25e-3\nradius_max = 0.5e-3\n\
+                 [particles]\ncount = 101\nradius_min = 0.25e-3\nradius_max = 0.5e-3\n\
                  [contact]\n{law}[run]\nduration = 0.1\ndt = 8e-6\nseed = 5\n"
             );
             let scene = crate::scene::Scene::parse(&text, &[], "test").unwrap();
@@ -655,7 +655,7 @@ mod tests {
             };
             let (mut lanes, mut one, mut portable) = (new(), new(), new());
             one.record_contacts(true);
-            let mut floor_contacts = 0;
+            let (mut floor_contacts, mut pair_contacts) = (0, 0);
             for _ in 0..3000 {
                 lanes.step().unwrap();
                 one.step().unwrap();
@@ -666,8 +666,12 @@ mod tests {
                 portable.step().unwrap();
                 forces::PORTABLE_LANES.store(false, std::sync::atomic::Ordering::Relaxed);
                 floor_contacts += lanes.contacts.1;
+                pair_contacts += lanes.contacts.0;
             }
-            assert!(floor_contacts > 3000 * 30, "{floor_contacts}");
+            assert!(
+                floor_contacts > 3000 * 30 && pair_contacts > 3000,
+                "{floor_contacts} {pair_contacts}"
+            );
             for other in [&one, &portable] {
                 assert!(lanes.state == other.state, "{law}: the trajectories differ");
                 assert!(lanes.wall_history == other.wall_history && lanes.wall_touched == other.wall_touched);

@@ -45,27 +45,23 @@ impl ContactGeometry {
     /// `b.x` must already be the periodic image nearest to `a.x`.
     #[inline]
     pub fn pair(a: Sphere, b: Sphere) -> Option<Self> {
-        let (xi, xj, vi, vj, wi, wj, ri, rj) = (a.x, b.x, a.v, b.v, a.w, b.w, a.r, b.r);
-        let d = xi - xj;
+        let d = a.x - b.x;
         let dist2 = d.norm_squared();
-        let sum = ri + rj;
+        let sum = a.r + b.r;
         if dist2 > sum * sum || dist2 == 0.0 {
             return None;
         }
-        let dist = dist2.sqrt();
-        let n = d / dist;
-        let overlap = sum - dist;
-        let arm_i = ri - 0.5 * overlap;
-        let arm_j = rj - 0.5 * overlap;
-        Some(Self::from_parts(
-            n,
-            overlap,
-            vi - vj,
-            arm_i * wi + arm_j * wj,
-            wi - wj,
-            (arm_i, arm_j),
-            ri * rj / sum,
-        ))
+        let g = LaneGeometry::<V3<f64>, f64>::pair(d.into(), dist2, (a.v.into(), b.v.into()), (a.w.into(), b.w.into()), (a.r, b.r));
+        Some(Self {
+            n: g.n.into(),
+            overlap: g.overlap,
+            overlap_rate: g.overlap_rate,
+            v_t: g.v_t.into(),
+            omega_rel: g.omega_rel.into(),
+            arm_i: g.arm_i,
+            arm_j: g.arm_j,
+            r_eff: g.r_eff,
+        })
     }
 
     /// Geometry of a sphere against a flat wall with unit normal `normal` (pointing into the
@@ -111,8 +107,6 @@ impl ContactGeometry {
 /// axis-aligned wall runs the very same kernels with fewer operations; results are equal up
 /// to the sign of zero components.
 pub trait Normal<L: Lane = f64>: Copy + std::fmt::Debug + PartialEq {
-    /// The normal as a vector.
-    fn vector(&self) -> Vec3;
     /// `s n`.
     fn scaled(&self, s: L) -> V3<L>;
     /// `n . v`.
@@ -128,10 +122,6 @@ pub trait Normal<L: Lane = f64>: Copy + std::fmt::Debug + PartialEq {
 }
 
 impl Normal for Vec3 {
-    #[inline(always)]
-    fn vector(&self) -> Vec3 {
-        *self
-    }
     #[inline(always)]
     fn scaled(&self, s: f64) -> V3<f64> {
         V3::from(*self).scale(s)
@@ -162,13 +152,40 @@ pub struct AxisNormal<const AXIS: usize> {
     pub sign: f64,
 }
 
-impl<L: Lane, const AXIS: usize> Normal<L> for AxisNormal<AXIS> {
-    #[inline(always)]
-    fn vector(&self) -> Vec3 {
+impl<const AXIS: usize> AxisNormal<AXIS> {
+    /// The normal as a vector.
+    pub fn vector(&self) -> Vec3 {
         let mut v = Vec3::zeros();
         v[AXIS] = self.sign;
         v
     }
+}
+
+/// A normal vector in lanes (particle pairs, several side by side).
+impl<L: Lane> Normal<L> for V3<L> {
+    #[inline(always)]
+    fn scaled(&self, s: L) -> V3<L> {
+        self.scale(s)
+    }
+    #[inline(always)]
+    fn dot(&self, v: V3<L>) -> L {
+        V3::dot(*self, v)
+    }
+    #[inline(always)]
+    fn cross(&self, v: V3<L>) -> V3<L> {
+        V3::cross(*self, v)
+    }
+    #[inline(always)]
+    fn cross_norm_squared(&self, v: V3<L>) -> L {
+        v.cross(*self).norm_squared()
+    }
+    #[inline(always)]
+    fn in_plane(&self, v: V3<L>) -> V3<L> {
+        v - self.scale(V3::dot(*self, v))
+    }
+}
+
+impl<L: Lane, const AXIS: usize> Normal<L> for AxisNormal<AXIS> {
     #[inline(always)]
     fn scaled(&self, s: L) -> V3<L> {
         let mut v = V3::zeros();
@@ -231,6 +248,36 @@ impl<N: Normal> ContactGeometry<N> {
             arm_i: self.arm_i,
             arm_j: self.arm_j,
             r_eff: self.r_eff,
+        }
+    }
+}
+
+impl<L: Lane> LaneGeometry<V3<L>, L> {
+    /// The geometry of [`ContactGeometry::pair`] without its contact test, from the
+    /// separation `d = x_i - x_j` (nearest image) and its square `dist2`, the velocities
+    /// `(v_i, v_j)`, spins `(w_i, w_j)` and radii `(R_i, R_j)`. Lanes whose spheres are apart
+    /// have a negative `overlap` and meaningless values elsewhere.
+    #[inline(always)]
+    pub fn pair(d: V3<L>, dist2: L, (vi, vj): (V3<L>, V3<L>), (wi, wj): (V3<L>, V3<L>), (ri, rj): (L, L)) -> Self {
+        let sum = ri + rj;
+        let dist = dist2.sqrt();
+        let n = V3::new(d.x / dist, d.y / dist, d.z / dist);
+        let overlap = sum - dist;
+        let arm_i = ri - L::splat(0.5) * overlap;
+        let arm_j = rj - L::splat(0.5) * overlap;
+        let v_rel = vi - vj;
+        let spin_sum = wi.scale(arm_i) + wj.scale(arm_j);
+        // eq 3.11: v_c = v_rel - spin_sum x n, without its normal part.
+        let v_c = v_rel - spin_sum.cross(n);
+        Self {
+            n,
+            overlap,
+            overlap_rate: -v_rel.dot(n),
+            v_t: v_c - n.scale(v_c.dot(n)),
+            omega_rel: wi - wj,
+            arm_i,
+            arm_j,
+            r_eff: ri * rj / sum,
         }
     }
 }
@@ -342,7 +389,7 @@ mod tests {
         assert!((g.overlap - 1e-6).abs() < 1e-18);
     }
 
-    fn widen<N: Normal>(g: ContactGeometry<N>) -> ContactGeometry {
+    fn widen<const A: usize>(g: ContactGeometry<AxisNormal<A>>) -> ContactGeometry {
         ContactGeometry {
             n: g.n.vector(),
             overlap: g.overlap,
@@ -358,14 +405,14 @@ mod tests {
     #[test]
     fn axis_normals_match_vectors() {
         /// Every product of the normal `n` with `v` (and with 2.5).
-        fn products<N: Normal>(n: N, v: &Vec3) -> (Vec3, Vec3, f64, Vec3, f64, Vec3) {
+        fn products<const A: usize>(n: AxisNormal<A>, v: &Vec3) -> (Vec3, Vec3, f64, Vec3, f64, Vec3) {
             (
                 n.vector(),
-                n.scaled(2.5).into(),
-                n.dot((*v).into()),
-                n.cross((*v).into()).into(),
-                n.cross_norm_squared((*v).into()),
-                n.in_plane((*v).into()).into(),
+                Normal::<f64>::scaled(&n, 2.5).into(),
+                Normal::<f64>::dot(&n, (*v).into()),
+                Normal::<f64>::cross(&n, (*v).into()).into(),
+                Normal::<f64>::cross_norm_squared(&n, (*v).into()),
+                Normal::<f64>::in_plane(&n, (*v).into()).into(),
             )
         }
         let v = Vec3::new(0.3, -1.7, 2.9);

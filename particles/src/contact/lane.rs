@@ -13,6 +13,7 @@ use std::ops::{Add, AddAssign, Div, Mul, MulAssign, Neg, Sub};
 pub trait Lane:
     Copy
     + std::fmt::Debug
+    + PartialEq
     + Add<Output = Self>
     + Sub<Output = Self>
     + Mul<Output = Self>
@@ -32,7 +33,7 @@ pub trait Lane:
     /// `self < other` per lane.
     fn lt(self, other: Self) -> Self::Mask;
     /// `self == other` per lane.
-    fn eq(self, other: Self) -> Self::Mask;
+    fn equal(self, other: Self) -> Self::Mask;
     /// The same truth value in every lane.
     fn mask(b: bool) -> Self::Mask;
     /// Per lane `if m { a } else { b }`.
@@ -66,7 +67,7 @@ impl Lane for f64 {
         self < other
     }
     #[inline(always)]
-    fn eq(self, other: Self) -> bool {
+    fn equal(self, other: Self) -> bool {
         self == other
     }
     #[inline(always)]
@@ -211,7 +212,7 @@ impl Lane for F64x4 {
         self.compare(other, |a, b| a < b)
     }
     #[inline(always)]
-    fn eq(self, other: Self) -> Mask4 {
+    fn equal(self, other: Self) -> Mask4 {
         self.compare(other, |a, b| a == b)
     }
     #[inline(always)]

@@ -43,7 +43,7 @@ impl RollingLaw {
             RollingLaw::BrilliantovPoschel { mu_r } => {
                 let zero = L::splat(0.0);
                 let spin2 = g.omega_rel.norm_squared();
-                let still = L::eq(spin2, zero) | L::eq(fn_, zero);
+                let still = L::equal(spin2, zero) | L::equal(fn_, zero);
                 if L::all(still) {
                     return V3::zeros();
                 }

@@ -130,7 +130,7 @@ impl TangentialLaw {
                 // follows.
                 let along = g.n.dot(*zeta);
                 let mut s = g.n.in_plane(*zeta);
-                let flat = L::eq(along, zero);
+                let flat = L::equal(along, zero);
                 if !L::all(flat) {
                     let in_plane2 = s.norm_squared();
                     let keep = flat | L::le(in_plane2, zero);
