@@ -672,20 +672,38 @@ fn pair_pass(
                 // Lanes past the block's last slot repeat it and are dropped.
                 let live = (m - s).min(4);
                 let at = [s, (s + 1).min(m - 1), (s + 2).min(m - 1), (s + 3).min(m - 1)];
-                let i = four(|l| owner[at[l]] as usize);
-                let j = four(|l| partners[at[l]] as usize);
+                let i = four(
+                    #[inline(always)]
+                    |l| owner[at[l]] as usize,
+                );
+                let j = four(
+                    #[inline(always)]
+                    |l| partners[at[l]] as usize,
+                );
                 // The separation exactly as the one-contact path computes it: from the
                 // nearest image `x_i - d` of `x_j`.
-                let d = four(|l| {
-                    let xi = pos[i[l]];
-                    xi - (xi - boundary.min_image(xi - pos[j[l]]))
-                });
+                let d = four(
+                    #[inline(always)]
+                    |l| {
+                        let xi = pos[i[l]];
+                        xi - (xi - boundary.min_image(xi - pos[j[l]]))
+                    },
+                );
                 let d = V3::new(
                     F64x4::new([d[0].x, d[1].x, d[2].x, d[3].x]),
                     F64x4::new([d[0].y, d[1].y, d[2].y, d[3].y]),
                     F64x4::new([d[0].z, d[1].z, d[2].z, d[3].z]),
                 );
-                let (ri, rj) = (F64x4::new(four(|l| radius[i[l]])), F64x4::new(four(|l| radius[j[l]])));
+                let (ri, rj) = (
+                    F64x4::new(four(
+                        #[inline(always)]
+                        |l| radius[i[l]],
+                    )),
+                    F64x4::new(four(
+                        #[inline(always)]
+                        |l| radius[j[l]],
+                    )),
+                );
                 let dist2 = d.norm_squared();
                 let sum = ri + rj;
                 // Bit l set: lane l in contact (as `ContactGeometry::pair`'s test).
