@@ -20,7 +20,8 @@ fn main() {
     let setup = tray::setup(&scene, tray::drive(&scene), time_step::for_scene(&scene).unwrap()).unwrap();
     println!("dt {:e}, t_c {:e}", setup.dt, timescale::shortest_contact_time(&scene).unwrap());
     let mut sim = Simulation::new(setup, initial_state(&scene).unwrap()).unwrap();
-    let steps = 5000;
+    // `STEPS=500` for a short run (an instruction count under a profiler).
+    let steps: usize = std::env::var("STEPS").ok().and_then(|s| s.parse().ok()).unwrap_or(5000);
     let t0 = Instant::now();
     for _ in 0..steps {
         sim.step().unwrap();

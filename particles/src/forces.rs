@@ -14,12 +14,17 @@
 //!   gap test or overlap check there;
 //! - a wall's gap is tested before anything else of a grain is read; two consecutive walls
 //!   across the same axis (the tray's sides) share one pass that tests both gaps;
+//! - the floor (an axis wall that is not a pinned floor) is evaluated four grains at a time
+//!   on lanes (`floor_pass`), by the same kernels as every other contact
+//!   ([`contact::evaluate_lanes`], of which [`contact::evaluate`] is the one-lane case), so
+//!   it gives the same bits; runs that record contacts keep the one-contact path;
 //! - gravity uses masses computed once (no division per step);
 //! - per-contact history is only reset when the law has history (Cundall-Strack), and a
 //!   side wall's spring only when its flag says it may be non-zero.
 
 use crate::contact::geometry::Sphere;
-use crate::contact::{self, AxisNormal, ContactGeometry, ContactLaw, Normal};
+use crate::contact::lane::F64x4;
+use crate::contact::{self, AxisNormal, ContactGeometry, ContactLaw, Lane, LaneGeometry, Normal, V3};
 use crate::neighbor::NeighborList;
 use crate::setup::{ContactRecord, Partner, Setup, Vertical, MAX_OVERLAP_FRACTION};
 use crate::Vec3;
@@ -173,45 +178,51 @@ pub(crate) fn gather_block(
     // to two candidates, and a loop nested per particle would mispredict its exit each time.
     // Each particle still adds its partners in slot order.
     let slots = base_slot..list.offsets[first + n];
-    pair_law.unswitched(|pair_law| {
-        for ((&i, &j), zeta) in list.owner[slots.clone()]
-            .iter()
-            .zip(&list.partners[slots])
-            .zip(pair_history.iter_mut())
-        {
-            let (i, j) = (i as usize, j as usize);
-            let xi = pos[i];
-            let d = setup.boundary.min_image(xi - pos[j]);
-            let a = Sphere {
-                x: xi,
-                v: vel[i],
-                w: omega[i],
-                r: radius[i],
-            };
-            let b = Sphere {
-                x: xi - d,
-                v: vel[j],
-                w: omega[j],
-                r: radius[j],
-            };
-            let Some(g) = ContactGeometry::pair(a, b) else {
-                if pair_history_on {
-                    *zeta = Vec3::zeros();
+    if !inp.record {
+        // Four slots at a time on lanes (diagnostics runs keep the per-contact path below,
+        // which records each contact): the same kernels, the same bits.
+        pair_pass_dispatch(inp, (first, slots), (force, torque), pair_history, &mut sums);
+    } else {
+        pair_law.unswitched(|pair_law| {
+            for ((&i, &j), zeta) in list.owner[slots.clone()]
+                .iter()
+                .zip(&list.partners[slots])
+                .zip(pair_history.iter_mut())
+            {
+                let (i, j) = (i as usize, j as usize);
+                let xi = pos[i];
+                let d = setup.boundary.min_image(xi - pos[j]);
+                let a = Sphere {
+                    x: xi,
+                    v: vel[i],
+                    w: omega[i],
+                    r: radius[i],
+                };
+                let b = Sphere {
+                    x: xi - d,
+                    v: vel[j],
+                    w: omega[j],
+                    r: radius[j],
+                };
+                let Some(g) = ContactGeometry::pair(a, b) else {
+                    if pair_history_on {
+                        *zeta = Vec3::zeros();
+                    }
+                    continue;
+                };
+                let c = contact::evaluate(pair_law, &g, zeta, dt);
+                force[i - first] += c.force;
+                torque[i - first] += c.torque_i;
+                sums.pair_contacts += (i < j) as u64;
+                sums.check_overlap(i, Partner::Particle(j), g.overlap, radius[i].min(radius[j]));
+                sums.stored += 0.5 * c.stored_energy;
+                sums.dissipated += 0.5 * c.dissipation_rate;
+                if inp.record && i < j {
+                    sums.record(i, Partner::Particle(j), &g, &c, pair_law.tangential.mu());
                 }
-                continue;
-            };
-            let c = contact::evaluate(pair_law, &g, zeta, dt);
-            force[i - first] += c.force;
-            torque[i - first] += c.torque_i;
-            sums.pair_contacts += (i < j) as u64;
-            sums.check_overlap(i, Partner::Particle(j), g.overlap, radius[i].min(radius[j]));
-            sums.stored += 0.5 * c.stored_energy;
-            sums.dissipated += 0.5 * c.dissipation_rate;
-            if inp.record && i < j {
-                sums.record(i, Partner::Particle(j), &g, &c, pair_law.tangential.mu());
             }
-        }
-    });
+        });
+    }
     // Walls, one wall at a time over the block: the loop body is short enough for the
     // processor to overlap the square roots and divisions of consecutive particles. Each
     // particle still sums gravity, pairs and walls in the same order.
@@ -270,6 +281,9 @@ pub(crate) fn gather_block(
                 }
                 ContactGeometry::<AxisNormal<1>>::axis_wall(pos[k], vel[k], omega[k], radius[k], origin, sign, v_wall)
             }),
+            // The floor: four grains at a time (diagnostics runs keep the per-contact path,
+            // which records each contact).
+            PlaneKind::Axis { axis: 2, .. } if !inp.record => floor_pass_dispatch(inp, (w, plane), out, &mut sums),
             PlaneKind::Axis { .. } => wall_pass::<_, false>(inp, (w, plane), out, &mut sums, |k| {
                 if radius[k] - sign * (pos[k].z - origin.z) < 0.0 {
                     return None;
@@ -502,4 +516,280 @@ fn add_wall_contact<N: Normal, const SUPPORT: bool>(
     if inp.record {
         sums.record(i, Partner::Wall(w), g, &c, law.tangential.mu());
     }
+}
+
+/// Contacts of the block's particles with wall `w` (`plane`, normal `sign * e_AXIS`, not a
+/// pinned floor), four grains at a time: the geometry and the laws run on [`F64x4`] lanes,
+/// the same kernels ([`contact::evaluate_lanes`]) that serve one contact, so every lane gives
+/// the bits the one-contact path would. Grains away from the wall are skipped four at a time;
+/// the results of the touching lanes are added in particle order, as [`wall_pass`] does.
+#[inline(always)]
+fn floor_pass<const AXIS: usize>(inp: &Inputs, (w, plane): (usize, &WallPlane), out: &mut BlockOut, sums: &mut BlockSums) {
+    let (first, force, torque, wall_history, wall_touched) = out.parts();
+    let (_, wall_stride) = wall_histories(inp);
+    let n = force.len();
+    let torque = &mut torque[..n];
+    let (pos, vel, omega, radius) = (
+        &inp.pos[first..first + n],
+        &inp.vel[first..first + n],
+        &inp.omega[first..first + n],
+        &inp.radius[first..first + n],
+    );
+    let mut acc = WallSums::default();
+    let (dt, sign, origin, v_wall) = (inp.setup.dt, plane.sign(), plane.origin[AXIS], plane.velocity);
+    inp.setup.wall_law.unswitched(
+        #[inline(always)]
+        |law| {
+            // From the copy of the law whose variants each instance knows: decided at
+            // compile time.
+            let history_on = law.has_history();
+            let mut k = 0;
+            while k < n {
+                // Lanes past the block's end repeat its last grain and are dropped.
+                let idx = [k, (k + 1).min(n - 1), (k + 2).min(n - 1), (k + 3).min(n - 1)];
+                let live = (n - k).min(4);
+                let r = F64x4::new([radius[idx[0]], radius[idx[1]], radius[idx[2]], radius[idx[3]]]);
+                let x = F64x4::new([pos[idx[0]][AXIS], pos[idx[1]][AXIS], pos[idx[2]][AXIS], pos[idx[3]][AXIS]]);
+                let overlap = r - F64x4::splat(sign) * (x - F64x4::splat(origin));
+                // Bit l set: lane l touches (`overlap >= 0`, as the one-contact gap test).
+                let touching = !Lane::lt(overlap, F64x4::splat(0.0)).bits() & ((1 << live) - 1);
+                if touching == 0 {
+                    if history_on {
+                        for q in k..k + live {
+                            wall_history[q * wall_stride + w] = Vec3::zeros();
+                            wall_touched[q * wall_stride + w] = 0;
+                        }
+                    }
+                    k += 4;
+                    continue;
+                }
+                let g = LaneGeometry::<AxisNormal<AXIS>, F64x4>::axis_wall(
+                    x,
+                    V3::gather(vel, idx),
+                    V3::gather(omega, idx),
+                    r,
+                    origin,
+                    sign,
+                    v_wall,
+                );
+                let slot = |l: usize| idx[l] * wall_stride + w;
+                let slots = [slot(0), slot(1), slot(2), slot(3)];
+                let mut zeta = if history_on { V3::gather(wall_history, slots) } else { V3::zeros() };
+                let c = contact::evaluate_lanes(law, &g, &mut zeta, dt);
+                let (stored, dissipated, overlaps) = (c.stored_energy.to_array(), c.dissipation_rate.to_array(), overlap.to_array());
+                for l in 0..live {
+                    let q = k + l;
+                    if touching & (1 << l) == 0 {
+                        if history_on {
+                            wall_history[slots[l]] = Vec3::zeros();
+                            wall_touched[slots[l]] = 0;
+                        }
+                        continue;
+                    }
+                    if history_on {
+                        wall_history[slots[l]] = zeta.lane(l);
+                        wall_touched[slots[l]] = 1;
+                    }
+                    let f = c.force.lane(l);
+                    force[q] += f;
+                    torque[q] += c.torque_i.lane(l);
+                    acc.contacts += 1;
+                    acc.stored += stored[l];
+                    acc.dissipated += dissipated[l];
+                    acc.force += f;
+                    sums.check_overlap(first + q, Partner::Wall(w), overlaps[l], radius[q]);
+                }
+                k += 4;
+            }
+        },
+    );
+    acc.add_to(plane, sums);
+}
+
+/// [`floor_pass`] for the floor (`AXIS` 2), compiled twice: for the baseline instruction
+/// set (two lanes per vector instruction on x86-64) and, where the processor has AVX2, for
+/// four lanes per instruction. Rust never fuses a multiplication and an addition on its own,
+/// so both give the same bits (the test below runs both).
+fn floor_pass_dispatch(inp: &Inputs, wp: (usize, &WallPlane), out: &mut BlockOut, sums: &mut BlockSums) {
+    #[cfg(target_arch = "x86_64")]
+    if avx2_lanes() {
+        // SAFETY: the processor has AVX2 (checked at run time).
+        return unsafe { floor_pass_avx2(inp, wp, out, sums) };
+    }
+    floor_pass_portable(inp, wp, out, sums)
+}
+
+/// Set to run the portable floor pass even where AVX2 is there (tests).
+#[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
+pub(crate) static PORTABLE_LANES: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// True if the floor pass uses AVX2.
+#[cfg(target_arch = "x86_64")]
+fn avx2_lanes() -> bool {
+    static AVX2: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
+    // `STRIPES_PORTABLE_LANES` set: the portable copy (for instruction-counting profilers
+    // that do not know every AVX2 instruction).
+    *AVX2.get_or_init(|| std::is_x86_feature_detected!("avx2") && std::env::var_os("STRIPES_PORTABLE_LANES").is_none())
+        && !PORTABLE_LANES.load(std::sync::atomic::Ordering::Relaxed)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[inline(never)]
+unsafe fn floor_pass_avx2(inp: &Inputs, wp: (usize, &WallPlane), out: &mut BlockOut, sums: &mut BlockSums) {
+    floor_pass::<2>(inp, wp, out, sums)
+}
+
+#[inline(never)]
+fn floor_pass_portable(inp: &Inputs, wp: (usize, &WallPlane), out: &mut BlockOut, sums: &mut BlockSums) {
+    floor_pass::<2>(inp, wp, out, sums)
+}
+
+/// The particle pairs of a block's neighbour-list slots `slots` (those of the particles
+/// `first..first + force.len()`, whose forces and torques are summed here; `pair_history`
+/// holds their springs), four slots at a time: the nearest images are taken per slot, the
+/// geometry and the laws run on [`F64x4`] lanes by the kernels that serve one contact, and
+/// the results of the lanes in contact are added in slot order, as the one-contact loop in
+/// [`gather_block`] does (each pair seen from both sides, half the energies each).
+#[inline(always)]
+fn pair_pass(
+    inp: &Inputs,
+    (first, slots): (usize, std::ops::Range<usize>),
+    (force, torque): (&mut [Vec3], &mut [Vec3]),
+    pair_history: &mut [Vec3],
+    sums: &mut BlockSums,
+) {
+    let (list, pos, vel, omega, radius) = (inp.list, inp.pos, inp.vel, inp.omega, inp.radius);
+    let (owner, partners) = (&list.owner[slots.clone()], &list.partners[slots]);
+    let m = owner.len();
+    let (dt, boundary) = (inp.setup.dt, inp.setup.boundary);
+    inp.setup.pair_law.unswitched(
+        #[inline(always)]
+        |law| {
+            let history_on = law.has_history();
+            let mut s = 0;
+            while s < m {
+                // Lanes past the block's last slot repeat it and are dropped.
+                let live = (m - s).min(4);
+                let at = [s, (s + 1).min(m - 1), (s + 2).min(m - 1), (s + 3).min(m - 1)];
+                let i = four(
+                    #[inline(always)]
+                    |l| owner[at[l]] as usize,
+                );
+                let j = four(
+                    #[inline(always)]
+                    |l| partners[at[l]] as usize,
+                );
+                // The separation exactly as the one-contact path computes it: from the
+                // nearest image `x_i - d` of `x_j`.
+                let d = four(
+                    #[inline(always)]
+                    |l| {
+                        let xi = pos[i[l]];
+                        xi - (xi - boundary.min_image(xi - pos[j[l]]))
+                    },
+                );
+                let d = V3::new(
+                    F64x4::new([d[0].x, d[1].x, d[2].x, d[3].x]),
+                    F64x4::new([d[0].y, d[1].y, d[2].y, d[3].y]),
+                    F64x4::new([d[0].z, d[1].z, d[2].z, d[3].z]),
+                );
+                let (ri, rj) = (
+                    F64x4::new(four(
+                        #[inline(always)]
+                        |l| radius[i[l]],
+                    )),
+                    F64x4::new(four(
+                        #[inline(always)]
+                        |l| radius[j[l]],
+                    )),
+                );
+                let dist2 = d.norm_squared();
+                let sum = ri + rj;
+                // Bit l set: lane l in contact (as `ContactGeometry::pair`'s test).
+                let apart = Lane::lt(sum * sum, dist2) | Lane::equal(dist2, F64x4::splat(0.0));
+                let touching = !apart.bits() & ((1 << live) - 1);
+                if touching != 0 {
+                    let g = LaneGeometry::<V3<F64x4>, F64x4>::pair(
+                        d,
+                        dist2,
+                        (V3::gather(vel, i), V3::gather(vel, j)),
+                        (V3::gather(omega, i), V3::gather(omega, j)),
+                        (ri, rj),
+                    );
+                    let mut zeta = if history_on { V3::gather(pair_history, at) } else { V3::zeros() };
+                    let c = contact::evaluate_lanes(law, &g, &mut zeta, dt);
+                    let (stored, dissipated, overlap) = (c.stored_energy.to_array(), c.dissipation_rate.to_array(), g.overlap.to_array());
+                    let (ri, rj) = (ri.to_array(), rj.to_array());
+                    for l in 0..live {
+                        if touching & (1 << l) == 0 {
+                            if history_on {
+                                pair_history[s + l] = Vec3::zeros();
+                            }
+                            continue;
+                        }
+                        if history_on {
+                            pair_history[s + l] = zeta.lane(l);
+                        }
+                        let (i, j) = (i[l], j[l]);
+                        force[i - first] += c.force.lane(l);
+                        torque[i - first] += c.torque_i.lane(l);
+                        sums.pair_contacts += (i < j) as u64;
+                        sums.check_overlap(i, Partner::Particle(j), overlap[l], ri[l].min(rj[l]));
+                        sums.stored += 0.5 * stored[l];
+                        sums.dissipated += 0.5 * dissipated[l];
+                    }
+                } else if history_on {
+                    pair_history[s..s + live].fill(Vec3::zeros());
+                }
+                s += 4;
+            }
+        },
+    );
+}
+
+/// [`pair_pass`], compiled like the floor pass for the baseline instruction set and for AVX2.
+fn pair_pass_dispatch(
+    inp: &Inputs,
+    block: (usize, std::ops::Range<usize>),
+    out: (&mut [Vec3], &mut [Vec3]),
+    pair_history: &mut [Vec3],
+    sums: &mut BlockSums,
+) {
+    #[cfg(target_arch = "x86_64")]
+    if avx2_lanes() {
+        // SAFETY: the processor has AVX2 (checked at run time).
+        return unsafe { pair_pass_avx2(inp, block, out, pair_history, sums) };
+    }
+    pair_pass_portable(inp, block, out, pair_history, sums)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[inline(never)]
+unsafe fn pair_pass_avx2(
+    inp: &Inputs,
+    block: (usize, std::ops::Range<usize>),
+    out: (&mut [Vec3], &mut [Vec3]),
+    pair_history: &mut [Vec3],
+    sums: &mut BlockSums,
+) {
+    pair_pass(inp, block, out, pair_history, sums)
+}
+
+#[inline(never)]
+fn pair_pass_portable(
+    inp: &Inputs,
+    block: (usize, std::ops::Range<usize>),
+    out: (&mut [Vec3], &mut [Vec3]),
+    pair_history: &mut [Vec3],
+    sums: &mut BlockSums,
+) {
+    pair_pass(inp, block, out, pair_history, sums)
+}
+
+/// `[f(0), f(1), f(2), f(3)]`, written out (`array::map` is not always inlined).
+#[inline(always)]
+fn four<T>(f: impl Fn(usize) -> T) -> [T; 4] {
+    [f(0), f(1), f(2), f(3)]
 }

@@ -665,6 +665,54 @@ mod tests {
         assert!(bits(&sim) == bits(&resumed), "the restored run diverged");
     }
 
+    #[test]
+    fn the_floor_and_pair_passes_in_lanes_give_the_bits_of_the_one_contact_path() {
+        // A run that records its contacts takes the one-contact path for pairs and the floor;
+        // one that does not takes the passes over lanes. Both run the same kernels, so the
+        // trajectories agree bit for bit: with a spring history (Cundall-Strack) and with
+        // the thesis' Haff-Werner floor, at a block size that is not a multiple of the lanes.
+        for law in ["tangential = \"cundall-strack\"\ntangential_stiffness = 50\n", ""] {
+            let text = format!(
+                "[box]\nlength = 0.02\nwidth = 0.005\n[drive]\nfrequency = 20.0\namplitude = 0.025\n\
+                 [particles]\ncount = 101\nradius_min = 0.25e-3\nradius_max = 0.5e-3\n\
+                 [contact]\n{law}[run]\nduration = 0.1\ndt = 8e-6\nseed = 5\n"
+            );
+            let scene = crate::scene::Scene::parse(&text, &[], "test").unwrap();
+            scene.validate().unwrap();
+            let new = || {
+                Simulation::new(
+                    crate::tray::setup(&scene, crate::tray::drive(&scene)).unwrap(),
+                    crate::prepare::initial_state(&scene).unwrap(),
+                )
+                .unwrap()
+            };
+            let (mut lanes, mut one, mut portable) = (new(), new(), new());
+            one.record_contacts(true);
+            let (mut floor_contacts, mut pair_contacts) = (0, 0);
+            for _ in 0..3000 {
+                lanes.step().unwrap();
+                one.step().unwrap();
+                // The floor pass compiled for the baseline instruction set (where the
+                // processor has AVX2, `lanes` runs the other one). Another test running
+                // meanwhile may take it too: it gives the same bits.
+                forces::PORTABLE_LANES.store(true, std::sync::atomic::Ordering::Relaxed);
+                portable.step().unwrap();
+                forces::PORTABLE_LANES.store(false, std::sync::atomic::Ordering::Relaxed);
+                floor_contacts += lanes.contacts.1;
+                pair_contacts += lanes.contacts.0;
+            }
+            assert!(
+                floor_contacts > 3000 * 30 && pair_contacts > 3000,
+                "{floor_contacts} {pair_contacts}"
+            );
+            for other in [&one, &portable] {
+                assert!(lanes.state == other.state, "{law}: the trajectories differ");
+                assert!(lanes.wall_history == other.wall_history && lanes.wall_touched == other.wall_touched);
+                assert_eq!(lanes.ledger, other.ledger);
+            }
+        }
+    }
+
     proptest! {
         /// The block test fails whenever some particle is not sound, so the exact search
         /// for the first one runs; it passes a block of sound particles of ordinary size.

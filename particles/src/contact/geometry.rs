@@ -1,5 +1,6 @@
 //! Contact geometry: the quantities every force kernel needs, computed once per contact.
 
+use super::lane::{Lane, V3};
 use crate::Vec3;
 
 /// Geometry and kinematics of a contact between particle i and a partner j (a particle or
@@ -16,7 +17,7 @@ use crate::Vec3;
 ///   momentum exactly. A wall is the limit `R_j -> infinity`, so `arm_i = R_i - xi/2` too.
 /// - `omega_rel = omega_i - omega_j`; `r_eff` is the effective radius (eq 3.8).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ContactGeometry<N: Normal = Vec3> {
+pub struct ContactGeometry<N = Vec3> {
     pub n: N,
     pub overlap: f64,
     pub overlap_rate: f64,
@@ -44,27 +45,23 @@ impl ContactGeometry {
     /// `b.x` must already be the periodic image nearest to `a.x`.
     #[inline]
     pub fn pair(a: Sphere, b: Sphere) -> Option<Self> {
-        let (xi, xj, vi, vj, wi, wj, ri, rj) = (a.x, b.x, a.v, b.v, a.w, b.w, a.r, b.r);
-        let d = xi - xj;
+        let d = a.x - b.x;
         let dist2 = d.norm_squared();
-        let sum = ri + rj;
+        let sum = a.r + b.r;
         if dist2 > sum * sum || dist2 == 0.0 {
             return None;
         }
-        let dist = dist2.sqrt();
-        let n = d / dist;
-        let overlap = sum - dist;
-        let arm_i = ri - 0.5 * overlap;
-        let arm_j = rj - 0.5 * overlap;
-        Some(Self::from_parts(
-            n,
-            overlap,
-            vi - vj,
-            arm_i * wi + arm_j * wj,
-            wi - wj,
-            (arm_i, arm_j),
-            ri * rj / sum,
-        ))
+        let g = LaneGeometry::<V3<f64>, f64>::pair(d.into(), dist2, (a.v.into(), b.v.into()), (a.w.into(), b.w.into()), (a.r, b.r));
+        Some(Self {
+            n: g.n.into(),
+            overlap: g.overlap,
+            overlap_rate: g.overlap_rate,
+            v_t: g.v_t.into(),
+            omega_rel: g.omega_rel.into(),
+            arm_i: g.arm_i,
+            arm_j: g.arm_j,
+            r_eff: g.r_eff,
+        })
     }
 
     /// Geometry of a sphere against a flat wall with unit normal `normal` (pointing into the
@@ -105,51 +102,46 @@ impl ContactGeometry {
     }
 }
 
-/// A contact normal: a unit vector, or a coordinate axis with a sign whose products the
-/// compiler can collapse. The force kernels are generic over it, so an axis-aligned wall
-/// runs the very same kernels with fewer operations; results are equal up to the sign of
-/// zero components.
-pub trait Normal: Copy + std::fmt::Debug + PartialEq {
-    /// The normal as a vector.
-    fn vector(&self) -> Vec3;
+/// A contact normal over lanes `L`: a unit vector, or a coordinate axis with a sign whose
+/// products the compiler can collapse. The force kernels are generic over it, so an
+/// axis-aligned wall runs the very same kernels with fewer operations; results are equal up
+/// to the sign of zero components.
+pub trait Normal<L: Lane = f64>: Copy + std::fmt::Debug + PartialEq {
     /// `s n`.
-    fn scaled(&self, s: f64) -> Vec3;
+    fn scaled(&self, s: L) -> V3<L>;
     /// `n . v`.
-    fn dot(&self, v: &Vec3) -> f64;
+    fn dot(&self, v: V3<L>) -> L;
     /// `n x v`.
-    fn cross(&self, v: &Vec3) -> Vec3;
+    fn cross(&self, v: V3<L>) -> V3<L>;
     /// `|v x n|^2`.
-    fn cross_norm_squared(&self, v: &Vec3) -> f64;
+    fn cross_norm_squared(&self, v: V3<L>) -> L;
     /// `v` without its part along the normal, `v - (n . v) n`. For an axis normal the
     /// component is set to zero (equal up to its sign), so the compiler knows it is zero in
     /// what follows.
-    fn in_plane(&self, v: &Vec3) -> Vec3;
+    fn in_plane(&self, v: V3<L>) -> V3<L>;
 }
 
 impl Normal for Vec3 {
     #[inline(always)]
-    fn vector(&self) -> Vec3 {
-        *self
+    fn scaled(&self, s: f64) -> V3<f64> {
+        V3::from(*self).scale(s)
     }
     #[inline(always)]
-    fn scaled(&self, s: f64) -> Vec3 {
-        self * s
+    fn dot(&self, v: V3<f64>) -> f64 {
+        V3::from(*self).dot(v)
     }
     #[inline(always)]
-    fn dot(&self, v: &Vec3) -> f64 {
-        Vec3::dot(self, v)
+    fn cross(&self, v: V3<f64>) -> V3<f64> {
+        V3::from(*self).cross(v)
     }
     #[inline(always)]
-    fn cross(&self, v: &Vec3) -> Vec3 {
-        Vec3::cross(self, v)
+    fn cross_norm_squared(&self, v: V3<f64>) -> f64 {
+        v.cross(V3::from(*self)).norm_squared()
     }
     #[inline(always)]
-    fn cross_norm_squared(&self, v: &Vec3) -> f64 {
-        v.cross(self).norm_squared()
-    }
-    #[inline(always)]
-    fn in_plane(&self, v: &Vec3) -> Vec3 {
-        v - self * self.dot(v)
+    fn in_plane(&self, v: V3<f64>) -> V3<f64> {
+        let n = V3::from(*self);
+        v - n.scale(n.dot(v))
     }
 }
 
@@ -160,41 +152,167 @@ pub struct AxisNormal<const AXIS: usize> {
     pub sign: f64,
 }
 
-impl<const AXIS: usize> Normal for AxisNormal<AXIS> {
+impl<const AXIS: usize> AxisNormal<AXIS> {
+    /// The normal as a vector.
+    pub fn vector(&self) -> Vec3 {
+        let mut v = Vec3::zeros();
+        v[AXIS] = self.sign;
+        v
+    }
+}
+
+/// A normal vector in lanes (particle pairs, several side by side).
+impl<L: Lane> Normal<L> for V3<L> {
     #[inline(always)]
-    fn vector(&self) -> Vec3 {
-        self.scaled(1.0)
+    fn scaled(&self, s: L) -> V3<L> {
+        self.scale(s)
     }
     #[inline(always)]
-    fn scaled(&self, s: f64) -> Vec3 {
-        let mut v = Vec3::zeros();
-        v[AXIS] = self.sign * s;
+    fn dot(&self, v: V3<L>) -> L {
+        V3::dot(*self, v)
+    }
+    #[inline(always)]
+    fn cross(&self, v: V3<L>) -> V3<L> {
+        V3::cross(*self, v)
+    }
+    #[inline(always)]
+    fn cross_norm_squared(&self, v: V3<L>) -> L {
+        v.cross(*self).norm_squared()
+    }
+    #[inline(always)]
+    fn in_plane(&self, v: V3<L>) -> V3<L> {
+        v - self.scale(V3::dot(*self, v))
+    }
+}
+
+impl<L: Lane, const AXIS: usize> Normal<L> for AxisNormal<AXIS> {
+    #[inline(always)]
+    fn scaled(&self, s: L) -> V3<L> {
+        let mut v = V3::zeros();
+        v.set(AXIS, L::splat(self.sign) * s);
         v
     }
     #[inline(always)]
-    fn dot(&self, v: &Vec3) -> f64 {
-        self.sign * v[AXIS]
+    fn dot(&self, v: V3<L>) -> L {
+        L::splat(self.sign) * v.get(AXIS)
     }
     #[inline(always)]
-    fn cross(&self, v: &Vec3) -> Vec3 {
+    fn cross(&self, v: V3<L>) -> V3<L> {
         // e_x x v = (0, -v_z, v_y), e_y x v = (v_z, 0, -v_x), e_z x v = (-v_y, v_x, 0)
+        let z = L::splat(0.0);
         let c = match AXIS {
-            0 => Vec3::new(0.0, -v.z, v.y),
-            1 => Vec3::new(v.z, 0.0, -v.x),
-            _ => Vec3::new(-v.y, v.x, 0.0),
+            0 => V3::new(z, -v.z, v.y),
+            1 => V3::new(v.z, z, -v.x),
+            _ => V3::new(-v.y, v.x, z),
         };
-        c * self.sign
+        c.scale(L::splat(self.sign))
     }
     #[inline(always)]
-    fn cross_norm_squared(&self, v: &Vec3) -> f64 {
-        let (a, b) = (v[(AXIS + 1) % 3], v[(AXIS + 2) % 3]);
+    fn cross_norm_squared(&self, v: V3<L>) -> L {
+        let (a, b) = (v.get((AXIS + 1) % 3), v.get((AXIS + 2) % 3));
         a * a + b * b
     }
     #[inline(always)]
-    fn in_plane(&self, v: &Vec3) -> Vec3 {
-        let mut w = *v;
-        w[AXIS] = 0.0;
+    fn in_plane(&self, v: V3<L>) -> V3<L> {
+        let mut w = v;
+        w.set(AXIS, L::splat(0.0));
         w
+    }
+}
+
+/// [`ContactGeometry`] over lanes: what the force kernels read. The scalar geometry converts
+/// to it at no cost ([`ContactGeometry::lanes`]); the floor pass builds it for four grains at
+/// a time ([`LaneGeometry::axis_wall`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LaneGeometry<N, L> {
+    pub n: N,
+    pub overlap: L,
+    pub overlap_rate: L,
+    pub v_t: V3<L>,
+    pub omega_rel: V3<L>,
+    pub arm_i: L,
+    pub arm_j: L,
+    pub r_eff: L,
+}
+
+impl<N: Normal> ContactGeometry<N> {
+    /// The same geometry as one lane.
+    #[inline(always)]
+    pub fn lanes(&self) -> LaneGeometry<N, f64> {
+        LaneGeometry {
+            n: self.n,
+            overlap: self.overlap,
+            overlap_rate: self.overlap_rate,
+            v_t: self.v_t.into(),
+            omega_rel: self.omega_rel.into(),
+            arm_i: self.arm_i,
+            arm_j: self.arm_j,
+            r_eff: self.r_eff,
+        }
+    }
+}
+
+impl<L: Lane> LaneGeometry<V3<L>, L> {
+    /// The geometry of [`ContactGeometry::pair`] without its contact test, from the
+    /// separation `d = x_i - x_j` (nearest image) and its square `dist2`, the velocities
+    /// `(v_i, v_j)`, spins `(w_i, w_j)` and radii `(R_i, R_j)`. Lanes whose spheres are apart
+    /// have a negative `overlap` and meaningless values elsewhere.
+    #[inline(always)]
+    pub fn pair(d: V3<L>, dist2: L, (vi, vj): (V3<L>, V3<L>), (wi, wj): (V3<L>, V3<L>), (ri, rj): (L, L)) -> Self {
+        let sum = ri + rj;
+        let dist = dist2.sqrt();
+        let n = V3::new(d.x / dist, d.y / dist, d.z / dist);
+        let overlap = sum - dist;
+        let arm_i = ri - L::splat(0.5) * overlap;
+        let arm_j = rj - L::splat(0.5) * overlap;
+        let v_rel = vi - vj;
+        let spin_sum = wi.scale(arm_i) + wj.scale(arm_j);
+        // eq 3.11: v_c = v_rel - spin_sum x n, without its normal part.
+        let v_c = v_rel - spin_sum.cross(n);
+        Self {
+            n,
+            overlap,
+            overlap_rate: -v_rel.dot(n),
+            v_t: v_c - n.scale(v_c.dot(n)),
+            omega_rel: wi - wj,
+            arm_i,
+            arm_j,
+            r_eff: ri * rj / sum,
+        }
+    }
+}
+
+impl<L: Lane, const AXIS: usize> LaneGeometry<AxisNormal<AXIS>, L> {
+    /// The geometry of [`ContactGeometry::axis_wall`] without its gap test: for grains with
+    /// centre coordinate `x_axis` along the wall's axis, velocities `vi`, spins `wi` and radii
+    /// `ri`, against the wall through `origin_axis` with normal `sign * e_AXIS` moving with
+    /// `v_wall`. Lanes whose grains are apart have a negative `overlap` and meaningless
+    /// values elsewhere.
+    #[inline(always)]
+    pub fn axis_wall(x_axis: L, vi: V3<L>, wi: V3<L>, ri: L, origin_axis: f64, sign: f64, v_wall: Vec3) -> Self {
+        let overlap = ri - L::splat(sign) * (x_axis - L::splat(origin_axis));
+        let arm_i = ri - L::splat(0.5) * overlap;
+        let v_rel = vi - V3::splat(v_wall);
+        let s = wi.scale(arm_i);
+        // s x e_AXIS
+        let z = L::splat(0.0);
+        let s_x_e = match AXIS {
+            0 => V3::new(z, s.z, -s.y),
+            1 => V3::new(-s.z, z, s.x),
+            _ => V3::new(s.y, -s.x, z),
+        };
+        let mut v_t = v_rel - s_x_e.scale(L::splat(sign));
+        v_t.set(AXIS, z);
+        Self {
+            n: AxisNormal { sign },
+            overlap,
+            overlap_rate: L::splat(-sign) * v_rel.get(AXIS),
+            v_t,
+            omega_rel: wi,
+            arm_i,
+            arm_j: L::splat(f64::INFINITY),
+            r_eff: ri,
+        }
     }
 }
 
@@ -205,30 +323,19 @@ impl<const AXIS: usize> ContactGeometry<AxisNormal<AXIS>> {
     /// bit for bit, up to the sign of components that are zero.
     #[inline(always)]
     pub fn axis_wall(xi: Vec3, vi: Vec3, wi: Vec3, ri: f64, origin: Vec3, sign: f64, v_wall: Vec3) -> Option<Self> {
-        let overlap = ri - sign * (xi[AXIS] - origin[AXIS]);
-        if overlap < 0.0 {
+        let g = LaneGeometry::<AxisNormal<AXIS>, f64>::axis_wall(xi[AXIS], vi.into(), wi.into(), ri, origin[AXIS], sign, v_wall);
+        if g.overlap < 0.0 {
             return None;
         }
-        let arm_i = ri - 0.5 * overlap;
-        let v_rel = vi - v_wall;
-        let s = arm_i * wi;
-        // s x e_AXIS
-        let s_x_e = match AXIS {
-            0 => Vec3::new(0.0, s.z, -s.y),
-            1 => Vec3::new(-s.z, 0.0, s.x),
-            _ => Vec3::new(s.y, -s.x, 0.0),
-        };
-        let mut v_t = v_rel - s_x_e * sign;
-        v_t[AXIS] = 0.0;
         Some(Self {
-            n: AxisNormal { sign },
-            overlap,
-            overlap_rate: -sign * v_rel[AXIS],
-            v_t,
-            omega_rel: wi,
-            arm_i,
-            arm_j: f64::INFINITY,
-            r_eff: ri,
+            n: g.n,
+            overlap: g.overlap,
+            overlap_rate: g.overlap_rate,
+            v_t: g.v_t.into(),
+            omega_rel: g.omega_rel.into(),
+            arm_i: g.arm_i,
+            arm_j: g.arm_j,
+            r_eff: g.r_eff,
         })
     }
 }
@@ -282,7 +389,7 @@ mod tests {
         assert!((g.overlap - 1e-6).abs() < 1e-18);
     }
 
-    fn widen<N: Normal>(g: ContactGeometry<N>) -> ContactGeometry {
+    fn widen<const A: usize>(g: ContactGeometry<AxisNormal<A>>) -> ContactGeometry {
         ContactGeometry {
             n: g.n.vector(),
             overlap: g.overlap,
@@ -298,14 +405,14 @@ mod tests {
     #[test]
     fn axis_normals_match_vectors() {
         /// Every product of the normal `n` with `v` (and with 2.5).
-        fn products<N: Normal>(n: N, v: &Vec3) -> (Vec3, Vec3, f64, Vec3, f64, Vec3) {
+        fn products<const A: usize>(n: AxisNormal<A>, v: &Vec3) -> (Vec3, Vec3, f64, Vec3, f64, Vec3) {
             (
                 n.vector(),
-                n.scaled(2.5),
-                n.dot(v),
-                n.cross(v),
-                n.cross_norm_squared(v),
-                n.in_plane(v),
+                Normal::<f64>::scaled(&n, 2.5).into(),
+                Normal::<f64>::dot(&n, (*v).into()),
+                Normal::<f64>::cross(&n, (*v).into()).into(),
+                Normal::<f64>::cross_norm_squared(&n, (*v).into()),
+                Normal::<f64>::in_plane(&n, (*v).into()).into(),
             )
         }
         let v = Vec3::new(0.3, -1.7, 2.9);
@@ -315,11 +422,12 @@ mod tests {
                 products(AxisNormal::<1> { sign }, &v),
                 products(AxisNormal::<2> { sign }, &v),
             ] {
+                let v3 = V3::from(v);
                 assert_eq!(scaled, vector * 2.5);
-                assert_eq!(dot, vector.dot(&v));
-                assert_eq!(cross, vector.cross(&v));
+                assert_eq!(dot, Normal::dot(&vector, v3));
+                assert_eq!(cross, Vec3::from(Normal::cross(&vector, v3)));
                 assert!((cn2 - v.cross(&vector).norm_squared()).abs() < 1e-15);
-                assert_eq!(in_plane, vector.in_plane(&v));
+                assert_eq!(in_plane, Vec3::from(Normal::in_plane(&vector, v3)));
             }
         }
     }

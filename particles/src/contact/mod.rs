@@ -8,11 +8,13 @@
 
 pub mod choice;
 pub mod geometry;
+pub mod lane;
 pub mod normal;
 pub mod rolling;
 pub mod tangential;
 
-pub use geometry::{AxisNormal, ContactGeometry, Normal};
+pub use geometry::{AxisNormal, ContactGeometry, LaneGeometry, Normal};
+pub use lane::{Lane, V3};
 pub use normal::NormalLaw;
 pub use rolling::RollingLaw;
 pub use tangential::TangentialLaw;
@@ -112,8 +114,8 @@ pub fn evaluate_with_normal<N: Normal>(
     evaluate_loaded(law, g, normal_raw, 0.0, 0.0, history, dt)
 }
 
-/// The shared tail of [`evaluate`] and [`evaluate_with_normal`]: tangential and rolling laws
-/// under the normal force `normal_raw`, whose elastic part is `elastic` (storing `stored` J).
+/// The shared tail of [`evaluate`] and [`evaluate_with_normal`] for one contact: [`finish`]
+/// with one lane.
 #[inline(always)]
 fn evaluate_loaded<N: Normal>(
     law: &ContactLaw,
@@ -124,18 +126,66 @@ fn evaluate_loaded<N: Normal>(
     history: &mut Vec3,
     dt: f64,
 ) -> ContactForce {
-    let normal = normal_raw.max(0.0);
+    let mut zeta = lane::V3::from(*history);
+    let c = finish(law, &g.lanes(), normal_raw, elastic, stored, &mut zeta, dt);
+    *history = zeta.into();
+    ContactForce {
+        force: c.force.into(),
+        torque_i: c.torque_i.into(),
+        torque_j: c.torque_j.into(),
+        normal_raw: c.normal_raw,
+        normal: c.normal,
+        tangential: c.tangential.into(),
+        stored_energy: c.stored_energy,
+        dissipation_rate: c.dissipation_rate,
+    }
+}
 
-    let tang = law.tangential.force(g, normal, history, dt);
-    let roll = law.rolling.torque(g, normal);
+/// [`evaluate`] over lanes: the full law on `g`, for contacts side by side.
+#[inline(always)]
+pub fn evaluate_lanes<L: Lane, N: Normal<L>>(law: &ContactLaw, g: &LaneGeometry<N, L>, history: &mut V3<L>, dt: f64) -> LaneForce<L> {
+    let n = law.normal.evaluate(g.overlap, g.overlap_rate, g.r_eff);
+    finish(law, g, n.raw, n.elastic, n.energy, history, dt)
+}
+
+/// [`ContactForce`] over lanes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LaneForce<L> {
+    pub force: V3<L>,
+    pub torque_i: V3<L>,
+    pub torque_j: V3<L>,
+    pub normal_raw: L,
+    pub normal: L,
+    pub tangential: V3<L>,
+    pub stored_energy: L,
+    pub dissipation_rate: L,
+}
+
+/// Tangential and rolling laws under the normal force `normal_raw`, whose elastic part is
+/// `elastic` (storing `stored` J), and the sums of a contact: the one code every contact,
+/// pair or wall, one lane or several, goes through.
+#[inline(always)]
+fn finish<L: Lane, N: Normal<L>>(
+    law: &ContactLaw,
+    g: &LaneGeometry<N, L>,
+    normal_raw: L,
+    elastic: L,
+    stored: L,
+    history: &mut V3<L>,
+    dt: f64,
+) -> LaneForce<L> {
+    let normal = normal_raw.max(L::splat(0.0));
+
+    let tang = law.tangential.force_lanes(g, normal, history, dt);
+    let roll = law.rolling.torque_lanes(g, normal);
 
     let force = g.n.scaled(normal) + tang.force;
-    let lever = g.n.cross(&tang.force);
-    let torque_i = -g.arm_i * lever + roll;
-    let torque_j = -g.arm_j * lever - roll;
+    let lever = g.n.cross(tang.force);
+    let torque_i = lever.scale(-g.arm_i) + roll;
+    let torque_j = lever.scale(-g.arm_j) - roll;
 
-    let dissipation_rate = (normal - elastic) * g.overlap_rate + tang.dissipation_rate - roll.dot(&g.omega_rel);
-    ContactForce {
+    let dissipation_rate = (normal - elastic) * g.overlap_rate + tang.dissipation_rate - roll.dot(g.omega_rel);
+    LaneForce {
         force,
         torque_i,
         torque_j,

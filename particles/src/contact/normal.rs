@@ -1,6 +1,8 @@
 //! Normal force laws. The returned force is the *unclamped* value; [`super::evaluate`] clamps
 //! it at zero (no attraction), and the contact ends when it vanishes.
 
+use super::lane::Lane;
+
 /// Normal force law of one kind of contact.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum NormalLaw {
@@ -40,26 +42,26 @@ impl NormalLaw {
 
     /// Everything a contact needs from the normal law in one evaluation (a single square
     /// root, `k sqrt(xi) = (2/3) Y* sqrt(R_eff xi)`): unclamped force, its elastic part, and
-    /// the stored energy.
+    /// the stored energy. Over lanes: one contact (`f64`) or several side by side.
     #[inline(always)]
-    pub fn evaluate(&self, xi: f64, xi_dot: f64, r_eff: f64) -> NormalForce {
+    pub fn evaluate<L: Lane>(&self, xi: L, xi_dot: L, r_eff: L) -> NormalForce<L> {
         match *self {
             NormalLaw::Hertz {
                 reduced_modulus,
                 dissipation,
             } => {
-                let k_sqrt_xi = 2.0 / 3.0 * reduced_modulus * (r_eff * xi).sqrt();
+                let k_sqrt_xi = L::splat(2.0 / 3.0 * reduced_modulus) * (r_eff * xi).sqrt();
                 let elastic = k_sqrt_xi * xi;
                 NormalForce {
-                    raw: elastic + k_sqrt_xi * dissipation * xi_dot,
+                    raw: elastic + k_sqrt_xi * L::splat(dissipation) * xi_dot,
                     elastic,
-                    energy: 0.4 * elastic * xi,
+                    energy: L::splat(0.4) * elastic * xi,
                 }
             }
             NormalLaw::Linear { kn, gamma_n } => NormalForce {
-                raw: kn * xi + gamma_n * xi_dot,
-                elastic: kn * xi,
-                energy: 0.5 * kn * xi * xi,
+                raw: L::splat(kn) * xi + L::splat(gamma_n) * xi_dot,
+                elastic: L::splat(kn) * xi,
+                energy: L::splat(0.5 * kn) * xi * xi,
             },
         }
     }
@@ -101,15 +103,15 @@ impl NormalLaw {
     }
 }
 
-/// One evaluation of a normal law (N, N, J).
+/// One evaluation of a normal law (N, N, J), per lane.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct NormalForce {
+pub struct NormalForce<L = f64> {
     /// Force before the no-attraction clamp.
-    pub raw: f64,
+    pub raw: L,
     /// Conservative part.
-    pub elastic: f64,
+    pub elastic: L,
     /// Elastic energy stored.
-    pub energy: f64,
+    pub energy: L,
 }
 
 /// Reduced undamped Hertz contact duration `tau_c0 = 2 tau'_max`:

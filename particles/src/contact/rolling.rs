@@ -1,6 +1,7 @@
 //! Rolling resistance.
 
-use super::geometry::Normal;
+use super::geometry::{LaneGeometry, Normal};
+use super::lane::{Lane, V3};
 use super::ContactGeometry;
 use crate::Vec3;
 
@@ -25,20 +26,30 @@ pub enum RollingLaw {
 }
 
 impl RollingLaw {
-    /// Rolling torque on particle i (N m); particle j receives the opposite.
+    /// Rolling torque on particle i (N m); particle j receives the opposite: one contact,
+    /// [`Self::torque_lanes`] with one lane.
+    #[inline(always)]
+    pub fn torque<N: Normal>(&self, g: &ContactGeometry<N>, fn_: f64) -> Vec3 {
+        self.torque_lanes(&g.lanes(), fn_).into()
+    }
+
+    /// The law over lanes.
     ///
     /// `v_omega / |omega_rel| = R_eff sqrt(|omega_rel x n|^2 / |omega_rel|^2)`: one root.
     #[inline(always)]
-    pub fn torque<N: Normal>(&self, g: &ContactGeometry<N>, fn_: f64) -> Vec3 {
+    pub fn torque_lanes<L: Lane, N: Normal<L>>(&self, g: &LaneGeometry<N, L>, fn_: L) -> V3<L> {
         match *self {
-            RollingLaw::None => Vec3::zeros(),
+            RollingLaw::None => V3::zeros(),
             RollingLaw::BrilliantovPoschel { mu_r } => {
+                let zero = L::splat(0.0);
                 let spin2 = g.omega_rel.norm_squared();
-                if spin2 == 0.0 || fn_ == 0.0 {
-                    return Vec3::zeros();
+                let still = L::equal(spin2, zero) | L::equal(fn_, zero);
+                if L::all(still) {
+                    return V3::zeros();
                 }
-                let v_omega_per_spin = g.r_eff * (g.n.cross_norm_squared(&g.omega_rel) / spin2).sqrt();
-                g.omega_rel * (-mu_r * v_omega_per_spin * fn_)
+                let v_omega_per_spin = g.r_eff * (g.n.cross_norm_squared(g.omega_rel) / spin2).sqrt();
+                let m = g.omega_rel.scale(L::splat(-mu_r) * v_omega_per_spin * fn_);
+                V3::select(still, V3::zeros(), m)
             }
         }
     }

@@ -1,6 +1,7 @@
 //! Tangential (friction) force laws.
 
-use super::geometry::Normal;
+use super::geometry::{LaneGeometry, Normal};
+use super::lane::{Lane, V3};
 use super::ContactGeometry;
 use crate::Vec3;
 
@@ -38,16 +39,16 @@ pub fn sphere_tangential_mass(m_eff: f64) -> f64 {
     2.0 / 7.0 * m_eff
 }
 
-/// Result of a tangential kernel.
+/// Result of a tangential kernel (per lane: `TangentialForce<V3<L>, L>`).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct TangentialForce {
+pub struct TangentialForce<F = Vec3, L = f64> {
     /// Force on particle i (N).
-    pub force: Vec3,
+    pub force: F,
     /// Elastic energy held in the tangential spring (J).
-    pub stored_energy: f64,
+    pub stored_energy: L,
     /// Dissipated power (W): `-F_t . v_t` (Haff-Werner); for Cundall-Strack the spring's
     /// elastic energy lost to its Coulomb truncation, per time step.
-    pub dissipation_rate: f64,
+    pub dissipation_rate: L,
 }
 
 impl TangentialLaw {
@@ -69,14 +70,36 @@ impl TangentialLaw {
         }
     }
 
-    /// Tangential force for the normal force magnitude `fn_` (already clamped, N).
+    /// Tangential force for the normal force magnitude `fn_` (already clamped, N): one
+    /// contact, [`Self::force_lanes`] with one lane.
     #[inline(always)]
     pub fn force<N: Normal>(&self, g: &ContactGeometry<N>, fn_: f64, zeta: &mut Vec3, dt: f64) -> TangentialForce {
+        let mut z = V3::from(*zeta);
+        let t = self.force_lanes(&g.lanes(), fn_, &mut z, dt);
+        *zeta = z.into();
+        TangentialForce {
+            force: t.force.into(),
+            stored_energy: t.stored_energy,
+            dissipation_rate: t.dissipation_rate,
+        }
+    }
+
+    /// The law itself, over lanes: one contact, or the contacts of several grains with a wall
+    /// side by side. Branches are selects; the work of a branch no lane takes is skipped.
+    #[inline(always)]
+    pub fn force_lanes<L: Lane, N: Normal<L>>(
+        &self,
+        g: &LaneGeometry<N, L>,
+        fn_: L,
+        zeta: &mut V3<L>,
+        dt: f64,
+    ) -> TangentialForce<V3<L>, L> {
+        let zero = L::splat(0.0);
         match *self {
             TangentialLaw::None => TangentialForce {
-                force: Vec3::zeros(),
-                stored_energy: 0.0,
-                dissipation_rate: 0.0,
+                force: V3::zeros(),
+                stored_energy: zero,
+                dissipation_rate: zero,
             },
             TangentialLaw::HaffWerner { gamma_t, mu } => {
                 // Viscous branch `-gamma_t v_t` while `gamma_t |v_t| <= mu F_n` (compared in
@@ -84,20 +107,19 @@ impl TangentialLaw {
                 // `mu = inf` the limit `inf * 0` of a contact at zero normal force is NaN,
                 // which no comparison passes: the second test keeps the viscous branch.
                 let speed2 = g.v_t.norm_squared();
-                let limit = mu * fn_;
-                if gamma_t * gamma_t * speed2 <= limit * limit || mu == f64::INFINITY {
-                    TangentialForce {
-                        force: g.v_t * -gamma_t,
-                        stored_energy: 0.0,
-                        dissipation_rate: gamma_t * speed2,
-                    }
-                } else {
+                let limit = L::splat(mu) * fn_;
+                let viscous = L::le(L::splat(gamma_t * gamma_t) * speed2, limit * limit) | L::mask(mu == f64::INFINITY);
+                let mut force = g.v_t.scale(L::splat(-gamma_t));
+                let mut dissipation_rate = L::splat(gamma_t) * speed2;
+                if !L::all(viscous) {
                     let speed = speed2.sqrt();
-                    TangentialForce {
-                        force: g.v_t * (-limit / speed),
-                        stored_energy: 0.0,
-                        dissipation_rate: limit * speed,
-                    }
+                    force = V3::select(viscous, force, g.v_t.scale(-limit / speed));
+                    dissipation_rate = L::select(viscous, dissipation_rate, limit * speed);
+                }
+                TangentialForce {
+                    force,
+                    stored_energy: zero,
+                    dissipation_rate,
                 }
             }
             TangentialLaw::CundallStrack { kt, mu } => {
@@ -106,41 +128,42 @@ impl TangentialLaw {
                 // the rescaling (a square root and a division) is skipped; at an axis wall
                 // the normal component is set to zero, so the compiler drops it from what
                 // follows.
-                let along = g.n.dot(zeta);
-                let mut s = g.n.in_plane(zeta);
-                if along != 0.0 {
+                let along = g.n.dot(*zeta);
+                let mut s = g.n.in_plane(*zeta);
+                let flat = L::equal(along, zero);
+                if !L::all(flat) {
                     let in_plane2 = s.norm_squared();
-                    if in_plane2 > 0.0 {
-                        s *= ((in_plane2 + along * along) / in_plane2).sqrt();
-                    }
+                    let keep = flat | L::le(in_plane2, zero);
+                    let turned = s.scale(((in_plane2 + along * along) / in_plane2).sqrt());
+                    s = V3::select(keep, s, turned);
                 }
                 // The spring now: the second half of the trapezoid over the last step.
-                let half = g.v_t * (0.5 * dt);
+                let half = g.v_t.scale(L::splat(0.5 * dt));
                 let mut z = s + half;
-                let limit = mu * fn_;
+                let limit = L::splat(mu) * fn_;
                 let len2 = z.norm_squared();
-                let mut stored = 0.5 * kt * len2;
-                let mut lost = 0.0;
+                let mut stored = L::splat(0.5 * kt) * len2;
+                let mut lost = zero;
                 // Compared in squares: no root unless sliding. With `mu = inf` the limit is
                 // infinite (never truncated), or NaN at zero normal force, which no
                 // comparison passes (never truncated either).
-                if kt * kt * len2 > limit * limit {
+                let sliding = L::lt(limit * limit, L::splat(kt * kt) * len2);
+                if L::any(sliding) {
                     // Sliding: truncate the spring to the Coulomb limit; the elastic energy
-                    // it loses is the energy friction dissipates.
-                    // `1 / k_t` is computed once per loop: the root and the division are
-                    // the only steps in line.
-                    let scale = limit * (1.0 / kt) / len2.sqrt();
-                    z *= scale;
-                    lost = stored * (1.0 - scale * scale);
-                    stored *= scale * scale;
+                    // it loses is the energy friction dissipates. `1 / k_t` is computed once
+                    // per loop: the root and the division are the only steps in line.
+                    let scale = limit * L::splat(1.0 / kt) / len2.sqrt();
+                    z = V3::select(sliding, z.scale(scale), z);
+                    lost = L::select(sliding, stored * (L::splat(1.0) - scale * scale), zero);
+                    stored = L::select(sliding, stored * (scale * scale), stored);
                 }
                 // The first half of the trapezoid over the next step.
                 *zeta = z + half;
                 TangentialForce {
-                    force: z * -kt,
+                    force: z.scale(L::splat(-kt)),
                     stored_energy: stored,
                     // `1 / dt` is the same for every contact of a loop: computed once.
-                    dissipation_rate: lost * (1.0 / dt),
+                    dissipation_rate: lost * L::splat(1.0 / dt),
                 }
             }
         }
