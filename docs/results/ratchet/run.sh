@@ -6,39 +6,43 @@ set -euo pipefail
 B=${1:-target/release/stripes}
 D=docs/results/ratchet
 S=scenes/ratchet.toml
-T="--threads 1 --force --quiet"
+T="--threads ${THREADS:-1} --force --quiet"
+# A block whose tables are already here is skipped, so an interrupted script resumes.
+have() { [ -s "$D/$1.json" ] && [ -f "$D/$1/means.csv" ]; }
 # A layer of the paper's 144 mm cell holds about 70 disks; its 60 mm cell about 29.2.
 layers60="10,20,31,51,82,123,146,204,292"   # n = 0.35, 0.7, 1.05, 1.75, 2.8, 4.2, 5, 7, 10
 
+# Cheapest and most quoted first: the reference points, the onset, then the sweeps.
+# The two reference points (Figs 13-14), 5 seeds of 50 s each.
+have reference-positive || $B events-sweep $S $T --out $D/reference-positive --seeds 5 --vary base.tooth_height=0.003 > $D/reference-positive.json
+have reference-negative || $B events-sweep $S $T --out $D/reference-negative --seeds 5 --vary base.tooth_height=0.006 \
+  --set base.asymmetry=0.25 --set drive.frequency=30 --set particles.species.0.count=25 > $D/reference-negative.json
+# Fig 11: the onset; <v_x> against the frequency (Gamma = A (2 pi f)^2 / g) at h = 3 mm,
+# a = 0.1, n = 0.7 (20 disks), 60 mm, 30 s. Gamma 1.0-2.6 in steps of about 0.1.
+freqs=$(python3 -c "import math; print(','.join(f'{math.sqrt(G*9.81/0.002)/(2*math.pi):.4f}' for G in [1.0,1.1,1.2,1.25,1.3,1.35,1.4,1.5,1.6,1.8,2.0,2.3,2.6]))")
+have fig11-onset || $B events-sweep $S $T --out $D/fig11-onset --seeds 7 \
+  --vary drive.frequency=$freqs --set particles.species.0.count=20 \
+  --set box.width=0.06 --set run.duration=30 --set run.transient=5 > $D/fig11-onset.json
 # Fig 6: <v_x> against the asymmetry at h = 3, 5, 9 mm; n = 1 (70 disks), 25 Hz, 50 s.
-$B events-sweep $S $T --out $D/fig6-asymmetry --seeds 2 \
+have fig6-asymmetry || $B events-sweep $S $T --out $D/fig6-asymmetry --seeds 2 \
   --vary base.asymmetry=0,0.05,0.1,0.15,0.2,0.25,0.3,0.35,0.4,0.45,0.5 \
   --vary base.tooth_height=0.003,0.005,0.009 --set particles.species.0.count=70 > $D/fig6-asymmetry.json
 # Fig 7: <v_x> against the tooth height at a = 0.05 and 0.333; n = 1, 25 Hz, 50 s.
-$B events-sweep $S $T --out $D/fig7-height --seeds 2 \
+have fig7-height || $B events-sweep $S $T --out $D/fig7-height --seeds 2 \
   --vary base.tooth_height=0.001,0.002,0.003,0.004,0.005,0.006,0.008,0.010,0.012,0.016 \
   --vary base.asymmetry=0.05,0.333 --set particles.species.0.count=70 --set box.height=0.1 > $D/fig7-height.json
-# Figs 8 and 9: <v_x> against the number of layers at three frequencies; 60 mm, 30 s, 7 runs.
+# Fig 10: <v_x> against the frequency at n = 1.05, 1.75 and 2.8; h = 6 mm, a = 0.25, 60 mm, 30 s, 3 seeds.
+have fig10-frequency || $B events-sweep $S $T --out $D/fig10-frequency --seeds 3 \
+  --vary drive.frequency=15,17.5,20,22.5,25,27.5,30,32.5,35,37.5,40 \
+  --vary particles.species.0.count=31,51,82 \
+  --set box.width=0.06 --set base.tooth_height=0.006 --set base.asymmetry=0.25 \
+  --set run.duration=30 --set run.transient=3 > $D/fig10-frequency.json
+# Figs 8 and 9: <v_x> against the number of layers at three frequencies; 60 mm, 30 s, 3 seeds
+# (the paper: 7 runs; 3 keep the whole script near an hour of one core).
 for shape in "0.006 0.25 fig8-layers-h6" "0.003 0.1 fig9-layers-h3"; do
   set -- $shape
-  $B events-sweep $S $T --out $D/$3 --seeds 7 \
+  have $3 || $B events-sweep $S $T --out $D/$3 --seeds 3 \
     --vary particles.species.0.count=$layers60 --vary drive.frequency=20,25,30 \
     --set box.width=0.06 --set base.tooth_height=$1 --set base.asymmetry=$2 \
     --set run.duration=30 --set run.transient=3 > $D/$3.json
 done
-# Fig 10: <v_x> against the frequency at six layer widths; h = 6 mm, a = 0.25, 60 mm, 30 s.
-$B events-sweep $S $T --out $D/fig10-frequency --seeds 7 \
-  --vary drive.frequency=15,17.5,20,22.5,25,27.5,30,32.5,35,37.5,40 \
-  --vary particles.species.0.count=10,20,31,51,82,123 \
-  --set box.width=0.06 --set base.tooth_height=0.006 --set base.asymmetry=0.25 \
-  --set run.duration=30 --set run.transient=3 > $D/fig10-frequency.json
-# Fig 11: the onset; <v_x> against the frequency (Gamma = A (2 pi f)^2 / g) at h = 3 mm,
-# a = 0.1, n = 0.7 (20 disks), 60 mm, 30 s. Gamma 1.0-2.6 in steps of about 0.1.
-freqs=$(python3 -c "import math; print(','.join(f'{math.sqrt(G*9.81/0.002)/(2*math.pi):.4f}' for G in [1.0,1.1,1.2,1.25,1.3,1.35,1.4,1.5,1.6,1.8,2.0,2.3,2.6]))")
-$B events-sweep $S $T --out $D/fig11-onset --seeds 7 \
-  --vary drive.frequency=$freqs --set particles.species.0.count=20 \
-  --set box.width=0.06 --set run.duration=30 --set run.transient=5 > $D/fig11-onset.json
-# The two reference points (Figs 13-14), 5 seeds of 50 s each.
-$B events-sweep $S $T --out $D/reference-positive --seeds 5 --vary base.tooth_height=0.003 > $D/reference-positive.json
-$B events-sweep $S $T --out $D/reference-negative --seeds 5 --vary base.tooth_height=0.006 \
-  --set base.asymmetry=0.25 --set drive.frequency=30 --set particles.species.0.count=25 > $D/reference-negative.json
