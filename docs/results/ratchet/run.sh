@@ -46,3 +46,8 @@ for shape in "0.006 0.25 fig8-layers-h6" "0.003 0.1 fig9-layers-h3"; do
     --set box.width=0.06 --set base.tooth_height=$1 --set base.asymmetry=$2 \
     --set run.duration=30 --set run.transient=3 > $D/$3.json
 done
+# One run at n = 20 layers (584 disks) in the 60 mm cell, h = 6 mm, a = 0.25, 25 Hz, lid at 100 mm.
+have() { [ -s "$D/$1.json" ]; }
+have layers-20 || $B events $S --force --quiet --out $D/layers-20 --set particles.species.0.count=584 \
+  --set box.width=0.06 --set box.height=0.1 --set base.tooth_height=0.006 --set base.asymmetry=0.25 \
+  --set drive.frequency=25 --set run.duration=30 --set run.transient=3 > $D/layers-20.json
