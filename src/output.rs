@@ -183,7 +183,9 @@ fn log_progress(bar: &ProgressBar, what: &str) {
     }
 }
 
-/// One progress line: `run: 30% (4500/15000), t = 0.036 s of 0.12 s, 2.1e4/s, elapsed 0:00:05, eta 0:00:12`.
+/// One progress line: `run: 30% (4500/15000 at 2.1e4/s), t = 0.036 s of 0.12 s, elapsed 0:00:05, eta 0:00:12`;
+/// the rate is the counter's (steps, samples), next to it so that no number in the message
+/// reads as its unit.
 pub fn progress_line(what: &str, pos: u64, len: u64, elapsed: Duration, message: &str) -> String {
     let secs = elapsed.as_secs_f64();
     let rate = pos as f64 / secs.max(1e-9);
@@ -198,7 +200,7 @@ pub fn progress_line(what: &str, pos: u64, len: u64, elapsed: Duration, message:
         format!(", {message}")
     };
     format!(
-        "{what}: {}% ({pos}/{len}){msg}, {rate:.2e}/s, elapsed {}, eta {eta}",
+        "{what}: {}% ({pos}/{len} at {rate:.2e}/s){msg}, elapsed {}, eta {eta}",
         100 * pos.min(len) / len.max(1),
         hms(secs)
     )
@@ -233,4 +235,18 @@ pub fn human_summary(summary: &serde_json::Value) -> String {
         parts.push(format!("{files} files in {out}"));
     }
     format!("done: {}", parts.join("; "))
+}
+
+#[cfg(test)]
+mod progress_tests {
+    use super::*;
+
+    #[test]
+    fn a_progress_line_keeps_the_counters_rate_beside_the_counter() {
+        let line = progress_line("events", 5, 10, Duration::from_secs(2), "t = 1 s of 2 s, 400 collisions");
+        assert_eq!(
+            line,
+            "events: 50% (5/10 at 2.50e0/s), t = 1 s of 2 s, 400 collisions, elapsed 0:00:02, eta 0:00:02"
+        );
+    }
 }

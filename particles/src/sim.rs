@@ -671,17 +671,51 @@ mod tests {
         // one that does not takes the passes over lanes. Both run the same kernels, so the
         // trajectories agree bit for bit: with a spring history (Cundall-Strack) and with
         // the thesis' Haff-Werner floor, at a block size that is not a multiple of the lanes.
-        for law in ["tangential = \"cundall-strack\"\ntangential_stiffness = 50\n", ""] {
-            let text = format!(
-                "[box]\nlength = 0.02\nwidth = 0.005\n[drive]\nfrequency = 20.0\namplitude = 0.025\n\
-                 [particles]\ncount = 101\nradius_min = 0.25e-3\nradius_max = 0.5e-3\n\
-                 [contact]\n{law}[run]\nduration = 0.1\ndt = 8e-6\nseed = 5\n"
-            );
-            let scene = crate::scene::Scene::parse(&text, &[], "test").unwrap();
+        use crate::contact::choice::TangentialKind;
+        use crate::scene::*;
+        for (law, tangential, stiffness) in [
+            ("Cundall-Strack", TangentialKind::CundallStrack, Some(50.0)),
+            ("Haff-Werner", ContactSpec::default().tangential, None),
+        ] {
+            let scene = Scene {
+                tray: TrayBox {
+                    length: 0.02,
+                    width: 0.005,
+                    height: None,
+                },
+                drive: Drive {
+                    frequency: 20.0,
+                    amplitude: 0.025,
+                },
+                particles: Particles {
+                    count: 101,
+                    radius_min: 0.25e-3,
+                    radius_max: 0.5e-3,
+                },
+                material: Default::default(),
+                contact: ContactSpec {
+                    tangential,
+                    tangential_stiffness: stiffness,
+                    ..Default::default()
+                },
+                toggles: Default::default(),
+                prepare: Default::default(),
+                run: Run {
+                    duration: 0.1,
+                    dt: TimeStep::Seconds(8e-6),
+                    steps_per_contact: DEFAULT_STEPS_PER_CONTACT,
+                    restitution_tolerance: DEFAULT_RESTITUTION_TOLERANCE,
+                    seed: 5,
+                    threads: 0,
+                    snapshots_per_period: 1,
+                    checkpoint_interval: DEFAULT_CHECKPOINT_INTERVAL,
+                    integrator: Default::default(),
+                },
+            };
             scene.validate().unwrap();
             let new = || {
                 Simulation::new(
-                    crate::tray::setup(&scene, crate::tray::drive(&scene)).unwrap(),
+                    crate::tray::setup(&scene, crate::tray::drive(&scene), crate::time_step::for_scene(&scene).unwrap()).unwrap(),
                     crate::prepare::initial_state(&scene).unwrap(),
                 )
                 .unwrap()
@@ -698,8 +732,8 @@ mod tests {
                 forces::PORTABLE_LANES.store(true, std::sync::atomic::Ordering::Relaxed);
                 portable.step().unwrap();
                 forces::PORTABLE_LANES.store(false, std::sync::atomic::Ordering::Relaxed);
-                floor_contacts += lanes.contacts.1;
-                pair_contacts += lanes.contacts.0;
+                floor_contacts += lanes.contact_counts.1;
+                pair_contacts += lanes.contact_counts.0;
             }
             assert!(
                 floor_contacts > 3000 * 30 && pair_contacts > 3000,
