@@ -223,7 +223,9 @@ fn thermo_closes_the_energy_balance_and_the_vtk_series_parses() {
 fn off_a_terminal_progress_and_summary_go_to_stderr() {
     let cache = tmp("cache13");
     let out = tmp("run13");
-    let done = run(&out, Some(&cache), &["--set", "run.duration=0.4"]);
+    // Long enough (about a second here) for the progress thread, which looks every 0.2 s,
+    // to see the run pass a tenth of its steps.
+    let done = run(&out, Some(&cache), &["--set", "run.duration=2"]);
     let s = summary(&done);
     let err = stderr(&done);
     assert!(err.lines().any(|l| l.starts_with("done: ") && l.contains("s simulated")), "{err}");
