@@ -27,3 +27,12 @@ done
 have rough-sides || $B events-sweep $S $T --out $D/rough-sides --seeds 5 --vary drive.frequency=100 \
   --set box.side_walls=with-floor --set rules.side.e=0.9 --set rules.side.mu=0.5 --set rules.side.beta0=0.5 > $D/rough-sides.json
 have smooth-sides || $B events-sweep $S $T --out $D/smooth-sides --seeds 5 --vary drive.frequency=100 > $D/smooth-sides.json
+# The DEM's collisions as the pairs' rule: the restitution table of the stripe scene's laws,
+# against the constant Walton rule fitted to it (e = 0.89, mu = 0.7, beta0 = 0) and the scene's.
+have dem-table/sweep || { $B collide --table --scene scenes/stripes.toml --g-n 0.01,0.02,0.05,0.1,0.2,0.5,1,2 \
+    --out $D/dem-table --force > /dev/null
+  $B events-sweep $D/dem-table/scene.toml $T --out $D/dem-table/sweep --seeds 5 \
+    --vary drive.peak_speed=0.2,0.8 > $D/dem-table/sweep.json; }
+have dem-table/fitted || $B events-sweep $S $T --out $D/dem-table/fitted --seeds 5 \
+  --vary drive.peak_speed=0.2,0.8 --set rules.pair.e=0.89 --set rules.pair.mu=0.7 --set rules.pair.beta0=0 \
+  > $D/dem-table/fitted.json
