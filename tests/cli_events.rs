@@ -249,3 +249,39 @@ fn a_sweep_gives_the_same_tables_on_one_thread_and_on_two() {
     );
     let _ = std::fs::remove_dir_all(&d);
 }
+
+#[test]
+fn a_sweep_of_a_two_species_scene_tabulates_and_plots_the_bulk_temperature_ratio() {
+    let d = std::env::temp_dir().join(format!("stripes-cli-events-sweep2-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/mixture.toml");
+    let out = d.join("mix").display().to_string();
+    let (ok, stdout, stderr) = stripes(&[
+        "events-sweep",
+        scene,
+        "--vary",
+        "drive.frequency=40,60",
+        "--set",
+        "run.duration=0.6",
+        "--set",
+        "run.transient=0.2",
+        "--out",
+        &out,
+        "--quiet",
+        "--log",
+    ]);
+    assert!(ok, "{stderr}");
+    assert_eq!(last_json(&stdout)["runs"], 2);
+    let means = std::fs::read_to_string(d.join("mix").join("means.csv")).unwrap();
+    let header: Vec<&str> = means.lines().next().unwrap().split(',').collect();
+    let col = header
+        .iter()
+        .position(|h| *h == "temperature_ratio_bulk_mean")
+        .expect("the ratio's column");
+    for row in means.lines().skip(1) {
+        let ratio: f64 = row.split(',').nth(col).unwrap().parse().unwrap();
+        assert!(ratio > 0.2 && ratio < 1.0, "{row}");
+    }
+    assert!(d.join("mix").join("temperature_ratio_bulk.png").is_file());
+    let _ = std::fs::remove_dir_all(&d);
+}

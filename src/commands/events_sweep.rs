@@ -220,7 +220,11 @@ pub fn run(args: Args) -> Result<String, CliError> {
     dir.csv("means.csv", &mean_refs, &means)?;
     // Plots against the first axis, one line per value of the others.
     let first = &axes[0];
-    for (c, label) in [(0, "current <v_x> (m/s)"), (1, "mean height H (m)"), (2, "K/R")] {
+    let mut plots = vec![(0, "current <v_x> (m/s)"), (1, "mean height H (m)"), (2, "K/R")];
+    if let Some(c) = columns.iter().position(|n| *n == "temperature_ratio_bulk") {
+        plots.push((c, "T2/T1 in the bulk"));
+    }
+    for (c, label) in plots {
         let mut plot = LinePlot::new(&format!("{} against {}", columns[c], first.key), &first.key, label);
         let rest = points.len() / first.values.len();
         for r in 0..rest {
