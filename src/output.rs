@@ -230,6 +230,9 @@ pub fn human_summary(summary: &serde_json::Value) -> String {
     }
     let warnings = summary.get("warnings").and_then(serde_json::Value::as_array).map_or(0, Vec::len);
     parts.push(format!("{warnings} warning(s)"));
+    if let Some(failed) = summary.get("failed").and_then(serde_json::Value::as_array) {
+        parts.push(format!("{} failed run(s)", failed.len()));
+    }
     if let Some(out) = summary.get("out").and_then(serde_json::Value::as_str) {
         let files = summary.get("files").and_then(serde_json::Value::as_array).map_or(0, Vec::len);
         parts.push(format!("{files} files in {out}"));
@@ -248,5 +251,11 @@ mod progress_tests {
             line,
             "events: 50% (5/10 at 2.50e0/s), t = 1 s of 2 s, 400 collisions, elapsed 0:00:02, eta 0:00:02"
         );
+    }
+
+    #[test]
+    fn a_sweeps_account_counts_its_failed_runs() {
+        let s = serde_json::json!({"wall_s": 3.0, "warnings": [], "failed": ["a", "b"]});
+        assert_eq!(human_summary(&s), "done: 3.0 s; 0 warning(s); 2 failed run(s)");
     }
 }
