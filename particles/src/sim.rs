@@ -583,10 +583,14 @@ mod tests {
         (component(), component(), component()).prop_map(|(x, y, z)| Vec3::new(x, y, z))
     }
 
-    /// A shaken Cundall-Strack tray on a narrow box, so that many grains meet the side walls:
-    /// 60 grains, 0.02 m x 0.005 m, the thesis' drive.
-    fn narrow_cundall_strack_tray() -> Simulation {
-        use crate::contact::choice::TangentialKind;
+    /// A tray of `count` grains on a narrow box (0.02 m x 0.005 m, so that many grains meet
+    /// the side walls), the thesis' drive, 0.1 s at dt = 8e-6 s, with the given tangential law.
+    fn narrow_tray_scene(
+        count: usize,
+        seed: u64,
+        tangential: crate::contact::choice::TangentialKind,
+        tangential_stiffness: Option<f64>,
+    ) -> crate::scene::Scene {
         use crate::scene::*;
         let scene = Scene {
             tray: TrayBox {
@@ -599,14 +603,14 @@ mod tests {
                 amplitude: 0.025,
             },
             particles: Particles {
-                count: 60,
+                count,
                 radius_min: 0.25e-3,
                 radius_max: 0.5e-3,
             },
             material: Default::default(),
             contact: ContactSpec {
-                tangential: TangentialKind::CundallStrack,
-                tangential_stiffness: Some(50.0),
+                tangential,
+                tangential_stiffness,
                 ..Default::default()
             },
             toggles: Default::default(),
@@ -616,7 +620,7 @@ mod tests {
                 dt: TimeStep::Seconds(8e-6),
                 steps_per_contact: DEFAULT_STEPS_PER_CONTACT,
                 restitution_tolerance: DEFAULT_RESTITUTION_TOLERANCE,
-                seed: 3,
+                seed,
                 threads: 0,
                 snapshots_per_period: 1,
                 checkpoint_interval: DEFAULT_CHECKPOINT_INTERVAL,
@@ -624,11 +628,22 @@ mod tests {
             },
         };
         scene.validate().unwrap();
+        scene
+    }
+
+    /// A fresh simulation of `scene` from its initial state.
+    fn simulation_of(scene: &crate::scene::Scene) -> Simulation {
         Simulation::new(
-            crate::tray::setup(&scene, crate::tray::drive(&scene), crate::time_step::for_scene(&scene).unwrap()).unwrap(),
-            crate::prepare::initial_state(&scene).unwrap(),
+            crate::tray::setup(scene, crate::tray::drive(scene), crate::time_step::for_scene(scene).unwrap()).unwrap(),
+            crate::prepare::initial_state(scene).unwrap(),
         )
         .unwrap()
+    }
+
+    /// A shaken Cundall-Strack tray on a narrow box: 60 grains.
+    fn narrow_cundall_strack_tray() -> Simulation {
+        let tangential = crate::contact::choice::TangentialKind::CundallStrack;
+        simulation_of(&narrow_tray_scene(60, 3, tangential, Some(50.0)))
     }
 
     #[test]
@@ -672,54 +687,12 @@ mod tests {
         // trajectories agree bit for bit: with a spring history (Cundall-Strack) and with
         // the thesis' Haff-Werner floor, at a block size that is not a multiple of the lanes.
         use crate::contact::choice::TangentialKind;
-        use crate::scene::*;
         for (law, tangential, stiffness) in [
             ("Cundall-Strack", TangentialKind::CundallStrack, Some(50.0)),
-            ("Haff-Werner", ContactSpec::default().tangential, None),
+            ("Haff-Werner", crate::scene::ContactSpec::default().tangential, None),
         ] {
-            let scene = Scene {
-                tray: TrayBox {
-                    length: 0.02,
-                    width: 0.005,
-                    height: None,
-                },
-                drive: Drive {
-                    frequency: 20.0,
-                    amplitude: 0.025,
-                },
-                particles: Particles {
-                    count: 101,
-                    radius_min: 0.25e-3,
-                    radius_max: 0.5e-3,
-                },
-                material: Default::default(),
-                contact: ContactSpec {
-                    tangential,
-                    tangential_stiffness: stiffness,
-                    ..Default::default()
-                },
-                toggles: Default::default(),
-                prepare: Default::default(),
-                run: Run {
-                    duration: 0.1,
-                    dt: TimeStep::Seconds(8e-6),
-                    steps_per_contact: DEFAULT_STEPS_PER_CONTACT,
-                    restitution_tolerance: DEFAULT_RESTITUTION_TOLERANCE,
-                    seed: 5,
-                    threads: 0,
-                    snapshots_per_period: 1,
-                    checkpoint_interval: DEFAULT_CHECKPOINT_INTERVAL,
-                    integrator: Default::default(),
-                },
-            };
-            scene.validate().unwrap();
-            let new = || {
-                Simulation::new(
-                    crate::tray::setup(&scene, crate::tray::drive(&scene), crate::time_step::for_scene(&scene).unwrap()).unwrap(),
-                    crate::prepare::initial_state(&scene).unwrap(),
-                )
-                .unwrap()
-            };
+            let scene = narrow_tray_scene(101, 5, tangential, stiffness);
+            let new = || simulation_of(&scene);
             let (mut lanes, mut one, mut portable) = (new(), new(), new());
             one.record_contacts(true);
             let (mut floor_contacts, mut pair_contacts) = (0, 0);
