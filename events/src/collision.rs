@@ -61,20 +61,43 @@ pub struct Table {
     pub beta: Vec<Vec<f64>>,
 }
 
+/// What is wrong with a restitution table.
+#[derive(Clone, Debug, PartialEq)]
+pub enum TableError {
+    /// An axis is empty, not finite or not increasing.
+    Axes,
+    /// A column does not hold one row per `g_n` and one value per ratio.
+    Shape { column: &'static str },
+    /// A column's values leave `[lo, 1]`.
+    Range { column: &'static str, lo: f64 },
+}
+
+impl std::fmt::Display for TableError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            TableError::Axes => write!(f, "the g_n and g_t/g_n axes must be finite and increasing"),
+            TableError::Shape { column } => write!(f, "{column} must hold one row per g_n and one value per ratio"),
+            TableError::Range { column, lo } => write!(f, "{column} values must lie in [{lo}, 1]"),
+        }
+    }
+}
+
+impl std::error::Error for TableError {}
+
 impl Table {
     /// Checks the grid: increasing axes of at least one point, rows of the right length,
     /// `eps_n` in [0, 1] and `beta` in [-1, 1].
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), TableError> {
         let increasing = |a: &[f64]| !a.is_empty() && a.iter().all(|x| x.is_finite()) && a.windows(2).all(|w| w[1] > w[0]);
         if !increasing(&self.g_n) || !increasing(&self.ratio) {
-            return Err("the g_n and g_t/g_n axes must be finite and increasing".into());
+            return Err(TableError::Axes);
         }
         for (name, grid, lo) in [("eps_n", &self.eps_n, 0.0), ("beta", &self.beta, -1.0)] {
             if grid.len() != self.g_n.len() || grid.iter().any(|r| r.len() != self.ratio.len()) {
-                return Err(format!("{name} must hold one row per g_n and one value per ratio"));
+                return Err(TableError::Shape { column: name });
             }
             if grid.iter().flatten().any(|&x| !(lo..=1.0).contains(&x)) {
-                return Err(format!("{name} values must lie in [{lo}, 1]"));
+                return Err(TableError::Range { column: name, lo });
             }
         }
         Ok(())
@@ -152,7 +175,7 @@ impl Rule {
                 }
                 Ok(())
             }
-            Rule::Table(t) => t.validate().map_err(|m| invalid(field, m)),
+            Rule::Table(t) => t.validate().map_err(|e| invalid(field, e.to_string())),
         }
     }
 
@@ -385,6 +408,13 @@ mod tests {
             beta: vec![vec![-2.0, 0.0], vec![0.0, 0.0]],
             ..t
         };
-        assert!(bad.validate().is_err());
+        let err = bad.validate().unwrap_err();
+        assert_eq!(err, TableError::Range { column: "beta", lo: -1.0 });
+        assert_eq!(err.to_string(), "beta values must lie in [-1, 1]");
+        let short = Table {
+            eps_n: vec![vec![0.9]],
+            ..bad
+        };
+        assert_eq!(short.validate().unwrap_err(), TableError::Shape { column: "eps_n" });
     }
 }
