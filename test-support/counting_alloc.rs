@@ -29,3 +29,18 @@ static GLOBAL: Counting = Counting;
 
 /// The tests of one binary share the counter: one at a time.
 pub static SERIAL: Mutex<()> = Mutex::new(());
+
+/// Runs `read` and fails the test if the bytes it holds live at once, beyond those live
+/// before, pass `factor * len + allowance` for an input of `len` bytes.
+pub fn held_within<T>(factor: usize, allowance: usize, len: usize, what: &str, read: impl FnOnce() -> T) -> T {
+    let base = LIVE.load(Ordering::SeqCst);
+    PEAK.store(base, Ordering::SeqCst);
+    let out = read();
+    let peak = PEAK.load(Ordering::SeqCst).saturating_sub(base);
+    let limit = factor * len + allowance;
+    assert!(
+        peak <= limit,
+        "{what}: {len} input bytes made the reader hold {peak} bytes (limit {limit})"
+    );
+    out
+}

@@ -18,9 +18,7 @@ mod overrides;
 #[path = "../test-support/counting_alloc.rs"]
 mod counting_alloc;
 
-use std::sync::atomic::Ordering;
-
-use counting_alloc::{LIVE, PEAK, SERIAL};
+use counting_alloc::SERIAL;
 use particles::prepare::initial_state;
 use particles::scene::{Scene, SceneError};
 use particles::sim::Simulation;
@@ -37,16 +35,7 @@ const FACTOR: usize = 64;
 const ALLOWANCE: usize = 256 * 1024;
 
 fn bounded<T>(len: usize, what: &str, read: impl FnOnce() -> T) -> T {
-    let base = LIVE.load(Ordering::SeqCst);
-    PEAK.store(base, Ordering::SeqCst);
-    let out = read();
-    let peak = PEAK.load(Ordering::SeqCst).saturating_sub(base);
-    let limit = FACTOR * len + ALLOWANCE;
-    assert!(
-        peak <= limit,
-        "{what}: {len} input bytes made the reader hold {peak} bytes (limit {limit})"
-    );
-    out
+    counting_alloc::held_within(FACTOR, ALLOWANCE, len, what, read)
 }
 
 /// A tray of 20 grains with the thesis' radii and drive on 10 mm x 5 mm.

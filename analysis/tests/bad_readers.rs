@@ -4,7 +4,6 @@
 //! bytes live at once). Named regressions pin the claims that used to abort the process.
 
 use std::path::{Path, PathBuf};
-use std::sync::atomic::Ordering;
 
 use analysis::input::load;
 use analysis::lammps::read_dump_noting;
@@ -14,7 +13,7 @@ use rand_chacha::ChaCha8Rng;
 
 #[path = "../../test-support/counting_alloc.rs"]
 mod counting_alloc;
-use counting_alloc::{LIVE, PEAK, SERIAL};
+use counting_alloc::SERIAL;
 
 /// Bytes a reader may hold beyond the input: the file read whole, parsed values as `f64`
 /// (a text value of two bytes becomes eight, an `f32` becomes an `f64` in a position and
@@ -27,17 +26,7 @@ const ALLOWANCE: usize = 256 * 1024;
 fn bounded<T>(dir: &Path, bytes: &[u8], what: &str, read: impl FnOnce(&Path) -> T) -> T {
     let path = dir.join("input");
     std::fs::write(&path, bytes).unwrap();
-    let base = LIVE.load(Ordering::SeqCst);
-    PEAK.store(base, Ordering::SeqCst);
-    let out = read(&path);
-    let peak = PEAK.load(Ordering::SeqCst) - base;
-    let limit = FACTOR * bytes.len() + ALLOWANCE;
-    assert!(
-        peak <= limit,
-        "{what}: {} input bytes made the reader hold {peak} bytes (limit {limit})",
-        bytes.len()
-    );
-    out
+    counting_alloc::held_within(FACTOR, ALLOWANCE, bytes.len(), what, || read(&path))
 }
 
 fn scratch(name: &str) -> PathBuf {

@@ -5,13 +5,11 @@
 
 mod common;
 
-use std::sync::atomic::Ordering;
-
 use particles::scene::TimeStep;
 
 #[path = "../../test-support/counting_alloc.rs"]
 mod counting_alloc;
-use counting_alloc::{LIVE, PEAK, SERIAL};
+use counting_alloc::SERIAL;
 
 /// Bytes validation may hold beyond the input: a fixed allowance for messages and small
 /// tables.
@@ -19,16 +17,7 @@ const FACTOR: usize = 64;
 const ALLOWANCE: usize = 256 * 1024;
 
 fn bounded<T>(len: usize, what: &str, read: impl FnOnce() -> T) -> T {
-    let base = LIVE.load(Ordering::SeqCst);
-    PEAK.store(base, Ordering::SeqCst);
-    let out = read();
-    let peak = PEAK.load(Ordering::SeqCst).saturating_sub(base);
-    let limit = FACTOR * len + ALLOWANCE;
-    assert!(
-        peak <= limit,
-        "{what}: {len} input bytes made the reader hold {peak} bytes (limit {limit})"
-    );
-    out
+    counting_alloc::held_within(FACTOR, ALLOWANCE, len, what, read)
 }
 
 /// Regression: `--set box.length=1000 --set box.width=1000` aborted the process allocating
