@@ -133,26 +133,9 @@ fn compare_runs_both_models_on_one_sample_and_writes_the_report() {
     // Reusing the DEM run gives the same automaton side.
     let out2 = d.join("cmp2").display().to_string();
     let dem = format!("{out}/dem");
-    let (ok, stdout, stderr) = stripes(&[
-        "compare",
-        &scene,
-        "--set",
-        "run.duration=0.2",
-        "--dem-run",
-        &dem,
-        "--out",
-        &out2,
-        "--sample-cache",
-        &samples,
-        "--quiet",
-    ]);
-    assert!(ok, "{stderr}");
-    assert_eq!(last_json(&stdout)["automaton"]["analysis"], s["automaton"]["analysis"]);
-    // Regression: a DEM summary that could not be read was taken for a missing one. A run
-    // stopped before its end has none, and is compared without its speed; a summary that
-    // is there but not JSON is an error naming it.
-    let reuse = || {
-        stripes(&[
+    // `compare` reusing the DEM run, with `extra` arguments.
+    let compare_reusing = |extra: &[&str]| {
+        let mut args = vec![
             "compare",
             &scene,
             "--set",
@@ -164,9 +147,17 @@ fn compare_runs_both_models_on_one_sample_and_writes_the_report() {
             "--sample-cache",
             &samples,
             "--quiet",
-            "--force",
-        ])
+        ];
+        args.extend_from_slice(extra);
+        stripes(&args)
     };
+    let (ok, stdout, stderr) = compare_reusing(&[]);
+    assert!(ok, "{stderr}");
+    assert_eq!(last_json(&stdout)["automaton"]["analysis"], s["automaton"]["analysis"]);
+    // Regression: a DEM summary that could not be read was taken for a missing one. A run
+    // stopped before its end has none, and is compared without its speed; a summary that
+    // is there but not JSON is an error naming it.
+    let reuse = || compare_reusing(&["--force"]);
     let summary = Path::new(&dem).join("summary.json");
     std::fs::write(&summary, "{ not json").unwrap();
     let (ok, _, stderr) = reuse();
@@ -177,22 +168,7 @@ fn compare_runs_both_models_on_one_sample_and_writes_the_report() {
     // A DEM run of another scene is refused: the whole scene is checked, and the refusal
     // names the key (another seed is another sample too).
     for (set, says) in [("run.seed=5", "run.seed: 4 -> 5"), ("drive.frequency=10", "drive.frequency")] {
-        let (ok, _, stderr) = stripes(&[
-            "compare",
-            &scene,
-            "--set",
-            set,
-            "--set",
-            "run.duration=0.2",
-            "--dem-run",
-            &dem,
-            "--out",
-            &out2,
-            "--sample-cache",
-            &samples,
-            "--quiet",
-            "--force",
-        ]);
+        let (ok, _, stderr) = compare_reusing(&["--set", set, "--force"]);
         assert!(!ok && stderr.contains(says), "{set}: {stderr}");
     }
     std::fs::remove_dir_all(d).unwrap();
