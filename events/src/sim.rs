@@ -13,7 +13,7 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 use crate::cells::Grid;
-use crate::collision::{collide, Body, Rule};
+use crate::collision::{collide, Body};
 use crate::config::{Config, SideWalls};
 use crate::error::EventsError;
 use crate::flight::{fly, pair_time};
@@ -603,11 +603,11 @@ impl Simulation {
             });
         }
         let n = d / d.norm();
-        let rule: Rule = self.config.rules.pair(self.species[i], self.species[j]).clone();
+        let rule = self.config.rules.pair(self.species[i], self.species[j]);
         let (b1, b2) = (self.body(i), self.body(j));
-        let mut o = collide(b1, b2, n, &rule, self.guarded(i, Some(j), t));
+        let mut o = collide(b1, b2, n, rule, self.guarded(i, Some(j), t));
         if let Some(c) = self.min_rebound(o.gn, o.e, o.beta) {
-            o = collide(b1, b2, n, &rule, Some(c));
+            o = collide(b1, b2, n, rule, Some(c));
         }
         (self.v[i], self.w[i], self.v[j], self.w[j]) = (o.v1, o.w1, o.v2, o.w2);
         self.ledger.dissipated += o.dissipated;
@@ -632,7 +632,7 @@ impl Simulation {
             Surface::Lid => &self.config.rules.lid,
             Surface::Side => &self.config.rules.side,
         };
-        let rule = rules[self.species[i]].clone();
+        let rule = &rules[self.species[i]];
         let b1 = self.body(i);
         let b2 = Body {
             v: velocity,
@@ -641,9 +641,9 @@ impl Simulation {
             m: f64::INFINITY,
             q: self.config.q,
         };
-        let mut o = collide(b1, b2, n, &rule, self.guarded(i, None, t));
+        let mut o = collide(b1, b2, n, rule, self.guarded(i, None, t));
         if let Some(c) = self.min_rebound(o.gn, o.e, o.beta) {
-            o = collide(b1, b2, n, &rule, Some(c));
+            o = collide(b1, b2, n, rule, Some(c));
         }
         let kinetic = |v: Vec2, w: f64| 0.5 * b1.m * v.norm_squared() + 0.5 * b1.q * b1.m * b1.r * b1.r * w * w;
         let gained = kinetic(o.v1, o.w1) - kinetic(b1.v, b1.w);
