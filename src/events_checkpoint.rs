@@ -13,7 +13,7 @@ use events::sim::{Counts, Ledger};
 use events::thinned::Thinned;
 use events::{Next, State, Vec2};
 
-const MAGIC: &[u8] = b"STRIPES-EVENTS-CKPT-3\n";
+const MAGIC: &[u8] = b"STRIPES-EVENTS-CKPT-4\n";
 
 /// Where a run stands at a checkpoint.
 #[derive(Clone, Debug, PartialEq)]
@@ -217,13 +217,16 @@ pub fn encode(c: &Checkpoint) -> Vec<u8> {
     o.u(b.samples);
     o.f(b.height_sum);
     o.f(b.vx_sum);
-    for lists in [&b.vx, &b.vz, &b.w] {
+    for lists in [&b.vx, &b.vz, &b.w, &b.z] {
         o.u(lists.len() as u64);
         lists.iter().for_each(|v| o.fs(v));
     }
     for x in [b.velocity_stride, b.velocity_skipped, b.velocity_samples] {
         o.u(x);
     }
+    o.fs(&b.side.kept);
+    o.u(b.side.stride);
+    o.u(b.side.skipped);
     let payload = o.0;
     let mut bytes = MAGIC.to_vec();
     bytes.extend_from_slice(&c.fingerprint.to_le_bytes());
@@ -340,14 +343,20 @@ pub fn decode(bytes: &[u8]) -> Result<Checkpoint, String> {
     let species = profiles.pop().expect("two");
     let (samples, height_sum, vx_sum) = (i.u()?, i.f()?, i.f()?);
     let mut lists = Vec::new();
-    for _ in 0..3 {
+    for _ in 0..4 {
         let n = i.len(8)?;
         lists.push((0..n).map(|_| i.fs()).collect::<Result<Vec<_>, _>>()?);
     }
-    let ws = lists.pop().expect("three");
-    let vz = lists.pop().expect("three");
-    let vx = lists.pop().expect("three");
+    let z = lists.pop().expect("four");
+    let ws = lists.pop().expect("four");
+    let vz = lists.pop().expect("four");
+    let vx = lists.pop().expect("four");
     let (velocity_stride, velocity_skipped, velocity_samples) = (i.u()?, i.u()?, i.u()?);
+    let side = Thinned {
+        kept: i.fs()?,
+        stride: i.u()?,
+        skipped: i.u()?,
+    };
     if i.at != payload.len() {
         return Err(format!("{} bytes left over after the checkpoint", payload.len() - i.at));
     }
@@ -372,9 +381,11 @@ pub fn decode(bytes: &[u8]) -> Result<Checkpoint, String> {
             vx,
             vz,
             w: ws,
+            z,
             velocity_stride,
             velocity_skipped,
             velocity_samples,
+            side,
         },
     })
 }

@@ -51,6 +51,12 @@ fn the_mixture_runs_writes_its_profiles_and_analyze_reads_it() {
         "velocity_distribution.png",
         "free_times.csv",
         "free_times.png",
+        "angular_distribution.csv",
+        "angular_distribution.png",
+        "velocity_by_height.csv",
+        "angular_by_height.png",
+        "side_imbalance.csv",
+        "side_imbalance.png",
         "summary.json",
     ] {
         assert!(d.join("mix").join(f).is_file(), "{f} missing");
@@ -68,6 +74,28 @@ fn the_mixture_runs_writes_its_profiles_and_analyze_reads_it() {
         let integral: f64 = rows.iter().map(|r| r[col] * 0.2).sum();
         assert!((integral - 1.0).abs() < 0.03, "column {col}: {integral}");
     }
+    // The spins too; by height, each third's columns are densities of their own.
+    for (file, columns) in [("angular_distribution.csv", 2), ("velocity_by_height.csv", 6)] {
+        let text = std::fs::read_to_string(d.join("mix").join(file)).unwrap();
+        let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
+        assert!(header.len() >= 2 + 2 && header.len() <= columns + 2, "{file}: {header:?}");
+        let rows: Vec<Vec<f64>> = text
+            .lines()
+            .skip(1)
+            .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+            .collect();
+        for col in 1..header.len() {
+            let integral: f64 = rows.iter().map(|r| r[col] * 0.2).sum();
+            assert!((integral - 1.0).abs() < 0.03, "{file} column {}: {integral}", header[col]);
+        }
+    }
+    // The side cluster's record: one imbalance per sample, within [-1, 1], its threshold at
+    // least two independent spreads (300 grains: 2 / sqrt(300)).
+    let side = &s["side_cluster"];
+    assert_eq!(side["samples"].as_u64(), s["samples"].as_u64(), "{side}");
+    let rms = side["imbalance_rms"].as_f64().unwrap();
+    assert!(rms > 0.0 && rms <= 1.0, "{side}");
+    assert!(side["threshold"].as_f64().unwrap() >= 2.0 / 300f64.sqrt() - 1e-12, "{side}");
     // The same seed gives the same numbers.
     let out2 = d.join("mix2").display().to_string();
     let mut again = vec!["events", scene, "--out", &out2, "--quiet"];

@@ -130,10 +130,11 @@ fn padded(values: impl Iterator<Item = f64>, log: bool) -> Option<Range<f64>> {
 }
 
 /// Short tick labels: plain for moderate magnitudes, scientific otherwise.
-/// [`tick`] on an axis spanning `span`: a tick within `1e-9 span` of zero is zero (the mesh's
-/// accumulated round-off drew `-1.11e-16` where 0 was meant).
-fn tick_on(v: f64, span: f64) -> String {
-    tick(if v.abs() <= 1e-9 * span.abs() { 0.0 } else { v })
+/// [`tick`] on an axis spanning `span`: on a linear axis a tick within `1e-9 span` of zero is
+/// zero (the mesh's accumulated round-off drew `-1.11e-16` where 0 was meant); a log axis
+/// has no zero, and its small ticks keep their value (1e-6 was drawn as 0).
+fn tick_on(v: f64, span: f64, log: bool) -> String {
+    tick(if !log && v.abs() <= 1e-9 * span.abs() { 0.0 } else { v })
 }
 
 fn tick(v: f64) -> String {
@@ -318,8 +319,14 @@ impl LinePlot {
             .y_labels(10)
             .label_style((FAMILY, 16))
             .axis_desc_style((FAMILY, 19))
-            .x_label_formatter(&|v| tick_on(*v, x_span))
-            .y_label_formatter(&|v| if self.integer_y { count_tick(*v) } else { tick_on(*v, y_span) })
+            .x_label_formatter(&|v| tick_on(*v, x_span, self.log_x))
+            .y_label_formatter(&|v| {
+                if self.integer_y {
+                    count_tick(*v)
+                } else {
+                    tick_on(*v, y_span, self.log_y)
+                }
+            })
             .light_line_style(RGBColor(235, 235, 235))
             .draw()
             .map_err(perr)?;
@@ -705,8 +712,9 @@ mod tests {
         assert_eq!(tick(0.25), "0.25");
         assert_eq!(tick(0.0), "0");
         assert_eq!(tick(1e5), "1e5");
-        assert_eq!(tick_on(-1.11e-16, 0.9), "0", "round-off at zero");
-        assert_eq!(tick_on(-1e-7, 1e-6), "-1e-7", "small values on a small axis stay");
+        assert_eq!(tick_on(-1.11e-16, 0.9, false), "0", "round-off at zero");
+        assert_eq!(tick_on(-1e-7, 1e-6, false), "-1e-7", "small values on a small axis stay");
+        assert_eq!(tick_on(1e-6, 800.0, true), "1e-6", "a log axis spanning 1e-6..800 has no zero");
     }
 
     #[test]

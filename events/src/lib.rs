@@ -18,6 +18,7 @@
 //! - [`cells`]: the cell grid and its crossing times;
 //! - [`queue`]: the event queue (one predicted event per particle, generation counters);
 //! - [`observe`]: profiles, histograms, free times and the energy ledger;
+//! - [`side`]: which side of the box the grains crowd to, and for how long;
 //! - [`thinned`]: a bounded, evenly thinned record of a stream (the free times);
 //! - [`sim`]: the only place that knows the order of the event loop.
 //!
@@ -31,6 +32,7 @@ pub mod flight;
 pub mod observe;
 pub mod queue;
 pub mod sawtooth;
+pub mod side;
 pub mod sim;
 pub mod thinned;
 pub mod wall;

@@ -4,7 +4,9 @@
 //! above the floor's mean position, the mean horizontal velocity `<v_x>`, the velocity
 //! distributions, and the energy ledger.
 
+use crate::side;
 use crate::sim::Simulation;
+use crate::thinned::Thinned;
 
 /// Profiles of one species along one axis (height, or x across the box), accumulated over
 /// samples.
@@ -89,10 +91,16 @@ pub struct Observer {
     pub vx: Vec<Vec<f64>>,
     pub vz: Vec<Vec<f64>>,
     pub w: Vec<Vec<f64>>,
+    /// The heights of the same grains at the same samples (m, above the floor's mean
+    /// position), for distributions by region (the mixture paper's Fig. 12).
+    pub z: Vec<Vec<f64>>,
     pub velocity_stride: u64,
     /// Samples since the last one whose velocities were kept, and how many were kept.
     pub velocity_skipped: u64,
     pub velocity_samples: u64,
+    /// The left-right imbalance of the grains at every sample ([`crate::side`]), evenly
+    /// thinned on long runs: one value per `side.stride` samples.
+    pub side: Thinned,
 }
 
 impl Observer {
@@ -113,9 +121,11 @@ impl Observer {
             vx: vec![Vec::new(); species],
             vz: vec![Vec::new(); species],
             w: vec![Vec::new(); species],
+            z: vec![Vec::new(); species],
             velocity_stride: 1,
             velocity_skipped: 0,
             velocity_samples: 0,
+            side: Thinned::new(),
         }
     }
 
@@ -148,8 +158,11 @@ impl Observer {
                 self.vx[k].push(v.x);
                 self.vz[k].push(v.y);
                 self.w[k].push(sim.w[i]);
+                self.z[k].push(r.y);
             }
         }
+        let width = sim.config.width;
+        self.side.push(side::imbalance((0..n).map(|i| sim.state(i).0.x), width));
         if keep && self.vx.iter().any(|v| v.len() >= Self::VELOCITY_CAP) {
             self.thin_velocities();
         }
@@ -162,7 +175,7 @@ impl Observer {
     /// grains of a species) and doubles the stride.
     fn thin_velocities(&mut self) {
         let samples = self.velocity_samples as usize;
-        for lists in [&mut self.vx, &mut self.vz, &mut self.w] {
+        for lists in [&mut self.vx, &mut self.vz, &mut self.w, &mut self.z] {
             for v in lists.iter_mut() {
                 let chunk = v.len() / samples.max(1);
                 let kept: Vec<f64> = v.chunks(chunk.max(1)).skip(1).step_by(2).flatten().copied().collect();

@@ -206,7 +206,8 @@ fn simulate(
     let width = sim.config.width;
     let across: Vec<Vec<[f64; 5]>> = (0..species).map(|k| obs.profile_across(k, width)).collect();
     profile_files(&mut dir, &across, &ACROSS, width / obs.across_bins as f64, obs.samples)?;
-    distributions(&mut dir, &obs, &sim)?;
+    crate::events_distributions::write(&mut dir, &obs, &sim)?;
+    let side = crate::events_side::write(&mut dir, &obs, dt_sample, sim.len())?;
     dir.note_files([out.join("scene.toml"), out.join("snapshots.bin")]);
     let temps: Vec<_> = (0..species)
         .map(|k| {
@@ -237,106 +238,10 @@ fn simulate(
         "current_x_m_per_s": obs.mean_vx(),
         "temperature_ratio_bulk": crate::events_measure::bulk_ratio(&obs, sim.config.height),
         "temperatures": temps,
+        "side_cluster": side,
         "wall_s": wall_s,
         "warnings": warnings,
     }))
-}
-
-/// The mixture paper's distributions: v_x rescaled by its root mean square, per species,
-/// beside the paper's fit `f(c) = A / (exp(beta |c|^alpha) + exp(-beta |c|^alpha))` (A =
-/// 1.068, beta = 1.74, alpha = 0.918, its Fig. 8) and the unit Gaussian
-/// (`velocity_distribution.csv`); and the free times between a grain's collisions, per
-/// species, beside the exponential of an elastic gas with the same mean free time
-/// (`free_times.csv`, its Fig. 9; counted from t = 0).
-fn distributions(dir: &mut RunDir, obs: &Observer, sim: &Simulation) -> Result<(), CliError> {
-    let species = obs.vx.len();
-    let fit = |c: f64| {
-        let x = 1.74 * c.abs().powf(0.918);
-        1.068 / (x.exp() + (-x).exp())
-    };
-    let gauss = |c: f64| (-0.5 * c * c).exp() / (2.0 * std::f64::consts::PI).sqrt();
-    let scaled: Vec<Vec<f64>> = obs
-        .vx
-        .iter()
-        .map(|v| {
-            let rms = (v.iter().map(|x| x * x).sum::<f64>() / v.len().max(1) as f64).sqrt();
-            v.iter().map(|x| x / rms).collect()
-        })
-        .collect();
-    let hists: Vec<Vec<(f64, f64)>> = scaled.iter().map(|c| analysis::histogram::density(c, -6.0, 6.0, 60)).collect();
-    if hists.iter().all(|h| !h.is_empty()) {
-        let mut header = vec!["c".to_string()];
-        header.extend((1..=species).map(|k| format!("p_{k}")));
-        header.extend(["paper_fit".to_string(), "gaussian".to_string()]);
-        let rows: Vec<Vec<f64>> = (0..hists[0].len())
-            .map(|b| {
-                let c = hists[0][b].0;
-                let mut row = vec![c];
-                row.extend(hists.iter().map(|h| h[b].1));
-                row.extend([fit(c), gauss(c)]);
-                row
-            })
-            .collect();
-        let refs: Vec<&str> = header.iter().map(String::as_str).collect();
-        dir.csv("velocity_distribution.csv", &refs, &rows)?;
-        let mut plot = LinePlot::new("Horizontal velocity, rescaled by its rms", "c = v_x / <v_x^2>^(1/2)", "P(c)").log_y();
-        for (k, h) in hists.iter().enumerate() {
-            plot = plot.series(
-                &format!("species {}", k + 1),
-                h.iter().copied().filter(|(_, p)| *p > 0.0).collect(),
-                Mark::Points,
-            );
-        }
-        let grid: Vec<f64> = (0..=120).map(|k| -6.0 + 0.1 * k as f64).collect();
-        plot = plot
-            .series("paper's fit", grid.iter().map(|&c| (c, fit(c))).collect(), Mark::Dashed)
-            .series(
-                "Gaussian",
-                grid.iter().map(|&c| (c, gauss(c))).filter(|(_, p)| *p > 1e-7).collect(),
-                Mark::Line,
-            );
-        dir.plot("velocity_distribution", &plot)?;
-    }
-    let times: Vec<&Vec<f64>> = sim.free_times.iter().take(species).map(|t| &t.kept).collect();
-    if times.iter().all(|t| !t.is_empty()) {
-        let means: Vec<f64> = times.iter().map(|t| t.iter().sum::<f64>() / t.len() as f64).collect();
-        let top = 5.0 * means.iter().copied().fold(0.0, f64::max);
-        let hists: Vec<Vec<(f64, f64)>> = times.iter().map(|t| analysis::histogram::density(t, 0.0, top, 50)).collect();
-        let mut header = vec!["t_s".to_string()];
-        for k in 1..=species {
-            header.push(format!("p_{k}_per_s"));
-            header.push(format!("elastic_{k}_per_s"));
-        }
-        let rows: Vec<Vec<f64>> = (0..hists[0].len())
-            .map(|b| {
-                let t = hists[0][b].0;
-                let mut row = vec![t];
-                for (h, m) in hists.iter().zip(&means) {
-                    row.push(h[b].1);
-                    row.push((-t / m).exp() / m);
-                }
-                row
-            })
-            .collect();
-        let refs: Vec<&str> = header.iter().map(String::as_str).collect();
-        dir.csv("free_times.csv", &refs, &rows)?;
-        let mut plot = LinePlot::new("Free times between collisions", "t (s)", "P(t) (1/s)").log_y();
-        for (k, (h, m)) in hists.iter().zip(&means).enumerate() {
-            plot = plot
-                .series(
-                    &format!("species {}", k + 1),
-                    h.iter().copied().filter(|(_, p)| *p > 0.0).collect(),
-                    Mark::Points,
-                )
-                .series(
-                    &format!("elastic gas, same mean, species {}", k + 1),
-                    h.iter().map(|(t, _)| (*t, (-t / m).exp() / m)).collect(),
-                    Mark::Dashed,
-                );
-        }
-        dir.plot("free_times", &plot)?;
-    }
-    Ok(())
 }
 
 /// The files of one axis' profiles.
