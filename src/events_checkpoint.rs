@@ -9,6 +9,7 @@
 //! is refused with the byte count, never half read.
 
 use events::observe::{Observer, Profile};
+use events::phase_field::PhaseField;
 use events::sim::{Counts, Ledger};
 use events::thinned::Thinned;
 use events::{Next, State, Vec2};
@@ -227,6 +228,21 @@ pub fn encode(c: &Checkpoint) -> Vec<u8> {
     o.fs(&b.side.kept);
     o.u(b.side.stride);
     o.u(b.side.skipped);
+    match &b.field {
+        None => o.u(0),
+        Some(f) => {
+            o.u(1);
+            o.u(f.frames as u64);
+            o.f(f.tooth);
+            o.u(f.across as u64);
+            o.u(f.up as u64);
+            o.f(f.teeth);
+            for v in [&f.mass, &f.px, &f.pz] {
+                o.fs(v);
+            }
+            o.us(&f.samples.iter().map(|&n| n as usize).collect::<Vec<_>>());
+        }
+    }
     let payload = o.0;
     let mut bytes = MAGIC.to_vec();
     bytes.extend_from_slice(&c.fingerprint.to_le_bytes());
@@ -357,6 +373,30 @@ pub fn decode(bytes: &[u8]) -> Result<Checkpoint, String> {
         stride: i.u()?,
         skipped: i.u()?,
     };
+    let field = match i.u()? {
+        0 => None,
+        1 => {
+            let (frames, tooth, across, up, teeth) = (i.u()? as usize, i.f()?, i.u()? as usize, i.u()? as usize, i.f()?);
+            let (mass, px, pz) = (i.fs()?, i.fs()?, i.fs()?);
+            let samples: Vec<u64> = i.us()?.into_iter().map(|n| n as u64).collect();
+            let cells = frames.saturating_mul(across).saturating_mul(up);
+            if [mass.len(), px.len(), pz.len()].iter().any(|&n| n != cells) || samples.len() != frames {
+                return Err("the phase field does not have the boxes it claims".into());
+            }
+            Some(PhaseField {
+                frames,
+                tooth,
+                across,
+                up,
+                teeth,
+                mass,
+                px,
+                pz,
+                samples,
+            })
+        }
+        other => return Err(format!("unknown phase-field flag {other}")),
+    };
     if i.at != payload.len() {
         return Err(format!("{} bytes left over after the checkpoint", payload.len() - i.at));
     }
@@ -386,6 +426,7 @@ pub fn decode(bytes: &[u8]) -> Result<Checkpoint, String> {
             velocity_skipped,
             velocity_samples,
             side,
+            field,
         },
     })
 }
@@ -399,7 +440,8 @@ mod tests {
         let scene = crate::events_scene::load(path, &["run.duration=0.5".into(), "run.transient=0".into()]).unwrap();
         let mut sim = events::Simulation::new(scene.config().unwrap()).unwrap();
         let e0 = sim.energy();
-        let mut observer = Observer::new(1, 1e-3, 0.06, sim.config.width);
+        let base = sim.config.base.expect("the ratchet has a sawtooth base");
+        let mut observer = Observer::new(1, 1e-3, 0.06, sim.config.width).with_phase_field(&base, sim.config.width, 0.02);
         for k in 1..=20 {
             sim.run_until(k as f64 * 0.01).unwrap();
             observer.sample(&sim);

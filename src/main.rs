@@ -13,6 +13,7 @@ mod commands;
 mod dem_checkpoint;
 mod events_checkpoint;
 mod events_distributions;
+mod events_fields;
 mod events_measure;
 mod events_scene;
 mod events_side;

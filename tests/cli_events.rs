@@ -313,3 +313,44 @@ fn a_sweep_of_a_two_species_scene_tabulates_and_plots_the_bulk_temperature_ratio
     assert!(d.join("mix").join("temperature_ratio_bulk.png").is_file());
     let _ = std::fs::remove_dir_all(&d);
 }
+
+/// On a sawtooth base the run writes the phase-resolved field over one tooth (the ratchet
+/// paper's Figs 13-14): six frames, each with as many samples, boxes of w / 6.
+#[test]
+fn the_ratchet_writes_its_phase_fields() {
+    let d = std::env::temp_dir().join(format!("stripes-cli-events-fields-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    let out = d.join("ratchet").display().to_string();
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/ratchet.toml");
+    let (ok, _, stderr) = stripes(&[
+        "events",
+        scene,
+        "--out",
+        &out,
+        "--quiet",
+        "--set",
+        "run.duration=1.2",
+        "--set",
+        "run.transient=0",
+        "--set",
+        "run.samples_per_period=12",
+    ]);
+    assert!(ok, "{stderr}");
+    let text = std::fs::read_to_string(d.join("ratchet").join("phase_fields.csv")).unwrap();
+    let rows: Vec<Vec<f64>> = text.lines().skip(1).map(|l| l.split(',').map(|x| x.parse().unwrap()).collect()).collect();
+    // 1.2 s at 25 Hz and 12 samples per period: about 360 samples, 60 per frame (the last
+    // sample may fall a rounding error past the duration).
+    for frame in 0..6 {
+        let mine: Vec<&Vec<f64>> = rows.iter().filter(|r| r[0] == frame as f64).collect();
+        assert!(!mine.is_empty(), "frame {frame}");
+        assert!(mine.iter().all(|r| r[1] == 60.0 || r[1] == 59.0), "frame {frame}: {:?}", mine[0]);
+        // Six boxes across the 6 mm tooth, centred at 0.5, 1.5, ... mm.
+        let mut xs: Vec<f64> = mine.iter().map(|r| r[2]).collect();
+        xs.sort_by(f64::total_cmp);
+        xs.dedup();
+        assert_eq!(xs.len(), 6, "{xs:?}");
+        assert!((xs[0] - 0.0005).abs() < 1e-12 && (xs[5] - 0.0055).abs() < 1e-12, "{xs:?}");
+    }
+    assert!(d.join("ratchet").join("phase_fields.png").is_file());
+    std::fs::remove_dir_all(&d).unwrap();
+}

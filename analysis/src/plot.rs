@@ -577,6 +577,136 @@ impl Heatmap {
     }
 }
 
+/// One panel of a [`FieldPlot`]: arrows from box centres and disks at them.
+#[derive(Clone, Debug, Default)]
+pub struct FieldPanel {
+    pub title: String,
+    /// `(x, z, v_x, v_z)`: an arrow from `(x, z)` along `(v_x, v_z)`.
+    pub arrows: Vec<(f64, f64, f64, f64)>,
+    /// `(x, z, weight)`: a disk at `(x, z)` whose radius is proportional to the weight.
+    pub disks: Vec<(f64, f64, f64)>,
+}
+
+/// A vector field over a region, in panels side by side (e.g. one per phase of a drive): the
+/// ratchet paper's momentum and mass fields (seed 004, Figs 13-14). Every panel shares one
+/// scale for arrows and one for disks, so that panels compare: an arrow at the 90th
+/// percentile of all lengths is `reach` long and a disk at the 90th percentile of all
+/// weights `reach / 2` in radius (in the axes' units); longer arrows and heavier disks are
+/// drawn at most 1.5 times that, so that a few boxes do not shrink the rest to dots. A
+/// polyline `outline` (e.g. the base's profile) is drawn in every panel.
+#[derive(Clone, Debug)]
+pub struct FieldPlot {
+    pub title: String,
+    pub x_label: String,
+    pub y_label: String,
+    pub x: Range<f64>,
+    pub y: Range<f64>,
+    pub reach: f64,
+    pub outline: Vec<(f64, f64)>,
+    pub panels: Vec<FieldPanel>,
+    /// Panels per row.
+    pub columns: usize,
+}
+
+impl FieldPlot {
+    /// Writes `<stem>.png` and `<stem>.svg`; returns the paths written.
+    pub fn save(&self, stem: &Path) -> Result<Vec<PathBuf>, PlotError> {
+        register_font();
+        if self.panels.is_empty() || self.columns == 0 {
+            return Err(PlotError(format!("{}: no panels", self.title)));
+        }
+        let png = with_extension(stem, "png");
+        let svg = with_extension(stem, "svg");
+        write_png(&png, |root| self.render(root))?;
+        write_svg(&svg, |root| self.render(root))?;
+        Ok(vec![png, svg])
+    }
+
+    fn render<DB: DrawingBackend>(&self, root: DrawingArea<DB, plotters::coord::Shift>) -> Result<(), PlotError>
+    where
+        DB::ErrorType: 'static,
+    {
+        root.fill(&WHITE).map_err(perr)?;
+        let root = root.titled(&self.title, (FAMILY, 24)).map_err(perr)?;
+        let rows = self.panels.len().div_ceil(self.columns);
+        let areas = root.split_evenly((rows, self.columns));
+        let longest = percentile_90(self.panels.iter().flat_map(|p| p.arrows.iter().map(|a| a.2.hypot(a.3))));
+        let heaviest = percentile_90(self.panels.iter().flat_map(|p| p.disks.iter().map(|d| d.2)));
+        for (panel, area) in self.panels.iter().zip(areas) {
+            let mut chart = ChartBuilder::on(&area)
+                .caption(&panel.title, (FAMILY, 17))
+                .margin(8)
+                .x_label_area_size(36)
+                .y_label_area_size(52)
+                .build_cartesian_2d(self.x.clone(), self.y.clone())
+                .map_err(perr)?;
+            let (x_span, y_span) = (self.x.end - self.x.start, self.y.end - self.y.start);
+            chart
+                .configure_mesh()
+                .x_desc(&self.x_label)
+                .y_desc(&self.y_label)
+                .x_labels(4)
+                .y_labels(5)
+                .label_style((FAMILY, 12))
+                .axis_desc_style((FAMILY, 13))
+                .x_label_formatter(&|v| tick_on(*v, x_span, false))
+                .y_label_formatter(&|v| tick_on(*v, y_span, false))
+                .light_line_style(RGBColor(240, 240, 240))
+                .draw()
+                .map_err(perr)?;
+            let pixels_per_unit = chart.plotting_area().dim_in_pixel().0 as f64 / x_span;
+            if heaviest > 0.0 {
+                chart
+                    .draw_series(panel.disks.iter().filter(|d| d.2 > 0.0).map(|&(x, z, w)| {
+                        let radius = (0.5 * self.reach * (w / heaviest).min(1.5) * pixels_per_unit).max(1.0);
+                        Circle::new((x, z), radius.round() as i32, RGBColor(170, 190, 220).filled())
+                    }))
+                    .map_err(perr)?;
+            }
+            if self.outline.len() > 1 {
+                chart
+                    .draw_series(LineSeries::new(self.outline.clone(), BLACK.stroke_width(2)))
+                    .map_err(perr)?;
+            }
+            if longest > 0.0 {
+                let scale = self.reach / longest;
+                for &(x, z, vx, vz) in &panel.arrows {
+                    let clamp = (1.5 * self.reach / (vx.hypot(vz) * scale)).min(1.0);
+                    let (dx, dz) = (vx * scale * clamp, vz * scale * clamp);
+                    if !(dx.is_finite() && dz.is_finite()) || dx.hypot(dz) < 1e-3 * self.reach {
+                        continue;
+                    }
+                    let tip = (x + dx, z + dz);
+                    // A head of two strokes, a quarter of the arrow long, 25 degrees off it.
+                    let (len, angle) = (0.25 * dx.hypot(dz), dz.atan2(dx));
+                    let head = |turn: f64| {
+                        let a = angle + std::f64::consts::PI + turn;
+                        (tip.0 + len * a.cos(), tip.1 + len * a.sin())
+                    };
+                    let style = RGBColor(180, 30, 30).stroke_width(2);
+                    chart
+                        .draw_series([
+                            PathElement::new(vec![(x, z), tip], style),
+                            PathElement::new(vec![head(0.44), tip, head(-0.44)], style),
+                        ])
+                        .map_err(perr)?;
+                }
+            }
+        }
+        root.present().map_err(perr)
+    }
+}
+
+/// The 90th percentile of the finite positive values (0 when there are none).
+fn percentile_90(values: impl Iterator<Item = f64>) -> f64 {
+    let mut v: Vec<f64> = values.filter(|x| x.is_finite() && *x > 0.0).collect();
+    if v.is_empty() {
+        return 0.0;
+    }
+    v.sort_by(f64::total_cmp);
+    v[(0.9 * (v.len() - 1) as f64).round() as usize]
+}
+
 /// Class labels drawn over a heat map (see [`Heatmap::save_with_classes`]).
 struct Overlay<'a> {
     classes: &'a [Vec<usize>],

@@ -16,6 +16,7 @@
 //! - [`wall`]: fixed and oscillating walls, and their robust contact times;
 //! - [`sawtooth`]: the sawtooth base with rounded tips, and its contact times;
 //! - [`cells`]: the cell grid and its crossing times;
+//! - [`phase_field`]: mass and momentum over one tooth of a sawtooth, per drive phase;
 //! - [`queue`]: the event queue (one predicted event per particle, generation counters);
 //! - [`observe`]: profiles, histograms, free times and the energy ledger;
 //! - [`side`]: which side of the box the grains crowd to, and for how long;
@@ -30,6 +31,7 @@ pub mod config;
 pub mod error;
 pub mod flight;
 pub mod observe;
+pub mod phase_field;
 pub mod queue;
 pub mod sawtooth;
 pub mod side;

@@ -4,6 +4,8 @@
 //! above the floor's mean position, the mean horizontal velocity `<v_x>`, the velocity
 //! distributions, and the energy ledger.
 
+use crate::phase_field::PhaseField;
+use crate::sawtooth::Sawtooth;
 use crate::side;
 use crate::sim::Simulation;
 use crate::thinned::Thinned;
@@ -101,6 +103,9 @@ pub struct Observer {
     /// The left-right imbalance of the grains at every sample ([`crate::side`]), evenly
     /// thinned on long runs: one value per `side.stride` samples.
     pub side: Thinned,
+    /// On a sawtooth base, the mass and momentum over one tooth per phase of the drive
+    /// ([`crate::phase_field`]); `None` elsewhere.
+    pub field: Option<PhaseField>,
 }
 
 impl Observer {
@@ -126,7 +131,15 @@ impl Observer {
             velocity_skipped: 0,
             velocity_samples: 0,
             side: Thinned::new(),
+            field: None,
         }
+    }
+
+    /// The same, also recording the phase-resolved field over one tooth of `base` up to
+    /// `height` above its valleys, in a box `width` wide.
+    pub fn with_phase_field(mut self, base: &Sawtooth, width: f64, height: f64) -> Self {
+        self.field = Some(PhaseField::new(base.width, width, height));
+        self
     }
 
     /// The most velocities kept per species and component.
@@ -163,6 +176,9 @@ impl Observer {
         }
         let width = sim.config.width;
         self.side.push(side::imbalance((0..n).map(|i| sim.state(i).0.x), width));
+        if let Some(f) = &mut self.field {
+            f.add(sim);
+        }
         if keep && self.vx.iter().any(|v| v.len() >= Self::VELOCITY_CAP) {
             self.thin_velocities();
         }

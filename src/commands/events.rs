@@ -134,7 +134,10 @@ fn simulate(
             (c.observer, c.e0, c.sample + 1, c.frames, snapshots)
         }
         None => {
-            let obs = Observer::new(species, scene.run.bin, top, sim.config.width);
+            let mut obs = Observer::new(species, scene.run.bin, top, sim.config.width);
+            if let Some(base) = &sim.config.base {
+                obs = obs.with_phase_field(base, sim.config.width, sim.config.height);
+            }
             let e0 = sim.energy();
             (obs, e0, 1, 0, SnapshotWriter::create(&snapshots_path, header)?)
         }
@@ -208,6 +211,9 @@ fn simulate(
     profile_files(&mut dir, &across, &ACROSS, width / obs.across_bins as f64, obs.samples)?;
     crate::events_distributions::write(&mut dir, &obs, &sim)?;
     let side = crate::events_side::write(&mut dir, &obs, dt_sample, sim.len())?;
+    if let (Some(field), Some(base)) = (&obs.field, &sim.config.base) {
+        crate::events_fields::write(&mut dir, field, base)?;
+    }
     dir.note_files([out.join("scene.toml"), out.join("snapshots.bin")]);
     let temps: Vec<_> = (0..species)
         .map(|k| {

@@ -8,7 +8,7 @@ D=docs/results/ratchet
 S=scenes/ratchet.toml
 T="--threads ${THREADS:-1} --force --quiet"
 # A block whose tables are already here is skipped, so an interrupted script resumes.
-have() { [ -s "$D/$1.json" ] && [ -f "$D/$1/means.csv" ]; }
+have() { [ -s "$D/$1.json" ] && { [ -f "$D/$1/means.csv" ] || [ -f "$D/$1/summary.json" ]; }; }
 # A layer of the paper's 144 mm cell holds about 70 disks; its 60 mm cell about 29.2.
 layers60="10,20,31,51,82,123,146,204,292"   # n = 0.35, 0.7, 1.05, 1.75, 2.8, 4.2, 5, 7, 10
 
@@ -47,7 +47,21 @@ for shape in "0.006 0.25 fig8-layers-h6" "0.003 0.1 fig9-layers-h3"; do
     --set run.duration=30 --set run.transient=3 > $D/$3.json
 done
 # One run at n = 20 layers (584 disks) in the 60 mm cell, h = 6 mm, a = 0.25, 25 Hz, lid at 100 mm.
-have() { [ -s "$D/$1.json" ]; }
 have layers-20 || $B events $S --force --quiet --out $D/layers-20 --set particles.species.0.count=584 \
   --set box.width=0.06 --set box.height=0.1 --set base.tooth_height=0.006 --set base.asymmetry=0.25 \
   --set drive.frequency=25 --set run.duration=30 --set run.transient=3 > $D/layers-20.json
+# Fig 12: <v_x> against the frequency at n = 1.75 (51 disks), h = 6 mm, a = 0.25, 60 mm, 30 s,
+# 7 seeds (as the paper's Fig 10 at this n), from below the layer's lift-off (Gamma = 1 at
+# 11.1 Hz) to past the reversal.
+have fig12-frequency || $B events-sweep $S $T --out $D/fig12-frequency --seeds 7 \
+  --vary drive.frequency=10,11,12,12.5,13,13.5,14,14.5,15,16,17,18,19,20,22,24 \
+  --set particles.species.0.count=51 \
+  --set box.width=0.06 --set base.tooth_height=0.006 --set base.asymmetry=0.25 \
+  --set run.duration=30 --set run.transient=3 > $D/fig12-frequency.json
+# Figs 13-14: the momentum and mass density over one tooth per drive phase at the two
+# reference points, 24 samples per period (4 per phase frame), 200 s each, seed 1.
+have fields-positive || $B events $S --force --quiet --out $D/fields-positive --set base.tooth_height=0.003 \
+  --set run.samples_per_period=24 --set run.duration=200 > $D/fields-positive.json
+have fields-negative || $B events $S --force --quiet --out $D/fields-negative --set base.tooth_height=0.006 \
+  --set base.asymmetry=0.25 --set drive.frequency=30 --set particles.species.0.count=25 \
+  --set run.samples_per_period=24 --set run.duration=200 > $D/fields-negative.json
