@@ -241,8 +241,8 @@ impl LinePlot {
         let y = self.legend_room(y);
         let png = with_extension(stem, "png");
         let svg = with_extension(stem, "svg");
-        write_png(&png, |root| self.render_axes(root, x.clone(), y.clone()))?;
-        write_svg(&svg, |root| self.render_axes(root, x.clone(), y.clone()))?;
+        write_png(&png, SIZE, |root| self.render_axes(root, x.clone(), y.clone()))?;
+        write_svg(&svg, SIZE, |root| self.render_axes(root, x.clone(), y.clone()))?;
         Ok(vec![png, svg])
     }
 
@@ -431,8 +431,8 @@ impl Heatmap {
         }
         let png = with_extension(stem, "png");
         let svg = with_extension(stem, "svg");
-        write_png(&png, |root| self.render(root, None))?;
-        write_svg(&svg, |root| self.render(root, None))?;
+        write_png(&png, SIZE, |root| self.render(root, None))?;
+        write_svg(&svg, SIZE, |root| self.render(root, None))?;
         Ok(vec![png, svg])
     }
 
@@ -448,8 +448,8 @@ impl Heatmap {
         let overlay = Overlay { classes, names };
         let png = with_extension(stem, "png");
         let svg = with_extension(stem, "svg");
-        write_png(&png, |root| self.render(root, Some(&overlay)))?;
-        write_svg(&svg, |root| self.render(root, Some(&overlay)))?;
+        write_png(&png, SIZE, |root| self.render(root, Some(&overlay)))?;
+        write_svg(&svg, SIZE, |root| self.render(root, Some(&overlay)))?;
         Ok(vec![png, svg])
     }
 
@@ -617,8 +617,8 @@ impl FieldPlot {
         }
         let png = with_extension(stem, "png");
         let svg = with_extension(stem, "svg");
-        write_png(&png, |root| self.render(root))?;
-        write_svg(&svg, |root| self.render(root))?;
+        write_png(&png, SIZE, |root| self.render(root))?;
+        write_svg(&svg, SIZE, |root| self.render(root))?;
         Ok(vec![png, svg])
     }
 
@@ -697,6 +697,99 @@ impl FieldPlot {
     }
 }
 
+/// Top views (x-y) of a tray at chosen times: every grain a disk of its radius, to show
+/// whether bands span the tray's width. A long tray is cut into rows at most `5 width` or a
+/// quarter of its length long (the longer), drawn one under the other, so that grains stay
+/// visible; the picture grows with the rows.
+#[derive(Clone, Debug)]
+pub struct TopView {
+    pub title: String,
+    /// The tray's length (x, periodic) and width (y) (m).
+    pub length: f64,
+    pub width: f64,
+    /// One panel per time: its label and the grains as `(x, y, radius)`.
+    pub panels: Vec<(String, Vec<(f64, f64, f64)>)>,
+}
+
+impl TopView {
+    /// Pixels across the picture.
+    const WIDTH: u32 = 1200;
+
+    fn rows(&self) -> (usize, f64) {
+        let segment = (5.0 * self.width).max(0.25 * self.length).min(self.length);
+        let rows = (self.length / segment - 1e-9).ceil().max(1.0) as usize;
+        (rows, self.length / rows as f64)
+    }
+
+    /// Writes `<stem>.png` and `<stem>.svg`; returns the paths written.
+    pub fn save(&self, stem: &Path) -> Result<Vec<PathBuf>, PlotError> {
+        register_font();
+        if self.panels.is_empty() || !(self.length > 0.0 && self.width > 0.0) {
+            return Err(PlotError(format!("{}: no panels or an empty tray", self.title)));
+        }
+        let (rows, segment) = self.rows();
+        // Each row keeps the tray's aspect, plus room for its caption and x labels.
+        let row_px = (f64::from(Self::WIDTH - 70) * self.width / segment).round() as u32 + 60;
+        let size = (Self::WIDTH, 50 + row_px * (rows * self.panels.len()) as u32);
+        let png = with_extension(stem, "png");
+        let svg = with_extension(stem, "svg");
+        write_png(&png, size, |root| self.render(root))?;
+        write_svg(&svg, size, |root| self.render(root))?;
+        Ok(vec![png, svg])
+    }
+
+    fn render<DB: DrawingBackend>(&self, root: DrawingArea<DB, plotters::coord::Shift>) -> Result<(), PlotError>
+    where
+        DB::ErrorType: 'static,
+    {
+        root.fill(&WHITE).map_err(perr)?;
+        let root = root.titled(&self.title, (FAMILY, 22)).map_err(perr)?;
+        let (rows, segment) = self.rows();
+        let areas = root.split_evenly((rows * self.panels.len(), 1));
+        let mut areas = areas.into_iter();
+        for (label, grains) in &self.panels {
+            for row in 0..rows {
+                let area = areas.next().expect("one area per row");
+                let (lo, hi) = (row as f64 * segment, (row + 1) as f64 * segment);
+                let caption = if rows == 1 {
+                    label.clone()
+                } else {
+                    format!("{label}, x from {} to {} m", tick(lo), tick(hi))
+                };
+                let mut chart = ChartBuilder::on(&area)
+                    .caption(caption, (FAMILY, 14))
+                    .margin_left(10)
+                    .margin_right(10)
+                    .x_label_area_size(22)
+                    .y_label_area_size(50)
+                    .build_cartesian_2d(lo..hi, 0.0..self.width)
+                    .map_err(perr)?;
+                chart
+                    .configure_mesh()
+                    .disable_mesh()
+                    .x_labels(8)
+                    .y_labels(2)
+                    .label_style((FAMILY, 11))
+                    .x_label_formatter(&|v| tick_on(*v, segment, false))
+                    .y_label_formatter(&|v| tick_on(*v, self.width, false))
+                    .draw()
+                    .map_err(perr)?;
+                let px_per_m = f64::from(chart.plotting_area().dim_in_pixel().0) / segment;
+                let style = RGBColor(40, 70, 140).filled();
+                chart
+                    .draw_series(
+                        grains
+                            .iter()
+                            .filter(|g| g.0 >= lo - g.2 && g.0 < hi + g.2)
+                            .map(|&(x, y, r)| Circle::new((x, y), ((r * px_per_m).round() as i32).max(1), style)),
+                    )
+                    .map_err(perr)?;
+            }
+        }
+        root.present().map_err(perr)
+    }
+}
+
 /// The 90th percentile of the finite positive values (0 when there are none).
 fn percentile_90(values: impl Iterator<Item = f64>) -> f64 {
     let mut v: Vec<f64> = values.filter(|x| x.is_finite() && *x > 0.0).collect();
@@ -727,12 +820,13 @@ fn temp_for(path: &Path) -> PathBuf {
 
 fn write_png(
     path: &Path,
+    size: (u32, u32),
     draw: impl FnOnce(DrawingArea<BitMapBackend, plotters::coord::Shift>) -> Result<(), PlotError>,
 ) -> Result<(), PlotError> {
     // The bitmap encoder infers the format from the extension, so the temporary keeps `.png`.
     let tmp = temp_for(path).with_extension("tmp.png");
     let result = (|| {
-        draw(BitMapBackend::new(&tmp, SIZE).into_drawing_area())?;
+        draw(BitMapBackend::new(&tmp, size).into_drawing_area())?;
         std::fs::rename(&tmp, path).map_err(|e| PlotError(format!("cannot write {}: {e}", path.display())))
     })();
     if result.is_err() {
@@ -743,10 +837,11 @@ fn write_png(
 
 fn write_svg(
     path: &Path,
+    size: (u32, u32),
     draw: impl FnOnce(DrawingArea<SVGBackend, plotters::coord::Shift>) -> Result<(), PlotError>,
 ) -> Result<(), PlotError> {
     let mut text = String::new();
-    draw(SVGBackend::with_string(&mut text, SIZE).into_drawing_area())?;
+    draw(SVGBackend::with_string(&mut text, size).into_drawing_area())?;
     crate::io::write_atomic(path, text.as_bytes()).map_err(|e| PlotError(format!("cannot write {}: {e}", path.display())))
 }
 
@@ -807,6 +902,43 @@ mod tests {
             .count();
         assert_eq!(leftovers, 0, "temporary files left behind");
         std::fs::remove_dir_all(d).unwrap();
+    }
+
+    /// A long tray is cut into rows that keep grains visible, and the picture grows with
+    /// them: 0.4 m x 0.02 m gives four rows of 0.1 m per time; a 0.1 m tray one.
+    #[test]
+    fn a_top_view_cuts_a_long_tray_into_rows() {
+        let grains: Vec<(f64, f64, f64)> = (0..400).map(|k| (k as f64 * 1e-3, 0.01, 4e-4)).collect();
+        let view = |length: f64| TopView {
+            title: "top".into(),
+            length,
+            width: 0.02,
+            panels: vec![("t = 0 s".into(), grains.clone()), ("t = 1 s".into(), grains.clone())],
+        };
+        let (rows, segment) = view(0.4).rows();
+        assert_eq!(rows, 4);
+        assert!((segment - 0.1).abs() < 1e-12);
+        assert_eq!(view(0.1).rows().0, 1);
+        assert_eq!(view(0.05).rows(), (1, 0.05));
+        let d = temp_dir("top");
+        let files = view(0.4).save(&d.join("top")).unwrap();
+        let png = image_height(&files[0]);
+        // 2 times x 4 rows of (1130 px x 0.2 + 60 px) + 50 px of title.
+        assert_eq!(png, 50 + 8 * 286);
+        assert!(TopView {
+            panels: vec![],
+            ..view(0.4)
+        }
+        .save(&d.join("none"))
+        .is_err());
+        std::fs::remove_dir_all(d).unwrap();
+    }
+
+    /// The height of a PNG, from its header.
+    fn image_height(path: &Path) -> u32 {
+        let bytes = std::fs::read(path).unwrap();
+        assert_eq!(&bytes[1..4], b"PNG");
+        u32::from_be_bytes(bytes[20..24].try_into().unwrap())
     }
 
     /// Issue 19, point 14: stripe counts get whole-number ticks.
