@@ -337,7 +337,11 @@ fn the_ratchet_writes_its_phase_fields() {
     ]);
     assert!(ok, "{stderr}");
     let text = std::fs::read_to_string(d.join("ratchet").join("phase_fields.csv")).unwrap();
-    let rows: Vec<Vec<f64>> = text.lines().skip(1).map(|l| l.split(',').map(|x| x.parse().unwrap()).collect()).collect();
+    let rows: Vec<Vec<f64>> = text
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+        .collect();
     // 1.2 s at 25 Hz and 12 samples per period: about 360 samples, 60 per frame (the last
     // sample may fall a rounding error past the duration).
     for frame in 0..6 {

@@ -707,9 +707,12 @@ pub struct TopView {
     /// The tray's length (x, periodic) and width (y) (m).
     pub length: f64,
     pub width: f64,
-    /// One panel per time: its label and the grains as `(x, y, radius)`.
-    pub panels: Vec<(String, Vec<(f64, f64, f64)>)>,
+    /// One panel per time.
+    pub panels: Vec<TopPanel>,
 }
+
+/// One time of a [`TopView`]: its label and the grains as `(x, y, radius)`.
+pub type TopPanel = (String, Vec<(f64, f64, f64)>);
 
 impl TopView {
     /// Pixels across the picture.
