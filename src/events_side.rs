@@ -50,24 +50,25 @@ impl SideSummary {
 }
 
 /// Writes the imbalance record of a run sampled every `dt_sample` seconds with `grains`
-/// grains, and returns its statistics.
-pub fn write(dir: &mut RunDir, obs: &Observer, dt_sample: f64, grains: usize) -> Result<SideSummary, CliError> {
+/// grains, and returns its statistics; nothing for a run without a record (a periodic box).
+pub fn write(dir: &mut RunDir, obs: &Observer, dt_sample: f64, grains: usize) -> Result<Option<SideSummary>, CliError> {
     let s = &obs.side.kept;
+    if s.is_empty() {
+        return Ok(None);
+    }
     let dt = dt_sample * obs.side.stride as f64;
     let st = side::stats(s, dt, grains);
-    if !s.is_empty() {
-        let rows: Vec<Vec<f64>> = s.iter().enumerate().map(|(k, x)| vec![k as f64 * dt, *x]).collect();
-        dir.csv("side_imbalance.csv", &["t_s", "imbalance"], &rows)?;
-        let line = |y: f64| vec![(0.0, y), ((s.len() - 1) as f64 * dt, y)];
-        let plot = LinePlot::new(
-            "Left-right imbalance (N_left - N_right) / N, from the first sample",
-            "t (s)",
-            "imbalance",
-        )
-        .series("imbalance", rows.iter().map(|r| (r[0], r[1])).collect(), Mark::Line)
-        .series("left side held beyond", line(st.threshold), Mark::Dashed)
-        .series("right side held beyond", line(-st.threshold), Mark::Dashed);
-        dir.plot("side_imbalance", &plot)?;
-    }
-    Ok(SideSummary::new(&st, dt))
+    let rows: Vec<Vec<f64>> = s.iter().enumerate().map(|(k, x)| vec![k as f64 * dt, *x]).collect();
+    dir.csv("side_imbalance.csv", &["t_s", "imbalance"], &rows)?;
+    let line = |y: f64| vec![(0.0, y), ((s.len() - 1) as f64 * dt, y)];
+    let plot = LinePlot::new(
+        "Left-right imbalance (N_left - N_right) / N, from the first sample",
+        "t (s)",
+        "imbalance",
+    )
+    .series("imbalance", rows.iter().map(|r| (r[0], r[1])).collect(), Mark::Line)
+    .series("left side held beyond", line(st.threshold), Mark::Dashed)
+    .series("right side held beyond", line(-st.threshold), Mark::Dashed);
+    dir.plot("side_imbalance", &plot)?;
+    Ok(Some(SideSummary::new(&st, dt)))
 }

@@ -356,5 +356,7 @@ fn the_ratchet_writes_its_phase_fields() {
         assert!((xs[0] - 0.0005).abs() < 1e-12 && (xs[5] - 0.0055).abs() < 1e-12, "{xs:?}");
     }
     assert!(d.join("ratchet").join("phase_fields.png").is_file());
+    // A periodic box has no sides: no side-cluster record.
+    assert!(!d.join("ratchet").join("side_imbalance.csv").exists());
     std::fs::remove_dir_all(&d).unwrap();
 }

@@ -4,6 +4,7 @@
 //! above the floor's mean position, the mean horizontal velocity `<v_x>`, the velocity
 //! distributions, and the energy ledger.
 
+use crate::config::SideWalls;
 use crate::phase_field::PhaseField;
 use crate::sawtooth::Sawtooth;
 use crate::side;
@@ -101,7 +102,7 @@ pub struct Observer {
     pub velocity_skipped: u64,
     pub velocity_samples: u64,
     /// The left-right imbalance of the grains at every sample ([`crate::side`]), evenly
-    /// thinned on long runs: one value per `side.stride` samples.
+    /// thinned on long runs: one value per `side.stride` samples; empty in a periodic box.
     pub side: Thinned,
     /// On a sawtooth base, the mass and momentum over one tooth per phase of the drive
     /// ([`crate::phase_field`]); `None` elsewhere.
@@ -174,8 +175,11 @@ impl Observer {
                 self.z[k].push(r.y);
             }
         }
-        let width = sim.config.width;
-        self.side.push(side::imbalance((0..n).map(|i| sim.state(i).0.x), width));
+        // Sides exist only between side walls; a periodic box has none.
+        if sim.config.side_walls != SideWalls::Periodic {
+            let width = sim.config.width;
+            self.side.push(side::imbalance((0..n).map(|i| sim.state(i).0.x), width));
+        }
         if let Some(f) = &mut self.field {
             f.add(sim);
         }
