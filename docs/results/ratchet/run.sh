@@ -65,3 +65,9 @@ have fields-positive || $B events $S --force --quiet --out $D/fields-positive --
 have fields-negative || $B events $S --force --quiet --out $D/fields-negative --set base.tooth_height=0.006 \
   --set base.asymmetry=0.25 --set drive.frequency=30 --set particles.species.0.count=25 \
   --set run.samples_per_period=24 --set run.duration=200 > $D/fields-negative.json
+# Fig 12's onset on a finer grid: 12.8-14.2 Hz in steps of 0.1 Hz, 14 seeds of 30 s.
+have fig12-onset || $B events-sweep $S $T --out $D/fig12-onset --seeds 14 \
+  --vary drive.frequency=12.8,12.9,13,13.1,13.2,13.3,13.4,13.5,13.6,13.7,13.8,13.9,14,14.1,14.2 \
+  --set particles.species.0.count=51 \
+  --set box.width=0.06 --set base.tooth_height=0.006 --set base.asymmetry=0.25 \
+  --set run.duration=30 --set run.transient=3 > $D/fig12-onset.json
