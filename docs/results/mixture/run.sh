@@ -36,3 +36,8 @@ have gamma || $B events-sweep $S --threads ${THREADS:-1} --force --quiet --out $
 freqs=$(python3 -c "import math; print(','.join(f'{math.sqrt(G*9.81/0.0056)/(2*math.pi):.4f}' for G in [240,320]))")
 have gamma-high || $B events-sweep $S --threads ${THREADS:-1} --force --quiet --out $D/gamma-high --seeds 3 \
   --vary drive.frequency=$freqs --set run.duration=200 --set run.transient=5 > $D/gamma-high.json
+# Fig 3's upper triangles: 75 + 75 grains, the same Gamma values, 2 seeds of 200 s.
+freqs=$(python3 -c "import math; print(','.join(f'{math.sqrt(G*9.81/0.0056)/(2*math.pi):.4f}' for G in [10,20,30,40,56,80,120,160]))")
+have gamma-half || $B events-sweep $S --threads ${THREADS:-1} --force --quiet --out $D/gamma-half --seeds 2 --log \
+  --vary drive.frequency=$freqs --set particles.species.0.count=75 --set particles.species.1.count=75 \
+  --set run.duration=200 --set run.transient=5 > $D/gamma-half.json
