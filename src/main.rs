@@ -15,6 +15,7 @@ mod events_checkpoint;
 mod events_measure;
 mod events_scene;
 mod output;
+mod pipeline;
 mod run_lock;
 mod run_outputs;
 mod samples;

@@ -15,7 +15,6 @@ use analysis::mechanism::{ByDensity, Grain, Motion, Split, Tally};
 use analysis::plot::{LinePlot, Mark};
 use analysis::stripes::{detect, StripeParams};
 use particles::sim::Simulation;
-use particles::time_step;
 use particles::tray;
 use serde::Serialize;
 use serde_json::json;
@@ -52,27 +51,25 @@ pub fn run(args: Args) -> Result<String, CliError> {
         return Err("--periods and --per-period must be at least 1".into());
     }
     let scene_path = args.run.join("scene.toml");
-    let scene = crate::scene_file::load(&scene_path, &[])?.dem;
-    scene.validate()?;
+    let resolved = crate::pipeline::resolve(&scene_path, crate::scene_file::load(&scene_path, &[])?)?;
+    let scene = resolved.scene();
     let ckpt_path = args.run.join("checkpoint.bin");
     let bytes =
         std::fs::read(&ckpt_path).map_err(|e| format!("{}: cannot read ({e}); run `stripes run` to the end first", ckpt_path.display()))?;
     let out = args.out.clone().unwrap_or_else(|| args.run.join("mechanism"));
     crate::output::claim(&out, args.force)?;
-    let mut dir = RunDir::create(&out, &json!({ "args": &args, "scene": &scene }))?;
+    let mut dir = RunDir::create(&out, &json!({ "args": &args, "scene": scene }))?;
 
-    let setup = tray::setup(&scene, tray::drive(&scene), time_step::for_scene(&scene)?)?;
-    let dt = setup.dt;
-    let (state, _) = crate::samples::load_or_prepare(&scene, &args.sample_cache, |_| {})?;
-    let mut sim = Simulation::new(setup, state)?;
-    crate::dem_checkpoint::restore(&mut sim, &bytes, super::run::checkpoint_fingerprint(&scene)?)
-        .map_err(|e| format!("{}: {e}", ckpt_path.display()))?;
+    let dt = resolved.dt();
+    let (state, _) = crate::samples::load_or_prepare(scene, &args.sample_cache, |_| {})?;
+    let mut sim = Simulation::new(resolved.setup.clone(), state)?;
+    crate::dem_checkpoint::restore(&mut sim, &bytes, resolved.fingerprint).map_err(|e| format!("{}: {e}", ckpt_path.display()))?;
     let start = sim.time;
 
     let (l, w) = (scene.tray.length, scene.tray.width);
     let (nu, a) = (scene.drive.frequency, scene.drive.amplitude);
     let floor_speed = 2.0 * std::f64::consts::PI * nu * a;
-    let motion = tray::drive(&scene);
+    let motion = tray::drive(scene);
     let radii = sim.state.radius.clone();
     let mean_d = 2.0 * radii.iter().sum::<f64>() / radii.len() as f64;
     let params = StripeParams::default_for(mean_area_fraction(&radii, l, w), mean_d);

@@ -1,0 +1,21 @@
+//! The typed pipeline from a scene to a report, which every command and study calls:
+//!
+//! scene file -> [`SceneFile`](crate::scene_file::SceneFile) -> [`resolve`] ->
+//! [`Resolved`] (checked once: laws, walls, step, sample key) -> [`run_dem`] ->
+//! [`DemSummary`]; the automaton's run and the analysis likewise return typed summaries.
+//!
+//! Commands are adapters around it: they parse their arguments into a scene and options,
+//! call the pipeline and print the summary it returns. Nothing here parses a command line,
+//! and no module of the pipeline imports a command.
+
+mod analysis_files;
+mod analyze;
+mod dem;
+mod resolve;
+
+pub use analyze::{analyze, AnalysisOptions, AnalysisSummary};
+pub use dem::{run_dem, DemSummary, RunOptions};
+pub use resolve::{resolve, Resolved};
+
+/// The pipeline's error: a message for the user, naming the file, key or option at fault.
+pub type Error = crate::output::CliError;
