@@ -6,6 +6,7 @@
 //! (`config.json`) and `summary.json`, and prints that summary as the last line of stdout.
 
 mod bytes;
+mod calibrate;
 mod cellular;
 mod cli_values;
 mod clock;

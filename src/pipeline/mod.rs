@@ -10,10 +10,12 @@
 
 mod analysis_files;
 mod analyze;
+mod automaton;
 mod dem;
 mod resolve;
 
 pub use analyze::{analyze, AnalysisOptions, AnalysisSummary};
+pub use automaton::{resolve_lattice, run_automaton, AutomatonOptions, AutomatonSummary, LatticeScene};
 pub use dem::{run_dem, DemSummary, RunOptions};
 pub use resolve::{resolve, Resolved};
 
