@@ -1,8 +1,8 @@
 //! The typed pipeline from a scene to a report, which every command and study calls:
 //!
 //! scene file -> [`SceneFile`](crate::scene_file::SceneFile) -> [`resolve`] ->
-//! [`Resolved`] (checked once: laws, walls, step, sample key) -> [`run_dem`] ->
-//! [`DemSummary`]; the automaton's run and the analysis likewise return typed summaries.
+//! `Resolved` (checked once: laws, walls, step, sample key) -> [`run_dem`] ->
+//! `DemSummary`; the automaton's run and the analysis likewise return typed summaries.
 //!
 //! Commands are adapters around it: they parse their arguments into a scene and options,
 //! call the pipeline and print the summary it returns. Nothing here parses a command line,
@@ -15,8 +15,8 @@ mod dem;
 mod resolve;
 
 pub use analyze::{analyze, AnalysisOptions, AnalysisSummary};
-pub use automaton::{resolve_lattice, run_automaton, AutomatonOptions, AutomatonSummary, LatticeScene};
-pub use dem::{run_dem, DemSummary, RunOptions};
+pub use automaton::{resolve_lattice, run_automaton, AutomatonOptions};
+pub use dem::{run_dem, RunOptions};
 pub use resolve::{resolve, Resolved};
 
 /// The pipeline's error: a message for the user, naming the file, key or option at fault.
