@@ -12,11 +12,13 @@ mod analysis_files;
 mod analyze;
 mod automaton;
 mod dem;
+mod events;
 mod resolve;
 
 pub use analyze::{analyze, AnalysisOptions, AnalysisSummary};
 pub use automaton::{resolve_lattice, run_automaton, AutomatonOptions};
 pub use dem::{run_dem, RunOptions};
+pub use events::{run_events, EventsOptions};
 pub use resolve::{resolve, Resolved};
 
 /// The pipeline's error: a message for the user, naming the file, key or option at fault.
