@@ -8,6 +8,7 @@
 mod bytes;
 mod calibrate;
 mod cellular;
+mod cli_args;
 mod cli_values;
 mod clock;
 mod commands;

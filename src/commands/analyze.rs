@@ -19,9 +19,9 @@ pub struct Args {
     /// Output directory (default: <RUN_DIR>/analysis, or <DUMP>.analysis beside a dump).
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Replace the files of an output directory that already holds some (default: refuse it).
-    #[arg(long)]
-    pub force: bool,
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub replace: crate::cli_args::Force,
     /// Cell width of the density map (m); the area fraction is averaged exactly per cell.
     #[arg(long, default_value_t = 1e-3, value_parser = crate::cli_values::positive, allow_negative_numbers = true)]
     pub cell: f64,
@@ -65,32 +65,6 @@ pub struct Args {
     /// profile) to count as a stationary stripe, whatever the contrast.
     #[arg(long, default_value_t = 10.0)]
     pub persistence_periods: f64,
-}
-
-impl Default for Args {
-    /// The command-line defaults, with an empty input path: other commands build their
-    /// arguments as `Args { input, out, force: true, ..Args::default() }` (a command that
-    /// analyses its own run owns that folder and replaces an earlier analysis).
-    fn default() -> Self {
-        Self {
-            input: PathBuf::new(),
-            out: None,
-            force: false,
-            cell: 1e-3,
-            threshold: None,
-            min_width: None,
-            dt: analysis::lammps::DEFAULT_DT,
-            period: None,
-            tracer: 0,
-            tail: 0.1,
-            periodic_y: false,
-            plateau_before: None,
-            plateau_after: None,
-            mobility_min: analysis::classify::ClassifyParams::default().mobility_min,
-            contrast_min: analysis::classify::ClassifyParams::default().contrast_min,
-            persistence_periods: analysis::classify::ClassifyParams::default().persistence_periods,
-        }
-    }
 }
 
 fn window(s: &Option<String>, name: &str) -> Result<Option<(f64, f64)>, CliError> {
@@ -142,7 +116,7 @@ impl Args {
     pub fn analysis_options(&self) -> Result<AnalysisOptions, CliError> {
         Ok(AnalysisOptions {
             out: self.out.clone(),
-            force: self.force,
+            force: self.replace.force,
             dt: self.dt,
             options: self.options()?,
         })
@@ -164,14 +138,16 @@ mod tests {
         args: Args,
     }
 
+    /// The analysis other commands make of their runs
+    /// ([`AnalysisOptions::into_dir`]) is the command line's default one.
     #[test]
     fn default_matches_the_command_line_defaults() {
-        let parsed = Cli::parse_from(["analyze", "run"]).args;
-        let default = Args {
-            input: "run".into(),
-            ..Args::default()
-        };
-        assert_eq!(serde_json::to_value(&parsed).unwrap(), serde_json::to_value(&default).unwrap());
+        let parsed = Cli::parse_from(["analyze", "run", "--force", "--out", "x"]).args;
         assert_eq!(parsed.options().unwrap(), Options::default());
+        let into_dir = AnalysisOptions::into_dir("x".into());
+        assert_eq!(
+            serde_json::to_value(parsed.analysis_options().unwrap()).unwrap(),
+            serde_json::to_value(into_dir).unwrap()
+        );
     }
 }

@@ -24,7 +24,7 @@ use crate::output::{json_line, CliError, RunDir};
 use crate::pipeline::{self, AutomatonOptions};
 use crate::scene_file::SceneFile;
 
-#[derive(clap::Args, Debug, Default, Serialize)]
+#[derive(clap::Args, Debug, Serialize)]
 pub struct Args {
     /// Scene file (TOML), the same as for `stripes run` (optional table [automaton]); not
     /// with --calibrate, which uses each DEM run's own scene.toml.
@@ -33,9 +33,9 @@ pub struct Args {
     /// Output directory (default: out/automaton-<scene name>).
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Replace the files of an output directory that already holds some (default: refuse it).
-    #[arg(long)]
-    pub force: bool,
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub replace: crate::cli_args::Force,
     /// Override a scene key, e.g. --set automaton.activation=0.3 (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub overrides: Vec<String>,
@@ -43,10 +43,9 @@ pub struct Args {
     /// the scene's [automaton] table). Default: the scene's automaton.rule, itself physical.
     #[arg(long, value_parser = rule_parser())]
     pub rule: Option<RuleSet>,
-    /// Cache of prepared samples, shared by every run (default: $STRIPES_SAMPLE_CACHE, else
-    /// out/samples).
-    #[arg(long, value_name = "DIR", default_value_os_t = crate::output::default_sample_cache())]
-    pub sample_cache: PathBuf,
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub samples: crate::cli_args::SampleCache,
     /// Measure the speed (cell updates per second, one core) on the scene's tray with a
     /// random layer of its grain count instead of running it.
     #[arg(long)]
@@ -58,9 +57,9 @@ pub struct Args {
     /// snapshots.bin) and report the fit.
     #[arg(long, num_args = 1.., value_name = "RUN_DIR")]
     pub calibrate: Vec<PathBuf>,
-    /// No progress output (warnings still go to stderr, the summary to stdout).
-    #[arg(long)]
-    pub quiet: bool,
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub progress: crate::cli_args::Quiet,
 }
 
 pub fn run(args: Args) -> Result<String, CliError> {
@@ -69,8 +68,8 @@ pub fn run(args: Args) -> Result<String, CliError> {
             runs: args.calibrate.clone(),
             out: args.out.clone(),
             overrides: args.overrides.clone(),
-            samples: args.sample_cache.clone(),
-            quiet: args.quiet,
+            samples: args.samples.sample_cache.clone(),
+            quiet: args.progress.quiet,
         });
     }
     let path = args.scene.clone().ok_or("a scene file is needed")?;
@@ -96,10 +95,10 @@ impl Args {
             .unwrap_or_else(|| "scene".into());
         AutomatonOptions {
             out: self.out.clone().unwrap_or_else(|| PathBuf::from(format!("out/automaton-{name}"))),
-            force: self.force,
+            force: self.replace.force,
             rule: self.rule,
-            sample_cache: self.sample_cache.clone(),
-            quiet: self.quiet,
+            sample_cache: self.samples.sample_cache.clone(),
+            quiet: self.progress.quiet,
         }
     }
 }
@@ -110,7 +109,7 @@ fn bench(args: &Args, path: &Path, file: &SceneFile) -> Result<String, CliError>
     crate::cellular::validate_lattice(file)?;
     let scene = &file.dem;
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from("out/automaton-bench"));
-    crate::output::claim(&out, args.force)?;
+    crate::output::claim(&out, args.replace.force)?;
     let mut dir = RunDir::create(&out, &json!({ "args": args, "scene": scene }))?;
     let cells = Cells::of(file);
     // Grain positions from a SplitMix64 stream of the scene's seed.

@@ -36,10 +36,9 @@ pub struct Args {
     /// distance between the two seeds is the scale of the distance between the models.
     #[arg(long, value_name = "RUN_DIR")]
     pub seed_scale_run: Option<PathBuf>,
-    /// Cache of prepared samples, shared by every run (default: $STRIPES_SAMPLE_CACHE, else
-    /// out/samples).
-    #[arg(long, value_name = "DIR", default_value_os_t = crate::output::default_sample_cache())]
-    pub sample_cache: PathBuf,
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub samples: crate::cli_args::SampleCache,
     /// Replace an earlier comparison in the output directory (refused without it).
     #[arg(long, conflicts_with = "resume")]
     pub force: bool,
@@ -47,9 +46,9 @@ pub struct Args {
     /// checkpoint (or is kept if it finished), the automaton and the analyses run again.
     #[arg(long)]
     pub resume: bool,
-    /// No progress output (warnings still go to stderr, the summary to stdout).
-    #[arg(long)]
-    pub quiet: bool,
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub progress: crate::cli_args::Quiet,
 }
 
 fn stage(quiet: bool, k: usize, what: &str) {
@@ -346,14 +345,14 @@ fn compare(args: &Args, file: &crate::scene_file::SceneFile, out: &Path) -> Resu
     let mut fresh = None;
     let dem_dir = match &args.dem_run {
         Some(d) => {
-            stage(args.quiet, 1, &format!("DEM: reusing {}", d.display()));
+            stage(args.progress.quiet, 1, &format!("DEM: reusing {}", d.display()));
             d.clone()
         }
         None => {
             let d = out.join("dem");
             let finished = args.resume && d.join("summary.json").is_file();
             stage(
-                args.quiet,
+                args.progress.quiet,
                 1,
                 if finished {
                     "DEM run (finished before: kept)"
@@ -371,8 +370,8 @@ fn compare(args: &Args, file: &crate::scene_file::SceneFile, out: &Path) -> Resu
                         out: d.clone(),
                         resume: args.resume,
                         force: args.force,
-                        sample_cache: args.sample_cache.clone(),
-                        quiet: args.quiet,
+                        sample_cache: args.samples.sample_cache.clone(),
+                        quiet: args.progress.quiet,
                         ..RunOptions::default()
                     },
                 )?;
@@ -391,7 +390,7 @@ fn compare(args: &Args, file: &crate::scene_file::SceneFile, out: &Path) -> Resu
     };
 
     // 2. Automaton, same scene and sample.
-    stage(args.quiet, 2, "automaton run");
+    stage(args.progress.quiet, 2, "automaton run");
     let auto_dir = out.join("automaton");
     let automaton = pipeline::run_automaton(
         &pipeline::resolve_lattice(&args.scene, file.clone())?,
@@ -399,14 +398,14 @@ fn compare(args: &Args, file: &crate::scene_file::SceneFile, out: &Path) -> Resu
             out: auto_dir.clone(),
             force: true, // inside the comparison's own directory, claimed above
             rule: None,
-            sample_cache: args.sample_cache.clone(),
-            quiet: args.quiet,
+            sample_cache: args.samples.sample_cache.clone(),
+            quiet: args.progress.quiet,
         },
     )?;
     let auto_summary = serde_json::to_value(&automaton)?;
 
     // 3. The same analysis of both (the automaton's was made by its run).
-    stage(args.quiet, 3, "analysis");
+    stage(args.progress.quiet, 3, "analysis");
     let dem_analysis_dir = out.join("dem-analysis");
     let dem_keys = pipeline::analyze(&dem_dir, &AnalysisOptions::into_dir(dem_analysis_dir.clone()))?.shared_keys()?;
     let auto_keys = automaton.analysed.shared_keys()?;
@@ -440,7 +439,7 @@ fn compare(args: &Args, file: &crate::scene_file::SceneFile, out: &Path) -> Resu
     };
 
     // 4. Report.
-    stage(args.quiet, 4, "report");
+    stage(args.progress.quiet, 4, "report");
     let dem_counts = counts(&dem_analysis_dir)?;
     let auto_counts = counts(&auto_dir.join("analysis"))?;
     let plot = LinePlot::new("Stripe count over time, same scene and sample", "t (s)", "stripes")

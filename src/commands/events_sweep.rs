@@ -44,9 +44,9 @@ pub struct Args {
     /// (a power law shows as a line).
     #[arg(long)]
     pub log: bool,
-    /// No progress output (warnings still go to stderr, the summary to stdout).
-    #[arg(long)]
-    pub quiet: bool,
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub progress: crate::cli_args::Quiet,
 }
 
 /// One varied key and its values.
@@ -140,7 +140,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
         .threads
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
     let pool = rayon::ThreadPoolBuilder::new().num_threads(threads.max(1)).build()?;
-    let bar = progress_bar(jobs.len() as u64, args.quiet, "events-sweep");
+    let bar = progress_bar(jobs.len() as u64, args.progress.quiet, "events-sweep");
     let done = AtomicU64::new(0);
     let wall = std::time::Instant::now();
     let results: Vec<Result<Measured, String>> = pool.install(|| {

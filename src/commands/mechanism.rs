@@ -31,19 +31,18 @@ pub struct Args {
     /// Samples per drive period.
     #[arg(long, default_value_t = 24)]
     pub per_period: u32,
-    /// Cache of prepared samples, shared by every run (default: $STRIPES_SAMPLE_CACHE, else
-    /// out/samples).
-    #[arg(long, value_name = "DIR", default_value_os_t = crate::output::default_sample_cache())]
-    pub sample_cache: PathBuf,
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub samples: crate::cli_args::SampleCache,
     /// Output directory (default: <RUN>/mechanism).
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Replace the files of an output directory that already holds some (default: refuse it).
-    #[arg(long)]
-    pub force: bool,
-    /// No progress output (warnings still go to stderr, the summary to stdout).
-    #[arg(long)]
-    pub quiet: bool,
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub replace: crate::cli_args::Force,
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub progress: crate::cli_args::Quiet,
 }
 
 pub fn run(args: Args) -> Result<String, CliError> {
@@ -57,11 +56,11 @@ pub fn run(args: Args) -> Result<String, CliError> {
     let bytes =
         std::fs::read(&ckpt_path).map_err(|e| format!("{}: cannot read ({e}); run `stripes run` to the end first", ckpt_path.display()))?;
     let out = args.out.clone().unwrap_or_else(|| args.run.join("mechanism"));
-    crate::output::claim(&out, args.force)?;
+    crate::output::claim(&out, args.replace.force)?;
     let mut dir = RunDir::create(&out, &json!({ "args": &args, "scene": scene }))?;
 
     let dt = resolved.dt();
-    let (state, _) = crate::samples::load_or_prepare(scene, &args.sample_cache, |_| {})?;
+    let (state, _) = crate::samples::load_or_prepare(scene, &args.samples.sample_cache, |_| {})?;
     let mut sim = Simulation::new(resolved.setup.clone(), state)?;
     crate::dem_checkpoint::restore(&mut sim, &bytes, resolved.fingerprint).map_err(|e| format!("{}: {e}", ckpt_path.display()))?;
     let start = sim.time;
@@ -77,7 +76,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
 
     let samples = args.periods as u64 * args.per_period as u64;
     let every = 1.0 / (nu * args.per_period as f64);
-    let bar = progress_bar(samples, args.quiet, "mechanism");
+    let bar = progress_bar(samples, args.progress.quiet, "mechanism");
     let mut total = Split::default();
     let mut by_density = ByDensity::default();
     let mut rows = Vec::new();

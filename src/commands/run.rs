@@ -20,7 +20,7 @@ use serde::Serialize;
 use crate::output::{json_line, CliError};
 use crate::pipeline::{self, RunOptions};
 
-#[derive(clap::Args, Debug, Default, Serialize)]
+#[derive(clap::Args, Debug, Serialize)]
 pub struct Args {
     /// Scene file (TOML), e.g. scenes/thesis-reference.toml.
     pub scene: PathBuf,
@@ -43,10 +43,9 @@ pub struct Args {
     /// Simulated seconds between rows of thermo.csv (default: a tenth of the drive period).
     #[arg(long, value_name = "SECONDS")]
     pub thermo_interval: Option<f64>,
-    /// Cache of prepared samples, shared by every run (default: $STRIPES_SAMPLE_CACHE, else
-    /// out/samples).
-    #[arg(long, value_name = "DIR", default_value_os_t = crate::output::default_sample_cache())]
-    pub sample_cache: PathBuf,
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub samples: crate::cli_args::SampleCache,
     /// Also write the state the run starts from (the prepared sample, or the checkpoint with
     /// --resume) as a LAMMPS data file (atom_style sphere, units si), to run the same grains
     /// in LAMMPS (bench/lammps/in.tray).
@@ -55,9 +54,9 @@ pub struct Args {
     /// Die after this many steps as `kill -9` would (a test hook for checkpoints and --resume).
     #[arg(long, hide = true)]
     pub stop_after: Option<u64>,
-    /// No progress output (warnings still go to stderr, the summary to stdout).
-    #[arg(long)]
-    pub quiet: bool,
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub progress: crate::cli_args::Quiet,
 }
 
 impl Args {
@@ -74,10 +73,10 @@ impl Args {
             force: self.force,
             vtk: self.vtk,
             thermo_interval: self.thermo_interval,
-            sample_cache: self.sample_cache.clone(),
+            sample_cache: self.samples.sample_cache.clone(),
             lammps_data: self.lammps_data.clone(),
             stop_after: self.stop_after,
-            quiet: self.quiet,
+            quiet: self.progress.quiet,
         }
     }
 }

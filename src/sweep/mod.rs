@@ -41,13 +41,12 @@ pub struct SweepArgs {
     /// Jobs run at once on this machine (default: all cores).
     #[arg(long)]
     pub jobs: Option<usize>,
-    /// Cache of prepared samples, shared by every run (default: $STRIPES_SAMPLE_CACHE, else
-    /// out/samples).
-    #[arg(long, value_name = "DIR", default_value_os_t = crate::output::default_sample_cache())]
-    pub sample_cache: PathBuf,
-    /// No progress output (warnings still go to stderr, the summary to stdout).
-    #[arg(long)]
-    pub quiet: bool,
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub samples: crate::cli_args::SampleCache,
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub progress: crate::cli_args::Quiet,
 }
 
 impl SweepArgs {
@@ -66,7 +65,7 @@ impl SweepArgs {
         let parallel = self
             .jobs
             .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
-        let progress = run(root, sweep, self.shard, parallel, &self.sample_cache, self.quiet)?;
+        let progress = run(root, sweep, self.shard, parallel, &self.samples.sample_cache, self.progress.quiet)?;
         let mut summary = report(root, sweep)?;
         let preparation = preparation(root, sweep)?;
         append_preparation(&root.join("report.md"), &preparation)?;
