@@ -55,5 +55,5 @@ pub fn run(args: Args) -> Result<String, CliError> {
         jobs: all,
         resolved: String::new(),
     };
-    args.sweep.execute(&args.out, &sweep)
+    args.sweep.execute(&args.out, &sweep, crate::sweep::ablate::report)
 }

@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 
 use crate::output::CliError;
-use crate::sweep;
+use crate::sweep::{self, SweepKind};
 
 #[derive(clap::Args, Debug, serde::Serialize)]
 pub struct Args {
@@ -14,6 +14,9 @@ pub struct Args {
 
 pub fn run(args: Args) -> Result<String, CliError> {
     let sweep = sweep::load(&args.dir)?;
-    let summary = sweep::report(&args.dir, &sweep)?;
+    let summary = match sweep.kind {
+        SweepKind::PhaseMap => sweep::phase_map::report(&args.dir, &sweep)?,
+        SweepKind::Ablate => sweep::ablate::report(&args.dir, &sweep)?,
+    };
     Ok(serde_json::to_string(&summary)?)
 }

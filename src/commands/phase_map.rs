@@ -45,5 +45,5 @@ pub fn run(args: Args) -> Result<String, CliError> {
         jobs: phase_map::jobs(&freqs, &amps, &args.model.models(), args.seeds.max(1), scene.run.seed),
         resolved: String::new(),
     };
-    args.sweep.execute(&args.out, &sweep)
+    args.sweep.execute(&args.out, &sweep, crate::sweep::phase_map::report)
 }

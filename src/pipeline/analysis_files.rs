@@ -5,7 +5,7 @@ use analysis::density::CountProfile;
 use analysis::plot::{Heatmap, LinePlot, Mark};
 use analysis::report::Report;
 
-use super::Error;
+use crate::output::CliError as Error;
 use crate::output::RunDir;
 
 pub(super) fn write_tables(dir: &mut RunDir, r: &Report, run: &analysis::input::Run) -> Result<(), Error> {

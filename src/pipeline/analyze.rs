@@ -11,7 +11,7 @@ use serde::{Serialize, Serializer};
 use serde_json::Value;
 
 use super::analysis_files::{draw, write_tables};
-use super::Error;
+use crate::output::CliError as Error;
 use crate::output::{RunDir, Written};
 
 /// How to analyse a run and where to write the analysis.

@@ -11,8 +11,9 @@ use automaton::{Params, RuleSet};
 use serde::Serialize;
 use serde_json::{json, Value};
 
-use super::{analyze, AnalysisOptions, AnalysisSummary, Error};
+use super::analyze::{analyze, AnalysisOptions, AnalysisSummary};
 use crate::cellular::{self, evolve, setup, Cells};
+use crate::output::CliError as Error;
 use crate::output::{progress_bar, RunDir, Written};
 use crate::scene_file::SceneFile;
 
@@ -65,7 +66,7 @@ pub struct Mapping {
 #[derive(Clone, Debug, Serialize)]
 pub struct AutomatonSummary {
     /// The analysis' phase, stripes, structure and plateaus
-    /// ([`super::AnalysisSummary::shared_keys`], its warnings merged into `warnings`).
+    /// ([`AnalysisSummary::shared_keys`], its warnings merged into `warnings`).
     #[serde(flatten)]
     pub analysis: serde_json::Map<String, Value>,
     pub scene: String,

@@ -14,7 +14,8 @@ use particles::timescale;
 use serde::Serialize;
 use serde_json::json;
 
-use super::{Error, Resolved};
+use super::resolve::Resolved;
+use crate::output::CliError as Error;
 use crate::output::{non_empty, progress_bar, RunDir, Written};
 use crate::run_outputs::{ContactMeans, Progress, Recorder, RecorderPlan};
 use crate::thermo::Thermo;

@@ -12,9 +12,9 @@ use events::Simulation;
 use serde::Serialize;
 use serde_json::json;
 
-use super::Error;
 use crate::events_checkpoint;
 use crate::events_scene::EventScene;
+use crate::output::CliError as Error;
 use crate::output::{progress_bar, RunDir, Written};
 
 /// How to run an event-driven scene and where to write it.

@@ -6,7 +6,8 @@
 //!
 //! Commands are adapters around it: they parse their arguments into a scene and options,
 //! call the pipeline and print the summary it returns. Nothing here parses a command line,
-//! and no module of the pipeline imports a command.
+//! and no module of the pipeline imports a command. Errors are messages for the user
+//! ([`crate::output::CliError`]) naming the file, key or option at fault.
 
 mod analysis_files;
 mod analyze;
@@ -19,7 +20,4 @@ pub use analyze::{analyze, AnalysisOptions, AnalysisSummary};
 pub use automaton::{resolve_lattice, run_automaton, AutomatonOptions};
 pub use dem::{run_dem, RunOptions};
 pub use events::{run_events, EventsOptions};
-pub use resolve::{resolve, Resolved};
-
-/// The pipeline's error: a message for the user, naming the file, key or option at fault.
-pub type Error = crate::output::CliError;
+pub use resolve::resolve;

@@ -8,7 +8,7 @@ use particles::setup::Setup;
 use particles::time_step;
 use particles::tray;
 
-use super::Error;
+use crate::output::CliError as Error;
 use crate::samples::sample_key;
 use crate::scene_file::SceneFile;
 

@@ -7,7 +7,7 @@
 //!   nothing that finished;
 //! - `--shard I/N` runs the jobs whose index is `I mod N` (a deterministic subset), so shards
 //!   can run on different machines or as the tasks of a Slurm job array or GNU parallel;
-//! - `stripes collect` ([`report`]) reads whatever results exist, in job order, so two shards collected equal a
+//! - `stripes collect` ([`ablate::report`], [`phase_map::report`]) reads whatever results exist, in job order, so two shards collected equal a
 //!   single run.
 //!
 //! Jobs run in parallel on one machine (`--jobs`, default: all cores), each on one thread;
@@ -51,10 +51,15 @@ pub struct SweepArgs {
 
 impl SweepArgs {
     /// Stores the sweep in `root` (refusing a different one), runs this shard's unfinished
-    /// jobs, writes the report of every result present ([`report`]; also when some job
+    /// jobs, writes the report of every result present with `report` (also when some job
     /// failed, so nothing finished is lost from view), and returns the report's summary with
     /// the progress; fails, after the report, if any job failed.
-    pub fn execute(&self, root: &Path, sweep: &Sweep) -> Result<String, CliError> {
+    pub fn execute(
+        &self,
+        root: &Path,
+        sweep: &Sweep,
+        report: impl Fn(&Path, &Sweep) -> Result<Value, CliError>,
+    ) -> Result<String, CliError> {
         check_jobs(sweep)?;
         // The job's identity covers the resolved scene, not only its path: results of an
         // edited scene file are never reused.
@@ -156,15 +161,6 @@ impl SweepKind {
             SweepKind::Ablate => "ablate",
             SweepKind::PhaseMap => "phase-map",
         }
-    }
-}
-
-/// Writes the tables, plots and report of whatever results of `sweep` exist, as its kind
-/// draws them; returns the report's summary.
-pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
-    match sweep.kind {
-        SweepKind::Ablate => ablate::report(root, sweep),
-        SweepKind::PhaseMap => phase_map::report(root, sweep),
     }
 }
 
