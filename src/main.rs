@@ -21,6 +21,7 @@ mod pipeline;
 mod run_lock;
 mod run_outputs;
 mod samples;
+mod scene_edit;
 mod scene_file;
 mod scene_text;
 mod sweep;

@@ -10,9 +10,9 @@ use std::path::Path;
 
 use serde_json::{json, Value};
 
-use super::edit::{AutomatonToggle, DemToggle};
-use super::{Edit, Job, Model, Sweep};
+use super::{Job, Model, Sweep};
 use crate::output::CliError;
+use crate::scene_edit::{AutomatonEdit, AutomatonToggle, DemEdit, DemToggle, Edit};
 
 /// A configuration of the ablation: its name, edits, and the thesis' outcome
 /// (onset range in s, final count mean and spread) where the thesis reports one (thesis 3.5.4).
@@ -48,10 +48,10 @@ pub fn dem_configs(packing: &[usize]) -> Vec<Config> {
                 spread: 0.875,
             },
         ),
-        c("friction-off", &[Edit::DemOff(DemToggle::Friction)], Thesis::NoStripes),
+        c("friction-off", &[Edit::Dem(DemEdit::Off(DemToggle::Friction))], Thesis::NoStripes),
         c(
             "jumping-off",
-            &[Edit::DemOff(DemToggle::Jumping)],
+            &[Edit::Dem(DemEdit::Off(DemToggle::Jumping))],
             Thesis::Stripes {
                 onset: (6.0, 9.0),
                 count: 4.0,
@@ -60,7 +60,7 @@ pub fn dem_configs(packing: &[usize]) -> Vec<Config> {
         ),
         c(
             "dissipation-off",
-            &[Edit::DemOff(DemToggle::Dissipation)],
+            &[Edit::Dem(DemEdit::Off(DemToggle::Dissipation))],
             Thesis::Stripes {
                 onset: (2.0, 4.0),
                 count: 4.0,
@@ -69,14 +69,14 @@ pub fn dem_configs(packing: &[usize]) -> Vec<Config> {
         ),
         c(
             "walls-off",
-            &[Edit::DemOff(DemToggle::Walls)],
+            &[Edit::Dem(DemEdit::Off(DemToggle::Walls))],
             Thesis::Stripes {
                 onset: (4.0, 6.0),
                 count: 5.0,
                 spread: 1.0,
             },
         ),
-        c("rolling-off", &[Edit::DemOff(DemToggle::Rolling)], Thesis::NotRun),
+        c("rolling-off", &[Edit::Dem(DemEdit::Off(DemToggle::Rolling))], Thesis::NotRun),
     ];
     for &n in packing {
         let text = match n {
@@ -88,7 +88,7 @@ pub fn dem_configs(packing: &[usize]) -> Vec<Config> {
         };
         v.push(Config {
             name: format!("N={n}"),
-            edits: vec![Edit::Count(n)],
+            edits: vec![Edit::Dem(DemEdit::Count(n))],
             thesis: if text.is_empty() { Thesis::NotRun } else { Thesis::Text(text) },
         });
     }
@@ -105,16 +105,22 @@ pub fn automaton_configs(packing: &[usize]) -> Vec<Config> {
     };
     let mut v = vec![
         c("reference", &[]),
-        c("threshold-off", &[Edit::AutomatonOff(AutomatonToggle::Threshold)]),
-        c("flight-cap-off", &[Edit::AutomatonOff(AutomatonToggle::FlightCap)]),
-        c("stochastic-off", &[Edit::AutomatonOff(AutomatonToggle::Stochastic)]),
-        c("knock-off", &[Edit::AutomatonOff(AutomatonToggle::Knock)]),
-        c("lateral-none", &[Edit::LateralNone]),
-        c("sideways-off", &[Edit::AutomatonOff(AutomatonToggle::Sideways)]),
-        c("rolling-off", &[Edit::AutomatonOff(AutomatonToggle::Rolling)]),
-        c("frustration-off", &[Edit::AutomatonOff(AutomatonToggle::Frustration)]),
-        c("trains-off", &[Edit::AutomatonOff(AutomatonToggle::Trains)]),
-        c("strict", &[Edit::StrictRule]),
+        c("threshold-off", &[Edit::Automaton(AutomatonEdit::Off(AutomatonToggle::Threshold))]),
+        c("flight-cap-off", &[Edit::Automaton(AutomatonEdit::Off(AutomatonToggle::FlightCap))]),
+        c(
+            "stochastic-off",
+            &[Edit::Automaton(AutomatonEdit::Off(AutomatonToggle::Stochastic))],
+        ),
+        c("knock-off", &[Edit::Automaton(AutomatonEdit::Off(AutomatonToggle::Knock))]),
+        c("lateral-none", &[Edit::Automaton(AutomatonEdit::LateralNone)]),
+        c("sideways-off", &[Edit::Automaton(AutomatonEdit::Off(AutomatonToggle::Sideways))]),
+        c("rolling-off", &[Edit::Automaton(AutomatonEdit::Off(AutomatonToggle::Rolling))]),
+        c(
+            "frustration-off",
+            &[Edit::Automaton(AutomatonEdit::Off(AutomatonToggle::Frustration))],
+        ),
+        c("trains-off", &[Edit::Automaton(AutomatonEdit::Off(AutomatonToggle::Trains))]),
+        c("strict", &[Edit::Automaton(AutomatonEdit::StrictRule)]),
     ];
     v.extend(dem_configs(packing).into_iter().filter(|c| c.name.starts_with("N=")));
     v
@@ -136,7 +142,7 @@ pub fn jobs(configs: &[Config], model: Model, samples: usize, seed: u64) -> Vec<
             labels.insert("config".into(), c.name.clone().into());
             labels.insert("sample".into(), k.into());
             let mut edits = c.edits.clone();
-            edits.push(Edit::Seed(seed + k as u64));
+            edits.push(Edit::Dem(DemEdit::Seed(seed + k as u64)));
             jobs.push(Job {
                 id: format!("{}-{}-s{k}", model.name(), c.name.replace('=', "")),
                 model,

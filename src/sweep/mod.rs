@@ -24,10 +24,9 @@ use crate::pipeline::{self, AnalysisOptions, AutomatonOptions, RunOptions};
 use crate::scene_file::SceneFile;
 
 pub mod ablate;
-pub mod edit;
 pub mod phase_map;
 
-pub use edit::Edit;
+use crate::scene_edit::{DemEdit, Edit};
 
 /// Options every sweep command shares (`ablate`, `phase-map`).
 #[derive(clap::Args, Debug, Serialize)]
@@ -442,7 +441,7 @@ pub fn unfinished_section(root: &Path, sweep: &Sweep) -> String {
 /// one thread (jobs are the parallel unit, and results do not depend on threads).
 fn job_scene(sweep: &Sweep, job: &Job) -> Result<SceneFile, CliError> {
     let mut file = crate::scene_file::load(&sweep.scene, &sweep.overrides)?;
-    for edit in job.edits.iter().chain([&Edit::Threads(1)]) {
+    for edit in job.edits.iter().chain([&Edit::Dem(DemEdit::Threads(1))]) {
         edit.apply(&mut file);
     }
     Ok(file)

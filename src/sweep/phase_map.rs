@@ -13,8 +13,9 @@ use std::path::Path;
 use analysis::plot::Heatmap;
 use serde_json::{json, Value};
 
-use super::{Edit, Job, Model, Sweep};
+use super::{Job, Model, Sweep};
 use crate::output::CliError;
+use crate::scene_edit::{DemEdit, Edit};
 
 /// The jobs of a phase map, model-major, then amplitude, frequency, sample.
 pub fn jobs(freqs: &[f64], amps: &[f64], models: &[Model], samples: usize, seed: u64) -> Vec<Job> {
@@ -31,7 +32,9 @@ pub fn jobs(freqs: &[f64], amps: &[f64], models: &[Model], samples: usize, seed:
                     jobs.push(Job {
                         id: format!("{}-f{f}-a{a}-s{k}", model.name()),
                         model,
-                        edits: vec![Edit::Frequency(f), Edit::Amplitude(a), Edit::Seed(seed)],
+                        edits: [DemEdit::Frequency(f), DemEdit::Amplitude(a), DemEdit::Seed(seed)]
+                            .map(Edit::Dem)
+                            .to_vec(),
                         labels,
                     });
                 }
