@@ -241,7 +241,7 @@ mod tests {
             let mut edited = base.clone();
             Edit::from(edit).apply(&mut edited);
             let set = edit.to_set();
-            let expected = crate::scene_file::load(path, &[set.clone()]).unwrap();
+            let expected = crate::scene_file::load(path, std::slice::from_ref(&set)).unwrap();
             assert_eq!(edited, expected, "{edit:?} against --set {set}");
             assert_ne!(edited, base, "{edit:?} changes the stripe scene");
         }
