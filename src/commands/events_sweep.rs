@@ -123,13 +123,16 @@ pub fn run(args: Args) -> Result<String, CliError> {
         .clone()
         .unwrap_or_else(|| PathBuf::from(format!("out/events-sweep-{name}")));
     // Every scene of the grid is read and checked before anything runs or is written.
+    // The varied keys are the user's `--vary KEY=...` text, applied as `--set` is; the seed
+    // is set on the scene itself.
     let mut jobs = Vec::new();
     for p in &points {
+        let mut set = args.overrides.clone();
+        set.extend(axes.iter().zip(p).map(|(a, v)| format!("{}={v}", a.key)));
+        let point = crate::events_scene::load(&args.scene, &set)?;
         for seed in 1..=args.seeds {
-            let mut set = args.overrides.clone();
-            set.extend(axes.iter().zip(p).map(|(a, v)| format!("{}={v}", a.key)));
-            set.push(format!("run.seed={seed}"));
-            let scene = crate::events_scene::load(&args.scene, &set)?;
+            let mut scene = point.clone();
+            scene.run.seed = seed;
             scene.config()?;
             jobs.push((p.clone(), seed, scene));
         }
