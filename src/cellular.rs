@@ -29,7 +29,7 @@ use automaton::{Lattice, Params, RuleSet, YBoundary};
 use indicatif::ProgressBar;
 use particles::constants::GRAVITY;
 use particles::experiment::single::SphereOnFloor;
-use particles::scene::{Scene, SceneError, TimeStep};
+use particles::scene::{Scene, SceneError};
 use serde::Serialize;
 
 use crate::output::{progress_bar, CliError};
@@ -115,12 +115,14 @@ pub fn tray_drive(scene: &Scene) -> TrayDrive {
     }
 }
 
-/// A free grain's slide on the scene's tray, from the single-sphere DEM.
+/// A free grain's slide on the scene's tray, from the single-sphere DEM at the DEM's own
+/// step ([`particles::time_step::for_scene`]: explicit, or chosen by the collision lab for
+/// `dt = "auto"`), so that both models see one step. (It used to take `shortest contact time
+/// / run.steps_per_contact` for `"auto"`, twice the DEM's step on `scenes/stripes.toml`;
+/// the slide is converged at both: 3e-6 relative, the same 24-cell flight cap and the same
+/// automaton states.)
 pub fn slide_dem(scene: &Scene) -> Result<SlideMeasure, CliError> {
-    let dt = match scene.run.dt {
-        TimeStep::Seconds(dt) => dt,
-        TimeStep::Auto(_) => particles::timescale::shortest_contact_time(scene)? / scene.run.steps_per_contact,
-    };
+    let dt = particles::time_step::for_scene(scene)?;
     let sphere = SphereOnFloor::on_scene(scene, 0.5 * (scene.particles.radius_min + scene.particles.radius_max), dt)?;
     let duration = SLIDE_PERIODS / scene.drive.frequency;
     let every = ((1.0 / scene.drive.frequency) / dt / 400.0).max(1.0) as u64;

@@ -6,7 +6,9 @@
 //! (`config.json`) and `summary.json`, and prints that summary as the last line of stdout.
 
 mod bytes;
+mod calibrate;
 mod cellular;
+mod cli_args;
 mod cli_values;
 mod clock;
 mod commands;
@@ -18,9 +20,11 @@ mod events_measure;
 mod events_scene;
 mod events_side;
 mod output;
+mod pipeline;
 mod run_lock;
 mod run_outputs;
 mod samples;
+mod scene_edit;
 mod scene_file;
 mod scene_text;
 mod sweep;

@@ -93,6 +93,22 @@ impl RunDir {
         self.written.extend(found);
     }
 
+    /// Where this directory is and what has been written into it so far, as a typed summary
+    /// ends (see [`RunDir::finish_typed`]).
+    pub fn written(&self) -> Written {
+        Written {
+            out: self.path.display().to_string(),
+            files: self.written.iter().map(|p| p.display().to_string()).collect(),
+        }
+    }
+
+    /// Writes a typed summary, which ends with [`RunDir::written`], as `summary.json`: the
+    /// same file [`RunDir::finish`] writes from a JSON value.
+    pub fn finish_typed(mut self, summary: &impl Serialize) -> Result<(), CliError> {
+        let value = serde_json::to_value(summary)?;
+        self.json("summary.json", &value)
+    }
+
     /// Writes `summary.json` (with the list of files written) and returns it as one line of
     /// JSON for stdout.
     pub fn finish(mut self, summary: serde_json::Value) -> Result<String, CliError> {
@@ -105,6 +121,19 @@ impl RunDir {
         self.json("summary.json", &summary)?;
         Ok(serde_json::to_string(&summary)?)
     }
+}
+
+/// The last fields of every summary: the output directory and the files written into it.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct Written {
+    pub out: String,
+    pub files: Vec<String>,
+}
+
+/// A typed summary as the one line of JSON a command prints (keys in the order of
+/// `summary.json`).
+pub fn json_line(summary: &impl Serialize) -> Result<String, CliError> {
+    Ok(serde_json::to_string(&serde_json::to_value(summary)?)?)
 }
 
 /// Whether `dir` exists and holds anything.

@@ -11,9 +11,11 @@
 //!   `ITEM: TIMESTEP`; its time is `timestep * dt`.
 //!
 //! A snapshot file cut inside a frame, or a dump cut inside a frame (a killed run), is read up
-//! to its last complete frame, with a warning in [`Run::warnings`]. The drive period comes
-//! from the run's own metadata when there is any: `config.json` beside `snapshots.bin`
-//! (written by `stripes run` and `stripes automaton`) holds `scene.drive.frequency`.
+//! to its last complete frame, with a warning in [`Run::warnings`]. The drive period and the
+//! geometry come from the run's own metadata when there is any ([`Metadata`]):
+//! `config.json` beside `snapshots.bin` (written by `stripes run`, `stripes automaton` and
+//! `stripes events`) holds `scene.drive.frequency`, and `scene.model = "events"` for an
+//! event-driven run of a vertical box.
 
 use std::io::Read;
 use std::path::{Path, PathBuf};
@@ -40,6 +42,8 @@ pub struct Run {
     /// The drive period (s) from the run's metadata (`config.json`: `1 / scene.drive.frequency`),
     /// None without metadata.
     pub period: Option<f64>,
+    /// What the frames show, from the run's metadata (a tray seen from above without it).
+    pub geometry: Geometry,
     /// LAMMPS dumps: the velocity columns used (the others read as zero).
     pub velocity_columns: Option<Vec<String>>,
     /// Problems that did not stop the reading (a cut-off file).
@@ -79,33 +83,68 @@ impl std::error::Error for MetadataError {
     }
 }
 
-/// The drive period `1 / scene.drive.frequency` (s) from the `config.json` beside `file`.
-/// `Ok(None)` when the run has no period to give: no `config.json`, no
-/// `scene.drive.frequency` in it, or a frequency that is not positive (no shaking). A
-/// `config.json` that is there but unreadable, not JSON, or holds a frequency that is not a
-/// number is an error, not a missing period.
-pub fn metadata_period(file: &Path) -> Result<Option<f64>, MetadataError> {
+/// What the frames of a run show.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Geometry {
+    /// A horizontal tray seen from above (the DEM, the automaton, a LAMMPS dump): frames in
+    /// the (x, y) plane.
+    #[default]
+    Tray,
+    /// An event-driven vertical box seen from the side: frames in the (x, z) plane, grains
+    /// stacked in z.
+    VerticalBox,
+}
+
+/// What a run's `config.json` says about it.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Metadata {
+    /// The drive period `1 / scene.drive.frequency` (s).
+    pub period: Option<f64>,
+    /// `Geometry::VerticalBox` for `scene.model = "events"`.
+    pub geometry: Geometry,
+}
+
+/// The metadata in the `config.json` beside `file`. No period when the run has none to
+/// give: no `config.json`, no `scene.drive.frequency` in it, or a frequency that is not
+/// positive (no shaking). A `config.json` that is there but unreadable, not JSON, or holds
+/// a frequency that is not a number is an error, not missing metadata.
+pub fn metadata(file: &Path) -> Result<Metadata, MetadataError> {
     let Some(dir) = file.parent() else {
-        return Ok(None);
+        return Ok(Metadata::default());
     };
     let path = dir.join("config.json");
     let text = match std::fs::read_to_string(&path) {
         Ok(text) => text,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Metadata::default()),
         Err(source) => return Err(MetadataError::Unreadable { path, source }),
     };
     let v: serde_json::Value = serde_json::from_str(&text).map_err(|source| MetadataError::NotJson {
         path: path.clone(),
         source,
     })?;
-    let Some(value) = v.get("scene").and_then(|s| s.get("drive")).and_then(|d| d.get("frequency")) else {
-        return Ok(None);
+    let scene = v.get("scene");
+    let geometry = if scene.and_then(|s| s.get("model")).and_then(|m| m.as_str()) == Some("events") {
+        Geometry::VerticalBox
+    } else {
+        Geometry::Tray
+    };
+    let Some(value) = scene.and_then(|s| s.get("drive")).and_then(|d| d.get("frequency")) else {
+        return Ok(Metadata { period: None, geometry });
     };
     let f = value.as_f64().ok_or_else(|| MetadataError::FrequencyNotANumber {
         path,
         value: value.clone(),
     })?;
-    Ok((f.is_finite() && f > 0.0).then(|| 1.0 / f))
+    Ok(Metadata {
+        period: (f.is_finite() && f > 0.0).then(|| 1.0 / f),
+        geometry,
+    })
+}
+
+/// The drive period of [`metadata`].
+pub fn metadata_period(file: &Path) -> Result<Option<f64>, MetadataError> {
+    Ok(metadata(file)?.period)
 }
 
 /// Loads a run directory, a `snapshots.bin` file or a LAMMPS dump; `dt` (s) converts LAMMPS
@@ -159,16 +198,17 @@ pub fn load(path: &Path, dt: f64) -> Result<Run, String> {
             ));
         }
     }
-    let period = match kind {
-        InputKind::Snapshots => metadata_period(&file).map_err(|e| e.to_string())?,
-        InputKind::LammpsDump => None,
+    let meta = match kind {
+        InputKind::Snapshots => metadata(&file).map_err(|e| e.to_string())?,
+        InputKind::LammpsDump => Metadata::default(),
     };
     Ok(Run {
         file,
         kind,
         header,
         frames,
-        period,
+        period: meta.period,
+        geometry: meta.geometry,
         velocity_columns,
         warnings,
     })
@@ -187,8 +227,17 @@ mod tests {
         assert!(metadata_period(&file).unwrap().is_none(), "no config.json");
         std::fs::write(&config, r#"{"scene": {"drive": {"frequency": 20.0}}}"#).unwrap();
         assert_eq!(metadata_period(&file).unwrap(), Some(0.05));
+        assert_eq!(metadata(&file).unwrap().geometry, Geometry::Tray);
         std::fs::write(&config, r#"{"args": {}}"#).unwrap();
         assert!(metadata_period(&file).unwrap().is_none(), "no scene.drive.frequency");
+        std::fs::write(&config, r#"{"scene": {"model": "events", "drive": {"frequency": 20.0}}}"#).unwrap();
+        assert_eq!(
+            metadata(&file).unwrap(),
+            Metadata {
+                period: Some(0.05),
+                geometry: Geometry::VerticalBox
+            }
+        );
         std::fs::write(&config, r#"{"scene": {"drive": {"frequency": 0.0}}}"#).unwrap();
         assert!(metadata_period(&file).unwrap().is_none(), "no shaking");
         std::fs::write(&config, "{ cut off").unwrap();

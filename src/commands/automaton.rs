@@ -1,7 +1,8 @@
 //! `stripes automaton SCENE.toml`: the Strassburger cellular automaton (thesis 3.1) on the
 //! same scene file and the same prepared sample as `stripes run`, written as snapshots that
 //! `stripes analyze` reads, and analysed by it. `--bench` measures its speed, `--calibrate`
-//! fits its free parameters to DEM runs (see [`super::calibrate`]).
+//! fits its free parameters to DEM runs (see [`crate::calibrate`]). The run itself is the
+//! pipeline's ([`crate::pipeline::run_automaton`]).
 //!
 //! Time: one drive period is two half steps (a flight towards +x, then towards -x, the
 //! grains' slide relative to the tray between the turning points). Frame 0 is the sample at
@@ -12,19 +13,18 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use automaton::mapping::FreeParams;
 use automaton::RuleSet;
 use automaton::{Automaton, Direction};
 use serde::Serialize;
-use serde_json::{json, Value};
+use serde_json::json;
 
-use crate::cellular::{self, evolve, load_scene, setup, Cells};
+use crate::cellular::{self, Cells};
 use crate::clock::Stopwatch;
-use crate::commands::analyze;
-use crate::output::{progress_bar, CliError, RunDir};
+use crate::output::{json_line, CliError, RunDir};
+use crate::pipeline::{self, AutomatonOptions};
 use crate::scene_file::SceneFile;
 
-#[derive(clap::Args, Debug, Default, Serialize)]
+#[derive(clap::Args, Debug, Serialize)]
 pub struct Args {
     /// Scene file (TOML), the same as for `stripes run` (optional table [automaton]); not
     /// with --calibrate, which uses each DEM run's own scene.toml.
@@ -33,9 +33,9 @@ pub struct Args {
     /// Output directory (default: out/automaton-<scene name>).
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Replace the files of an output directory that already holds some (default: refuse it).
-    #[arg(long)]
-    pub force: bool,
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub replace: crate::cli_args::Force,
     /// Override a scene key, e.g. --set automaton.activation=0.3 (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub overrides: Vec<String>,
@@ -43,10 +43,9 @@ pub struct Args {
     /// the scene's [automaton] table). Default: the scene's automaton.rule, itself physical.
     #[arg(long, value_parser = rule_parser())]
     pub rule: Option<RuleSet>,
-    /// Cache of prepared samples, shared by every run (default: $STRIPES_SAMPLE_CACHE, else
-    /// out/samples).
-    #[arg(long, value_name = "DIR", default_value_os_t = crate::output::default_sample_cache())]
-    pub sample_cache: PathBuf,
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub samples: crate::cli_args::SampleCache,
     /// Measure the speed (cell updates per second, one core) on the scene's tray with a
     /// random layer of its grain count instead of running it.
     #[arg(long)]
@@ -58,27 +57,27 @@ pub struct Args {
     /// snapshots.bin) and report the fit.
     #[arg(long, num_args = 1.., value_name = "RUN_DIR")]
     pub calibrate: Vec<PathBuf>,
-    /// No progress output (warnings still go to stderr, the summary to stdout).
-    #[arg(long)]
-    pub quiet: bool,
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub progress: crate::cli_args::Quiet,
 }
 
 pub fn run(args: Args) -> Result<String, CliError> {
     if !args.calibrate.is_empty() {
-        return super::calibrate::run(&super::calibrate::Calibration {
+        return crate::calibrate::run(&crate::calibrate::Calibration {
             runs: args.calibrate.clone(),
             out: args.out.clone(),
             overrides: args.overrides.clone(),
-            samples: args.sample_cache.clone(),
-            quiet: args.quiet,
+            samples: args.samples.sample_cache.clone(),
+            quiet: args.progress.quiet,
         });
     }
     let path = args.scene.clone().ok_or("a scene file is needed")?;
-    let file = load_scene(&path, &args.overrides)?;
+    let scene = pipeline::resolve_lattice(&path, crate::scene_file::load(&path, &args.overrides)?)?;
     if args.bench {
-        return bench(&args, &path, &file);
+        return bench(&args, &path, &scene.file);
     }
-    simulate(&args, &path, file)
+    json_line(&pipeline::run_automaton(&scene, &args.options(&path))?)
 }
 
 /// `--rule`: the automaton's own rule-set type, by its scene-file names.
@@ -87,108 +86,21 @@ fn rule_parser() -> impl clap::builder::TypedValueParser<Value = RuleSet> {
     clap::builder::PossibleValuesParser::new(RuleSet::NAMES).map(|s| s.parse::<RuleSet>().expect("one of the names"))
 }
 
-/// Reads the analysis summary keys shared with `stripes analyze`.
-pub(crate) fn analysis_keys(line: &str) -> Result<serde_json::Map<String, Value>, CliError> {
-    let v: Value = serde_json::from_str(line)?;
-    let mut out = serde_json::Map::new();
-    for key in [
-        "stripe_count_final",
-        "stripe_onset_s",
-        "phase",
-        "phase_note",
-        "mobility",
-        "contrast",
-        "stationary_stripe_count",
-        "stripe_mean_width_final_m",
-        "stripe_spacing_m",
-        "msd_plateau_before",
-        "msd_plateau_after",
-        "spacing_m",
-        "structure_peak_height",
-        "structure_peak_width_per_m",
-        "band_width_m",
-        "band_gap_m",
-        "in_band_fraction",
-        "warnings",
-    ] {
-        if let Some(x) = v.get(key) {
-            out.insert(key.into(), x.clone());
+impl Args {
+    /// The pipeline's options these arguments select for the scene at `path`.
+    fn options(&self, path: &Path) -> AutomatonOptions {
+        let name = path
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "scene".into());
+        AutomatonOptions {
+            out: self.out.clone().unwrap_or_else(|| PathBuf::from(format!("out/automaton-{name}"))),
+            force: self.replace.force,
+            rule: self.rule,
+            sample_cache: self.samples.sample_cache.clone(),
+            quiet: self.progress.quiet,
         }
     }
-    Ok(out)
-}
-
-/// Runs `stripes analyze` on a run directory, into `<dir>/analysis`.
-pub(crate) fn analyze_dir(dir: &Path) -> Result<String, CliError> {
-    analyze::run(analyze::Args {
-        force: true,
-        input: dir.to_path_buf(),
-        out: Some(dir.join("analysis")),
-        ..Default::default()
-    })
-}
-
-fn simulate(args: &Args, path: &Path, file: SceneFile) -> Result<String, CliError> {
-    let scene = &file.dem;
-    let name = path
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "scene".into());
-    let out = args.out.clone().unwrap_or_else(|| PathBuf::from(format!("out/automaton-{name}")));
-    // Checked before the directory is made, so a refused lattice leaves nothing behind.
-    crate::cellular::validate_lattice(&file)?;
-    crate::output::claim(&out, args.force)?;
-    let mut dir = RunDir::create(&out, &json!({ "args": args, "scene": &file }))?;
-    analysis::io::write_atomic(&out.join("scene.toml"), file.to_toml()?.as_bytes())?;
-    let rule = args.rule.unwrap_or(file.automaton.rule);
-    let s = setup(&file, &args.sample_cache, args.quiet)?;
-    let free: FreeParams = file.automaton.free_params();
-    let params = cellular::params(&file, rule, &s.slide_dem, &free);
-    let wall = Instant::now();
-    let b = progress_bar(1, args.quiet, "automaton");
-    let outcome = evolve(&file, s.lattice, params, Some(&out.join("snapshots.bin")), s.radius, &b, |_, _| ())?;
-    b.finish_and_clear();
-    let wall_s = wall.elapsed().as_secs_f64();
-    let analysis_line = analyze_dir(&out)?;
-    let mut summary = analysis_keys(&analysis_line)?;
-    for w in &outcome.warnings {
-        eprintln!("warning: {w}");
-    }
-    let mut warnings = outcome.warnings.clone();
-    if let Some(Value::Array(more)) = summary.get("warnings") {
-        warnings.extend(more.iter().filter_map(|w| w.as_str().map(String::from)));
-    }
-    summary.insert("warnings".into(), json!(warnings));
-    let c = outcome.cells;
-    let cell_updates = (c.nx * c.ny) as f64 * outcome.half_steps as f64;
-    let extra = json!({
-        "scene": path.display().to_string(),
-        "rule": rule,
-        "params": params,
-        "cells": c,
-        "grains": outcome.mass.0,
-        "mass_initial": outcome.mass.0,
-        "mass_final": outcome.mass.1,
-        "displaced_to_free_cell": s.displaced,
-        "stacked": s.stacked,
-        "mapping": {
-            "tray_acceleration": cellular::tray_drive(scene).tray_acceleration(),
-            "friction_acceleration": cellular::tray_drive(scene).friction_acceleration(),
-            "slide_dem": s.slide_dem,
-            "slide_coulomb_block": s.slide_coulomb,
-            "flight_cap_cells": (s.slide_dem.displacement / c.dx).round(),
-        },
-        "periods": outcome.periods,
-        "half_steps": outcome.half_steps,
-        "stepping_s": outcome.stepping_s,
-        "wall_s": wall_s,
-        "cell_updates_per_s": cell_updates / outcome.stepping_s.max(1e-12),
-    });
-    if let Value::Object(m) = extra {
-        summary.extend(m);
-    }
-    dir.note_files([out.join("snapshots.bin"), out.join("scene.toml")]);
-    dir.finish(Value::Object(summary))
 }
 
 /// Speed on the scene's tray: a random layer of the scene's grain count, `strict` and
@@ -197,7 +109,7 @@ fn bench(args: &Args, path: &Path, file: &SceneFile) -> Result<String, CliError>
     crate::cellular::validate_lattice(file)?;
     let scene = &file.dem;
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from("out/automaton-bench"));
-    crate::output::claim(&out, args.force)?;
+    crate::output::claim(&out, args.replace.force)?;
     let mut dir = RunDir::create(&out, &json!({ "args": args, "scene": scene }))?;
     let cells = Cells::of(file);
     // Grain positions from a SplitMix64 stream of the scene's seed.

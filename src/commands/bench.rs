@@ -27,9 +27,9 @@ pub struct Args {
     /// Output directory.
     #[arg(long, default_value = "out/bench")]
     pub out: PathBuf,
-    /// Replace the files of an output directory that already holds some (default: refuse it).
-    #[arg(long)]
-    pub force: bool,
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub replace: crate::cli_args::Force,
     /// Grains in the tray study (default: 200 quick, 400 full); the tray is count/10000 m
     /// long and 2 cm wide (thesis packing 0.23).
     #[arg(long)]
@@ -79,7 +79,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
     // only wall time adds up.
     config.cpu_time = args.threads == 1;
     let pool = rayon::ThreadPoolBuilder::new().num_threads(args.threads).build()?;
-    crate::output::claim(&args.out, args.force)?;
+    crate::output::claim(&args.out, args.replace.force)?;
     let mut dir = RunDir::create(&args.out, &json!({ "args": &args, "config": &config }))?;
     let t0 = Instant::now();
     let say = |name: &str| eprintln!("[{:6.1} s] {name}", t0.elapsed().as_secs_f64());

@@ -15,8 +15,8 @@ pub struct Args {
 pub fn run(args: Args) -> Result<String, CliError> {
     let sweep = sweep::load(&args.dir)?;
     let summary = match sweep.kind {
-        SweepKind::PhaseMap => crate::commands::phase_map::report(&args.dir, &sweep)?,
-        SweepKind::Ablate => crate::commands::ablate::report(&args.dir, &sweep)?,
+        SweepKind::PhaseMap => sweep::phase_map::report(&args.dir, &sweep)?,
+        SweepKind::Ablate => sweep::ablate::report(&args.dir, &sweep)?,
     };
     Ok(serde_json::to_string(&summary)?)
 }

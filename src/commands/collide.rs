@@ -132,9 +132,9 @@ pub struct Args {
     /// Output directory.
     #[arg(long, default_value = "out/collide")]
     pub out: PathBuf,
-    /// Replace the files of an output directory that already holds some (default: refuse it).
-    #[arg(long)]
-    pub force: bool,
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub replace: crate::cli_args::Force,
 }
 
 impl Args {
@@ -218,7 +218,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
     }
     let collision = args.collision()?;
     let result = collision.run()?;
-    crate::output::claim(&args.out, args.force)?;
+    crate::output::claim(&args.out, args.replace.force)?;
     let dir = RunDir::create(&args.out, &args)?;
     dir.finish(serde_json::to_value(&result)?)
 }
@@ -256,7 +256,7 @@ fn run_table(args: Args) -> Result<String, CliError> {
         floor.target = Target::Wall;
         source = format!("{} (radius {r:e} m, density {} kg/m^3)", path.display(), scene.material().density);
     }
-    crate::output::claim(&args.out, args.force)?;
+    crate::output::claim(&args.out, args.replace.force)?;
     let mut dir = RunDir::create(&args.out, &args)?;
     let mut summary = serde_json::Map::new();
     for (name, base) in [("restitution", pair), ("restitution_floor", floor)] {

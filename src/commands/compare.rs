@@ -13,10 +13,9 @@ use analysis::plot::{Heatmap, LinePlot, Mark};
 use serde::Serialize;
 use serde_json::{json, Value};
 
-use super::automaton::{analysis_keys, analyze_dir};
-use super::{automaton, run};
 use crate::cellular::load_scene;
 use crate::output::{CliError, RunDir};
+use crate::pipeline::{self, AnalysisOptions, AutomatonOptions, RunOptions};
 use crate::samples::sample_key;
 
 #[derive(clap::Args, Debug, Serialize)]
@@ -37,10 +36,9 @@ pub struct Args {
     /// distance between the two seeds is the scale of the distance between the models.
     #[arg(long, value_name = "RUN_DIR")]
     pub seed_scale_run: Option<PathBuf>,
-    /// Cache of prepared samples, shared by every run (default: $STRIPES_SAMPLE_CACHE, else
-    /// out/samples).
-    #[arg(long, value_name = "DIR", default_value_os_t = crate::output::default_sample_cache())]
-    pub sample_cache: PathBuf,
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub samples: crate::cli_args::SampleCache,
     /// Replace an earlier comparison in the output directory (refused without it).
     #[arg(long, conflicts_with = "resume")]
     pub force: bool,
@@ -48,9 +46,9 @@ pub struct Args {
     /// checkpoint (or is kept if it finished), the automaton and the analyses run again.
     #[arg(long)]
     pub resume: bool,
-    /// No progress output (warnings still go to stderr, the summary to stdout).
-    #[arg(long)]
-    pub quiet: bool,
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub progress: crate::cli_args::Quiet,
 }
 
 fn stage(quiet: bool, k: usize, what: &str) {
@@ -344,16 +342,17 @@ fn compare(args: &Args, file: &crate::scene_file::SceneFile, out: &Path) -> Resu
     let mut dir = RunDir::create(out, &args_json)?;
 
     // 1. DEM.
+    let mut fresh = None;
     let dem_dir = match &args.dem_run {
         Some(d) => {
-            stage(args.quiet, 1, &format!("DEM: reusing {}", d.display()));
+            stage(args.progress.quiet, 1, &format!("DEM: reusing {}", d.display()));
             d.clone()
         }
         None => {
             let d = out.join("dem");
             let finished = args.resume && d.join("summary.json").is_file();
             stage(
-                args.quiet,
+                args.progress.quiet,
                 1,
                 if finished {
                     "DEM run (finished before: kept)"
@@ -364,61 +363,52 @@ fn compare(args: &Args, file: &crate::scene_file::SceneFile, out: &Path) -> Resu
                 },
             );
             if !finished {
-                run::run(run::Args {
-                    scene: args.scene.clone(),
-                    out: Some(d.clone()),
-                    overrides: args.overrides.clone(),
-                    resume: args.resume,
-                    force: args.force,
-                    vtk: false,
-                    thermo_interval: None,
-                    sample_cache: args.sample_cache.clone(),
-                    stop_after: None,
-                    lammps_data: None,
-                    quiet: args.quiet,
-                })?;
+                let resolved = pipeline::resolve(&args.scene, file.clone())?;
+                let summary = pipeline::run_dem(
+                    &resolved,
+                    &RunOptions {
+                        out: d.clone(),
+                        resume: args.resume,
+                        force: args.force,
+                        sample_cache: args.samples.sample_cache.clone(),
+                        quiet: args.progress.quiet,
+                        ..RunOptions::default()
+                    },
+                )?;
+                fresh = Some(summary);
             }
             d
         }
     };
     // A run reused with --dem-run may have stopped before its end, without summary.json: its
-    // speed is then unknown. A summary that is there but unreadable is an error, as is a
-    // missing one of the run just made.
+    // speed is then unknown. A summary that is there but unreadable is an error.
     let summary = dem_dir.join("summary.json");
-    let dem_summary = match &args.dem_run {
-        Some(_) if !summary.exists() => Value::Null,
-        _ => read_json(&summary)?,
+    let dem_summary = match (fresh, &args.dem_run) {
+        (Some(s), _) => serde_json::to_value(s)?,
+        (None, Some(_)) if !summary.exists() => Value::Null,
+        (None, _) => read_json(&summary)?,
     };
 
     // 2. Automaton, same scene and sample.
-    stage(args.quiet, 2, "automaton run");
+    stage(args.progress.quiet, 2, "automaton run");
     let auto_dir = out.join("automaton");
-    let auto_line = automaton::run(automaton::Args {
-        scene: Some(args.scene.clone()),
-        out: Some(auto_dir.clone()),
-        force: true, // inside the comparison's own directory, claimed above
-        overrides: args.overrides.clone(),
-        rule: None,
-        sample_cache: args.sample_cache.clone(),
-        bench: false,
-        bench_seconds: 3.0,
-        calibrate: Vec::new(),
-        quiet: args.quiet,
-    })?;
-    let auto_summary: Value = serde_json::from_str(&auto_line)?;
+    let automaton = pipeline::run_automaton(
+        &pipeline::resolve_lattice(&args.scene, file.clone())?,
+        &AutomatonOptions {
+            out: auto_dir.clone(),
+            force: true, // inside the comparison's own directory, claimed above
+            rule: None,
+            sample_cache: args.samples.sample_cache.clone(),
+            quiet: args.progress.quiet,
+        },
+    )?;
+    let auto_summary = serde_json::to_value(&automaton)?;
 
-    // 3. The same analysis of both.
-    stage(args.quiet, 3, "analysis");
+    // 3. The same analysis of both (the automaton's was made by its run).
+    stage(args.progress.quiet, 3, "analysis");
     let dem_analysis_dir = out.join("dem-analysis");
-    let dem_line = super::analyze::run(super::analyze::Args {
-        force: true,
-        input: dem_dir.clone(),
-        out: Some(dem_analysis_dir.clone()),
-        ..Default::default()
-    })?;
-    let dem_keys = analysis_keys(&dem_line)?;
-    // The automaton command analysed its states already; analyse again so both use this run's binary.
-    let auto_keys = analysis_keys(&analyze_dir(&auto_dir)?)?;
+    let dem_keys = pipeline::analyze(&dem_dir, &AnalysisOptions::into_dir(dem_analysis_dir.clone()))?.shared_keys()?;
+    let auto_keys = automaton.analysed.shared_keys()?;
 
     // The structures, and their distance; a second DEM seed gives its scale.
     let dem_structure = late_structure(&dem_analysis_dir)?;
@@ -442,19 +432,14 @@ fn compare(args: &Args, file: &crate::scene_file::SceneFile, out: &Path) -> Resu
                 .into());
             }
             let dir2 = out.join("seed-scale-analysis");
-            super::analyze::run(super::analyze::Args {
-                force: true,
-                input: d.clone(),
-                out: Some(dir2.clone()),
-                ..Default::default()
-            })?;
+            pipeline::analyze(d, &AnalysisOptions::into_dir(dir2.clone()))?;
             analysis::structure::distance(&dem_structure, &late_structure(&dir2)?)
         }
         None => None,
     };
 
     // 4. Report.
-    stage(args.quiet, 4, "report");
+    stage(args.progress.quiet, 4, "report");
     let dem_counts = counts(&dem_analysis_dir)?;
     let auto_counts = counts(&auto_dir.join("analysis"))?;
     let plot = LinePlot::new("Stripe count over time, same scene and sample", "t (s)", "stripes")

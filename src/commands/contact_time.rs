@@ -22,15 +22,15 @@ pub struct Args {
     /// Output directory.
     #[arg(long, default_value = "out/contact-time")]
     pub out: PathBuf,
-    /// Replace the files of an output directory that already holds some (default: refuse it).
-    #[arg(long)]
-    pub force: bool,
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub replace: crate::cli_args::Force,
 }
 
 pub fn run(args: Args) -> Result<String, CliError> {
     let base = ContactTimeCase::default();
     let rows = study(base, args.points, args.steps_per_contact)?;
-    crate::output::claim(&args.out, args.force)?;
+    crate::output::claim(&args.out, args.replace.force)?;
     let mut dir = RunDir::create(&args.out, &json!({ "args": &args, "base": base }))?;
     let mut summary = serde_json::Map::new();
     for (param, label, unit, log_x) in [

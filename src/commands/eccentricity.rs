@@ -25,9 +25,9 @@ pub struct Args {
     /// Output directory.
     #[arg(long, default_value = "out/eccentricity")]
     pub out: PathBuf,
-    /// Replace the files of an output directory that already holds some (default: refuse it).
-    #[arg(long)]
-    pub force: bool,
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub replace: crate::cli_args::Force,
 }
 
 /// Eccentricity at which eps_n^HS changes sign (linear interpolation), if it does.
@@ -43,7 +43,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
         return Err("--points must be >= 2 and --max-e in [0, 1)".into());
     }
     let es: Vec<f64> = (0..args.points).map(|k| args.max_e * k as f64 / (args.points - 1) as f64).collect();
-    crate::output::claim(&args.out, args.force)?;
+    crate::output::claim(&args.out, args.replace.force)?;
     let mut dir = RunDir::create(&args.out, &args)?;
     let (mut hs, mut en, mut phi) = (
         LinePlot::new(

@@ -4,20 +4,15 @@
 //! format `stripes analyze` reads, the vertical plane stored as x and z with y = R_max),
 //! `profiles.csv` with plots of the density and temperature profiles, `checkpoint.bin`
 //! (every 30 s of wall time and at the end), and `summary.json`, printed last. `--resume`
-//! continues a run from its checkpoint bit for bit, also past its old `run.duration`.
+//! continues a run from its checkpoint bit for bit, also past its old `run.duration`. The
+//! run itself is the pipeline's ([`crate::pipeline::run_events`]).
 
 use std::path::PathBuf;
-use std::time::{Duration, Instant};
 
-use analysis::plot::{LinePlot, Mark};
-use analysis::snapshot::{Header, SnapshotWriter};
-use events::observe::{ledger_error, Observer};
-use events::Simulation;
 use serde::Serialize;
-use serde_json::json;
 
-use crate::events_checkpoint;
-use crate::output::{progress_bar, CliError, RunDir};
+use crate::output::{json_line, CliError};
+use crate::pipeline::{self, EventsOptions};
 
 #[derive(clap::Args, Debug, Serialize)]
 pub struct Args {
@@ -36,326 +31,22 @@ pub struct Args {
     /// run.duration, e.g. to extend a finished run).
     #[arg(long)]
     pub resume: bool,
-    /// No progress output (warnings still go to stderr, the summary to stdout).
-    #[arg(long)]
-    pub quiet: bool,
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub progress: crate::cli_args::Quiet,
 }
 
 pub fn run(args: Args) -> Result<String, CliError> {
     let scene = crate::events_scene::load(&args.scene, &args.overrides)?;
-    let config = scene.config()?;
     let name = args
         .scene
         .file_stem()
         .map_or_else(|| "scene".into(), |s| s.to_string_lossy().into_owned());
-    let out = args.out.clone().unwrap_or_else(|| PathBuf::from(format!("out/events-{name}")));
-    let fingerprint = fingerprint(&scene)?;
-    let resumed = if args.resume {
-        let path = out.join("checkpoint.bin");
-        let bytes = std::fs::read(&path).map_err(|e| format!("--resume: cannot read {} (nothing was written): {e}", path.display()))?;
-        let c = events_checkpoint::decode(&bytes).map_err(|e| format!("--resume: {}: {e}", path.display()))?;
-        if c.fingerprint != fingerprint {
-            return Err(format!(
-                "--resume: the scene differs from the one {} was written with (only run.duration may change; compare with {})",
-                path.display(),
-                out.join("scene.toml").display()
-            )
-            .into());
-        }
-        Some(c)
-    } else {
-        crate::output::claim(&out, args.force)?;
-        None
+    let opts = EventsOptions {
+        out: args.out.clone().unwrap_or_else(|| PathBuf::from(format!("out/events-{name}"))),
+        force: args.force,
+        resume: args.resume,
+        quiet: args.progress.quiet,
     };
-    // Placed before anything is written: particles that do not fit leave nothing behind.
-    let start = match resumed {
-        Some(c) => {
-            let sim = Simulation::import_state(config, c.state.clone())
-                .map_err(|e| format!("--resume: {}: {e}", out.join("checkpoint.bin").display()))?;
-            Start { sim, resumed: Some(c) }
-        }
-        None => Start {
-            sim: Simulation::new(config)?,
-            resumed: None,
-        },
-    };
-    let fresh = !out.exists();
-    let lock = crate::run_lock::RunLock::acquire(&out)?;
-    let result = simulate(&args, &scene, start, fingerprint, &out);
-    drop(lock);
-    if result.is_err() && fresh {
-        let _ = std::fs::remove_dir_all(&out);
-    }
-    result
-}
-
-/// The simulation to run, new or continued from a checkpoint.
-struct Start {
-    sim: Simulation,
-    resumed: Option<events_checkpoint::Checkpoint>,
-}
-
-/// What a checkpoint must match to be resumed: the scene, except `run.duration`.
-fn fingerprint(scene: &crate::events_scene::EventScene) -> Result<u64, CliError> {
-    let mut s = scene.clone();
-    s.run.duration = 0.0;
-    Ok(events_checkpoint::fnv1a(toml::to_string(&s)?.as_bytes()))
-}
-
-/// Wall time between checkpoints.
-const CHECKPOINT_EVERY: Duration = Duration::from_secs(30);
-
-fn simulate(
-    args: &Args,
-    scene: &crate::events_scene::EventScene,
-    start: Start,
-    fingerprint: u64,
-    out: &std::path::Path,
-) -> Result<String, CliError> {
-    let Start { mut sim, resumed } = start;
-    let mut dir = RunDir::create(out, &json!({ "args": args, "scene": scene }))?;
-    analysis::io::write_atomic(&out.join("scene.toml"), toml::to_string(scene)?.as_bytes())?;
-    let species = sim.config.species.len();
-    let rmax = sim.config.radius_max();
-    let header = Header {
-        length: sim.config.width,
-        width: 2.0 * rmax,
-        radii: sim.radius.clone(),
-    };
-    let snapshots_path = out.join("snapshots.bin");
-    let f = scene.drive.frequency;
-    let dt_sample = 1.0 / (f * scene.run.samples_per_period as f64);
-    let samples = (scene.run.duration / dt_sample).floor() as u64;
-    let top = sim.config.height + sim.config.lid.map_or(0.0, |m| m.amplitude);
-    let (mut obs, e0, first, mut frames, mut snapshots) = match resumed {
-        Some(c) => {
-            let snapshots = SnapshotWriter::open_append(&snapshots_path, header, c.frames)
-                .map_err(|e| format!("--resume: {}: {e}", snapshots_path.display()))?;
-            (c.observer, c.e0, c.sample + 1, c.frames, snapshots)
-        }
-        None => {
-            let mut obs = Observer::new(species, scene.run.bin, top, sim.config.width);
-            if let Some(base) = &sim.config.base {
-                obs = obs.with_phase_field(base, sim.config.width, sim.config.height);
-            }
-            let e0 = sim.energy();
-            (obs, e0, 1, 0, SnapshotWriter::create(&snapshots_path, header)?)
-        }
-    };
-    let collisions_before = sim.collisions();
-    let bar = progress_bar(samples, args.quiet, "events");
-    bar.set_position(first - 1);
-    let wall = Instant::now();
-    let mut last_checkpoint = Instant::now();
-    let checkpoint_path = out.join("checkpoint.bin");
-    let checkpoint = |sim: &Simulation, obs: &Observer, sample: u64, frames: u64, snapshots: &mut SnapshotWriter| {
-        // The frames the checkpoint counts are on disk before it is.
-        snapshots.sync()?;
-        let c = events_checkpoint::Checkpoint {
-            fingerprint,
-            sample,
-            frames,
-            e0,
-            state: sim.export_state(),
-            observer: obs.clone(),
-        };
-        analysis::io::write_atomic(&checkpoint_path, &events_checkpoint::encode(&c))
-            .map_err(|e| CliError::from(format!("cannot write {}: {e}", checkpoint_path.display())))
-    };
-    // On-CPU time of the loop (events, samples and frames): the speed on an idle core.
-    let clock = crate::clock::Stopwatch::start(true);
-    for k in first..=samples {
-        let t = k as f64 * dt_sample;
-        sim.run_until(t).map_err(|e| format!("{}: {e}", args.scene.display()))?;
-        if t >= scene.run.transient {
-            obs.sample(&sim);
-            let states: Vec<_> = (0..sim.len()).map(|i| sim.state(i)).collect();
-            snapshots.push(
-                t,
-                states.iter().map(|(r, _)| [r.x, rmax, r.y]),
-                states.iter().map(|(_, v)| [v.x, 0.0, v.y]),
-            )?;
-            frames += 1;
-        }
-        if last_checkpoint.elapsed() >= CHECKPOINT_EVERY {
-            checkpoint(&sim, &obs, k, frames, &mut snapshots)?;
-            last_checkpoint = Instant::now();
-        }
-        bar.set_message(format!("t = {t:.3} s of {} s, {} collisions", scene.run.duration, sim.collisions()));
-        bar.set_position(k);
-    }
-    let stepping = clock.seconds();
-    bar.finish_and_clear();
-    // The end is a checkpoint too: `--resume` with a longer run.duration extends the run.
-    checkpoint(&sim, &obs, samples.max(first - 1), frames, &mut snapshots)?;
-    dir.note_files([checkpoint_path.clone()]);
-    let wall_s = wall.elapsed().as_secs_f64();
-    let ledger = ledger_error(&sim, e0);
-    let mut warnings = Vec::new();
-    if ledger > 1e-9 {
-        warnings.push(format!(
-            "the energy ledger misses by {ledger:e} of the energy moved (expected round-off, below 1e-9)"
-        ));
-    }
-    if obs.samples == 0 {
-        warnings.push("no samples after run.transient: the profiles are empty".into());
-    }
-    // Profiles: per species, density and temperatures against height and across the box.
-    let up: Vec<Vec<[f64; 5]>> = (0..species).map(|k| obs.profile(k)).collect();
-    profile_files(&mut dir, &up, &HEIGHT, obs.bin, obs.samples)?;
-    if species == 2 {
-        temperature_ratio_plot(&mut dir, &up, obs.bin, obs.samples, sim.config.height)?;
-    }
-    let width = sim.config.width;
-    let across: Vec<Vec<[f64; 5]>> = (0..species).map(|k| obs.profile_across(k, width)).collect();
-    profile_files(&mut dir, &across, &ACROSS, width / obs.across_bins as f64, obs.samples)?;
-    crate::events_distributions::write(&mut dir, &obs, &sim)?;
-    let side = crate::events_side::write(&mut dir, &obs, dt_sample, sim.len())?;
-    if let (Some(field), Some(base)) = (&obs.field, &sim.config.base) {
-        crate::events_fields::write(&mut dir, field, base)?;
-    }
-    dir.note_files([out.join("scene.toml"), out.join("snapshots.bin")]);
-    let temps: Vec<_> = (0..species)
-        .map(|k| {
-            let (tx, tz, tr) = obs.temperatures(k);
-            json!({ "t_x_j": tx, "t_z_j": tz, "t_rot_j": tr })
-        })
-        .collect();
-    for w in &warnings {
-        eprintln!("warning: {w}");
-    }
-    let collisions = sim.collisions();
-    dir.finish(json!({
-        "scene": args.scene.display().to_string(),
-        "particles": sim.len(),
-        "simulated_s": scene.run.duration,
-        "samples": obs.samples,
-        "collisions": collisions,
-        "pair_collisions": sim.counts.pair,
-        "wall_collisions": sim.counts.wall,
-        "cell_crossings": sim.counts.cell,
-        "collisions_per_s": (collisions - collisions_before) as f64 / stepping.max(1e-9),
-        "resumed": first > 1,
-        "cpu_s": stepping,
-        "energy_ledger_error": ledger,
-        "wall_work_j": sim.ledger.wall_work,
-        "dissipated_j": sim.ledger.dissipated,
-        "mean_height_m": obs.mean_height(),
-        "current_x_m_per_s": obs.mean_vx(),
-        "temperature_ratio_bulk": crate::events_measure::bulk_ratio(&obs, sim.config.height),
-        "temperatures": temps,
-        "side_cluster": side,
-        "wall_s": wall_s,
-        "warnings": warnings,
-    }))
-}
-
-/// The files of one axis' profiles.
-struct Axis {
-    column: &'static str,
-    csv: &'static str,
-    density: &'static str,
-    temperature: &'static str,
-    along: &'static str,
-    label: &'static str,
-}
-
-const HEIGHT: Axis = Axis {
-    column: "z_m",
-    csv: "profiles.csv",
-    density: "density_profile",
-    temperature: "temperature_profile",
-    along: "against height",
-    label: "z (m)",
-};
-
-const ACROSS: Axis = Axis {
-    column: "x_m",
-    csv: "profiles_across.csv",
-    density: "density_across",
-    temperature: "temperature_across",
-    along: "across the box",
-    label: "x (m)",
-};
-
-/// Writes per-species profiles (rows `(position, n, T_x, T_z, T_rot)` on bins of `bin`
-/// metres) as a table and two plots; temperatures are drawn only where a bin saw at least 50
-/// grains over the run (else noise).
-fn profile_files(dir: &mut RunDir, profiles: &[Vec<[f64; 5]>], axis: &Axis, bin: f64, samples: u64) -> Result<(), CliError> {
-    let mut header = vec![axis.column.to_string()];
-    for k in 1..=profiles.len() {
-        for c in ["n_per_m", "tx_j", "tz_j", "trot_j"] {
-            header.push(format!("{c}_{k}"));
-        }
-    }
-    let rows: Vec<Vec<f64>> = (0..profiles[0].len())
-        .map(|b| {
-            let mut row = vec![profiles[0][b][0]];
-            for p in profiles {
-                row.extend_from_slice(&p[b][1..]);
-            }
-            row
-        })
-        .collect();
-    let header_refs: Vec<&str> = header.iter().map(String::as_str).collect();
-    dir.csv(axis.csv, &header_refs, &rows)?;
-    let mut density = LinePlot::new(&format!("Number density {}", axis.along), axis.label, "n (1/m per sample)");
-    let mut temperature = LinePlot::new(&format!("Granular temperature {}", axis.along), axis.label, "T (J)");
-    let enough = |r: &[f64; 5]| r[1] * samples as f64 * bin >= 50.0;
-    let mut t_max: f64 = 0.0;
-    for (k, p) in profiles.iter().enumerate() {
-        density = density.series(
-            &format!("species {}", k + 1),
-            p.iter().map(|r| (r[0], r[1])).collect(),
-            Mark::LinePoints,
-        );
-        let kept: Vec<&[f64; 5]> = p.iter().filter(|r| enough(r)).collect();
-        t_max = kept.iter().map(|r| r[2].max(r[3])).fold(t_max, f64::max);
-        temperature = temperature
-            .series(
-                &format!("T_x, species {}", k + 1),
-                kept.iter().map(|r| (r[0], r[2])).collect(),
-                Mark::Line,
-            )
-            .series(
-                &format!("T_z, species {}", k + 1),
-                kept.iter().map(|r| (r[0], r[3])).collect(),
-                Mark::Dashed,
-            );
-    }
-    // On a log axis: near a vibrated wall the temperature is tens of times the bulk's, and
-    // a tall box's rise above its minimum (the mixture paper's Fig. 11) would vanish on a
-    // linear one. Room above the data for the legend.
-    let temperature = temperature.log_y().include_y(5.0 * t_max);
-    dir.plot(axis.density, &density)?;
-    dir.plot(axis.temperature, &temperature)
-}
-
-/// The mixture paper's Fig. 2: the ratio `T_2 / T_1` of the translational temperatures
-/// (`(T_x + T_z) / 2`) against height, where both species saw at least 50 grains in a bin,
-/// beside its value over the middle third (the bulk).
-fn temperature_ratio_plot(dir: &mut RunDir, profiles: &[Vec<[f64; 5]>], bin: f64, samples: u64, height: f64) -> Result<(), CliError> {
-    let enough = |r: &[f64; 5]| r[1] * samples as f64 * bin >= 50.0;
-    let ratio: Vec<(f64, f64)> = profiles[0]
-        .iter()
-        .zip(&profiles[1])
-        .filter(|(a, b)| enough(a) && enough(b))
-        .map(|(a, b)| (a[0], (b[2] + b[3]) / (a[2] + a[3])))
-        .collect();
-    let mut plot = LinePlot::new("Temperature ratio T2/T1 against height", "z (m)", "T2/T1")
-        .series("T2/T1", ratio, Mark::LinePoints)
-        .include_y(0.0)
-        .include_y(1.0);
-    for z in [height / 3.0, 2.0 * height / 3.0] {
-        plot = plot.series(
-            if z < height / 2.0 {
-                "bulk (middle third): from"
-            } else {
-                "bulk: to"
-            },
-            vec![(z, 0.0), (z, 1.0)],
-            Mark::Dashed,
-        );
-    }
-    dir.plot("temperature_ratio", &plot)
+    json_line(&pipeline::run_events(&args.scene, &scene, &opts)?)
 }

@@ -44,9 +44,9 @@ pub struct Args {
     /// (a power law shows as a line).
     #[arg(long)]
     pub log: bool,
-    /// No progress output (warnings still go to stderr, the summary to stdout).
-    #[arg(long)]
-    pub quiet: bool,
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub progress: crate::cli_args::Quiet,
 }
 
 /// One varied key and its values.
@@ -123,13 +123,16 @@ pub fn run(args: Args) -> Result<String, CliError> {
         .clone()
         .unwrap_or_else(|| PathBuf::from(format!("out/events-sweep-{name}")));
     // Every scene of the grid is read and checked before anything runs or is written.
+    // The varied keys are the user's `--vary KEY=...` text, applied as `--set` is; the seed
+    // is set on the scene itself.
     let mut jobs = Vec::new();
     for p in &points {
+        let mut set = args.overrides.clone();
+        set.extend(axes.iter().zip(p).map(|(a, v)| format!("{}={v}", a.key)));
+        let point = crate::events_scene::load(&args.scene, &set)?;
         for seed in 1..=args.seeds {
-            let mut set = args.overrides.clone();
-            set.extend(axes.iter().zip(p).map(|(a, v)| format!("{}={v}", a.key)));
-            set.push(format!("run.seed={seed}"));
-            let scene = crate::events_scene::load(&args.scene, &set)?;
+            let mut scene = point.clone();
+            scene.run.seed = seed;
             scene.config()?;
             jobs.push((p.clone(), seed, scene));
         }
@@ -140,7 +143,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
         .threads
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
     let pool = rayon::ThreadPoolBuilder::new().num_threads(threads.max(1)).build()?;
-    let bar = progress_bar(jobs.len() as u64, args.quiet, "events-sweep");
+    let bar = progress_bar(jobs.len() as u64, args.progress.quiet, "events-sweep");
     let done = AtomicU64::new(0);
     let wall = std::time::Instant::now();
     let results: Vec<Result<Measured, String>> = pool.install(|| {

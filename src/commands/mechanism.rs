@@ -15,7 +15,6 @@ use analysis::mechanism::{ByDensity, Grain, Motion, Split, Tally};
 use analysis::plot::{LinePlot, Mark};
 use analysis::stripes::{detect, StripeParams};
 use particles::sim::Simulation;
-use particles::time_step;
 use particles::tray;
 use serde::Serialize;
 use serde_json::json;
@@ -32,19 +31,18 @@ pub struct Args {
     /// Samples per drive period.
     #[arg(long, default_value_t = 24)]
     pub per_period: u32,
-    /// Cache of prepared samples, shared by every run (default: $STRIPES_SAMPLE_CACHE, else
-    /// out/samples).
-    #[arg(long, value_name = "DIR", default_value_os_t = crate::output::default_sample_cache())]
-    pub sample_cache: PathBuf,
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub samples: crate::cli_args::SampleCache,
     /// Output directory (default: <RUN>/mechanism).
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Replace the files of an output directory that already holds some (default: refuse it).
-    #[arg(long)]
-    pub force: bool,
-    /// No progress output (warnings still go to stderr, the summary to stdout).
-    #[arg(long)]
-    pub quiet: bool,
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub replace: crate::cli_args::Force,
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub progress: crate::cli_args::Quiet,
 }
 
 pub fn run(args: Args) -> Result<String, CliError> {
@@ -52,27 +50,25 @@ pub fn run(args: Args) -> Result<String, CliError> {
         return Err("--periods and --per-period must be at least 1".into());
     }
     let scene_path = args.run.join("scene.toml");
-    let scene = crate::scene_file::load(&scene_path, &[])?.dem;
-    scene.validate()?;
+    let resolved = crate::pipeline::resolve(&scene_path, crate::scene_file::load(&scene_path, &[])?)?;
+    let scene = resolved.scene();
     let ckpt_path = args.run.join("checkpoint.bin");
     let bytes =
         std::fs::read(&ckpt_path).map_err(|e| format!("{}: cannot read ({e}); run `stripes run` to the end first", ckpt_path.display()))?;
     let out = args.out.clone().unwrap_or_else(|| args.run.join("mechanism"));
-    crate::output::claim(&out, args.force)?;
-    let mut dir = RunDir::create(&out, &json!({ "args": &args, "scene": &scene }))?;
+    crate::output::claim(&out, args.replace.force)?;
+    let mut dir = RunDir::create(&out, &json!({ "args": &args, "scene": scene }))?;
 
-    let setup = tray::setup(&scene, tray::drive(&scene), time_step::for_scene(&scene)?)?;
-    let dt = setup.dt;
-    let (state, _) = crate::samples::load_or_prepare(&scene, &args.sample_cache, |_| {})?;
-    let mut sim = Simulation::new(setup, state)?;
-    crate::dem_checkpoint::restore(&mut sim, &bytes, super::run::checkpoint_fingerprint(&scene)?)
-        .map_err(|e| format!("{}: {e}", ckpt_path.display()))?;
+    let dt = resolved.dt();
+    let (state, _) = crate::samples::load_or_prepare(scene, &args.samples.sample_cache, |_| {})?;
+    let mut sim = Simulation::new(resolved.setup.clone(), state)?;
+    crate::dem_checkpoint::restore(&mut sim, &bytes, resolved.fingerprint).map_err(|e| format!("{}: {e}", ckpt_path.display()))?;
     let start = sim.time;
 
     let (l, w) = (scene.tray.length, scene.tray.width);
     let (nu, a) = (scene.drive.frequency, scene.drive.amplitude);
     let floor_speed = 2.0 * std::f64::consts::PI * nu * a;
-    let motion = tray::drive(&scene);
+    let motion = tray::drive(scene);
     let radii = sim.state.radius.clone();
     let mean_d = 2.0 * radii.iter().sum::<f64>() / radii.len() as f64;
     let params = StripeParams::default_for(mean_area_fraction(&radii, l, w), mean_d);
@@ -80,7 +76,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
 
     let samples = args.periods as u64 * args.per_period as u64;
     let every = 1.0 / (nu * args.per_period as f64);
-    let bar = progress_bar(samples, args.quiet, "mechanism");
+    let bar = progress_bar(samples, args.progress.quiet, "mechanism");
     let mut total = Split::default();
     let mut by_density = ByDensity::default();
     let mut rows = Vec::new();

@@ -4,7 +4,6 @@ pub mod ablate;
 pub mod analyze;
 pub mod automaton;
 pub mod bench;
-pub mod calibrate;
 pub mod collect;
 pub mod collide;
 pub mod compare;

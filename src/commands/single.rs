@@ -70,9 +70,9 @@ pub struct Args {
     /// Output directory.
     #[arg(long, default_value = "out/single")]
     pub out: PathBuf,
-    /// Replace the files of an output directory that already holds some (default: refuse it).
-    #[arg(long)]
-    pub force: bool,
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub replace: crate::cli_args::Force,
 }
 
 /// The frequencies of `--frequency`: one value, or `LO:HI:N`.
@@ -167,7 +167,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
     if args.dt.is_some_and(|dt| !(dt.is_finite() && dt > 0.0)) {
         return Err("--dt must be positive".into());
     }
-    crate::output::claim(&args.out, args.force)?;
+    crate::output::claim(&args.out, args.replace.force)?;
     let mut dir = RunDir::create(&args.out, &json!({ "args": &args, "scene": &scene }))?;
     analysis::io::write_atomic(&args.out.join("scene.toml"), toml::to_string(&scene)?.as_bytes())?;
     dir.note_files([args.out.join("scene.toml")]);

@@ -17,8 +17,10 @@
 
 use serde::Serialize;
 
+use super::setting::{base_scene, with, Config, Setting};
 use super::shaken::run_tray;
-use super::{base_scene, with, Config, Setting};
+use crate::scene_edit::DemEdit;
+use particles::contact::choice::TangentialKind;
 use particles::prepare::initial_state;
 use particles::scene::Scene;
 use particles::state::State;
@@ -45,7 +47,7 @@ pub struct LawSpeed {
     /// Drive frequency (Hz) and amplitude (m).
     pub frequency: f64,
     pub amplitude: f64,
-    /// Scene overrides (`--set`) that select the law on the bench's scene.
+    /// The law's edits of the bench's scene, as `--set` overrides (the record of the table).
     pub overrides: Vec<String>,
     /// Step chosen by `dt = "auto"` for this law (s), and its steps per shortest contact.
     pub dt_auto: f64,
@@ -61,28 +63,31 @@ pub struct LawSpeed {
     pub outcome: String,
 }
 
-/// The laws of the table, as `(key, name, overrides)`; Haff-Werner first.
-pub fn laws() -> Vec<(&'static str, String, Vec<String>)> {
-    let set = |v: &[&str]| v.iter().map(|s| s.to_string()).collect::<Vec<_>>();
+/// The laws of the table, as `(key, name, edits)`; Haff-Werner first.
+pub fn laws() -> Vec<(&'static str, String, Vec<DemEdit>)> {
     vec![
         ("haff-werner", "Haff-Werner, mu = 0.7 (reference)".into(), Vec::new()),
-        ("none", "none (frictionless)".into(), set(&["contact.tangential=\"none\""])),
+        (
+            "none",
+            "none (frictionless)".into(),
+            vec![DemEdit::Tangential(TangentialKind::None)],
+        ),
         (
             "haff-werner-inf",
             "Haff-Werner, friction = inf (viscous branch alone)".into(),
-            set(&["contact.friction=inf", "contact.wall_friction=inf"]),
+            vec![DemEdit::Friction(f64::INFINITY), DemEdit::WallFriction(f64::INFINITY)],
         ),
         (
             "uncapped-floor",
             "Haff-Werner, uncapped floor (wall_friction = inf, mu = 0.7 between grains)".into(),
-            set(&["contact.wall_friction=inf"]),
+            vec![DemEdit::WallFriction(f64::INFINITY)],
         ),
         (
             "cundall-strack",
             format!("Cundall-Strack, k_t = {CUNDALL_STRACK_KT} N/m, mu = 0.7"),
             vec![
-                "contact.tangential=\"cundall-strack\"".into(),
-                format!("contact.tangential_stiffness={CUNDALL_STRACK_KT}"),
+                DemEdit::Tangential(TangentialKind::CundallStrack),
+                DemEdit::TangentialStiffness(CUNDALL_STRACK_KT),
             ],
         ),
     ]
@@ -146,7 +151,7 @@ pub fn friction_laws(config: &Config, progress: &mut impl FnMut(&str)) -> Result
     for (frequency, amplitude) in DRIVES {
         let base = with(
             &base_scene(config.tray_count, config.tray_duration),
-            &[format!("drive.frequency={frequency}"), format!("drive.amplitude={amplitude}")],
+            &[DemEdit::Frequency(frequency), DemEdit::Amplitude(amplitude)],
         )?;
         rows.extend(at_drive(&base, config, progress)?);
     }
@@ -157,10 +162,10 @@ pub fn friction_laws(config: &Config, progress: &mut impl FnMut(&str)) -> Result
 fn at_drive(base: &Scene, config: &Config, progress: &mut impl FnMut(&str)) -> Result<Vec<LawSpeed>, SimError> {
     let state = initial_state(base)?;
     let pairs = config.tray_repeats.max(MIN_PAIRS);
-    let auto = |overrides: &[String]| -> Result<Scene, SimError> {
-        let mut o = overrides.to_vec();
-        o.push("run.dt=\"auto\"".into());
-        with(base, &o)
+    let auto = |edits: &[DemEdit]| -> Result<Scene, SimError> {
+        let mut e = edits.to_vec();
+        e.push(DemEdit::AutoStep);
+        with(base, &e)
     };
     let laws = laws();
     let hw_auto = auto(&laws[0].2)?;
@@ -173,10 +178,10 @@ fn at_drive(base: &Scene, config: &Config, progress: &mut impl FnMut(&str)) -> R
     let (frequency, amplitude) = (base.drive.frequency, base.drive.amplitude);
 
     let mut rows = Vec::new();
-    for (key, name, overrides) in &laws {
-        let scene = auto(overrides)?;
+    for (key, name, edits) in &laws {
+        let scene = auto(edits)?;
         let dt_auto = time_step::for_scene(&scene)?;
-        let reference = overrides.is_empty();
+        let reference = edits.is_empty();
         let timed = timed_ratio((&hw_auto, &hw_same), (&scene, &same_step(name)), &state, pairs, config.cpu_time).and_then(|same| {
             let own = timed_ratio((&hw_auto, &hw_own), (&scene, &own_step(name)), &state, pairs, config.cpu_time)?;
             Ok((same, own))
@@ -206,7 +211,7 @@ fn at_drive(base: &Scene, config: &Config, progress: &mut impl FnMut(&str)) -> R
             name: name.clone(),
             frequency,
             amplitude,
-            overrides: overrides.clone(),
+            overrides: edits.iter().map(|e| e.to_set()).collect(),
             dt_auto,
             steps_per_contact_auto: t_c / dt_auto,
             speed_same_step,
@@ -257,9 +262,9 @@ mod tests {
     fn every_law_of_the_table_is_a_valid_scene_and_the_reference_comes_first() {
         let base = base_scene(20, 0.02);
         let laws = laws();
-        assert!(laws[0].2.is_empty(), "Haff-Werner, the reference, has no overrides");
-        for (_, name, overrides) in &laws {
-            with(&base, overrides).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert!(laws[0].2.is_empty(), "Haff-Werner, the reference, has no edits");
+        for (_, name, edits) in &laws {
+            with(&base, edits).unwrap_or_else(|e| panic!("{name}: {e}"));
         }
         assert_eq!(median(vec![3.0, 1.0, 2.0]), 2.0);
         assert_eq!(median(vec![4.0, 1.0, 2.0, 3.0]), 2.5);

@@ -1,7 +1,8 @@
 //! The collision-lab half of the study: the probe impacts of [`particles::experiment::step_control`]
 //! under every setting, against the converged reference.
 
-use super::{base_scene, failed, setting_dt, with, Config, Row, Setting, Stopwatch, Study, THESIS_DT};
+use super::setting::{base_scene, failed, setting_dt, with, Config, Row, Setting, Study, THESIS_DT};
+use crate::clock::Stopwatch;
 use particles::contact::TangentialLaw;
 use particles::experiment::closed_form::{gamma_for_damping_ratio, linear_dashpot};
 use particles::experiment::step_control::{self, REFERENCE_STEPS};
@@ -99,7 +100,7 @@ fn lab_row(
     ref_probes: &[particles::experiment::collide::Collision],
 ) -> Result<Row, SimError> {
     {
-        let scene = with(base, &s.overrides)?;
+        let scene = with(base, &s.edits)?;
         let dt = setting_dt(&scene, s.steps)?;
         let probes = lab_probes(&scene, s, dt, false)?;
         // The lab's impacts last microseconds and their time is dominated by setting each

@@ -3,7 +3,10 @@
 use analysis::density::area_fraction_cells;
 use analysis::stripes::{detect, onset, StripeParams};
 
-use super::{base_scene, failed, matched_linear, setting_dt, with, Config, Row, Setting, Stopwatch, Study, THESIS_DT};
+use super::lab::matched_linear;
+use super::setting::{base_scene, failed, setting_dt, with, Config, Row, Setting, Study, THESIS_DT};
+use crate::clock::Stopwatch;
+use crate::scene_edit::{DemEdit, DemToggle};
 use particles::experiment::step_control::{self, REFERENCE_STEPS};
 use particles::integrate::Integrator;
 use particles::neighbor::NeighborSearch;
@@ -108,7 +111,7 @@ pub(super) fn tray_study(config: &Config, progress: &mut impl FnMut(&str)) -> Re
     let base = base_scene(config.tray_count, config.tray_duration);
     let state = initial_state(&base)?;
     let thesis_steps = timescale::shortest_contact_time(&base)? / THESIS_DT;
-    let auto = with(&base, &["run.dt=\"auto\"".into()])?;
+    let auto = with(&base, &[DemEdit::AutoStep])?;
     let default_dt = time_step::for_scene(&auto)?;
     let default_steps = timescale::shortest_contact_time(&base)? / default_dt;
     // Linear law matched as in the lab.
@@ -145,7 +148,7 @@ pub(super) fn tray_study(config: &Config, progress: &mut impl FnMut(&str)) -> Re
     settings.extend(Setting::softer(thesis_steps));
     settings.push(
         Setting::new("pinned 2D (jumping off)", "dimension")
-            .set("toggles.jumping=false")
+            .edit(DemEdit::Off(DemToggle::Jumping))
             .steps(thesis_steps),
     );
     settings.push(Setting::matched_linear(kn, gamma_n, thesis_steps));
@@ -182,9 +185,9 @@ fn tray_row(
     reference: &(Setting, TrayRun),
 ) -> Result<Row, SimError> {
     {
-        let scene = with(base, &s.overrides)?;
+        let scene = with(base, &s.edits)?;
         let (ref_setting, ref_run) = reference;
-        let ref_scene = with(base, &ref_setting.overrides)?;
+        let ref_scene = with(base, &ref_setting.edits)?;
         // Timing in pairs (reference, setting), run back to back so that both see the same
         // load; the median of the pair ratios counts.
         let mut run = run_tray(&scene, s, state, None, config.cpu_time)?;
@@ -254,7 +257,7 @@ fn tray_row(
 /// the thesis packing measured in the same call; `error` is the energy-ledger error.
 pub fn dense_packing(steps: u64, cpu_time: bool) -> Result<Row, SimError> {
     let throughput = |count: usize| -> Result<(f64, Simulation), SimError> {
-        let scene = with(&base_scene(4000, 1.0), &[format!("particles.count={count}")])?;
+        let scene = with(&base_scene(4000, 1.0), &[DemEdit::Count(count)])?;
         let setup = tray::setup(&scene, tray::drive(&scene), time_step::for_scene(&scene)?)?;
         let mut sim = Simulation::new(setup, initial_state(&scene)?)?;
         let t0 = Stopwatch::start(cpu_time);
@@ -265,12 +268,12 @@ pub fn dense_packing(steps: u64, cpu_time: bool) -> Result<Row, SimError> {
     };
     let (base_rate, _) = throughput(4000)?;
     let e_start = {
-        let scene = with(&base_scene(4000, 1.0), &["particles.count=8000".into()])?;
+        let scene = with(&base_scene(4000, 1.0), &[DemEdit::Count(8000)])?;
         let setup = tray::setup(&scene, tray::drive(&scene), time_step::for_scene(&scene)?)?;
         Simulation::new(setup, initial_state(&scene)?)?.total_energy()
     };
     let (rate, sim) = throughput(8000)?;
-    let packing = with(&base_scene(4000, 1.0), &["particles.count=8000".into()])?.packing();
+    let packing = with(&base_scene(4000, 1.0), &[DemEdit::Count(8000)])?.packing();
     let ledger = sim.ledger.injected - sim.ledger.dissipated;
     let error = ((sim.total_energy() - e_start) - ledger).abs() / sim.ledger.injected.abs().max(f64::MIN_POSITIVE);
     Ok(Row {

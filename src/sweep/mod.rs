@@ -7,7 +7,7 @@
 //!   nothing that finished;
 //! - `--shard I/N` runs the jobs whose index is `I mod N` (a deterministic subset), so shards
 //!   can run on different machines or as the tasks of a Slurm job array or GNU parallel;
-//! - `stripes collect` ([`crate::commands::collect`]) reads whatever results exist, in job order, so two shards collected equal a
+//! - `stripes collect` ([`ablate::report`], [`phase_map::report`]) reads whatever results exist, in job order, so two shards collected equal a
 //!   single run.
 //!
 //! Jobs run in parallel on one machine (`--jobs`, default: all cores), each on one thread;
@@ -20,6 +20,13 @@ use serde::{Deserialize, Serialize};
 use serde_json::{json, Value};
 
 use crate::output::{CliError, RunDir};
+use crate::pipeline::{self, AnalysisOptions, AutomatonOptions, RunOptions};
+use crate::scene_file::SceneFile;
+
+pub mod ablate;
+pub mod phase_map;
+
+use crate::scene_edit::{DemEdit, Edit};
 
 /// Options every sweep command shares (`ablate`, `phase-map`).
 #[derive(clap::Args, Debug, Serialize)]
@@ -33,13 +40,12 @@ pub struct SweepArgs {
     /// Jobs run at once on this machine (default: all cores).
     #[arg(long)]
     pub jobs: Option<usize>,
-    /// Cache of prepared samples, shared by every run (default: $STRIPES_SAMPLE_CACHE, else
-    /// out/samples).
-    #[arg(long, value_name = "DIR", default_value_os_t = crate::output::default_sample_cache())]
-    pub sample_cache: PathBuf,
-    /// No progress output (warnings still go to stderr, the summary to stdout).
-    #[arg(long)]
-    pub quiet: bool,
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub samples: crate::cli_args::SampleCache,
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub progress: crate::cli_args::Quiet,
 }
 
 impl SweepArgs {
@@ -63,7 +69,7 @@ impl SweepArgs {
         let parallel = self
             .jobs
             .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
-        let progress = run(root, sweep, self.shard, parallel, &self.sample_cache, self.quiet)?;
+        let progress = run(root, sweep, self.shard, parallel, &self.samples.sample_cache, self.progress.quiet)?;
         let mut summary = report(root, sweep)?;
         let preparation = preparation(root, sweep)?;
         append_preparation(&root.join("report.md"), &preparation)?;
@@ -99,14 +105,37 @@ impl Model {
     }
 }
 
-/// One independent job: a model run on the sweep's scene with some overrides, then analysed.
+/// Models of a phase map.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum, serde::Serialize)]
+pub enum Which {
+    // The values are described in the options' help (`--model`), so that `--help` prints
+    // the same short form as every other command's.
+    // The DEM (`stripes run`).
+    Dem,
+    // The cellular automaton (`stripes automaton`).
+    Automaton,
+    // Both, on the same samples.
+    Both,
+}
+
+impl Which {
+    pub fn models(self) -> Vec<Model> {
+        match self {
+            Which::Dem => vec![Model::Dem],
+            Which::Automaton => vec![Model::Automaton],
+            Which::Both => vec![Model::Dem, Model::Automaton],
+        }
+    }
+}
+
+/// One independent job: a model run on the sweep's scene with some edits, then analysed.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Job {
     /// Unique within the sweep; the job's directory name.
     pub id: String,
     pub model: Model,
-    /// `--set` overrides on top of the sweep's own.
-    pub overrides: Vec<String>,
+    /// Typed changes to the sweep's scene (after the sweep's own `--set` overrides).
+    pub edits: Vec<Edit>,
     /// What the job stands for (configuration, frequency, amplitude, sample, ...), copied into
     /// its result.
     pub labels: serde_json::Map<String, Value>,
@@ -408,22 +437,23 @@ pub fn unfinished_section(root: &Path, sweep: &Sweep) -> String {
     md
 }
 
-/// Every override of a job: the sweep's, the job's, and one thread per job (jobs are the
-/// parallel unit, and results do not depend on threads).
-fn job_overrides(sweep: &Sweep, job: &Job) -> Vec<String> {
-    let mut overrides = sweep.overrides.clone();
-    overrides.extend(job.overrides.iter().cloned());
-    overrides.push("run.threads=1".into());
-    overrides
+/// The scene of a job: the sweep's scene with the sweep's overrides, the job's edits, and
+/// one thread (jobs are the parallel unit, and results do not depend on threads).
+fn job_scene(sweep: &Sweep, job: &Job) -> Result<SceneFile, CliError> {
+    let mut file = crate::scene_file::load(&sweep.scene, &sweep.overrides)?;
+    for edit in job.edits.iter().chain([&Edit::Dem(DemEdit::Threads(1))]) {
+        edit.apply(&mut file);
+    }
+    Ok(file)
 }
 
-/// Checks the scene of every job (the sweep's scene with the job's overrides) before any job
+/// Checks the scene of every job (the sweep's scene with the job's edits) before any job
 /// starts, so a bad value fails the sweep at once, naming the job and the key, instead of
 /// failing its jobs one by one after others have run.
 pub fn check_jobs(sweep: &Sweep) -> Result<(), CliError> {
     for job in &sweep.jobs {
         let blame = |e: &dyn std::fmt::Display| format!("job `{}` ({} of the sweep): {e}", job.id, sweep.kind);
-        let file = crate::scene_file::load(&sweep.scene, &job_overrides(sweep, job)).map_err(|e| blame(&e))?;
+        let file = job_scene(sweep, job).map_err(|e| blame(&e))?;
         file.validate().map_err(|e| blame(&e))?;
         if let particles::scene::TimeStep::Seconds(_) = file.dem.run.dt {
             particles::time_step::for_scene(&file.dem).map_err(|e| blame(&e))?;
@@ -432,58 +462,94 @@ pub fn check_jobs(sweep: &Sweep) -> Result<(), CliError> {
     Ok(())
 }
 
+/// What a job's model run reports to its result.
+#[derive(Debug, Serialize)]
+struct Speed {
+    wall_s: f64,
+    particle_steps_per_s: Option<f64>,
+}
+
+/// The DEM's sample of a job: prepared by it, or loaded (or waited for) from the cache.
+#[derive(Debug, Serialize)]
+struct SamplePreparation {
+    prepare_s: Option<f64>,
+    cached: Option<bool>,
+}
+
+/// What a finished job stores as `result.json`: its labels beside the analysis.
+#[derive(Debug, Serialize)]
+struct JobResult<'a> {
+    id: &'a str,
+    model: &'static str,
+    #[serde(flatten)]
+    labels: &'a serde_json::Map<String, Value>,
+    analysis: pipeline::AnalysisSummary,
+    speed: Speed,
+    sample_preparation: SamplePreparation,
+}
+
 /// Runs one job: the model into `jobs/<id>/run`, the shared analysis into `jobs/<id>/analysis`,
 /// then `result.json` (labels + the analysis summary), atomically and last.
 fn run_job(root: &Path, sweep: &Sweep, job: &Job, samples: &Path) -> Result<(), CliError> {
-    use crate::commands::{analyze, automaton, run};
     let dir = job_dir(root, job);
     let run_dir = dir.join("run");
-    let overrides = job_overrides(sweep, job);
-    let model_summary = match job.model {
-        Model::Dem => run::run(run::Args {
-            scene: sweep.scene.clone(),
-            out: Some(run_dir.clone()),
-            overrides,
-            sample_cache: samples.to_path_buf(),
-            quiet: true,
-            // A job re-run after a failure replaces what the failed attempt left.
-            force: true,
-            ..run::Args::default()
-        })?,
-        Model::Automaton => automaton::run(automaton::Args {
-            scene: Some(sweep.scene.clone()),
-            out: Some(run_dir.clone()),
-            overrides,
-            sample_cache: samples.to_path_buf(),
-            quiet: true,
-            ..automaton::Args::default()
-        })?,
+    let file = job_scene(sweep, job)?;
+    let (speed, sample_preparation) = match job.model {
+        Model::Dem => {
+            let s = pipeline::run_dem(
+                &pipeline::resolve(&sweep.scene, file)?,
+                &RunOptions {
+                    out: run_dir.clone(),
+                    sample_cache: samples.to_path_buf(),
+                    quiet: true,
+                    // A job re-run after a failure replaces what the failed attempt left.
+                    force: true,
+                    ..RunOptions::default()
+                },
+            )?;
+            (
+                Speed {
+                    wall_s: s.wall_s,
+                    particle_steps_per_s: Some(s.particle_steps_per_s),
+                },
+                SamplePreparation {
+                    prepare_s: Some(s.prepare_s),
+                    cached: Some(s.sample_cached),
+                },
+            )
+        }
+        Model::Automaton => {
+            let s = pipeline::run_automaton(
+                &pipeline::resolve_lattice(&sweep.scene, file)?,
+                &AutomatonOptions {
+                    out: run_dir.clone(),
+                    sample_cache: samples.to_path_buf(),
+                    quiet: true,
+                    ..AutomatonOptions::default()
+                },
+            )?;
+            (
+                Speed {
+                    wall_s: s.wall_s,
+                    particle_steps_per_s: None,
+                },
+                SamplePreparation {
+                    prepare_s: None,
+                    cached: None,
+                },
+            )
+        }
     };
-    let analysis = analyze::run(analyze::Args {
-        force: true,
-        input: run_dir,
-        out: Some(dir.join("analysis")),
-        ..analyze::Args::default()
-    })?;
-    let model: Value = serde_json::from_str(&model_summary)?;
-    let analysis: Value = serde_json::from_str(&analysis)?;
-    let mut result = serde_json::Map::new();
-    result.insert("id".into(), job.id.clone().into());
-    result.insert("model".into(), job.model.name().into());
-    for (k, v) in &job.labels {
-        result.insert(k.clone(), v.clone());
-    }
-    result.insert("analysis".into(), analysis);
-    result.insert(
-        "speed".into(),
-        json!({ "wall_s": model.get("wall_s"), "particle_steps_per_s": model.get("particle_steps_per_s") }),
-    );
-    // The DEM's sample: prepared by this job, or loaded (or waited for) from the cache.
-    result.insert(
-        "sample_preparation".into(),
-        json!({ "prepare_s": model.get("prepare_s"), "cached": model.get("sample_cached") }),
-    );
-    analysis::io::write_json_atomic(&dir.join("result.json"), &Value::Object(result))?;
+    let analysis = pipeline::analyze(&run_dir, &AnalysisOptions::into_dir(dir.join("analysis")))?;
+    let result = JobResult {
+        id: &job.id,
+        model: job.model.name(),
+        labels: &job.labels,
+        analysis,
+        speed,
+        sample_preparation,
+    };
+    analysis::io::write_json_atomic(&dir.join("result.json"), &serde_json::to_value(&result)?)?;
     Ok(())
 }
 

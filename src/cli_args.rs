@@ -1,0 +1,32 @@
+//! Options several commands share, each defined once with its help text and flattened
+//! into the commands' arguments (`#[command(flatten)]`, and `#[serde(flatten)]` so that
+//! `config.json` keeps the flat keys).
+
+use std::path::PathBuf;
+
+use serde::Serialize;
+
+/// `--force` of a command that refuses an output directory holding files.
+#[derive(clap::Args, Clone, Copy, Debug, Default, Serialize)]
+pub struct Force {
+    /// Replace the files of an output directory that already holds some (default: refuse it).
+    #[arg(long)]
+    pub force: bool,
+}
+
+/// `--quiet` of a command that shows its progress.
+#[derive(clap::Args, Clone, Copy, Debug, Default, Serialize)]
+pub struct Quiet {
+    /// No progress output (warnings still go to stderr, the summary to stdout).
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+/// `--sample-cache` of a command that starts from prepared samples.
+#[derive(clap::Args, Clone, Debug, Serialize)]
+pub struct SampleCache {
+    /// Cache of prepared samples, shared by every run (default: $STRIPES_SAMPLE_CACHE, else
+    /// out/samples).
+    #[arg(long, value_name = "DIR", default_value_os_t = crate::output::default_sample_cache())]
+    pub sample_cache: PathBuf,
+}

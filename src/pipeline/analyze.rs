@@ -1,0 +1,216 @@
+//! The shared analysis of a run directory, a `snapshots.bin` file or a LAMMPS dump: one
+//! [`analysis::report::Report`], written as CSV tables, plots and `summary.json`, and
+//! returned as the typed [`AnalysisSummary`].
+
+use std::path::{Path, PathBuf};
+
+use analysis::input::{load, Geometry, InputKind};
+use analysis::report::{Options, Summary};
+use serde::ser::Error as _;
+use serde::{Serialize, Serializer};
+use serde_json::Value;
+
+use super::analysis_files::{draw, write_tables};
+use crate::output::CliError as Error;
+use crate::output::{RunDir, Written};
+
+/// How to analyse a run and where to write the analysis.
+#[derive(Clone, Debug, Serialize)]
+pub struct AnalysisOptions {
+    /// The analysis directory (default: `<RUN_DIR>/analysis`, or `<DUMP>.analysis` beside a
+    /// dump).
+    pub out: Option<PathBuf>,
+    /// Replace an earlier analysis in it.
+    pub force: bool,
+    /// Time step of a LAMMPS dump (s); ignored for snapshots.
+    pub dt: f64,
+    /// The analysis' settings; without a period, the run's metadata gives it.
+    pub options: Options,
+}
+
+impl AnalysisOptions {
+    /// The defaults of `stripes analyze`, into `out`, replacing an earlier analysis there
+    /// (a command that analyses its own run owns that directory).
+    pub fn into_dir(out: PathBuf) -> Self {
+        Self {
+            out: Some(out),
+            force: true,
+            dt: analysis::lammps::DEFAULT_DT,
+            options: Options::default(),
+        }
+    }
+}
+
+/// Where the drive period of an analysis came from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PeriodSource {
+    /// Given in the options (`--period`).
+    Given,
+    /// The run's `config.json`.
+    Metadata,
+    /// The median spacing of the snapshots.
+    Spacing,
+}
+
+impl PeriodSource {
+    pub fn describe(self) -> &'static str {
+        match self {
+            PeriodSource::Given => "--period",
+            PeriodSource::Metadata => "run metadata (config.json: 1 / scene.drive.frequency)",
+            PeriodSource::Spacing => "median snapshot spacing",
+        }
+    }
+}
+
+/// Why an event-driven run of a vertical box gets no phase.
+pub const VERTICAL_BOX_NOTE: &str = "an event-driven run of a vertical box: its frames are the (x, z) plane, so the area fraction is grains per column (not a packing) and the tray's phases do not apply; phase left unclassified. The density map, structure factor and bands still describe the horizontal profile over time";
+
+/// What an analysis found: the report's scalars and where they came from. Serialises as
+/// the analysis directory's `summary.json`: the report's keys, then `input`, `input_kind`,
+/// `period_source`, `velocity_columns` (dumps), `warnings`, `out` and `files`; the phase
+/// of a vertical box is `"unclassified"`.
+#[derive(Clone, Debug)]
+pub struct AnalysisSummary {
+    pub report: Summary,
+    pub input: PathBuf,
+    pub input_kind: InputKind,
+    pub geometry: Geometry,
+    pub period_source: PeriodSource,
+    pub velocity_columns: Option<Vec<String>>,
+    /// The reader's, the classifier's and the geometry's warnings.
+    pub warnings: Vec<String>,
+    pub written: Written,
+}
+
+/// The keys of an analysis summary that a model's own summary repeats (`stripes
+/// automaton`, `stripes compare`).
+const SHARED_KEYS: [&str; 18] = [
+    "stripe_count_final",
+    "stripe_onset_s",
+    "phase",
+    "phase_note",
+    "mobility",
+    "contrast",
+    "stationary_stripe_count",
+    "stripe_mean_width_final_m",
+    "stripe_spacing_m",
+    "msd_plateau_before",
+    "msd_plateau_after",
+    "spacing_m",
+    "structure_peak_height",
+    "structure_peak_width_per_m",
+    "band_width_m",
+    "band_gap_m",
+    "in_band_fraction",
+    "warnings",
+];
+
+impl AnalysisSummary {
+    /// The summary as JSON (`summary.json`).
+    pub fn to_json(&self) -> Result<serde_json::Map<String, Value>, serde_json::Error> {
+        let Value::Object(mut m) = serde_json::to_value(&self.report)? else {
+            return Err(serde_json::Error::custom("the report's summary is not a JSON object"));
+        };
+        m.insert("input".into(), self.input.display().to_string().into());
+        m.insert("input_kind".into(), serde_json::to_value(self.input_kind)?);
+        m.insert("period_source".into(), self.period_source.describe().into());
+        if let Some(cols) = &self.velocity_columns {
+            m.insert("velocity_columns".into(), serde_json::to_value(cols)?);
+        }
+        if self.geometry == Geometry::VerticalBox {
+            m.insert("phase".into(), "unclassified".into());
+            m.insert("phase_note".into(), VERTICAL_BOX_NOTE.into());
+        }
+        m.insert("warnings".into(), serde_json::to_value(&self.warnings)?);
+        m.insert("out".into(), self.written.out.clone().into());
+        m.insert("files".into(), serde_json::to_value(&self.written.files)?);
+        Ok(m)
+    }
+
+    /// The keys a model's summary repeats (phase, stripes, structure, plateaus, warnings).
+    pub fn shared_keys(&self) -> Result<serde_json::Map<String, Value>, serde_json::Error> {
+        let mut all = self.to_json()?;
+        Ok(SHARED_KEYS.iter().filter_map(|k| all.remove_entry(*k)).collect())
+    }
+}
+
+impl Serialize for AnalysisSummary {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        self.to_json().map_err(S::Error::custom)?.serialize(s)
+    }
+}
+
+/// Analyses the run at `input` (a run directory, `snapshots.bin` or a LAMMPS dump) and
+/// writes the analysis directory. The drive period is the options', else the run's
+/// metadata, never the snapshot spacing when the metadata is there (a cut-off file has too
+/// few frames to infer it).
+pub fn analyze(input: &Path, opts: &AnalysisOptions) -> Result<AnalysisSummary, Error> {
+    let mut options = opts.options.clone();
+    let run = load(input, opts.dt)?;
+    for w in &run.warnings {
+        eprintln!("warning: {w}");
+    }
+    let period_source = if options.period.is_some() {
+        PeriodSource::Given
+    } else if let Some(p) = run.period {
+        options.period = Some(p);
+        PeriodSource::Metadata
+    } else {
+        PeriodSource::Spacing
+    };
+    let report = analysis::report::analyze(&run.header, &run.frames, &options).map_err(|e| format!("{}: {e}", run.file.display()))?;
+    let out = opts.out.clone().unwrap_or_else(|| {
+        if input.is_dir() {
+            input.join("analysis")
+        } else if run.kind == InputKind::LammpsDump {
+            let mut name = run.file.file_name().unwrap_or_default().to_os_string();
+            name.push(".analysis");
+            run.file.with_file_name(name)
+        } else {
+            run.file.parent().unwrap_or(Path::new(".")).join("analysis")
+        }
+    });
+    // The analysis must not write over the run it reads (its config.json and summary.json
+    // carry the run's period and outcome).
+    let same = |a: &Path, b: &Path| matches!((a.canonicalize(), b.canonicalize()), (Ok(x), Ok(y)) if x == y);
+    let run_dir = if input.is_dir() {
+        input.to_path_buf()
+    } else {
+        run.file.parent().unwrap_or(Path::new(".")).to_path_buf()
+    };
+    if same(&out, &run_dir) {
+        return Err(format!(
+            "--out {} is the run directory itself: the analysis would replace the run's config.json and summary.json; choose another --out (default: {}/analysis)",
+            out.display(),
+            run_dir.display()
+        )
+        .into());
+    }
+    crate::output::claim(&out, opts.force)?;
+    let mut dir = RunDir::create(&out, &serde_json::json!({ "input": input, "options": opts }))?;
+    write_tables(&mut dir, &report, &run)?;
+    draw(&mut dir, &report)?;
+    let mut warnings = run.warnings.clone();
+    if let Err(e) = report.phase() {
+        eprintln!("warning: {e}");
+        warnings.push(e);
+    }
+    if run.geometry == Geometry::VerticalBox {
+        // A vertical box seen from the side: grains stack in z, so the "area fraction"
+        // counts columns of grains and the tray's stripe classes mean nothing here.
+        eprintln!("warning: {VERTICAL_BOX_NOTE}");
+        warnings.push(VERTICAL_BOX_NOTE.into());
+    }
+    let summary = AnalysisSummary {
+        report: report.summary(),
+        input: run.file.clone(),
+        input_kind: run.kind,
+        geometry: run.geometry,
+        period_source,
+        velocity_columns: run.velocity_columns.clone(),
+        warnings,
+        written: dir.written(),
+    };
+    dir.finish_typed(&summary)?;
+    Ok(summary)
+}

@@ -1,0 +1,298 @@
+//! The (nu, A) phase diagram of thesis Figs 3.30-3.31 as a sweep (`stripes phase-map`):
+//! its jobs, one per model, amplitude, frequency and sample, and its report.
+//!
+//! Writes `phase_map.csv` (`model,frequency,amplitude,sample,phase,stripe_count,contrast,
+//! mobility,onset_s`), per model the heat maps of contrast and mobility with the class
+//! boundaries (nothing / stripes / gas, the analysis' classifier) drawn on them, and
+//! `report.md` with both models side by side and where they agree.
+
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::path::Path;
+
+use analysis::plot::Heatmap;
+use serde_json::{json, Value};
+
+use super::{Job, Model, Sweep};
+use crate::output::CliError;
+use crate::scene_edit::{DemEdit, Edit};
+
+/// The jobs of a phase map, model-major, then amplitude, frequency, sample.
+pub fn jobs(freqs: &[f64], amps: &[f64], models: &[Model], samples: usize, seed: u64) -> Vec<Job> {
+    let mut jobs = Vec::new();
+    for &model in models {
+        for &a in amps {
+            for &f in freqs {
+                for k in 0..samples {
+                    let seed = seed + k as u64;
+                    let mut labels = serde_json::Map::new();
+                    labels.insert("frequency".into(), f.into());
+                    labels.insert("amplitude".into(), a.into());
+                    labels.insert("sample".into(), k.into());
+                    jobs.push(Job {
+                        id: format!("{}-f{f}-a{a}-s{k}", model.name()),
+                        model,
+                        edits: [DemEdit::Frequency(f), DemEdit::Amplitude(a), DemEdit::Seed(seed)]
+                            .map(Edit::Dem)
+                            .to_vec(),
+                        labels,
+                    });
+                }
+            }
+        }
+    }
+    jobs
+}
+
+const PHASES: [&str; 3] = ["nothing", "stripes", "gas"];
+
+/// Whether the values are evenly spaced (to 1e-9 of their span), so a linear axis shows them.
+fn evenly_spaced(v: &[f64]) -> bool {
+    if v.len() < 3 {
+        return true;
+    }
+    let step = (v[v.len() - 1] - v[0]) / (v.len() - 1) as f64;
+    v.windows(2)
+        .all(|w| ((w[1] - w[0]) - step).abs() <= 1e-9 * (v[v.len() - 1] - v[0]).abs())
+}
+
+fn phase_index(p: &str) -> usize {
+    PHASES.iter().position(|q| *q == p).unwrap_or(usize::MAX)
+}
+
+/// Mean of the finite values (NaN if none).
+fn mean(v: &[f64]) -> f64 {
+    let f: Vec<f64> = v.iter().copied().filter(|x| x.is_finite()).collect();
+    if f.is_empty() {
+        f64::NAN
+    } else {
+        f.iter().sum::<f64>() / f.len() as f64
+    }
+}
+
+/// Writes the CSV, the plots and the report of whatever results exist; returns the summary.
+pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
+    let (results, mut dir) = super::open_report(root, sweep)?;
+    let mut csv = String::from("model,frequency,amplitude,sample,phase,stripe_count,contrast,mobility,onset_s\n");
+    // (model, amplitude index, frequency index) -> per-sample (phase, contrast, mobility).
+    let num = |v: &Value, k: &str| v[k].as_f64().unwrap_or(f64::NAN);
+    let mut freqs: Vec<f64> = sweep
+        .jobs
+        .iter()
+        .map(|j| num(&Value::Object(j.labels.clone()), "frequency"))
+        .collect();
+    let mut amps: Vec<f64> = sweep
+        .jobs
+        .iter()
+        .map(|j| num(&Value::Object(j.labels.clone()), "amplitude"))
+        .collect();
+    for v in [&mut freqs, &mut amps] {
+        v.sort_by(f64::total_cmp);
+        v.dedup();
+    }
+    type Cell = Vec<(usize, f64, f64)>;
+    let mut cells: BTreeMap<(String, usize, usize), Cell> = BTreeMap::new();
+    for (job, r) in &results {
+        let (f, a) = (num(r, "frequency"), num(r, "amplitude"));
+        let phase = super::label(r, "phase");
+        let (contrast, mobility) = (super::metric(r, "contrast"), super::metric(r, "mobility"));
+        let count = super::metric(r, "stripe_count_final");
+        let onset = super::metric(r, "stripe_onset_s");
+        writeln!(
+            csv,
+            "{},{f},{a},{},{phase},{count},{contrast},{mobility},{onset}",
+            job.model.name(),
+            r["sample"].as_u64().unwrap_or(0)
+        )?;
+        let fi = freqs.iter().position(|x| *x == f).unwrap_or(0);
+        let ai = amps.iter().position(|x| *x == a).unwrap_or(0);
+        cells
+            .entry((job.model.name().to_string(), ai, fi))
+            .or_default()
+            .push((phase_index(&phase), contrast, mobility));
+    }
+    let path = root.join("phase_map.csv");
+    analysis::io::write_atomic(&path, csv.as_bytes())?;
+    dir.note_files([path]);
+
+    // Majority phase per cell (ties to the lower index: nothing < stripes < gas).
+    let majority = |c: &Cell| {
+        let mut n = [0usize; 3];
+        for (p, _, _) in c {
+            if *p < 3 {
+                n[*p] += 1;
+            }
+        }
+        (0..3).max_by_key(|&k| (n[k], usize::MAX - k)).filter(|&k| n[k] > 0).unwrap_or(3)
+    };
+    let models: Vec<String> = {
+        let mut m: Vec<String> = sweep.jobs.iter().map(|j| j.model.name().to_string()).collect();
+        m.dedup();
+        m
+    };
+    let mut names: Vec<&str> = PHASES.to_vec();
+    names.push("-");
+    let (df, da) = (step(&freqs), step(&amps));
+    let mut grids: BTreeMap<String, Vec<Vec<usize>>> = BTreeMap::new();
+    for model in &models {
+        let classes: Vec<Vec<usize>> = (0..amps.len())
+            .map(|ai| {
+                (0..freqs.len())
+                    .map(|fi| cells.get(&(model.clone(), ai, fi)).map_or(3, majority))
+                    .collect()
+            })
+            .collect();
+        for (metric, k) in [("contrast", 1usize), ("mobility", 2usize)] {
+            let values: Vec<Vec<f64>> = (0..amps.len())
+                .map(|ai| {
+                    (0..freqs.len())
+                        .map(|fi| {
+                            cells.get(&(model.clone(), ai, fi)).map_or(f64::NAN, |c| {
+                                mean(&c.iter().map(|t| if k == 1 { t.1 } else { t.2 }).collect::<Vec<_>>())
+                            })
+                        })
+                        .collect()
+                })
+                .collect();
+            let heat = Heatmap {
+                title: format!("{model}: {metric} and phase"),
+                x_label: "frequency (Hz)".into(),
+                y_label: "amplitude (m)".into(),
+                x_range: (freqs[0] - 0.5 * df, freqs[freqs.len() - 1] + 0.5 * df),
+                y_range: (amps[0] - 0.5 * da, amps[amps.len() - 1] + 0.5 * da),
+                values,
+                colorbar_label: match metric {
+                    "contrast" => "contrast (x a random layer's)".into(),
+                    _ => "mobility (mean diameters per period)".into(),
+                },
+                scale: None,
+                cell_names: None,
+            };
+            // Uneven axes (a list): cells in index space, named by their values.
+            let heat = if evenly_spaced(&freqs) && evenly_spaced(&amps) {
+                heat
+            } else {
+                let name = |v: &f64| format!("{v}");
+                Heatmap {
+                    x_range: (-0.5, freqs.len() as f64 - 0.5),
+                    y_range: (-0.5, amps.len() as f64 - 0.5),
+                    cell_names: Some((freqs.iter().map(name).collect(), amps.iter().map(name).collect())),
+                    ..heat
+                }
+            };
+            let files = heat
+                .save_with_classes(&root.join(format!("phase_{model}_{metric}")), &classes, &names)
+                .map_err(|e| format!("phase diagram: {e}"))?;
+            dir.note_files(files);
+        }
+        grids.insert(model.clone(), classes);
+    }
+
+    // Agreement between the two models, cell by cell.
+    let mut agreement = Value::Null;
+    let mut md = String::new();
+    writeln!(md, "# Phase map (nu, A)\n")?;
+    writeln!(md, "{}\n", super::scale_line(sweep, results.len(), "cell")?)?;
+    writeln!(
+        md,
+        "Phases by the analysis' classifier (`nothing | stripes | gas`); each cell is the majority over samples.\n"
+    )?;
+    writeln!(
+        md,
+        "| {} |\n|{}",
+        models
+            .iter()
+            .map(|m| format!("{m}: contrast / mobility"))
+            .collect::<Vec<_>>()
+            .join(" | "),
+        "---|".repeat(models.len())
+    )?;
+    writeln!(
+        md,
+        "| {} |\n| {} |\n",
+        models
+            .iter()
+            .map(|m| format!("![](phase_{m}_contrast.png)"))
+            .collect::<Vec<_>>()
+            .join(" | "),
+        models
+            .iter()
+            .map(|m| format!("![](phase_{m}_mobility.png)"))
+            .collect::<Vec<_>>()
+            .join(" | ")
+    )?;
+    for model in &models {
+        writeln!(
+            md,
+            "## {model}\n\n| A (m) \\ nu (Hz) | {} |\n|---|{}",
+            freqs.iter().map(|f| format!("{f}")).collect::<Vec<_>>().join(" | "),
+            "---|".repeat(freqs.len())
+        )?;
+        for (ai, a) in amps.iter().enumerate().rev() {
+            let row: Vec<&str> = grids[model][ai].iter().map(|&c| names[c]).collect();
+            writeln!(md, "| {a} | {} |", row.join(" | "))?;
+        }
+        writeln!(md)?;
+    }
+    if let (Some(d), Some(c)) = (grids.get("dem"), grids.get("automaton")) {
+        let (mut same, mut both, mut differ) = (0, 0, Vec::new());
+        for ai in 0..amps.len() {
+            for fi in 0..freqs.len() {
+                if d[ai][fi] < 3 && c[ai][fi] < 3 {
+                    both += 1;
+                    if d[ai][fi] == c[ai][fi] {
+                        same += 1;
+                    } else {
+                        differ.push(format!(
+                            "({} Hz, {} m): DEM {}, automaton {}",
+                            freqs[fi], amps[ai], names[d[ai][fi]], names[c[ai][fi]]
+                        ));
+                    }
+                }
+            }
+        }
+        writeln!(md, "## Agreement\n\nThe models agree on {same} of {both} cells.\n")?;
+        for d in &differ {
+            writeln!(md, "- {d}")?;
+        }
+        agreement = json!({ "cells": both, "agree": same, "fraction": if both > 0 { same as f64 / both as f64 } else { f64::NAN } });
+    }
+    super::write_report(root, sweep, &mut dir, md)?;
+    let phases: BTreeMap<String, Vec<Vec<&str>>> = grids
+        .iter()
+        .map(|(m, g)| (m.clone(), g.iter().map(|row| row.iter().map(|&c| names[c]).collect()).collect()))
+        .collect();
+    let summary = json!({
+        "kind": "phase-map",
+        "jobs": sweep.jobs.len(),
+        "finished": results.len(),
+        "frequency": freqs,
+        "amplitude": amps,
+        "phases": phases,
+        "agreement": agreement,
+    });
+    let line = dir.finish(summary)?;
+    Ok(serde_json::from_str(&line)?)
+}
+
+/// Spacing of a sorted grid (1 for a single value, so its cell has a width).
+fn step(v: &[f64]) -> f64 {
+    if v.len() > 1 {
+        (v[v.len() - 1] - v[0]) / (v.len() - 1) as f64
+    } else {
+        v.first().map_or(1.0, |x| x.abs().max(1e-3) * 0.2)
+    }
+}
+
+#[cfg(test)]
+mod axis_tests {
+    use super::evenly_spaced;
+
+    #[test]
+    fn lists_of_uneven_values_are_told_from_ranges() {
+        assert!(evenly_spaced(&[5.0, 13.0, 21.0, 29.0]));
+        assert!(evenly_spaced(&[0.005, 0.01, 0.015]));
+        assert!(!evenly_spaced(&[3.0, 4.0, 5.0, 7.0, 10.0, 20.0]));
+        assert!(evenly_spaced(&[3.0]));
+    }
+}
