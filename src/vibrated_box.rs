@@ -166,6 +166,9 @@ struct Measured {
     k_over_r: f64,
     /// The DEM only: the same with every component (`v_y`, and spins about x and z).
     k_over_r_3d: Option<f64>,
+    /// The DEM only: `sum m v_y^2 / sum m v_x^2`, the motion across the plane that the y walls
+    /// confine, against the motion along the floor.
+    vy2_over_vx2: Option<f64>,
     /// On-CPU seconds per simulated second of the whole run (transient included).
     cpu_s_per_simulated_s: f64,
     /// Collisions (event-driven) or steps (DEM) per simulated second.
@@ -202,6 +205,7 @@ fn run_dem(scene: &Scene, seed: u64, opts: &Options) -> Result<Measured, CliErro
     let mut sim = Simulation::new(setup, state)?;
     let mut bins = Bins::new();
     let (mut h, mut k, mut r, mut k3, mut r3) = (0.0, 0.0, 0.0, 0.0, 0.0);
+    let (mut vx2, mut vy2) = (0.0, 0.0);
     let clock = Stopwatch::start(true);
     for t in sample_times(scene.drive.frequency, scene.run.snapshots_per_period, scene.run.duration) {
         while sim.time < t - 0.5 * sim.setup.dt {
@@ -221,6 +225,8 @@ fn run_dem(scene: &Scene, seed: u64, opts: &Options) -> Result<Measured, CliErro
             k += m * (v.x * v.x + v.z * v.z);
             r += inertia * w.y * w.y;
             k3 += m * v.norm_squared();
+            vx2 += m * v.x * v.x;
+            vy2 += m * v.y * v.y;
             r3 += inertia * w.norm_squared();
         }
         h += zsum / n as f64;
@@ -233,6 +239,7 @@ fn run_dem(scene: &Scene, seed: u64, opts: &Options) -> Result<Measured, CliErro
         mean_height_m: h / bins.samples.max(1) as f64,
         k_over_r: k / r,
         k_over_r_3d: Some(k3 / r3),
+        vy2_over_vx2: Some(vy2 / vx2),
         cpu_s_per_simulated_s: cpu / scene.run.duration,
         work_per_simulated_s: sim.steps as f64 / sim.time,
         samples: bins.samples,
@@ -259,6 +266,7 @@ fn run_events(scene: &EventScene, model: &'static str) -> Result<Measured, CliEr
         mean_height_m: obs.mean_height(),
         k_over_r: obs.kinetic_ratio(),
         k_over_r_3d: None,
+        vy2_over_vx2: None,
         cpu_s_per_simulated_s: cpu / scene.run.duration,
         work_per_simulated_s: sim.collisions() as f64 / scene.run.duration,
         samples: obs.samples,
@@ -400,6 +408,7 @@ struct ModelSummary {
     mean_height_mm: (f64, f64),
     k_over_r: (f64, f64),
     k_over_r_3d: Option<(f64, f64)>,
+    vy2_over_vx2: Option<(f64, f64)>,
     cpu_s_per_simulated_s: (f64, f64),
     work_per_simulated_s: f64,
     samples_per_seed: u64,
@@ -416,6 +425,7 @@ fn summarise(model: &'static str, runs: &[Measured]) -> ModelSummary {
         },
         k_over_r: of(|r| r.k_over_r),
         k_over_r_3d: runs[0].k_over_r_3d.map(|_| of(|r| r.k_over_r_3d.unwrap_or(f64::NAN))),
+        vy2_over_vx2: runs[0].vy2_over_vx2.map(|_| of(|r| r.vy2_over_vx2.unwrap_or(f64::NAN))),
         cpu_s_per_simulated_s: of(|r| r.cpu_s_per_simulated_s),
         work_per_simulated_s: of(|r| r.work_per_simulated_s).0,
         samples_per_seed: runs[0].samples,
@@ -710,10 +720,12 @@ fn report(
             m.samples_per_seed
         ));
     }
-    if let Some(k3) = summaries[0].k_over_r_3d {
+    if let (Some(k3), Some(y)) = (summaries[0].k_over_r_3d, summaries[0].vy2_over_vx2) {
         s.push_str(&format!(
-            "\nThe DEM's K/R with every component (v_y, spins about x and z): {}.\n",
-            pm(k3)
+            "\nThe DEM's K/R with every component (v_y, spins about x and z): {}; its motion across the plane, \
+             sum m v_y^2 / sum m v_x^2: {}.\n",
+            pm(k3),
+            pm(y)
         ));
     }
     let se = |m: &ModelSummary| m.mean_height_mm.1;
