@@ -31,6 +31,7 @@ mod sweep;
 mod thermo;
 mod threads;
 mod tradeoff;
+mod vibrated_box;
 mod vtk_series;
 
 use std::process::ExitCode;

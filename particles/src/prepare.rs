@@ -31,6 +31,8 @@ pub fn reference(scene: &Scene) -> Scene {
     // The tray rests during preparation, so its frequency changes nothing either: every
     // frequency of a sweep shares one sample per seed.
     s.drive.frequency = 1.0;
+    // Nor its direction: a vibrated box and a shaken tray of the same grains share samples.
+    s.drive.direction = Default::default();
     s.run.duration = s.prepare.duration;
     s.run.threads = 0;
     s.run.checkpoint_interval = 0.0;

@@ -42,11 +42,17 @@ pub fn check_step_resolution(
     }
 }
 
-/// Largest impact speed expected in a scene (m/s): the tray's peak speed `2 pi nu A`, the
-/// speed at which a side wall or a grain carried by the floor can hit a grain at rest. At
-/// least 0.1 m/s, so that a tray at rest still gets a finite step.
+/// Largest impact speed expected in a scene (m/s): the tray's peak speed `V = 2 pi nu A`, the
+/// speed at which a side wall or a grain carried by the floor can hit a grain at rest; for a
+/// vertically vibrated floor `2 V`, the speed at which a grain thrown at `V` meets the floor
+/// rising at `V`. At least 0.1 m/s, so that a tray at rest still gets a finite step.
 pub fn max_impact_speed(scene: &Scene) -> f64 {
-    (2.0 * std::f64::consts::PI * scene.drive.frequency * scene.drive.amplitude).max(0.1)
+    let v = 2.0 * std::f64::consts::PI * scene.drive.frequency * scene.drive.amplitude;
+    let v = match scene.drive.direction {
+        crate::scene::DriveDirection::X => v,
+        crate::scene::DriveDirection::Z => 2.0 * v,
+    };
+    v.max(0.1)
 }
 
 /// Shortest contact time of the scene (s): the undamped time (eq 3.19, or `pi sqrt(m/k)`)

@@ -4,7 +4,7 @@
 use crate::boundary::Boundary;
 use crate::constants::GRAVITY;
 use crate::neighbor::NeighborSearch;
-use crate::scene::Scene;
+use crate::scene::{DriveDirection, Scene};
 use crate::setup::{Setup, Vertical};
 use crate::wall::{Motion, Wall};
 use crate::{SimError, Vec3};
@@ -21,27 +21,50 @@ pub const DEFAULT_SKIN: f64 = 0.2;
 /// [`NeighborSearch::VerletList`]).
 pub const MAX_SKIN: f64 = 2.0;
 
-/// The motion of the tray: `x_tray(t) = A sin(2 pi nu t)` along x.
+/// The motion of the tray: `u(t) = A sin(2 pi nu t)` along `drive.direction` (x: the shaken
+/// tray; z: the vibrated floor).
 pub fn drive(scene: &Scene) -> Motion {
     Motion::Harmonic {
         amplitude: scene.drive.amplitude,
         frequency: scene.drive.frequency,
-        direction: Vec3::x(),
+        direction: scene.drive.direction.unit(),
     }
 }
 
 /// Dynamics of a (validated) scene at time step `dt` (s, from [`crate::time_step::for_scene`]),
-/// with the tray driven by `motion` (use [`Motion::Fixed`] for sample preparation).
+/// with the floor driven by `motion` (use [`Motion::Fixed`] for sample preparation). The
+/// walls, in this order: the floor; the sides at y = 0 and y = W (`toggles.walls`); the ends
+/// at x = 0 and x = L (`box.x_walls`). With a horizontal drive every wall moves with the
+/// tray; with a vertical one (`drive.direction = "z"`) only the floor moves, and the floor's
+/// height `A sin(2 pi nu t)` and vertical velocity enter its contacts through the wall's
+/// position and velocity, as any wall's do.
 pub fn setup(scene: &Scene, motion: Motion, dt: f64) -> Result<Setup, SimError> {
     let (pair_law, wall_law) = scene.laws()?;
     let (l, w, h) = (scene.tray.length, scene.tray.width, scene.tray.height.unwrap_or(f64::INFINITY));
+    let sides = match scene.drive.direction {
+        DriveDirection::X => motion,
+        DriveDirection::Z => Motion::Fixed,
+    };
     let mut walls = vec![Wall::new("floor", Vec3::zeros(), Vec3::z(), motion)];
     if scene.toggles.walls {
-        walls.push(Wall::new("side y=0", Vec3::zeros(), Vec3::y(), motion));
-        walls.push(Wall::new("side y=W", Vec3::new(0.0, w, 0.0), -Vec3::y(), motion));
+        walls.push(Wall::new("side y=0", Vec3::zeros(), Vec3::y(), sides));
+        walls.push(Wall::new("side y=W", Vec3::new(0.0, w, 0.0), -Vec3::y(), sides));
+    }
+    if scene.tray.x_walls {
+        walls.push(Wall::new("end x=0", Vec3::zeros(), Vec3::x(), sides));
+        walls.push(Wall::new("end x=L", Vec3::new(l, 0.0, 0.0), -Vec3::x(), sides));
     }
     let boundary = Boundary {
-        periodic: [Some(l), if scene.toggles.walls { None } else { Some(w) }, None],
+        periodic: [
+            if scene.tray.x_walls { None } else { Some(l) },
+            if scene.toggles.walls { None } else { Some(w) },
+            None,
+        ],
+    };
+    // A vibrated floor sinks to -A below its mean position.
+    let floor_low = match scene.drive.direction {
+        DriveDirection::X => 0.0,
+        DriveDirection::Z => motion.displacement_bound(),
     };
     Ok(Setup {
         pair_law,
@@ -56,9 +79,9 @@ pub fn setup(scene: &Scene, motion: Motion, dt: f64) -> Result<Setup, SimError> 
             max_skin: MAX_SKIN * scene.particles.radius_max,
         },
         vertical: if scene.toggles.jumping { Vertical::Free } else { Vertical::Pinned },
-        // Grains may sink into the floor by their overlap; anything below -R_max, outside the
-        // side walls, or above the optional ceiling `box.height` has escaped (open top by
-        // default, thesis 3.5.3).
-        container: Some((Vec3::new(0.0, 0.0, -scene.particles.radius_max), Vec3::new(l, w, h))),
+        // Grains may sink into the floor by their overlap; anything below -R_max (below the
+        // vibrated floor's lowest position), outside the side walls, or above the optional
+        // ceiling `box.height` has escaped (open top by default, thesis 3.5.3).
+        container: Some((Vec3::new(0.0, 0.0, -scene.particles.radius_max - floor_low), Vec3::new(l, w, h))),
     })
 }

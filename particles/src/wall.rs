@@ -44,6 +44,14 @@ impl Motion {
         })
     }
 
+    /// Largest displacement from the rest position (m): the amplitude, 0 at rest.
+    pub fn displacement_bound(&self) -> f64 {
+        match *self {
+            Motion::Fixed => 0.0,
+            Motion::Harmonic { amplitude, .. } => amplitude.abs(),
+        }
+    }
+
     /// Peak acceleration (m/s^2).
     pub fn peak_acceleration(&self) -> f64 {
         match *self {

@@ -49,6 +49,12 @@ pub struct Args {
     #[command(flatten)]
     #[serde(flatten)]
     pub progress: crate::cli_args::Quiet,
+    /// Vibrated box only (`drive.direction = "z"`): runs per model, seeds run.seed, run.seed + 1, ...
+    #[arg(long, default_value_t = 3)]
+    pub seeds: u64,
+    /// Vibrated box only: simulated time discarded before sampling (s).
+    #[arg(long, default_value_t = 1.0, value_parser = crate::cli_values::not_nan)]
+    pub transient: f64,
 }
 
 fn stage(quiet: bool, k: usize, what: &str) {
@@ -280,6 +286,21 @@ pub fn run(args: Args) -> Result<String, CliError> {
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "scene".into());
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from(format!("out/compare-{name}")));
+    // A vertically vibrated box is compared with the event-driven model, not the automaton.
+    if crate::vibrated_box::is_vibrated_box(scene) {
+        return crate::vibrated_box::compare(
+            &file,
+            &crate::vibrated_box::Options {
+                scene: args.scene.clone(),
+                out,
+                seeds: args.seeds,
+                transient: args.transient,
+                sample_cache: args.samples.sample_cache.clone(),
+                force: args.force,
+                quiet: args.progress.quiet,
+            },
+        );
+    }
     if crate::output::non_empty(&out) && !args.force && !args.resume {
         return Err(format!(
             "{} already holds files (an earlier comparison?); use --resume to continue it, --force to replace it, or another --out",

@@ -37,11 +37,13 @@ pub struct Scene {
     pub run: Run,
 }
 
-/// `[box]`: the tray. x is periodic; y has side walls (or is periodic with `toggles.walls = false`).
+/// `[box]`: the tray. x is periodic (or closed by end walls with `box.x_walls = true`); y has
+/// side walls (or is periodic with `toggles.walls = false`).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TrayBox {
-    /// Length along the shaking direction x (m), periodic.
+    /// Length along x (m), the horizontal shaking direction: periodic, or between the end
+    /// walls of `x_walls`.
     pub length: f64,
     /// Width across, y (m).
     pub width: f64,
@@ -51,9 +53,66 @@ pub struct TrayBox {
     /// confine: a grain below the floor or outside the walls has escaped.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub height: Option<f64>,
+    /// Flat walls at x = 0 and x = length in place of the periodic seam (the vibrated box's
+    /// fixed sides). Off by default (periodic x); left out of the serialised scene when off,
+    /// so that the sample keys of the tray scenes still hold.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub x_walls: bool,
 }
 
-/// `[drive]`: tray motion `x_tray(t) = amplitude sin(2 pi frequency t)`.
+/// `drive.direction`: the axis along which the floor moves.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(try_from = "String", into = "String")]
+pub enum DriveDirection {
+    /// Horizontal, along x: the shaken tray (thesis 3.5). The floor and every wall move with it.
+    #[default]
+    X,
+    /// Vertical, along z: the vibrated box. Only the floor moves, `z_f(t) = A sin(2 pi f t)`;
+    /// the side and end walls stay fixed.
+    Z,
+}
+
+impl DriveDirection {
+    /// The names in scene files.
+    pub const NAMES: &'static [&'static str] = &["x", "z"];
+
+    /// The unit vector of the motion.
+    pub fn unit(self) -> crate::Vec3 {
+        match self {
+            DriveDirection::X => crate::Vec3::x(),
+            DriveDirection::Z => crate::Vec3::z(),
+        }
+    }
+
+    fn is_x(&self) -> bool {
+        *self == DriveDirection::X
+    }
+}
+
+impl TryFrom<String> for DriveDirection {
+    type Error = String;
+    fn try_from(s: String) -> Result<Self, String> {
+        match s.as_str() {
+            "x" => Ok(DriveDirection::X),
+            "z" => Ok(DriveDirection::Z),
+            _ => Err(format!(
+                "drive.direction must be \"x\" (the horizontally shaken tray) or \"z\" (a vertically vibrated floor), got {s:?}"
+            )),
+        }
+    }
+}
+
+impl From<DriveDirection> for String {
+    fn from(d: DriveDirection) -> String {
+        match d {
+            DriveDirection::X => "x",
+            DriveDirection::Z => "z",
+        }
+        .into()
+    }
+}
+
+/// `[drive]`: tray motion `x_tray(t) = amplitude sin(2 pi frequency t)` along `direction`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Drive {
@@ -61,6 +120,10 @@ pub struct Drive {
     pub frequency: f64,
     /// m.
     pub amplitude: f64,
+    /// `"x"` (default: the horizontally shaken tray) or `"z"` (a vertically vibrated floor).
+    /// Left out of the serialised scene when `"x"`, so that the tray scenes' sample keys hold.
+    #[serde(default, skip_serializing_if = "DriveDirection::is_x")]
+    pub direction: DriveDirection,
 }
 
 /// `[particles]`: the population, radii uniform in `[radius_min, radius_max]`.
@@ -239,6 +302,12 @@ impl Scene {
         if 2.0 * self.particles.radius_max > self.tray.width.min(self.tray.length) {
             return Err(err("particles.radius_max", "a particle does not fit in the box"));
         }
+        if self.drive.direction == DriveDirection::Z && !self.toggles.jumping {
+            return Err(err(
+                "toggles.jumping",
+                "must stay true with drive.direction = \"z\": a pinned layer cannot follow a vertically vibrated floor",
+            ));
+        }
         // The preparation shuffles the sites of one lattice layer (spacing 2.1 R_max): a tray
         // far larger than its grains need would size that from the box alone.
         let spacing = 2.1 * self.particles.radius_max;
@@ -288,9 +357,10 @@ impl Scene {
             return Err(err("run.snapshots_per_period", "must be at least 1"));
         }
         non_negative("run.checkpoint_interval", self.run.checkpoint_interval)?;
-        // Packing: the layer must fit on the floor.
+        // Packing: the layer must fit on the floor (a vertically vibrated box stacks its grains
+        // in layers by design, open at the top).
         let phi = self.packing();
-        if phi > 0.9 {
+        if phi > 0.9 && self.drive.direction == DriveDirection::X {
             return Err(err(
                 "particles.count",
                 format!("2D packing fraction {phi:.2} does not fit in one layer (max 0.9)"),

@@ -23,10 +23,12 @@ pub fn tray_scene(length: f64, width: f64, count: usize, dt: TimeStep, seed: u64
             length,
             width,
             height: None,
+            x_walls: false,
         },
         drive: Drive {
             frequency: 20.0,
             amplitude: 0.025,
+            direction: Default::default(),
         },
         particles: Particles {
             count,
