@@ -114,6 +114,8 @@ fn snapshots_and_a_lammps_dump_of_the_same_layer_give_the_same_analysis() {
     for f in [
         "density_map.png",
         "density_map.svg",
+        "top_view.png",
+        "top_view.svg",
         "stripe_count.png",
         "msd.png",
         "tracer_trajectory.png",
@@ -170,6 +172,8 @@ fn unreadable_inputs_and_bad_options_are_named() {
     assert!(!ok && stderr.contains("snapshots.bin"), "{stderr}");
     let (ok, _, stderr) = stripes(&["analyze", junk.to_str().unwrap(), "--plateau-before", "3"]);
     assert!(!ok && stderr.contains("--plateau-before"), "{stderr}");
+    let (ok, _, stderr) = stripes(&["analyze", junk.to_str().unwrap(), "--top-view", "1,NaN"]);
+    assert!(!ok && stderr.contains("--top-view"), "{stderr}");
     std::fs::remove_dir_all(dir).unwrap();
 }
 

@@ -65,6 +65,10 @@ pub struct Args {
     /// profile) to count as a stationary stripe, whatever the contrast.
     #[arg(long, default_value_t = 10.0)]
     pub persistence_periods: f64,
+    /// Times (s) of the top views (x-y) drawn in top_view.png, e.g. 1,5,10; each is the frame
+    /// nearest it (default: the first, middle and last frames).
+    #[arg(long, value_delimiter = ',', value_name = "T,...", allow_negative_numbers = true)]
+    pub top_view: Vec<f64>,
 }
 
 fn window(s: &Option<String>, name: &str) -> Result<Option<(f64, f64)>, CliError> {
@@ -114,11 +118,15 @@ impl Args {
 impl Args {
     /// The pipeline's options these arguments select.
     pub fn analysis_options(&self) -> Result<AnalysisOptions, CliError> {
+        if let Some(t) = self.top_view.iter().find(|t| !t.is_finite()) {
+            return Err(format!("--top-view: times must be finite numbers of seconds, got {t}").into());
+        }
         Ok(AnalysisOptions {
             out: self.out.clone(),
             force: self.replace.force,
             dt: self.dt,
             options: self.options()?,
+            top_view: self.top_view.clone(),
         })
     }
 }

@@ -2,7 +2,7 @@
 //! [`Report`].
 
 use analysis::density::CountProfile;
-use analysis::plot::{Heatmap, LinePlot, Mark};
+use analysis::plot::{Heatmap, LinePlot, Mark, TopView};
 use analysis::report::Report;
 
 use crate::output::CliError as Error;
@@ -230,4 +230,48 @@ pub(super) fn draw(dir: &mut RunDir, r: &Report) -> Result<(), Error> {
         Mark::Line,
     );
     dir.plot("autocorrelation", &ac)
+}
+
+/// Top views (x-y) of a tray at `times` (each the frame nearest it), or at the first,
+/// middle and last frames: `top_view.png`, to show whether bands span the tray's width.
+pub(super) fn top_view(dir: &mut RunDir, run: &analysis::input::Run, times: &[f64]) -> Result<(), Error> {
+    let frames = &run.frames;
+    let mut picked: Vec<usize> = if times.is_empty() {
+        vec![0, frames.len() / 2, frames.len() - 1]
+    } else {
+        times
+            .iter()
+            .map(|&t| {
+                (0..frames.len())
+                    .min_by(|&a, &b| (frames[a].time - t).abs().total_cmp(&(frames[b].time - t).abs()))
+                    .expect("frames are not empty")
+            })
+            .collect()
+    };
+    picked.dedup();
+    let h = &run.header;
+    let panels = picked
+        .iter()
+        .map(|&k| {
+            let f = &frames[k];
+            let grains = f
+                .pos
+                .iter()
+                .zip(&h.radii)
+                .map(|(p, r)| (p[0].rem_euclid(h.length), p[1], *r))
+                .collect();
+            (format!("t = {:.3} s", f.time), grains)
+        })
+        .collect();
+    let view = TopView {
+        title: format!("Top view of the tray ({} grains)", h.radii.len()),
+        length: h.length,
+        width: h.width,
+        panels,
+    };
+    let files = view
+        .save(&dir.path.join("top_view"))
+        .map_err(|e| format!("cannot draw top_view: {e}"))?;
+    dir.note_files(files);
+    Ok(())
 }

@@ -10,7 +10,7 @@ use serde::ser::Error as _;
 use serde::{Serialize, Serializer};
 use serde_json::Value;
 
-use super::analysis_files::{draw, write_tables};
+use super::analysis_files::{draw, top_view, write_tables};
 use crate::output::CliError as Error;
 use crate::output::{RunDir, Written};
 
@@ -26,6 +26,9 @@ pub struct AnalysisOptions {
     pub dt: f64,
     /// The analysis' settings; without a period, the run's metadata gives it.
     pub options: Options,
+    /// Times (s) of the top views of a tray (`top_view.png`); empty: the first, middle and
+    /// last frames.
+    pub top_view: Vec<f64>,
 }
 
 impl AnalysisOptions {
@@ -37,6 +40,7 @@ impl AnalysisOptions {
             force: true,
             dt: analysis::lammps::DEFAULT_DT,
             options: Options::default(),
+            top_view: Vec::new(),
         }
     }
 }
@@ -190,6 +194,9 @@ pub fn analyze(input: &Path, opts: &AnalysisOptions) -> Result<AnalysisSummary, 
     let mut dir = RunDir::create(&out, &serde_json::json!({ "input": input, "options": opts }))?;
     write_tables(&mut dir, &report, &run)?;
     draw(&mut dir, &report)?;
+    if run.geometry == Geometry::Tray && !run.frames.is_empty() {
+        top_view(&mut dir, &run, &opts.top_view)?;
+    }
     let mut warnings = run.warnings.clone();
     if let Err(e) = report.phase() {
         eprintln!("warning: {e}");
