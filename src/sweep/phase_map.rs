@@ -115,7 +115,8 @@ pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
     analysis::io::write_atomic(&path, csv.as_bytes())?;
     dir.note_files([path]);
 
-    // Majority phase per cell (ties to the lower index: nothing < stripes < gas).
+    // Majority phase per cell; a cell whose samples split evenly between phases is a tie
+    // (index 4), not given to either.
     let majority = |c: &Cell| {
         let mut n = [0usize; 3];
         for (p, _, _) in c {
@@ -123,7 +124,12 @@ pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
                 n[*p] += 1;
             }
         }
-        (0..3).max_by_key(|&k| (n[k], usize::MAX - k)).filter(|&k| n[k] > 0).unwrap_or(3)
+        let top = n.iter().copied().max().unwrap_or(0);
+        match n.iter().filter(|&&k| k == top).count() {
+            _ if top == 0 => 3,
+            1 => n.iter().position(|&k| k == top).unwrap_or(3),
+            _ => TIE,
+        }
     };
     let models: Vec<String> = {
         let mut m: Vec<String> = sweep.jobs.iter().map(|j| j.model.name().to_string()).collect();
@@ -132,6 +138,7 @@ pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
     };
     let mut names: Vec<&str> = PHASES.to_vec();
     names.push("-");
+    names.push("tie");
     let (df, da) = (step(&freqs), step(&amps));
     let mut grids: BTreeMap<String, Vec<Vec<usize>>> = BTreeMap::new();
     for model in &models {
@@ -195,7 +202,7 @@ pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
     writeln!(md, "{}\n", super::scale_line(sweep, results.len(), "cell")?)?;
     writeln!(
         md,
-        "Phases by the analysis' classifier (`nothing | stripes | gas`); each cell is the majority over samples.\n"
+        "Phases by the analysis' classifier (`nothing | stripes | gas`); each cell is the majority over samples, and `tie` where the samples split evenly between phases (no phase is claimed for it).\n"
     )?;
     writeln!(
         md,
@@ -235,9 +242,12 @@ pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
         writeln!(md)?;
     }
     if let (Some(d), Some(c)) = (grids.get("dem"), grids.get("automaton")) {
-        let (mut same, mut both, mut differ) = (0, 0, Vec::new());
+        let (mut same, mut both, mut differ, mut ties) = (0, 0, Vec::new(), 0);
         for ai in 0..amps.len() {
             for fi in 0..freqs.len() {
+                if d[ai][fi] == TIE || c[ai][fi] == TIE {
+                    ties += 1;
+                }
                 if d[ai][fi] < 3 && c[ai][fi] < 3 {
                     both += 1;
                     if d[ai][fi] == c[ai][fi] {
@@ -251,11 +261,15 @@ pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
                 }
             }
         }
-        writeln!(md, "## Agreement\n\nThe models agree on {same} of {both} cells.\n")?;
+        writeln!(
+            md,
+            "## Agreement\n\nThe models agree on {same} of {both} cells; {ties} cells where either model ties are not counted.\n"
+        )?;
         for d in &differ {
             writeln!(md, "- {d}")?;
         }
-        agreement = json!({ "cells": both, "agree": same, "fraction": if both > 0 { same as f64 / both as f64 } else { f64::NAN } });
+        agreement =
+            json!({ "cells": both, "agree": same, "ties": ties, "fraction": if both > 0 { same as f64 / both as f64 } else { f64::NAN } });
     }
     super::write_report(root, sweep, &mut dir, md)?;
     let phases: BTreeMap<String, Vec<Vec<&str>>> = grids
@@ -274,6 +288,9 @@ pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
     let line = dir.finish(summary)?;
     Ok(serde_json::from_str(&line)?)
 }
+
+/// The class of a cell whose samples split evenly between phases.
+const TIE: usize = 4;
 
 /// Spacing of a sorted grid (1 for a single value, so its cell has a width).
 fn step(v: &[f64]) -> f64 {
