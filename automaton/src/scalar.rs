@@ -71,6 +71,14 @@ pub(crate) fn half_step(nx: usize, ny: usize, h: &mut [u8], r: &Resolved, tick: 
     let clustered = |jn: usize, c: usize, z: u8| -> bool {
         lf[jn * nx + c] > z && (lf[jn * nx + (c + 1) % nx] > z || lf[jn * nx + (c + nx - 1) % nx] > z)
     };
+    // A grain of the neighbouring row jn, column c, level z that stops a flight sideways.
+    let lateral = |jn: usize, c: usize, z: u8| -> bool {
+        match r.lateral {
+            Lateral::None => false,
+            Lateral::Neighbours => lf[jn * nx + c] > z,
+            Lateral::Clusters => clustered(jn, c, z),
+        }
+    };
     // The top grains that fly this half step (filled below, row by row).
     let flies = &mut sc.flies;
     flies.iter_mut().for_each(|f| *f = false);
@@ -103,13 +111,9 @@ pub(crate) fn half_step(nx: usize, ny: usize, h: &mut [u8], r: &Resolved, tick: 
         if lf[j * nx + c] > z && !flyer(j, c, z) {
             return true;
         }
-        let side = [false, true].iter().any(|&up| {
-            neighbour_row(j, up, ny, r.periodic_y).is_some_and(|jn| match r.lateral {
-                Lateral::None => false,
-                Lateral::Neighbours => lf[jn * nx + c] > z,
-                Lateral::Clusters => clustered(jn, c, z),
-            })
-        });
+        let side = [false, true]
+            .iter()
+            .any(|&up| neighbour_row(j, up, ny, r.periodic_y).is_some_and(|jn| lateral(jn, c, z)));
         // With knock-through a lateral contact holds with probability 1 - p_knock; at the
         // floor level the draw is the cell's [`Stream::Activation`] number (the cell has no
         // grain of its own here, so its activation is never drawn), above it the cell's
@@ -158,11 +162,7 @@ pub(crate) fn half_step(nx: usize, ny: usize, h: &mut [u8], r: &Resolved, tick: 
                 [false, true]
                     .into_iter()
                     .filter_map(|up| neighbour_row(j0, up, ny, r.periodic_y))
-                    .find(|&jn| match r.lateral {
-                        Lateral::None => false,
-                        Lateral::Neighbours => lf[jn * nx + p] > z,
-                        Lateral::Clusters => clustered(jn, p, z),
-                    })
+                    .find(|&jn| lateral(jn, p, z))
             };
             let Some(j) = hit else {
                 continue;

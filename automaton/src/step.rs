@@ -194,6 +194,17 @@ fn half_step_body(shape: &RowShape, ny: usize, rows: &mut [u64], r: &Resolved, t
     by_width!(w, unframe, shape, ny, rows, left, sc);
 }
 
+/// The flight-frame rows whose grains stop a flight from a neighbouring row ([`Lateral`]):
+/// none, every grain (`lf`), or the grains that touch an x-neighbour (`clusters`).
+#[inline(always)]
+fn lateral_rows<'a>(lateral: Lateral, lf: &'a [u64], clusters: &'a [u64]) -> Option<&'a [u64]> {
+    match lateral {
+        Lateral::None => None,
+        Lateral::Neighbours => Some(lf),
+        Lateral::Clusters => Some(clusters),
+    }
+}
+
 /// `rows` from the flight-frame result `sc.new`.
 #[inline(always)]
 fn unframe<const W: usize>(shape: &RowShape, ny: usize, rows: &mut [u64], left: bool, sc: &mut BitScratch) {
@@ -248,11 +259,7 @@ fn flights<const W: usize>(shape: &RowShape, ny: usize, rows: &[u64], r: &Resolv
             }
         }
     }
-    let side: Option<&[u64]> = match r.lateral {
-        Lateral::None => None,
-        Lateral::Neighbours => Some(lf),
-        Lateral::Clusters => Some(clusters),
-    };
+    let side = lateral_rows(r.lateral, lf, clusters);
     for j in 0..ny {
         let key = keys[j];
         let l = load::<W>(lf, j);
@@ -369,11 +376,7 @@ fn knock_through<const W: usize>(shape: &RowShape, ny: usize, r: &Resolved, cap:
         ..
     } = sc;
     let get = |row: &[u64], i: usize| (row[i / 64] >> (i % 64)) & 1 == 1;
-    let side: Option<&[u64]> = match r.lateral {
-        Lateral::None => None,
-        Lateral::Neighbours => Some(lf),
-        Lateral::Clusters => Some(clusters),
-    };
+    let side = lateral_rows(r.lateral, lf, clusters);
     // Cells mod nx without a division (arguments below 2 nx).
     let wrap = |i: usize| if i >= nx { i - nx } else { i };
     for j in 0..ny {
