@@ -198,7 +198,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
         let mut warnings = run.warnings.clone();
         if let Err(e) = report.phase() {
             eprintln!("warning: {e}");
-            warnings.push(e);
+            warnings.push(e.to_string());
         }
         if event_driven(&run.file) {
             // A vertical box seen from the side: grains stack in z, so the "area fraction"
