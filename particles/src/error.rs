@@ -146,7 +146,7 @@ impl fmt::Display for UnknownName {
 
 impl std::error::Error for UnknownName {}
 
-/// A [`crate::saved::SavedState`] that does not fit the simulation it is imported into.
+/// A saved state (`saved::SavedState`) that does not fit the simulation it is imported into.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum StateMismatch {
     /// The saved state holds `saved` particles, the scene `scene`.
