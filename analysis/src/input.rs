@@ -50,6 +50,66 @@ pub struct Run {
     pub warnings: Vec<String>,
 }
 
+/// Why [`load`] cannot give a run; each names the file.
+#[derive(Debug)]
+pub enum LoadError {
+    /// The file cannot be opened or read.
+    Unreadable { file: PathBuf, source: std::io::Error },
+    /// The file is neither a snapshot file nor a LAMMPS text dump.
+    UnknownKind { file: PathBuf },
+    /// The LAMMPS dump cannot be read ([`crate::lammps::DumpError`]: line, field, timestep).
+    Dump(crate::lammps::DumpError),
+    /// The file holds no complete frame.
+    NoFrames { file: PathBuf },
+    /// Frame `frame`'s time (s) does not come after the previous frame's.
+    TimeOrder {
+        file: PathBuf,
+        frame: usize,
+        time: f64,
+        previous: f64,
+    },
+    /// The `config.json` beside a snapshot file cannot give the drive period.
+    Metadata(MetadataError),
+}
+
+impl std::fmt::Display for LoadError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            LoadError::Unreadable { file, source } => write!(f, "cannot read {}: {source}", file.display()),
+            LoadError::UnknownKind { file } => write!(
+                f,
+                "{} is neither a stripes snapshot file (magic STRPSNP1) nor a LAMMPS text dump (`ITEM: TIMESTEP`)",
+                file.display()
+            ),
+            LoadError::Dump(e) => e.fmt(f),
+            LoadError::NoFrames { file } => write!(f, "{} holds no complete frame", file.display()),
+            LoadError::TimeOrder {
+                file,
+                frame,
+                time,
+                previous,
+            } => write!(
+                f,
+                "{}: frame {frame} (t = {time} s) does not come after frame {} (t = {previous} s)",
+                file.display(),
+                frame - 1
+            ),
+            LoadError::Metadata(e) => e.fmt(f),
+        }
+    }
+}
+
+impl std::error::Error for LoadError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            LoadError::Unreadable { source, .. } => Some(source),
+            LoadError::Dump(e) => Some(e),
+            LoadError::Metadata(e) => Some(e),
+            _ => None,
+        }
+    }
+}
+
 /// Why the `config.json` beside a run could not give its drive period.
 #[derive(Debug)]
 pub enum MetadataError {
@@ -151,7 +211,7 @@ pub fn metadata_period(file: &Path) -> Result<Option<f64>, MetadataError> {
 /// timesteps to time and is ignored for snapshots. Fails with a message naming the file
 /// when it is of neither kind, holds no complete frame, its times do not increase, or the
 /// `config.json` beside it cannot be read ([`metadata_period`]).
-pub fn load(path: &Path, dt: f64) -> Result<Run, String> {
+pub fn load(path: &Path, dt: f64) -> Result<Run, LoadError> {
     let file = if path.is_dir() {
         path.join("snapshots.bin")
     } else {
@@ -160,11 +220,17 @@ pub fn load(path: &Path, dt: f64) -> Result<Run, String> {
     let mut head = [0u8; 16];
     let got = std::fs::File::open(&file)
         .and_then(|mut f| f.read(&mut head))
-        .map_err(|e| format!("cannot read {}: {e}", file.display()))?;
+        .map_err(|source| LoadError::Unreadable {
+            file: file.clone(),
+            source,
+        })?;
     let mut warnings = Vec::new();
     let mut velocity_columns = None;
     let (kind, header, frames) = if head[..got].starts_with(b"STRPSNP1") {
-        let (h, f, rest) = read_snapshots_counting(&file).map_err(|e| format!("cannot read {}: {e}", file.display()))?;
+        let (h, f, rest) = read_snapshots_counting(&file).map_err(|source| LoadError::Unreadable {
+            file: file.clone(),
+            source,
+        })?;
         if rest > 0 {
             warnings.push(format!(
                 "{} is cut off: it ends {rest} bytes into a frame; analysing the {} whole frames before it",
@@ -174,32 +240,28 @@ pub fn load(path: &Path, dt: f64) -> Result<Run, String> {
         }
         (InputKind::Snapshots, h, f)
     } else if String::from_utf8_lossy(&head[..got]).trim_start().starts_with("ITEM:") {
-        let (h, f, notes) = crate::lammps::read_dump_noting(&file, dt)?;
+        let (h, f, notes) = crate::lammps::read_dump_noting(&file, dt).map_err(LoadError::Dump)?;
         warnings.extend(notes.warnings);
         velocity_columns = Some(notes.velocity_columns);
         (InputKind::LammpsDump, h, f)
     } else {
-        return Err(format!(
-            "{} is neither a stripes snapshot file (magic STRPSNP1) nor a LAMMPS text dump (`ITEM: TIMESTEP`)",
-            file.display()
-        ));
+        return Err(LoadError::UnknownKind { file });
     };
     if frames.is_empty() {
-        return Err(format!("{} holds no complete frame", file.display()));
+        return Err(LoadError::NoFrames { file });
     }
     for (k, w) in frames.windows(2).enumerate() {
         if w[1].time.partial_cmp(&w[0].time) != Some(std::cmp::Ordering::Greater) {
-            return Err(format!(
-                "{}: frame {} (t = {} s) does not come after frame {k} (t = {} s)",
-                file.display(),
-                k + 1,
-                w[1].time,
-                w[0].time
-            ));
+            return Err(LoadError::TimeOrder {
+                file,
+                frame: k + 1,
+                time: w[1].time,
+                previous: w[0].time,
+            });
         }
     }
     let meta = match kind {
-        InputKind::Snapshots => metadata(&file).map_err(|e| e.to_string())?,
+        InputKind::Snapshots => metadata(&file).map_err(LoadError::Metadata)?,
         InputKind::LammpsDump => Metadata::default(),
     };
     Ok(Run {

@@ -36,6 +36,72 @@ use crate::snapshot::{Frame, Header};
 /// The LAMMPS time step of the thesis tray (s), the default of `--dt`.
 pub const DEFAULT_DT: f64 = 8e-6;
 
+/// Why a LAMMPS dump cannot be read. Each names the file, and the line (numbered from 1),
+/// field, atom and timestep where they are known.
+#[derive(Debug)]
+pub enum DumpError {
+    /// `dt` is not a positive time step (s).
+    TimeStep { dt: f64 },
+    /// The file cannot be opened.
+    Open { file: String, source: std::io::Error },
+    /// The file cannot be read (at `line`, while reading `what`, if known).
+    Read {
+        file: String,
+        line: Option<usize>,
+        what: &'static str,
+        source: std::io::Error,
+    },
+    /// The file is not a dump the analysis can use: `problem` says what is wrong, at `line`
+    /// (None: across frames or at the end of the file).
+    Content {
+        file: String,
+        line: Option<usize>,
+        problem: String,
+    },
+}
+
+impl std::fmt::Display for DumpError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            DumpError::TimeStep { dt } => write!(f, "--dt must be a positive time step in s, got {dt}"),
+            DumpError::Open { file, source } => write!(f, "cannot open {file}: {source}"),
+            DumpError::Read {
+                file,
+                line: Some(line),
+                what,
+                source,
+            } => write!(f, "{file} line {line}: cannot read {what}: {source}"),
+            DumpError::Read {
+                file, line: None, source, ..
+            } => write!(f, "cannot read {file}: {source}"),
+            DumpError::Content {
+                file,
+                line: Some(line),
+                problem,
+            } => write!(f, "{file} line {line}: {problem}"),
+            DumpError::Content { file, line: None, problem } => write!(f, "{file}: {problem}"),
+        }
+    }
+}
+
+impl std::error::Error for DumpError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            DumpError::Open { source, .. } | DumpError::Read { source, .. } => Some(source),
+            _ => None,
+        }
+    }
+}
+
+/// A [`DumpError::Content`] of `file`.
+fn content(file: &str, line: Option<usize>, problem: String) -> DumpError {
+    DumpError::Content {
+        file: file.to_string(),
+        line,
+        problem,
+    }
+}
+
 /// How one axis' position is given in the dump.
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum PosCol {
@@ -54,19 +120,23 @@ struct Columns {
     count: usize,
 }
 
-fn columns(names: &[&str], ctx: &str) -> Result<Columns, String> {
+/// The columns of an `ITEM: ATOMS` line (line `line` of `file`).
+fn columns(names: &[&str], file: &str, line: usize) -> Result<Columns, DumpError> {
     let find = |n: &str| names.iter().position(|c| *c == n);
-    let need = |n: &str| find(n).ok_or_else(|| format!("{ctx}: `ITEM: ATOMS` has no `{n}` column (columns: {})", names.join(" ")));
-    let axis = |a: &str| -> Result<PosCol, String> {
+    let need = |n: &str| {
+        find(n).ok_or_else(|| {
+            let problem = format!("`ITEM: ATOMS` has no `{n}` column (columns: {})", names.join(" "));
+            content(file, Some(line), problem)
+        })
+    };
+    let axis = |a: &str| -> Result<PosCol, DumpError> {
         if let Some(k) = find(a).or_else(|| find(&format!("{a}u"))) {
             Ok(PosCol::Absolute(k))
         } else if let Some(k) = find(&format!("{a}s")) {
             Ok(PosCol::Scaled(k))
         } else {
-            Err(format!(
-                "{ctx}: `ITEM: ATOMS` has no `{a}`, `{a}u` or `{a}s` column (columns: {})",
-                names.join(" ")
-            ))
+            let problem = format!("`ITEM: ATOMS` has no `{a}`, `{a}u` or `{a}s` column (columns: {})", names.join(" "));
+            Err(content(file, Some(line), problem))
         }
     };
     Ok(Columns {
@@ -112,17 +182,22 @@ const MIN_ATOM_LINE: u64 = 10;
 /// Why a frame could not be read; `cut` when the file ends inside it (or its last line is
 /// the bad one), as when a run is killed while writing.
 struct FrameError {
-    message: String,
+    error: DumpError,
     line: usize,
     cut: bool,
 }
 
 impl Lines {
-    fn next(&mut self, what: &str) -> Result<Option<(usize, String)>, String> {
+    fn next(&mut self, what: &'static str) -> Result<Option<(usize, String)>, DumpError> {
         match self.lines.next() {
             None => Ok(None),
             Some((k, Ok(l))) => Ok(Some((k + 1, l))),
-            Some((k, Err(e))) => Err(format!("{} line {}: cannot read {what}: {e}", self.name, k + 1)),
+            Some((k, Err(source))) => Err(DumpError::Read {
+                file: self.name.clone(),
+                line: Some(k + 1),
+                what,
+                source,
+            }),
         }
     }
 
@@ -136,25 +211,25 @@ fn read_frame(lines: &mut Lines, start: usize) -> Result<RawFrame, FrameError> {
     let name = lines.name.clone();
     let mut last = start;
     // A bad line that is the file's last is a cut-off frame, not a malformed one.
-    let bad = |lines: &mut Lines, line: usize, message: String| FrameError {
-        message,
+    let bad = |lines: &mut Lines, line: usize, problem: String| FrameError {
+        error: content(&name, Some(line), problem),
         line,
         cut: lines.at_end(),
     };
     let eof = |last: usize, what: &str| FrameError {
-        message: format!("{name}: file ends inside a frame, before {what}"),
+        error: content(&name, None, format!("file ends inside a frame, before {what}")),
         line: last,
         cut: true,
     };
-    let next = |lines: &mut Lines, last: &mut usize, what: &str| -> Result<(usize, String), FrameError> {
+    let next = |lines: &mut Lines, last: &mut usize, what: &'static str| -> Result<(usize, String), FrameError> {
         match lines.next(what) {
             Ok(Some((ln, l))) => {
                 *last = ln;
                 Ok((ln, l))
             }
             Ok(None) => Err(eof(*last, what)),
-            Err(message) => Err(FrameError {
-                message,
+            Err(error) => Err(FrameError {
+                error,
                 line: *last + 1,
                 cut: false,
             }),
@@ -163,36 +238,26 @@ fn read_frame(lines: &mut Lines, start: usize) -> Result<RawFrame, FrameError> {
     let (ln, l) = next(lines, &mut last, "the timestep")?;
     let step: u64 = match l.trim().parse() {
         Ok(s) => s,
-        Err(_) => {
-            return Err(bad(
-                lines,
-                ln,
-                format!("{name} line {ln}: timestep `{}` is not a non-negative integer", l.trim()),
-            ))
-        }
+        Err(_) => return Err(bad(lines, ln, format!("timestep `{}` is not a non-negative integer", l.trim()))),
     };
     let (ln, l) = next(lines, &mut last, "ITEM: NUMBER OF ATOMS")?;
     if !l.starts_with("ITEM: NUMBER OF ATOMS") {
-        return Err(bad(
-            lines,
-            ln,
-            format!("{name} line {ln}: expected `ITEM: NUMBER OF ATOMS` (timestep {step})"),
-        ));
+        return Err(bad(lines, ln, format!("expected `ITEM: NUMBER OF ATOMS` (timestep {step})")));
     }
     let (ln, l) = next(lines, &mut last, "the number of atoms")?;
     let Ok(n) = l.trim().parse::<usize>() else {
-        return Err(bad(
-            lines,
-            ln,
-            format!("{name} line {ln}: number of atoms `{}` is not an integer", l.trim()),
-        ));
+        return Err(bad(lines, ln, format!("number of atoms `{}` is not an integer", l.trim())));
     };
     // `n` comes from the file: checked against the file's size before it sizes anything.
     if n as u64 > lines.size / MIN_ATOM_LINE {
         return Err(FrameError {
-            message: format!(
-                "{name} line {ln}: timestep {step} claims {n} atoms, more than the {} bytes of the file can hold",
-                lines.size
+            error: content(
+                &name,
+                Some(ln),
+                format!(
+                    "timestep {step} claims {n} atoms, more than the {} bytes of the file can hold",
+                    lines.size
+                ),
             ),
             line: ln,
             cut: false,
@@ -200,18 +265,10 @@ fn read_frame(lines: &mut Lines, start: usize) -> Result<RawFrame, FrameError> {
     }
     let (ln, l) = next(lines, &mut last, "ITEM: BOX BOUNDS")?;
     if !l.starts_with("ITEM: BOX BOUNDS") {
-        return Err(bad(
-            lines,
-            ln,
-            format!("{name} line {ln}: expected `ITEM: BOX BOUNDS` (timestep {step})"),
-        ));
+        return Err(bad(lines, ln, format!("expected `ITEM: BOX BOUNDS` (timestep {step})")));
     }
     if l.contains("xy") {
-        return Err(bad(
-            lines,
-            ln,
-            format!("{name} line {ln}: triclinic boxes are not supported (timestep {step})"),
-        ));
+        return Err(bad(lines, ln, format!("triclinic boxes are not supported (timestep {step})")));
     }
     let mut bounds = [[0.0; 2]; 3];
     for (a, b) in bounds.iter_mut().enumerate() {
@@ -232,50 +289,55 @@ fn read_frame(lines: &mut Lines, start: usize) -> Result<RawFrame, FrameError> {
     }
     let (ln, l) = next(lines, &mut last, "ITEM: ATOMS")?;
     let Some(cols) = l.strip_prefix("ITEM: ATOMS") else {
-        return Err(bad(
-            lines,
-            ln,
-            format!("{name} line {ln}: expected `ITEM: ATOMS` (timestep {step})"),
-        ));
+        return Err(bad(lines, ln, format!("expected `ITEM: ATOMS` (timestep {step})")));
     };
     let names: Vec<&str> = cols.split_whitespace().collect();
-    let c = columns(&names, &format!("{name} line {ln}")).map_err(|m| bad(lines, ln, m))?;
+    let c = columns(&names, &name, ln).map_err(|error| FrameError {
+        error,
+        line: ln,
+        cut: lines.at_end(),
+    })?;
     let mut atoms = Vec::with_capacity(n);
     for _ in 0..n {
         let (ln, l) = match next(lines, &mut last, "an atom") {
             Ok(x) => x,
             Err(mut e) if e.cut => {
-                e.message = format!("{name}: timestep {step} ends after {} of {n} atoms", atoms.len());
+                e.error = content(&name, None, format!("timestep {step} ends after {} of {n} atoms", atoms.len()));
                 return Err(e);
             }
             Err(e) => return Err(e),
         };
         let f: Vec<&str> = l.split_whitespace().collect();
         if f.len() != c.count {
-            let m = format!("{name} line {ln}: {} values for {} columns (timestep {step})", f.len(), c.count);
+            let m = format!("{} values for {} columns (timestep {step})", f.len(), c.count);
             return Err(bad(lines, ln, m));
         }
-        let num = |k: usize| -> Result<f64, String> {
+        // A bad value on the file's last line is a cut-off frame.
+        let cut = lines.at_end();
+        let bad_here = |problem: String| FrameError {
+            error: content(&name, Some(ln), problem),
+            line: ln,
+            cut,
+        };
+        let num = |k: usize| -> Result<f64, FrameError> {
             let v: f64 = f[k].parse().map_err(|_| {
-                format!(
-                    "{name} line {ln}: column `{}` = `{}` is not a number (timestep {step})",
-                    names[k], f[k]
-                )
+                let problem = format!("column `{}` = `{}` is not a number (timestep {step})", names[k], f[k]);
+                bad_here(problem)
             })?;
             if v.is_finite() {
                 Ok(v)
             } else {
-                Err(format!("{name} line {ln}: column `{}` is not finite (timestep {step})", names[k]))
+                Err(bad_here(format!("column `{}` is not finite (timestep {step})", names[k])))
             }
         };
-        let atom = (|| -> Result<_, String> {
+        let atom = (|| -> Result<_, FrameError> {
             let id: u64 = f[c.id].parse().map_err(|_| {
                 let what = if f[c.id].parse::<i64>().is_ok() {
                     "is negative; atom ids are positive integers"
                 } else {
                     "is not an integer"
                 };
-                format!("{name} line {ln}: id `{}` {what} (timestep {step})", f[c.id])
+                bad_here(format!("id `{}` {what} (timestep {step})", f[c.id]))
             })?;
             let radius = num(c.radius)?;
             let mut pos = [0.0; 3];
@@ -292,8 +354,7 @@ fn read_frame(lines: &mut Lines, start: usize) -> Result<RawFrame, FrameError> {
                 }
             }
             Ok((id, radius, pos, vel))
-        })()
-        .map_err(|m| bad(lines, ln, m))?;
+        })()?;
         atoms.push(atom);
     }
     atoms.sort_by_key(|a| a.0);
@@ -307,19 +368,30 @@ fn read_frame(lines: &mut Lines, start: usize) -> Result<RawFrame, FrameError> {
 
 /// Reads every frame of a LAMMPS text dump (see the module docs); `dt` is the run's time
 /// step (s). Errors name the file, line and field.
-pub fn read_dump(path: &Path, dt: f64) -> Result<(Header, Vec<Frame>), String> {
+pub fn read_dump(path: &Path, dt: f64) -> Result<(Header, Vec<Frame>), DumpError> {
     read_dump_noting(path, dt).map(|(h, f, _)| (h, f))
 }
 
 /// [`read_dump`], keeping the complete frames of a dump cut off inside a frame (a killed
 /// run) with a warning that names the line, and saying which velocity columns were used.
-pub fn read_dump_noting(path: &Path, dt: f64) -> Result<(Header, Vec<Frame>, DumpNotes), String> {
+pub fn read_dump_noting(path: &Path, dt: f64) -> Result<(Header, Vec<Frame>, DumpNotes), DumpError> {
     if !(dt.is_finite() && dt > 0.0) {
-        return Err(format!("--dt must be a positive time step in s, got {dt}"));
+        return Err(DumpError::TimeStep { dt });
     }
-    let file = std::fs::File::open(path).map_err(|e| format!("cannot open {}: {e}", path.display()))?;
     let name = path.display().to_string();
-    let size = file.metadata().map_err(|e| format!("cannot read {name}: {e}"))?.len();
+    let file = std::fs::File::open(path).map_err(|source| DumpError::Open {
+        file: name.clone(),
+        source,
+    })?;
+    let size = file
+        .metadata()
+        .map_err(|source| DumpError::Read {
+            file: name.clone(),
+            line: None,
+            what: "its size",
+            source,
+        })?
+        .len();
     let mut lines = Lines {
         size,
         lines: std::io::BufReader::new(file).lines().enumerate().peekable(),
@@ -332,7 +404,7 @@ pub fn read_dump_noting(path: &Path, dt: f64) -> Result<(Header, Vec<Frame>, Dum
             continue;
         }
         if !l.starts_with("ITEM: TIMESTEP") {
-            return Err(format!("{name} line {ln}: expected `ITEM: TIMESTEP`, found `{}`", l.trim()));
+            return Err(content(&name, Some(ln), format!("expected `ITEM: TIMESTEP`, found `{}`", l.trim())));
         }
         match read_frame(&mut lines, ln) {
             Ok(f) => raw.push(f),
@@ -340,22 +412,26 @@ pub fn read_dump_noting(path: &Path, dt: f64) -> Result<(Header, Vec<Frame>, Dum
                 notes.warnings.push(format!(
                     "{name} is cut off at line {} inside the frame that starts at line {ln} ({}); analysing the {} complete frames before it",
                     e.line,
-                    e.message,
+                    e.error,
                     raw.len()
                 ));
                 break;
             }
-            Err(e) => return Err(e.message),
+            Err(e) => return Err(e.error),
         }
     }
     let first = raw
         .first()
-        .ok_or_else(|| format!("{name}: no `ITEM: TIMESTEP` frame in the file"))?;
+        .ok_or_else(|| content(&name, None, "no `ITEM: TIMESTEP` frame in the file".into()))?;
     let [bx, by, _] = first.bounds;
     let (length, width) = (bx[1] - bx[0], by[1] - by[0]);
     for w in first.atoms.windows(2) {
         if w[0].0 == w[1].0 {
-            return Err(format!("{name}: atom id {} appears twice at timestep {}", w[0].0, first.step));
+            return Err(content(
+                &name,
+                None,
+                format!("atom id {} appears twice at timestep {}", w[0].0, first.step),
+            ));
         }
     }
     let header = Header {
@@ -365,33 +441,43 @@ pub fn read_dump_noting(path: &Path, dt: f64) -> Result<(Header, Vec<Frame>, Dum
     };
     for (a, r) in first.atoms.iter().map(|a| (a.0, a.1)) {
         if !(r > 0.0 && 2.0 * r < length) {
-            return Err(format!(
-                "{name}: atom {a} has radius {r} m, outside (0, L/2) (timestep {})",
-                first.step
+            return Err(content(
+                &name,
+                None,
+                format!("atom {a} has radius {r} m, outside (0, L/2) (timestep {})", first.step),
             ));
         }
     }
     let mut frames = Vec::with_capacity(raw.len());
     for f in &raw {
         if f.atoms.len() != header.radii.len() {
-            return Err(format!(
-                "{name}: timestep {} holds {} atoms, the first frame {} (atoms lost or added)",
-                f.step,
-                f.atoms.len(),
-                header.radii.len()
+            return Err(content(
+                &name,
+                None,
+                format!(
+                    "timestep {} holds {} atoms, the first frame {} (atoms lost or added)",
+                    f.step,
+                    f.atoms.len(),
+                    header.radii.len()
+                ),
             ));
         }
         if f.vel != first.vel {
-            return Err(format!(
-                "{name}: timestep {} has other velocity columns than the first frame",
-                f.step
+            return Err(content(
+                &name,
+                None,
+                format!("timestep {} has other velocity columns than the first frame", f.step),
             ));
         }
         if f.bounds[0] != first.bounds[0] || f.bounds[1] != first.bounds[1] {
-            return Err(format!(
-                "{name}: the box changes at timestep {}: x {:?}, y {:?} against x {:?}, y {:?} in the first frame; \
+            return Err(content(
+                &name,
+                None,
+                format!(
+                    "the box changes at timestep {}: x {:?}, y {:?} against x {:?}, y {:?} in the first frame; \
                  the analysis needs one tray (a fixed periodic length and width)",
-                f.step, f.bounds[0], f.bounds[1], first.bounds[0], first.bounds[1]
+                    f.step, f.bounds[0], f.bounds[1], first.bounds[0], first.bounds[1]
+                ),
             ));
         }
         for (a, b) in f.atoms.iter().zip(&first.atoms) {
@@ -399,21 +485,27 @@ pub fn read_dump_noting(path: &Path, dt: f64) -> Result<(Header, Vec<Frame>, Dum
             let y = a.2[1];
             let slack = 1e-9 * width;
             if !(y >= by[0] - slack && y <= by[1] + slack) {
-                return Err(format!(
-                    "{name}: atom {} at y = {y} m lies outside the side walls [{}, {}] at timestep {}",
-                    a.0, by[0], by[1], f.step
+                return Err(content(
+                    &name,
+                    None,
+                    format!(
+                        "atom {} at y = {y} m lies outside the side walls [{}, {}] at timestep {}",
+                        a.0, by[0], by[1], f.step
+                    ),
                 ));
             }
             if a.0 != b.0 {
-                return Err(format!(
-                    "{name}: timestep {} has atom id {} where the first frame has {}",
-                    f.step, a.0, b.0
+                return Err(content(
+                    &name,
+                    None,
+                    format!("timestep {} has atom id {} where the first frame has {}", f.step, a.0, b.0),
                 ));
             }
             if a.1 != b.1 {
-                return Err(format!(
-                    "{name}: atom {} changes radius from {} to {} m at timestep {}",
-                    a.0, b.1, a.1, f.step
+                return Err(content(
+                    &name,
+                    None,
+                    format!("atom {} changes radius from {} to {} m at timestep {}", a.0, b.1, a.1, f.step),
                 ));
             }
         }
@@ -488,7 +580,7 @@ ITEM: ATOMS x radius id y z vx vy vz\n-0.05 0.0003 1 0.006 0.0003 0 0 0\n0.15 0.
         ];
         for (k, (text, want)) in cases.iter().enumerate() {
             let p = dump(text, &format!("bad{k}"));
-            let e = read_dump(&p, 8e-6).unwrap_err();
+            let e = read_dump(&p, 8e-6).unwrap_err().to_string();
             assert!(e.contains(want), "case {k}: `{e}` lacks `{want}`");
             std::fs::remove_dir_all(p.parent().unwrap()).unwrap();
         }
@@ -514,7 +606,10 @@ ITEM: ATOMS x radius id y z vx vy vz\n-0.05 0.0003 1 0.006 0.0003 0 0 0\n0.15 0.
         }
         // A malformed line that is not the last stays an error.
         let p = dump(&TWO_FRAMES.replacen("-0.05 0.0003 1 0.006", "-0.05 0.0003 1", 1), "midbad");
-        assert!(read_dump_noting(&p, 8e-6).unwrap_err().contains("7 values for 8 columns"));
+        assert!(read_dump_noting(&p, 8e-6)
+            .unwrap_err()
+            .to_string()
+            .contains("7 values for 8 columns"));
         std::fs::remove_dir_all(p.parent().unwrap()).unwrap();
     }
 

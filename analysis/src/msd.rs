@@ -121,26 +121,66 @@ pub const PLATEAU_FLATNESS: f64 = 2.0;
 /// [`fit_plateau`], kept only when `D` is flat on the window: at least three points, and the
 /// means of its first and last thirds within a factor `tolerance` of each other. The error
 /// says why there is no plateau.
-pub fn flat_plateau(points: &[MsdPoint], from: f64, to: f64, tolerance: f64) -> Result<Plateau, String> {
+pub fn flat_plateau(points: &[MsdPoint], from: f64, to: f64, tolerance: f64) -> Result<Plateau, NoPlateau> {
     let v: Vec<f64> = points.iter().filter(|p| p.time >= from && p.time <= to).map(|p| p.d).collect();
     if v.len() < 3 {
-        return Err(format!(
-            "{} value(s) of D on [{from:.3}, {to:.3}] s; at least 3 are needed to tell a plateau from a trend",
-            v.len()
-        ));
+        return Err(NoPlateau::TooFewPoints { points: v.len(), from, to });
     }
     let k = v.len() / 3;
     let mean = |s: &[f64]| s.iter().sum::<f64>() / s.len() as f64;
     let (head, tail) = (mean(&v[..k]), mean(&v[v.len() - k..]));
     let (lo, hi) = (head.min(tail), head.max(tail));
     if !(hi <= tolerance * lo || hi == 0.0) {
-        return Err(format!(
-            "D is not flat on [{from:.3}, {to:.3}] s: it goes from {head:.3e} to {tail:.3e} m^2 (first and last third), \
-             more than the factor {tolerance} a plateau may change by"
-        ));
+        return Err(NoPlateau::NotFlat {
+            from,
+            to,
+            head,
+            tail,
+            tolerance,
+        });
     }
     Ok(fit_plateau(points, from, to).expect("points in the window"))
 }
+
+/// Why [`flat_plateau`] finds no plateau on the window `[from, to]` (s).
+#[derive(Clone, Debug, PartialEq)]
+pub enum NoPlateau {
+    /// Fewer than three values of `D` on the window.
+    TooFewPoints { points: usize, from: f64, to: f64 },
+    /// The means of the window's first and last thirds (`head`, `tail`, m^2) differ by more
+    /// than the factor `tolerance`.
+    NotFlat {
+        from: f64,
+        to: f64,
+        head: f64,
+        tail: f64,
+        tolerance: f64,
+    },
+}
+
+impl std::fmt::Display for NoPlateau {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match *self {
+            NoPlateau::TooFewPoints { points, from, to } => write!(
+                f,
+                "{points} value(s) of D on [{from:.3}, {to:.3}] s; at least 3 are needed to tell a plateau from a trend"
+            ),
+            NoPlateau::NotFlat {
+                from,
+                to,
+                head,
+                tail,
+                tolerance,
+            } => write!(
+                f,
+                "D is not flat on [{from:.3}, {to:.3}] s: it goes from {head:.3e} to {tail:.3e} m^2 (first and last third), \
+                 more than the factor {tolerance} a plateau may change by"
+            ),
+        }
+    }
+}
+
+impl std::error::Error for NoPlateau {}
 
 #[cfg(test)]
 mod tests {
@@ -193,7 +233,7 @@ mod tests {
             })
             .collect();
         let e = flat_plateau(&decay, 0.0, 29.0, PLATEAU_FLATNESS).unwrap_err();
-        assert!(e.contains("not flat"), "{e}");
+        assert!(matches!(e, NoPlateau::NotFlat { .. }) && e.to_string().contains("not flat"), "{e}");
         let noisy: Vec<MsdPoint> = (0..30)
             .map(|k| MsdPoint {
                 time: k as f64,
@@ -202,7 +242,10 @@ mod tests {
             .collect();
         let p = flat_plateau(&noisy, 0.0, 29.0, PLATEAU_FLATNESS).unwrap();
         assert!((p.value / 1e-4 - 1.0).abs() < 0.05, "{p:?}");
-        assert!(flat_plateau(&noisy, 0.0, 1.0, PLATEAU_FLATNESS).unwrap_err().contains("at least 3"));
+        assert!(flat_plateau(&noisy, 0.0, 1.0, PLATEAU_FLATNESS)
+            .unwrap_err()
+            .to_string()
+            .contains("at least 3"));
     }
 
     proptest! {

@@ -154,12 +154,9 @@ pub struct Report {
 impl Report {
     /// The phase, or None with the reason when the frames cannot tell it: without two frames
     /// one drive period apart there is no mobility, and `nothing` cannot be told from `gas`.
-    pub fn phase(&self) -> Result<Phase, String> {
+    pub fn phase(&self) -> Result<Phase, ReportError> {
         if self.msd.is_empty() {
-            return Err(format!(
-                "too few frames for a phase: {} frame(s) and no two one drive period apart, so no mobility",
-                self.frames
-            ));
+            return Err(ReportError::NoMobility { frames: self.frames });
         }
         Ok(self.classification.phase)
     }
@@ -229,7 +226,7 @@ impl Report {
             stripe_mean_width_final_m: last.and_then(|c| finite(c.mean_width)),
             stripe_spacing_m: self.spacing,
             phase: self.phase().ok(),
-            phase_note: self.phase().err(),
+            phase_note: self.phase().err().map(|e| e.to_string()),
             contrast: self.classification.contrast,
             mobility: self.classification.mobility,
             tail_stripe_count: self.classification.tail_stripe_count,
@@ -266,7 +263,7 @@ fn mean(v: &[f64]) -> Option<f64> {
 
 /// Analyses frames in memory: [`Analyzer`] with the period taken from the snapshot
 /// spacing unless given, fed in batches.
-pub fn analyze(header: &Header, frames: &[Frame], opts: &Options) -> Result<Report, String> {
+pub fn analyze(header: &Header, frames: &[Frame], opts: &Options) -> Result<Report, ReportError> {
     let times: Vec<f64> = frames.iter().map(|f| f.time).collect();
     let period = opts.period.or_else(|| median_spacing(&times));
     let mut a = Analyzer::new(header, opts, period)?;
@@ -275,6 +272,109 @@ pub fn analyze(header: &Header, frames: &[Frame], opts: &Options) -> Result<Repo
     }
     a.finish()
 }
+
+/// Input the analysis refuses, or a result the frames cannot give; each names the field,
+/// grain or frame at fault.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ReportError {
+    /// The box length L (m) is not positive.
+    BoxLength { length: f64 },
+    /// The box width W (m) is not positive.
+    BoxWidth { width: f64 },
+    /// The header lists no grain.
+    NoGrains,
+    /// A grain's radius (m) lies outside (0, L/2).
+    Radius { grain: usize, radius: f64 },
+    /// The density cell (m) lies outside (0, L].
+    Cell { cell: f64, length: f64 },
+    /// The density cell gives more than 1e7 cells.
+    TooManyCells { cell: f64, cells: usize },
+    /// The drive period (s) is not positive.
+    Period { period: f64 },
+    /// `tail_fraction` lies outside (0, 1].
+    TailFraction { value: f64 },
+    /// `period_tolerance` lies outside (0, 0.5).
+    PeriodTolerance { value: f64 },
+    /// The tracer's index is not a grain of the run.
+    Tracer { tracer: usize, grains: usize },
+    /// The stripe threshold or minimum width (m) is not finite, or the width is negative.
+    StripeParams { threshold: f64, min_width: f64 },
+    /// A frame does not hold one position and one velocity per grain.
+    FrameSize {
+        frame: usize,
+        time: f64,
+        positions: usize,
+        velocities: usize,
+        grains: usize,
+    },
+    /// A grain's position in a frame is NaN or infinite.
+    NonFinitePosition {
+        frame: usize,
+        time: f64,
+        grain: usize,
+        position: [f64; 3],
+    },
+    /// A frame's time (s) is not finite or does not come after the previous frame's.
+    TimeOrder { frame: usize, time: f64 },
+    /// No frame was given.
+    NoFrames,
+    /// No two frames lie one drive period apart, so there is no mobility and no phase.
+    NoMobility { frames: usize },
+}
+
+impl std::fmt::Display for ReportError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            ReportError::BoxLength { length } => write!(f, "box length L = {length} m must be positive"),
+            ReportError::BoxWidth { width } => write!(f, "box width W = {width} m must be positive"),
+            ReportError::NoGrains => f.write_str("the run holds no grains"),
+            ReportError::Radius { grain, radius } => write!(f, "grain {grain}: radius {radius} m must lie in (0, L/2)"),
+            ReportError::Cell { cell, length } => write!(f, "cell = {cell} m must lie in (0, L = {length} m]"),
+            ReportError::TooManyCells { cell, cells } => {
+                write!(f, "cell = {cell} m gives {cells} cells; use at least L / 1e7")
+            }
+            ReportError::Period { period } => write!(f, "period = {period} s must be positive"),
+            ReportError::TailFraction { value } => write!(f, "tail_fraction = {value} must lie in (0, 1]"),
+            ReportError::PeriodTolerance { value } => write!(f, "period_tolerance = {value} must lie in (0, 0.5)"),
+            ReportError::Tracer { tracer, grains } => {
+                write!(f, "tracer = {tracer} but the run has {grains} grains (0-based index)")
+            }
+            ReportError::StripeParams { threshold, min_width } => write!(
+                f,
+                "stripe threshold {threshold} and min_width {min_width} m must be finite, min_width >= 0"
+            ),
+            ReportError::FrameSize {
+                frame,
+                time,
+                positions,
+                velocities,
+                grains,
+            } => write!(
+                f,
+                "frame {frame} (t = {time} s) holds {positions} positions and {velocities} velocities for {grains} grains"
+            ),
+            ReportError::NonFinitePosition {
+                frame,
+                time,
+                grain,
+                position,
+            } => write!(
+                f,
+                "frame {frame} (t = {time} s): grain {grain} has a non-finite position {position:?}"
+            ),
+            ReportError::TimeOrder { frame, time } => {
+                write!(f, "frame {frame}: time {time} s does not follow the previous frame's")
+            }
+            ReportError::NoFrames => f.write_str("no frame to analyse"),
+            ReportError::NoMobility { frames } => write!(
+                f,
+                "too few frames for a phase: {frames} frame(s) and no two one drive period apart, so no mobility"
+            ),
+        }
+    }
+}
+
+impl std::error::Error for ReportError {}
 
 /// Per-frame results computed in parallel.
 struct FrameResult {
@@ -324,46 +424,50 @@ pub struct Analyzer {
 impl Analyzer {
     /// Checks the header and options (errors name the field or grain) and prepares the
     /// analysis; `period` (s) is the drive period for `D` (None: no `D`).
-    pub fn new(header: &Header, opts: &Options, period: Option<f64>) -> Result<Self, String> {
+    pub fn new(header: &Header, opts: &Options, period: Option<f64>) -> Result<Self, ReportError> {
         let (l, w) = (header.length, header.width);
         if !(l.is_finite() && l > 0.0) {
-            return Err(format!("box length L = {l} m must be positive"));
+            return Err(ReportError::BoxLength { length: l });
         }
         if !(w.is_finite() && w > 0.0) {
-            return Err(format!("box width W = {w} m must be positive"));
+            return Err(ReportError::BoxWidth { width: w });
         }
         if header.radii.is_empty() {
-            return Err("the run holds no grains".into());
+            return Err(ReportError::NoGrains);
         }
         for (i, &r) in header.radii.iter().enumerate() {
             if !(r.is_finite() && r > 0.0 && 2.0 * r < l) {
-                return Err(format!("grain {i}: radius {r} m must lie in (0, L/2)"));
+                return Err(ReportError::Radius { grain: i, radius: r });
             }
         }
         if !(opts.cell.is_finite() && opts.cell > 0.0 && opts.cell <= l) {
-            return Err(format!("cell = {} m must lie in (0, L = {l} m]", opts.cell));
+            return Err(ReportError::Cell {
+                cell: opts.cell,
+                length: l,
+            });
         }
         let cells = (l / opts.cell).round().max(1.0) as usize;
         if cells > 10_000_000 {
-            return Err(format!("cell = {} m gives {cells} cells; use at least L / 1e7", opts.cell));
+            return Err(ReportError::TooManyCells { cell: opts.cell, cells });
         }
         if let Some(p) = period {
             if !(p.is_finite() && p > 0.0) {
-                return Err(format!("period = {p} s must be positive"));
+                return Err(ReportError::Period { period: p });
             }
         }
         if !(opts.tail_fraction > 0.0 && opts.tail_fraction <= 1.0) {
-            return Err(format!("tail_fraction = {} must lie in (0, 1]", opts.tail_fraction));
+            return Err(ReportError::TailFraction { value: opts.tail_fraction });
         }
         if !(opts.period_tolerance > 0.0 && opts.period_tolerance < 0.5) {
-            return Err(format!("period_tolerance = {} must lie in (0, 0.5)", opts.period_tolerance));
+            return Err(ReportError::PeriodTolerance {
+                value: opts.period_tolerance,
+            });
         }
         if opts.tracer >= header.radii.len() {
-            return Err(format!(
-                "tracer = {} but the run has {} grains (0-based index)",
-                opts.tracer,
-                header.radii.len()
-            ));
+            return Err(ReportError::Tracer {
+                tracer: opts.tracer,
+                grains: header.radii.len(),
+            });
         }
         let mean_phi = mean_area_fraction(&header.radii, l, w);
         let mean_d = 2.0 * header.radii.iter().sum::<f64>() / header.radii.len() as f64;
@@ -375,10 +479,10 @@ impl Analyzer {
             params.min_width = m;
         }
         if !(params.threshold.is_finite() && params.min_width.is_finite() && params.min_width >= 0.0) {
-            return Err(format!(
-                "stripe threshold {} and min_width {} m must be finite, min_width >= 0",
-                params.threshold, params.min_width
-            ));
+            return Err(ReportError::StripeParams {
+                threshold: params.threshold,
+                min_width: params.min_width,
+            });
         }
         Ok(Self {
             header: header.clone(),
@@ -406,23 +510,26 @@ impl Analyzer {
     }
 
     /// Analyses the next frames (in time order, after those already pushed).
-    pub fn push(&mut self, frames: &[Frame]) -> Result<(), String> {
+    pub fn push(&mut self, frames: &[Frame]) -> Result<(), ReportError> {
         let n = self.header.radii.len();
         for (k, f) in frames.iter().enumerate() {
             let index = self.times.len() + k;
             if f.pos.len() != n || f.vel.len() != n {
-                return Err(format!(
-                    "frame {index} (t = {} s) holds {} positions and {} velocities for {n} grains",
-                    f.time,
-                    f.pos.len(),
-                    f.vel.len()
-                ));
+                return Err(ReportError::FrameSize {
+                    frame: index,
+                    time: f.time,
+                    positions: f.pos.len(),
+                    velocities: f.vel.len(),
+                    grains: n,
+                });
             }
             if let Some(i) = f.pos.iter().position(|p| !p.iter().all(|c| c.is_finite())) {
-                return Err(format!(
-                    "frame {index} (t = {} s): grain {i} has a non-finite position {:?}",
-                    f.time, f.pos[i]
-                ));
+                return Err(ReportError::NonFinitePosition {
+                    frame: index,
+                    time: f.time,
+                    grain: i,
+                    position: f.pos[i],
+                });
             }
             let before = if k > 0 {
                 Some(frames[k - 1].time)
@@ -430,7 +537,10 @@ impl Analyzer {
                 self.times.last().copied()
             };
             if !f.time.is_finite() || before.is_some_and(|b| f.time <= b) {
-                return Err(format!("frame {index}: time {} s does not follow the previous frame's", f.time));
+                return Err(ReportError::TimeOrder {
+                    frame: index,
+                    time: f.time,
+                });
             }
         }
         let (l, w, cells) = (self.header.length, self.header.width, self.cells);
@@ -499,10 +609,10 @@ impl Analyzer {
     }
 
     /// Completes the analysis; fails when no frame was pushed.
-    pub fn finish(self) -> Result<Report, String> {
+    pub fn finish(self) -> Result<Report, ReportError> {
         let m = self.times.len();
         if m == 0 {
-            return Err("no frame to analyse".into());
+            return Err(ReportError::NoFrames);
         }
         let (l, t0, t_end) = (self.header.length, self.times[0], self.times[m - 1]);
         let counts: Vec<usize> = self.stripes.iter().map(Vec::len).collect();
@@ -583,7 +693,7 @@ impl Analyzer {
             None => (None, Some("no window: the stripes are there from the first frame".to_string())),
             Some((a, b)) => match flat_plateau(&self.msd, a, b, PLATEAU_FLATNESS) {
                 Ok(p) => (Some(p), None),
-                Err(e) => (None, Some(e)),
+                Err(e) => (None, Some(e.to_string())),
             },
         };
         let (plateau_before, plateau_before_note) = window(self.opts.plateau_before, before);

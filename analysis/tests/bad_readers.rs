@@ -66,7 +66,9 @@ fn a_snapshot_header_claiming_2_to_the_61_grains_is_an_error_naming_the_claim() 
     let bytes = snapshot_bytes(1 << 61, 0.4, 0.02, &[3e-4, 4e-4], 2, &mut rng);
     let e = bounded(&d, &bytes, "2^61 grains", read_snapshots_counting).unwrap_err().to_string();
     assert!(e.contains("claims 2305843009213693952 grains"), "{e}");
-    let e = bounded(&d, &bytes, "2^61 grains via load", |p| load(p, 8e-6)).unwrap_err();
+    let e = bounded(&d, &bytes, "2^61 grains via load", |p| load(p, 8e-6))
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("claims 2305843009213693952 grains"), "{e}");
     // A header of non-physical sizes is refused, naming the field.
     for (length, width, radius, want) in [
@@ -87,7 +89,9 @@ fn a_dump_claiming_99999999999999_atoms_is_an_error_naming_the_claim() {
     let _one = SERIAL.lock().unwrap_or_else(|e| e.into_inner());
     let d = scratch("dump-atoms");
     let text = DUMP.replacen("ITEM: NUMBER OF ATOMS\n2", "ITEM: NUMBER OF ATOMS\n99999999999999", 1);
-    let e = bounded(&d, text.as_bytes(), "1e14 atoms", |p| read_dump_noting(p, 8e-6)).unwrap_err();
+    let e = bounded(&d, text.as_bytes(), "1e14 atoms", |p| read_dump_noting(p, 8e-6))
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("line 4: timestep 0 claims 99999999999999 atoms"), "{e}");
     std::fs::remove_dir_all(d).unwrap();
 }
@@ -102,10 +106,14 @@ fn a_dump_whose_box_changes_or_whose_atoms_leave_the_walls_is_refused_naming_the
         let at = DUMP.find("ITEM: TIMESTEP\n6250").unwrap();
         format!("{}{}", &DUMP[..at], DUMP[at..].replacen("0 0.02\n", "0 0.03\n", 1))
     };
-    let e = bounded(&d, moved.as_bytes(), "box change", |p| read_dump_noting(p, 8e-6)).unwrap_err();
+    let e = bounded(&d, moved.as_bytes(), "box change", |p| read_dump_noting(p, 8e-6))
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("the box changes at timestep 6250"), "{e}");
     let outside = DUMP.replacen("2 0.0004 0.21 0.015", "2 0.0004 0.21 0.025", 1);
-    let e = bounded(&d, outside.as_bytes(), "outside", |p| read_dump_noting(p, 8e-6)).unwrap_err();
+    let e = bounded(&d, outside.as_bytes(), "outside", |p| read_dump_noting(p, 8e-6))
+        .unwrap_err()
+        .to_string();
     assert!(
         e.contains("atom 2 at y = 0.025 m lies outside the side walls") && e.contains("timestep 6250"),
         "{e}"
@@ -116,7 +124,8 @@ fn a_dump_whose_box_changes_or_whose_atoms_leave_the_walls_is_refused_naming_the
     let e = bounded(&d, DUMP.replacen("\n2 0.0004", "\n-10 0.0004", 1).as_bytes(), "id", |p| {
         read_dump_noting(p, 8e-6)
     })
-    .unwrap_err();
+    .unwrap_err()
+    .to_string();
     assert!(e.contains("id `-10` is negative"), "{e}");
     std::fs::remove_dir_all(d).unwrap();
 }

@@ -1,7 +1,7 @@
 //! The automaton: a lattice, its parameters, the half-step counter and preallocated buffers.
 
 use crate::lattice::{Lattice, Storage};
-use crate::params::{Params, Resolved, Tick};
+use crate::params::{Params, ParamsError, Resolved, Tick};
 use crate::scalar::{self, ScalarScratch};
 use crate::step::{self, BitScratch};
 
@@ -37,8 +37,9 @@ pub struct Automaton {
 }
 
 impl Automaton {
-    /// An automaton on `lattice`, whose first flight goes towards `first`.
-    pub fn new(lattice: Lattice, params: Params, first: Direction) -> Result<Self, String> {
+    /// An automaton on `lattice`, whose first flight goes towards `first`; refuses parameters
+    /// out of range ([`Params::validate`]).
+    pub fn new(lattice: Lattice, params: Params, first: Direction) -> Result<Self, ParamsError> {
         params.validate()?;
         let resolved = params.resolve();
         // Trains have no bit-parallel step: they run on bytes.

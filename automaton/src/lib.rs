@@ -31,5 +31,7 @@ mod step;
 
 pub use automaton::{Automaton, Direction};
 pub use lattice::Lattice;
-pub use params::{Activation, FlightCap, Frustration, Knock, Lateral, Params, Physical, RuleSet, Sideways, Threshold, YBoundary};
+pub use params::{
+    Activation, FlightCap, Frustration, Knock, Lateral, Params, ParamsError, Physical, RuleSet, Sideways, Threshold, YBoundary,
+};
 pub use spec::Spec;

@@ -21,15 +21,49 @@ impl RuleSet {
 }
 
 impl std::str::FromStr for RuleSet {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
+    type Err = ParamsError;
+    fn from_str(s: &str) -> Result<Self, ParamsError> {
         match s {
             "strict" => Ok(RuleSet::Strict),
             "physical" => Ok(RuleSet::Physical),
-            _ => Err(format!("unknown rule set `{s}`, expected one of {}", Self::NAMES.join(", "))),
+            _ => Err(ParamsError::UnknownRuleSet { given: s.into() }),
         }
     }
 }
+
+/// Parameters the automaton refuses; each names the field and the value.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ParamsError {
+    /// A rule-set name that is neither of [`RuleSet::NAMES`].
+    UnknownRuleSet { given: String },
+    /// A probability outside [0, 1] (`field`: `activation`, `knock probability`, ...).
+    Probability { field: &'static str, value: f64 },
+    /// A sliding threshold with a negative or non-finite acceleration (m/s^2).
+    Threshold {
+        tray_acceleration: f64,
+        friction_acceleration: f64,
+    },
+}
+
+impl std::fmt::Display for ParamsError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            ParamsError::UnknownRuleSet { given } => {
+                write!(f, "unknown rule set `{given}`, expected one of {}", RuleSet::NAMES.join(", "))
+            }
+            ParamsError::Probability { field, value } => write!(f, "automaton.{field} must lie in [0, 1], got {value}"),
+            ParamsError::Threshold {
+                tray_acceleration,
+                friction_acceleration,
+            } => write!(
+                f,
+                "automaton threshold: accelerations must be finite and >= 0, got {tray_acceleration} and {friction_acceleration}"
+            ),
+        }
+    }
+}
+
+impl std::error::Error for ParamsError {}
 
 /// Sliding threshold: grains slide on the tray only when its peak acceleration
 /// `A (2 pi nu)^2` exceeds what floor friction can transmit, `mu g`.
@@ -209,12 +243,12 @@ pub(crate) struct Resolved {
 
 impl Params {
     /// Checks the parameters; errors name the field.
-    pub fn validate(&self) -> Result<(), String> {
-        let prob = |name: &str, p: f64| {
-            if (0.0..=1.0).contains(&p) {
+    pub fn validate(&self) -> Result<(), ParamsError> {
+        let prob = |field: &'static str, value: f64| {
+            if (0.0..=1.0).contains(&value) {
                 Ok(())
             } else {
-                Err(format!("automaton.{name} must lie in [0, 1], got {p}"))
+                Err(ParamsError::Probability { field, value })
             }
         };
         let ph = &self.physical;
@@ -236,9 +270,10 @@ impl Params {
         } = ph.threshold
         {
             if !(a.is_finite() && a >= 0.0 && f.is_finite() && f >= 0.0) {
-                return Err(format!(
-                    "automaton threshold: accelerations must be finite and >= 0, got {a} and {f}"
-                ));
+                return Err(ParamsError::Threshold {
+                    tray_acceleration: a,
+                    friction_acceleration: f,
+                });
             }
         }
         Ok(())
@@ -296,5 +331,48 @@ impl Params {
                 }
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn refused_parameters_name_the_field_and_value() {
+        assert_eq!(
+            "loose".parse::<RuleSet>().unwrap_err().to_string(),
+            "unknown rule set `loose`, expected one of strict, physical"
+        );
+        let mut params = Params {
+            rule: RuleSet::Physical,
+            physical: Physical {
+                threshold: Threshold::None,
+                cap: FlightCap::None,
+                activation: Activation::Bernoulli { p: 1.5 },
+                knock: Knock::None,
+                lateral: Lateral::None,
+                sideways: Sideways::None,
+                frustration: Frustration::None,
+                trains: false,
+            },
+            y: YBoundary::Walls,
+            seed: 1,
+        };
+        let e = params.validate().unwrap_err();
+        assert_eq!(
+            e,
+            ParamsError::Probability {
+                field: "activation",
+                value: 1.5
+            }
+        );
+        assert_eq!(e.to_string(), "automaton.activation must lie in [0, 1], got 1.5");
+        params.physical.activation = Activation::None;
+        params.physical.threshold = Threshold::Coulomb {
+            tray_acceleration: -1.0,
+            friction_acceleration: 7.0,
+        };
+        assert!(params.validate().unwrap_err().to_string().contains("got -1 and 7"));
     }
 }

@@ -15,7 +15,7 @@
 //! share one set of digit words ([`bernoulli_split`]): activation is read only on cells of
 //! the row that hold a grain, holding only on empty ones, so each cell's `U` decides one
 //! event and the events stay independent with their own probabilities (tested against
-//! binomial tolerances in `tests/rules.rs`).
+//! binomial tolerances in `tests/rule_invariants.rs`).
 //!
 //! Words are indexed in the *flight frame* (the row as seen by a grain flying in +x, see
 //! [`crate::step`]), which makes the automaton exactly mirror symmetric: a mirrored lattice

@@ -119,3 +119,61 @@ impl From<crate::scene::SceneError> for SimError {
         }
     }
 }
+
+/// A name that is none of an option's names, as a scene file or the command line wrote it,
+/// e.g. `unknown integrator `leapfrog`, expected one of velocity-verlet, thesis`.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct UnknownName {
+    /// What the name should have named (`integrator`, `variant`).
+    pub what: &'static str,
+    /// The name as given.
+    pub given: String,
+    /// Every accepted name.
+    pub expected: &'static [&'static str],
+}
+
+impl fmt::Display for UnknownName {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "unknown {} `{}`, expected one of {}",
+            self.what,
+            self.given,
+            self.expected.join(", ")
+        )
+    }
+}
+
+impl std::error::Error for UnknownName {}
+
+/// A saved state (`saved::SavedState`) that does not fit the simulation it is imported into.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum StateMismatch {
+    /// The saved state holds `saved` particles, the scene `scene`.
+    ParticleCount { saved: usize, scene: usize },
+    /// A per-particle field of the saved state does not hold one value per particle.
+    FieldLength { particles: usize },
+    /// The saved state holds `saved` wall springs, the simulation has `slots` wall slots.
+    WallSlots { saved: usize, slots: usize },
+    /// A saved spring joins grains `i` and `j`, which are not neighbours here.
+    NotNeighbours { i: usize, j: usize },
+}
+
+impl fmt::Display for StateMismatch {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            StateMismatch::ParticleCount { saved, scene } => {
+                write!(f, "the checkpoint has {saved} particles, the scene {scene}")
+            }
+            StateMismatch::FieldLength { particles } => {
+                write!(f, "a per-particle field of the checkpoint does not hold {particles} values")
+            }
+            StateMismatch::WallSlots { saved, slots } => write!(f, "{saved} wall histories for {slots} slots"),
+            StateMismatch::NotNeighbours { i, j } => {
+                write!(f, "pair ({i}, {j}) of the checkpoint is not a neighbour pair")
+            }
+        }
+    }
+}
+
+impl std::error::Error for StateMismatch {}

@@ -123,12 +123,16 @@ pub enum Integrator {
 }
 
 impl std::str::FromStr for Integrator {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
+    type Err = crate::error::UnknownName;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
         match s {
             "velocity-verlet" => Ok(Integrator::VelocityVerlet),
             "thesis" => Ok(Integrator::Thesis),
-            _ => Err(format!("unknown integrator `{s}`, expected one of {}", Self::NAMES.join(", "))),
+            _ => Err(crate::error::UnknownName {
+                what: "integrator",
+                given: s.into(),
+                expected: Self::NAMES,
+            }),
         }
     }
 }

@@ -2,6 +2,7 @@
 //! go on bit for bit as if it had never stopped. This crate knows no byte layout; whoever
 //! stores the state (the root crate's checkpoints) chooses one.
 
+use crate::error::StateMismatch;
 use crate::sim::{Ledger, Simulation};
 use crate::Vec3;
 
@@ -31,19 +32,6 @@ pub struct SavedState {
     /// Tangential springs of particle-wall contacts, slot `i * max(walls, 1) + k`.
     pub wall_histories: Vec<Vec3>,
 }
-
-/// A [`SavedState`] that does not fit the simulation it is imported into (particle count,
-/// wall slots, or a spring between grains that are not neighbours).
-#[derive(Clone, Debug, PartialEq)]
-pub struct StateMismatch(pub String);
-
-impl std::fmt::Display for StateMismatch {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.0)
-    }
-}
-
-impl std::error::Error for StateMismatch {}
 
 impl SavedState {
     /// Number of particles.
@@ -82,10 +70,12 @@ impl Simulation {
     /// exported `saved`, from that state. An error names what does not match; the simulation
     /// is then left in an unspecified state and must not be stepped.
     pub fn import_state(&mut self, saved: SavedState) -> Result<(), StateMismatch> {
-        let mismatch = StateMismatch;
         let n = self.state.len();
         if saved.len() != n {
-            return Err(mismatch(format!("the checkpoint has {} particles, the scene {n}", saved.len())));
+            return Err(StateMismatch::ParticleCount {
+                saved: saved.len(),
+                scene: n,
+            });
         }
         let per_particle = [
             &saved.vel,
@@ -96,7 +86,7 @@ impl Simulation {
             &saved.torque,
         ];
         if per_particle.iter().any(|v| v.len() != n) {
-            return Err(mismatch(format!("a per-particle field of the checkpoint does not hold {n} values")));
+            return Err(StateMismatch::FieldLength { particles: n });
         }
         self.time = saved.time;
         self.steps = saved.steps;
@@ -110,6 +100,6 @@ impl Simulation {
         s.omega_half = saved.omega_half;
         s.force = saved.force;
         s.torque = saved.torque;
-        self.set_histories(&saved.pair_histories, saved.wall_histories).map_err(mismatch)
+        self.set_histories(&saved.pair_histories, saved.wall_histories)
     }
 }

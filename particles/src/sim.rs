@@ -15,6 +15,7 @@
 //!    partial sums added in block order.
 
 use crate::boundary::Boundary;
+use crate::error::StateMismatch;
 use crate::forces;
 use crate::neighbor::NeighborList;
 use crate::parallel::on_blocks;
@@ -308,9 +309,12 @@ impl Simulation {
     }
 
     /// Rebuilds the neighbour list for the current positions and installs histories.
-    pub(crate) fn set_histories(&mut self, pairs: &[(usize, usize, Vec3)], walls: Vec<Vec3>) -> Result<(), String> {
+    pub(crate) fn set_histories(&mut self, pairs: &[(usize, usize, Vec3)], walls: Vec<Vec3>) -> Result<(), StateMismatch> {
         if walls.len() != self.wall_history.len() {
-            return Err(format!("{} wall histories for {} slots", walls.len(), self.wall_history.len()));
+            return Err(StateMismatch::WallSlots {
+                saved: walls.len(),
+                slots: self.wall_history.len(),
+            });
         }
         self.wall_touched = walls.iter().map(|h| (*h != Vec3::zeros()) as u8).collect();
         self.wall_history = walls;
@@ -322,7 +326,7 @@ impl Simulation {
                 .neighbors
                 .of(i)
                 .binary_search(&(j as u32))
-                .map_err(|_| format!("pair ({i}, {j}) of the checkpoint is not a neighbour pair"))?;
+                .map_err(|_| StateMismatch::NotNeighbours { i, j })?;
             self.pair_history[self.neighbors.offsets[i] + slot] = h;
         }
         Ok(())

@@ -20,7 +20,7 @@ use analysis::plot::{LinePlot, Mark};
 use crate::output::{parse_vec3, CliError, RunDir};
 
 /// A parser of one law-slot kind by its scene-file names (the same type the scene uses).
-fn kind<K: std::str::FromStr<Err = String> + Clone + Send + Sync + 'static>(
+fn kind<K: std::str::FromStr<Err = particles::error::UnknownName> + Clone + Send + Sync + 'static>(
     names: &'static [&'static str],
 ) -> impl clap::builder::TypedValueParser<Value = K> {
     use clap::builder::TypedValueParser as _;

@@ -200,7 +200,7 @@ pub fn analyze(input: &Path, opts: &AnalysisOptions) -> Result<AnalysisSummary, 
     let mut warnings = run.warnings.clone();
     if let Err(e) = report.phase() {
         eprintln!("warning: {e}");
-        warnings.push(e);
+        warnings.push(e.to_string());
     }
     if run.geometry == Geometry::VerticalBox {
         // A vertical box seen from the side: grains stack in z, so the "area fraction"

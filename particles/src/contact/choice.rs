@@ -32,11 +32,15 @@ macro_rules! kind {
         }
 
         impl std::str::FromStr for $name {
-            type Err = String;
-            fn from_str(s: &str) -> Result<Self, String> {
+            type Err = crate::error::UnknownName;
+            fn from_str(s: &str) -> Result<Self, Self::Err> {
                 match s {
                     $($text => Ok($name::$variant),)+
-                    _ => Err(format!("unknown variant `{s}`, expected one of {}", Self::NAMES.join(", "))),
+                    _ => Err(crate::error::UnknownName {
+                        what: "variant",
+                        given: s.into(),
+                        expected: Self::NAMES,
+                    }),
                 }
             }
         }
@@ -175,7 +179,7 @@ mod tests {
         for name in TangentialKind::NAMES {
             assert_eq!(name.parse::<TangentialKind>().unwrap().name(), *name);
         }
-        assert!("hooke".parse::<NormalKind>().unwrap_err().contains("hertz, linear"));
+        assert!("hooke".parse::<NormalKind>().unwrap_err().to_string().contains("hertz, linear"));
         let cs = LawChoice {
             normal: NormalKind::Linear,
             tangential: TangentialKind::CundallStrack,

@@ -90,14 +90,16 @@ impl DriveDirection {
 }
 
 impl TryFrom<String> for DriveDirection {
-    type Error = String;
-    fn try_from(s: String) -> Result<Self, String> {
+    type Error = crate::error::UnknownName;
+    fn try_from(s: String) -> Result<Self, Self::Error> {
         match s.as_str() {
             "x" => Ok(DriveDirection::X),
             "z" => Ok(DriveDirection::Z),
-            _ => Err(format!(
-                "drive.direction must be \"x\" (the horizontally shaken tray) or \"z\" (a vertically vibrated floor), got {s:?}"
-            )),
+            _ => Err(crate::error::UnknownName {
+                what: "drive.direction (x: the horizontally shaken tray, z: a vertically vibrated floor)",
+                given: s,
+                expected: &["x", "z"],
+            }),
         }
     }
 }

@@ -4,7 +4,7 @@
 mod common;
 
 use analysis::classify::Phase;
-use analysis::report::{analyze, Options};
+use analysis::report::{analyze, Options, ReportError};
 use analysis::snapshot::{Frame, Header};
 use common::*;
 use rand::{Rng, SeedableRng};
@@ -119,16 +119,21 @@ fn bad_input_is_refused_with_the_grain_or_frame_named() {
     let mut frames = vec![frame(0.0, &layer), frame(T, &layer)];
     frames[1].pos[7][0] = f64::NAN;
     let e = analyze(&header(&layer), &frames, &Options::default()).unwrap_err();
+    assert!(matches!(e, ReportError::NonFinitePosition { frame: 1, grain: 7, .. }), "{e}");
+    let e = e.to_string();
     assert!(e.contains("frame 1") && e.contains("grain 7"), "{e}");
     let mut h = header(&layer);
     h.radii[3] = -1.0;
-    let e = analyze(&h, &frames[..1], &Options::default()).unwrap_err();
+    let e = analyze(&h, &frames[..1], &Options::default()).unwrap_err().to_string();
     assert!(e.contains("grain 3"), "{e}");
     let opts = Options {
         tracer: 100,
         ..Options::default()
     };
-    assert!(analyze(&header(&layer), &frames[..1], &opts).unwrap_err().contains("tracer = 100"));
+    assert!(analyze(&header(&layer), &frames[..1], &opts)
+        .unwrap_err()
+        .to_string()
+        .contains("tracer = 100"));
 }
 
 mod invariance {
