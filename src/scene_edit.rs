@@ -36,6 +36,8 @@ pub enum DemEdit {
     Threads(usize),
     /// `run.dt = "auto"`.
     AutoStep,
+    /// `run.dt` fixed (s): an ablation's toggles run at the reference's step.
+    Step(f64),
     /// `toggles.<name> = false`.
     Off(DemToggle),
     /// `material.young` (Pa).
@@ -78,6 +80,7 @@ impl DemEdit {
             DemEdit::Count(n) => scene.particles.count = n,
             DemEdit::Threads(n) => scene.run.threads = n,
             DemEdit::AutoStep => scene.run.dt = TimeStep::Auto(AutoDt::Auto),
+            DemEdit::Step(dt) => scene.run.dt = TimeStep::Seconds(dt),
             DemEdit::Off(t) => {
                 let toggles = &mut scene.toggles;
                 *match t {
@@ -108,6 +111,7 @@ impl DemEdit {
             DemEdit::Count(n) => format!("particles.count={n}"),
             DemEdit::Threads(n) => format!("run.threads={n}"),
             DemEdit::AutoStep => "run.dt=\"auto\"".into(),
+            DemEdit::Step(dt) => format!("run.dt={dt:e}"),
             DemEdit::Off(t) => format!("toggles.{}=false", t.key()),
             DemEdit::Young(y) => format!("material.young={y:e}"),
             DemEdit::Normal(k) => format!("contact.normal=\"{}\"", k.name()),
@@ -223,6 +227,7 @@ mod tests {
             DemEdit::Seed(9),
             DemEdit::Count(500),
             DemEdit::Threads(1),
+            DemEdit::Step(5.0e-6),
             DemEdit::Off(DemToggle::Friction),
             DemEdit::Off(DemToggle::Jumping),
             DemEdit::Off(DemToggle::Dissipation),

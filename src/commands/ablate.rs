@@ -9,7 +9,7 @@
 use std::path::PathBuf;
 
 use crate::output::CliError;
-use crate::sweep::ablate::{automaton_configs, dem_configs, jobs};
+use crate::sweep::ablate::{automaton_configs, dem_configs, jobs, pin_reference_step};
 use crate::sweep::{self, Model, Sweep, SweepKind, Which};
 
 #[derive(clap::Args, Debug, serde::Serialize)]
@@ -34,11 +34,15 @@ pub struct Args {
 }
 
 pub fn run(args: Args) -> Result<String, CliError> {
-    let scene = crate::scene_file::load(&args.scene, &args.sweep.overrides)?.dem;
+    let file = crate::scene_file::load(&args.scene, &args.sweep.overrides)?;
+    let scene = &file.dem;
     scene.validate()?;
     let mut all = Vec::new();
     if matches!(args.model, Which::Dem | Which::Both) {
-        all.extend(jobs(&dem_configs(&args.packing), Model::Dem, args.seeds.max(1), scene.run.seed));
+        // One change at a time: each toggle keeps the reference's step where it is stable.
+        let mut configs = dem_configs(&args.packing);
+        pin_reference_step(&file, &mut configs)?;
+        all.extend(jobs(&configs, Model::Dem, args.seeds.max(1), scene.run.seed));
     }
     if matches!(args.model, Which::Automaton | Which::Both) {
         all.extend(jobs(

@@ -13,6 +13,8 @@ use serde_json::{json, Value};
 use super::{Job, Model, Sweep};
 use crate::output::CliError;
 use crate::scene_edit::{AutomatonEdit, AutomatonToggle, DemEdit, DemToggle, Edit};
+use crate::scene_file::SceneFile;
+use particles::scene::TimeStep;
 
 /// A configuration of the ablation: its name, edits, and the thesis' outcome
 /// (onset range in s, final count mean and spread) where the thesis reports one (thesis 3.5.4).
@@ -20,6 +22,62 @@ pub struct Config {
     pub name: String,
     pub edits: Vec<Edit>,
     pub thesis: Thesis,
+    /// The step the configuration runs at, beside the reference's ([`pin_reference_step`]).
+    pub step: StepChoice,
+}
+
+/// The step of an ablation's configuration. One change at a time: with `run.dt = "auto"` a
+/// toggle changes the laws the step is chosen from, so a toggled run would also run at
+/// another step than its reference. It keeps the reference's step instead, unless the
+/// toggled laws need a shorter one (their own automatic step is shorter); then it runs at
+/// its own and the report says so.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum StepChoice {
+    /// The scene's own `run.dt` (the reference, or a scene with a fixed step).
+    Scene,
+    /// The reference's automatic step (s).
+    Reference(f64),
+    /// Its own automatic step (s), shorter than the reference's (s).
+    Own { own: f64, reference: f64 },
+}
+
+impl StepChoice {
+    /// How the report names it.
+    pub fn describe(self) -> String {
+        match self {
+            StepChoice::Scene => "the scene's".into(),
+            StepChoice::Reference(dt) => format!("the reference's, {dt:.3e} s"),
+            StepChoice::Own { own, reference } => {
+                format!("its own, {own:.3e} s: unstable at the reference's {reference:.3e} s")
+            }
+        }
+    }
+}
+
+/// Sets each DEM configuration's step (see [`StepChoice`]) when the scene's step is automatic;
+/// nothing changes for a scene with a fixed `run.dt`.
+pub fn pin_reference_step(file: &SceneFile, configs: &mut [Config]) -> Result<(), CliError> {
+    if !matches!(file.dem.run.dt, TimeStep::Auto(_)) {
+        return Ok(());
+    }
+    let reference = particles::time_step::for_scene(&file.dem)?;
+    for c in configs.iter_mut().filter(|c| c.name != "reference") {
+        if !c.edits.iter().all(|e| matches!(e, Edit::Dem(_))) {
+            continue;
+        }
+        let mut edited = file.clone();
+        for e in &c.edits {
+            e.apply(&mut edited);
+        }
+        let own = particles::time_step::for_scene(&edited.dem)?;
+        c.step = if own >= reference {
+            c.edits.push(Edit::Dem(DemEdit::Step(reference)));
+            StepChoice::Reference(reference)
+        } else {
+            StepChoice::Own { own, reference }
+        };
+    }
+    Ok(())
 }
 
 /// What the thesis reports for a configuration.
@@ -37,6 +95,7 @@ pub fn dem_configs(packing: &[usize]) -> Vec<Config> {
         name: name.into(),
         edits: e.to_vec(),
         thesis,
+        step: StepChoice::Scene,
     };
     let mut v = vec![
         c(
@@ -90,6 +149,7 @@ pub fn dem_configs(packing: &[usize]) -> Vec<Config> {
             name: format!("N={n}"),
             edits: vec![Edit::Dem(DemEdit::Count(n))],
             thesis: if text.is_empty() { Thesis::NotRun } else { Thesis::Text(text) },
+            step: StepChoice::Scene,
         });
     }
     v
@@ -102,6 +162,7 @@ pub fn automaton_configs(packing: &[usize]) -> Vec<Config> {
         name: name.into(),
         edits: e.to_vec(),
         thesis: Thesis::NotRun,
+        step: StepChoice::Scene,
     };
     let mut v = vec![
         c("reference", &[]),
@@ -141,6 +202,7 @@ pub fn jobs(configs: &[Config], model: Model, samples: usize, seed: u64) -> Vec<
             let mut labels = serde_json::Map::new();
             labels.insert("config".into(), c.name.clone().into());
             labels.insert("sample".into(), k.into());
+            labels.insert("step".into(), c.step.describe().into());
             let mut edits = c.edits.clone();
             edits.push(Edit::Dem(DemEdit::Seed(seed + k as u64)));
             jobs.push(Job {
@@ -212,7 +274,7 @@ pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
         writeln!(md, "## {}\n", model.name())?;
         writeln!(
             md,
-            "| configuration | samples | onset (s) | final stripes | MSD plateau before (m^2) | MSD plateau after (m^2) | phase | thesis | difference |\n|---|---|---|---|---|---|---|---|---|"
+            "| configuration | samples | step | onset (s) | final stripes | MSD plateau before (m^2) | MSD plateau after (m^2) | phase | thesis | difference |\n|---|---|---|---|---|---|---|---|---|---|"
         )?;
         let mut grid = Vec::new();
         for c in &configs(model, &packing) {
@@ -232,7 +294,14 @@ pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
             for (_, r) in &mine {
                 *phases.entry(super::label(r, "phase")).or_default() += 1;
             }
-            let phase = phases.iter().max_by_key(|(_, n)| **n).map(|(p, _)| p.clone()).unwrap_or_default();
+            // The majority phase; samples split evenly between phases are a tie, named as one.
+            let top = phases.values().copied().max().unwrap_or(0);
+            let leaders: Vec<&str> = phases.iter().filter(|(_, n)| **n == top).map(|(p, _)| p.as_str()).collect();
+            let phase = match leaders[..] {
+                [] => String::new(),
+                [one] => one.to_string(),
+                _ => format!("tie: {}", leaders.join(" / ")),
+            };
             let (thesis, diff) = match c.thesis {
                 Thesis::Stripes {
                     onset: (lo, hi),
@@ -254,11 +323,13 @@ pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
                 Thesis::Text(t) => (t.into(), "-".into()),
                 Thesis::NotRun => ("not run".into(), "-".into()),
             };
+            let step = mine[0].0.labels.get("step").and_then(Value::as_str).unwrap_or("the scene's");
             writeln!(
                 md,
-                "| {} | {} | {} | {} +- {} | {} | {} | {} | {} | {} |",
+                "| {} | {} | {} | {} | {} +- {} | {} | {} | {} | {} | {} |",
                 c.name,
                 mine.len(),
+                step,
                 if with_onset > 0 {
                     format!("{} +- {} ({with_onset} with onset)", fmt(onset, 1), fmt(onset_sd, 1))
                 } else {
@@ -275,7 +346,7 @@ pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
             rows.push(json!({
                 "model": model.name(), "config": c.name, "samples": mine.len(), "onset_s": onset, "onset_sd": onset_sd,
                 "stripe_count": count, "stripe_count_sd": count_sd, "msd_plateau_before": before,
-                "msd_plateau_after": after, "phase": phase,
+                "msd_plateau_after": after, "phase": phase, "step": step,
             }));
             let (j, _) = mine[0];
             grid.push(format!("{}<br>![](jobs/{}/analysis/density_map.png)", c.name, j.id));
@@ -292,4 +363,42 @@ pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
     super::write_report(root, sweep, &mut dir, md)?;
     let line = dir.finish(json!({ "kind": "ablate", "jobs": sweep.jobs.len(), "finished": results.len(), "rows": rows }))?;
     Ok(serde_json::from_str(&line)?)
+}
+
+#[cfg(test)]
+mod step_tests {
+    use super::*;
+
+    /// One change at a time: on the stripe scene (`run.dt = "auto"`) every toggle runs at the
+    /// reference's step unless its laws need a shorter one; a scene with a fixed step is left
+    /// as it is.
+    #[test]
+    fn toggles_keep_the_reference_step_where_it_is_stable() {
+        let path = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/stripes.toml"));
+        let file = crate::scene_file::load(path, &[]).unwrap();
+        let reference = particles::time_step::for_scene(&file.dem).unwrap();
+        let mut configs = dem_configs(&[1000]);
+        pin_reference_step(&file, &mut configs).unwrap();
+        assert_eq!(configs[0].step, StepChoice::Scene, "the reference keeps its own");
+        for c in &configs[1..] {
+            match c.step {
+                StepChoice::Reference(dt) => {
+                    assert_eq!(dt, reference, "{}", c.name);
+                    assert_eq!(c.edits.last(), Some(&Edit::Dem(DemEdit::Step(reference))), "{}", c.name);
+                }
+                StepChoice::Own { own, reference: r } => {
+                    assert!(own < r && r == reference, "{}: {own} {r}", c.name);
+                    assert!(!c.edits.iter().any(|e| matches!(e, Edit::Dem(DemEdit::Step(_)))));
+                }
+                StepChoice::Scene => panic!("{} left at the scene's automatic step", c.name),
+            }
+        }
+        // The packing changes no law: it runs at the reference's step.
+        assert_eq!(configs.last().unwrap().step, StepChoice::Reference(reference));
+        let mut fixed = file.clone();
+        fixed.dem.run.dt = TimeStep::Seconds(2e-6);
+        let mut configs = dem_configs(&[]);
+        pin_reference_step(&fixed, &mut configs).unwrap();
+        assert!(configs.iter().all(|c| c.step == StepChoice::Scene && c.edits.len() <= 1));
+    }
 }
