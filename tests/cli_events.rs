@@ -5,6 +5,15 @@
 mod common;
 use common::stripes;
 
+/// A numeric CSV file: its header and its rows.
+fn read_csv(path: &std::path::Path) -> (Vec<String>, Vec<Vec<f64>>) {
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let mut lines = text.lines();
+    let header = lines.next().unwrap().split(',').map(String::from).collect();
+    let rows = lines.map(|l| l.split(',').map(|x| x.parse().unwrap()).collect()).collect();
+    (header, rows)
+}
+
 fn last_json(stdout: &str) -> serde_json::Value {
     serde_json::from_str(stdout.lines().last().unwrap()).unwrap()
 }
@@ -63,12 +72,7 @@ fn the_mixture_runs_writes_its_profiles_and_analyze_reads_it() {
     }
     // The rescaled v_x density of each species integrates to about one over [-6, 6) (bins
     // of 0.2), and so does the paper's fit.
-    let text = std::fs::read_to_string(d.join("mix").join("velocity_distribution.csv")).unwrap();
-    let rows: Vec<Vec<f64>> = text
-        .lines()
-        .skip(1)
-        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
-        .collect();
+    let (_, rows) = read_csv(&d.join("mix").join("velocity_distribution.csv"));
     assert_eq!(rows.len(), 60);
     for col in 1..=3 {
         let integral: f64 = rows.iter().map(|r| r[col] * 0.2).sum();
@@ -76,14 +80,8 @@ fn the_mixture_runs_writes_its_profiles_and_analyze_reads_it() {
     }
     // The spins too; by height, each third's columns are densities of their own.
     for (file, columns) in [("angular_distribution.csv", 2), ("velocity_by_height.csv", 6)] {
-        let text = std::fs::read_to_string(d.join("mix").join(file)).unwrap();
-        let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
+        let (header, rows) = read_csv(&d.join("mix").join(file));
         assert!(header.len() >= 2 + 2 && header.len() <= columns + 2, "{file}: {header:?}");
-        let rows: Vec<Vec<f64>> = text
-            .lines()
-            .skip(1)
-            .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
-            .collect();
         for col in 1..header.len() {
             let integral: f64 = rows.iter().map(|r| r[col] * 0.2).sum();
             assert!((integral - 1.0).abs() < 0.03, "{file} column {}: {integral}", header[col]);
@@ -336,12 +334,7 @@ fn the_ratchet_writes_its_phase_fields() {
         "run.samples_per_period=12",
     ]);
     assert!(ok, "{stderr}");
-    let text = std::fs::read_to_string(d.join("ratchet").join("phase_fields.csv")).unwrap();
-    let rows: Vec<Vec<f64>> = text
-        .lines()
-        .skip(1)
-        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
-        .collect();
+    let (_, rows) = read_csv(&d.join("ratchet").join("phase_fields.csv"));
     // 1.2 s at 25 Hz and 12 samples per period: about 360 samples, 60 per frame (the last
     // sample may fall a rounding error past the duration).
     for frame in 0..6 {
