@@ -30,3 +30,24 @@ pub struct SampleCache {
     #[arg(long, value_name = "DIR", default_value_os_t = crate::output::default_sample_cache())]
     pub sample_cache: PathBuf,
 }
+
+/// `--force` and `--resume` of a command whose run can be continued from its checkpoint.
+#[derive(clap::Args, Clone, Copy, Debug, Default, Serialize)]
+pub struct Restart {
+    /// Replace the files of an output directory that already holds some (default: refuse it).
+    #[arg(long, conflicts_with = "resume")]
+    pub force: bool,
+    /// Continue what --out holds from its checkpoint (the scene may change only
+    /// run.duration, e.g. to extend a finished run).
+    #[arg(long)]
+    pub resume: bool,
+}
+
+/// `--set` of a command that reads a scene file.
+#[derive(clap::Args, Clone, Debug, Default, Serialize)]
+pub struct Overrides {
+    /// Override a scene key (repeatable), e.g. --set run.duration=5 or
+    /// --set toggles.friction=false.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub overrides: Vec<String>,
+}

@@ -36,9 +36,9 @@ pub struct Args {
     #[command(flatten)]
     #[serde(flatten)]
     pub replace: crate::cli_args::Force,
-    /// Override a scene key, e.g. --set automaton.activation=0.3 (repeatable).
-    #[arg(long = "set", value_name = "KEY=VALUE")]
-    pub overrides: Vec<String>,
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub set: crate::cli_args::Overrides,
     /// Rule set: strict (thesis 3.1 exactly) or physical (plus what a shaken tray supplies,
     /// the scene's [automaton] table). Default: the scene's automaton.rule, itself physical.
     #[arg(long, value_parser = rule_parser())]
@@ -67,13 +67,13 @@ pub fn run(args: Args) -> Result<String, CliError> {
         return crate::calibrate::run(&crate::calibrate::Calibration {
             runs: args.calibrate.clone(),
             out: args.out.clone(),
-            overrides: args.overrides.clone(),
+            overrides: args.set.overrides.clone(),
             samples: args.samples.sample_cache.clone(),
             quiet: args.progress.quiet,
         });
     }
     let path = args.scene.clone().ok_or("a scene file is needed")?;
-    let scene = pipeline::resolve_lattice(&path, crate::scene_file::load(&path, &args.overrides)?)?;
+    let scene = pipeline::resolve_lattice(&path, crate::scene_file::load(&path, &args.set.overrides)?)?;
     if args.bench {
         return bench(&args, &path, &scene.file);
     }

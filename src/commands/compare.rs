@@ -25,9 +25,9 @@ pub struct Args {
     /// Output directory (default: out/compare-<scene name>).
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Override a scene key for both models (repeatable).
-    #[arg(long = "set", value_name = "KEY=VALUE")]
-    pub overrides: Vec<String>,
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub set: crate::cli_args::Overrides,
     /// Reuse this DEM run directory instead of running the DEM (it must start from the
     /// same sample as the scene).
     #[arg(long)]
@@ -39,13 +39,9 @@ pub struct Args {
     #[command(flatten)]
     #[serde(flatten)]
     pub samples: crate::cli_args::SampleCache,
-    /// Replace an earlier comparison in the output directory (refused without it).
-    #[arg(long, conflicts_with = "resume")]
-    pub force: bool,
-    /// Continue a stopped comparison in the output directory: the DEM run goes on from its
-    /// checkpoint (or is kept if it finished), the automaton and the analyses run again.
-    #[arg(long)]
-    pub resume: bool,
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub restart: crate::cli_args::Restart,
     #[command(flatten)]
     #[serde(flatten)]
     pub progress: crate::cli_args::Quiet,
@@ -278,7 +274,7 @@ fn density_map(model: &str, analysis: &Path, length: f64) -> Result<Heatmap, Cli
 }
 
 pub fn run(args: Args) -> Result<String, CliError> {
-    let file = load_scene(&args.scene, &args.overrides)?;
+    let file = load_scene(&args.scene, &args.set.overrides)?;
     let scene = &file.dem;
     let name = args
         .scene
@@ -296,19 +292,19 @@ pub fn run(args: Args) -> Result<String, CliError> {
                 seeds: args.seeds,
                 transient: args.transient,
                 sample_cache: args.samples.sample_cache.clone(),
-                force: args.force,
+                force: args.restart.force,
                 quiet: args.progress.quiet,
             },
         );
     }
-    if crate::output::non_empty(&out) && !args.force && !args.resume {
+    if crate::output::non_empty(&out) && !args.restart.force && !args.restart.resume {
         return Err(format!(
             "{} already holds files (an earlier comparison?); use --resume to continue it, --force to replace it, or another --out",
             out.display()
         )
         .into());
     }
-    if args.resume && !out.join("dem").join("checkpoint.bin").is_file() && args.dem_run.is_none() {
+    if args.restart.resume && !out.join("dem").join("checkpoint.bin").is_file() && args.dem_run.is_none() {
         return Err(format!(
             "--resume: {} holds no DEM run to continue (dem/checkpoint.bin); start it without --resume",
             out.display()
@@ -371,13 +367,13 @@ fn compare(args: &Args, file: &crate::scene_file::SceneFile, out: &Path) -> Resu
         }
         None => {
             let d = out.join("dem");
-            let finished = args.resume && d.join("summary.json").is_file();
+            let finished = args.restart.resume && d.join("summary.json").is_file();
             stage(
                 args.progress.quiet,
                 1,
                 if finished {
                     "DEM run (finished before: kept)"
-                } else if args.resume {
+                } else if args.restart.resume {
                     "DEM run (resumed from its checkpoint)"
                 } else {
                     "DEM run"
@@ -389,8 +385,8 @@ fn compare(args: &Args, file: &crate::scene_file::SceneFile, out: &Path) -> Resu
                     &resolved,
                     &RunOptions {
                         out: d.clone(),
-                        resume: args.resume,
-                        force: args.force,
+                        resume: args.restart.resume,
+                        force: args.restart.force,
                         sample_cache: args.samples.sample_cache.clone(),
                         quiet: args.progress.quiet,
                         ..RunOptions::default()

@@ -18,34 +18,30 @@ use crate::pipeline::{self, EventsOptions};
 pub struct Args {
     /// Event-driven scene file (TOML with model = "events"), e.g. scenes/mixture.toml.
     pub scene: PathBuf,
-    /// Override a scene key, e.g. --set drive.amplitude=0.004 (repeatable).
-    #[arg(long = "set", value_name = "KEY=VALUE")]
-    pub overrides: Vec<String>,
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub set: crate::cli_args::Overrides,
     /// Output directory (default: out/events-<scene name>).
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Replace the files of an output directory that already holds some (default: refuse it).
-    #[arg(long, conflicts_with = "resume")]
-    pub force: bool,
-    /// Continue the run in --out from its checkpoint.bin (the scene may change only
-    /// run.duration, e.g. to extend a finished run).
-    #[arg(long)]
-    pub resume: bool,
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub restart: crate::cli_args::Restart,
     #[command(flatten)]
     #[serde(flatten)]
     pub progress: crate::cli_args::Quiet,
 }
 
 pub fn run(args: Args) -> Result<String, CliError> {
-    let scene = crate::events_scene::load(&args.scene, &args.overrides)?;
+    let scene = crate::events_scene::load(&args.scene, &args.set.overrides)?;
     let name = args
         .scene
         .file_stem()
         .map_or_else(|| "scene".into(), |s| s.to_string_lossy().into_owned());
     let opts = EventsOptions {
         out: args.out.clone().unwrap_or_else(|| PathBuf::from(format!("out/events-{name}"))),
-        force: args.force,
-        resume: args.resume,
+        force: args.restart.force,
+        resume: args.restart.resume,
         quiet: args.progress.quiet,
     };
     json_line(&pipeline::run_events(&args.scene, &scene, &opts)?)

@@ -27,15 +27,12 @@ pub struct Args {
     /// Output directory (default: out/run-<scene name>).
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Override a scene key, e.g. --set toggles.friction=false (repeatable).
-    #[arg(long = "set", value_name = "KEY=VALUE")]
-    pub overrides: Vec<String>,
-    /// Continue from the run directory's checkpoint.
-    #[arg(long, conflicts_with = "force")]
-    pub resume: bool,
-    /// Replace the run already in the output directory (refused without it).
-    #[arg(long)]
-    pub force: bool,
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub set: crate::cli_args::Overrides,
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub restart: crate::cli_args::Restart,
     /// Also write every snapshot for ParaView: vtk/series.pvd (open it) with one .vtp of the
     /// grains (id, radius, velocity, angular velocity) and one of the tray per snapshot.
     #[arg(long)]
@@ -69,8 +66,8 @@ impl Args {
             .unwrap_or_else(|| "scene".into());
         RunOptions {
             out: self.out.clone().unwrap_or_else(|| PathBuf::from(format!("out/run-{name}"))),
-            resume: self.resume,
-            force: self.force,
+            resume: self.restart.resume,
+            force: self.restart.force,
             vtk: self.vtk,
             thermo_interval: self.thermo_interval,
             sample_cache: self.samples.sample_cache.clone(),
@@ -82,7 +79,7 @@ impl Args {
 }
 
 pub fn run(args: Args) -> Result<String, CliError> {
-    let file = crate::scene_file::load(&args.scene, &args.overrides)?;
+    let file = crate::scene_file::load(&args.scene, &args.set.overrides)?;
     let resolved = pipeline::resolve(&args.scene, file)?;
     json_line(&pipeline::run_dem(&resolved, &args.options())?)
 }

@@ -34,9 +34,9 @@ pub struct Args {
     /// program so that `stripes single` works from any directory).
     #[arg(long)]
     pub scene: Option<PathBuf>,
-    /// Override a scene key, e.g. --set contact.wall_friction=inf (repeatable).
-    #[arg(long = "set", value_name = "KEY=VALUE")]
-    pub overrides: Vec<String>,
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub set: crate::cli_args::Overrides,
     /// Shaking frequency (Hz), or a sweep `LO:HI:N` (N frequencies evenly spaced from LO to
     /// HI). Default: the scene's drive.frequency.
     #[arg(long)]
@@ -137,8 +137,8 @@ struct Shaken {
 
 pub fn run(args: Args) -> Result<String, CliError> {
     let mut scene = match &args.scene {
-        Some(path) => crate::scene_file::load(path, &args.overrides)?,
-        None => crate::scene_file::parse(THESIS_REFERENCE, &args.overrides, "scenes/thesis-reference.toml (built in)")?,
+        Some(path) => crate::scene_file::load(path, &args.set.overrides)?,
+        None => crate::scene_file::parse(THESIS_REFERENCE, &args.set.overrides, "scenes/thesis-reference.toml (built in)")?,
     }
     .dem;
     if let Some(a) = args.amplitude {
