@@ -127,8 +127,14 @@ fn compare_runs_both_models_on_one_sample_and_writes_the_report() {
         "stripe_count.png",
         "density_map_dem.png",
         "density_map_automaton.png",
+        "dem-analysis/top_view.png",
+        "automaton/analysis/top_view.png",
     ] {
         assert!(report.contains(needle), "report lacks {needle}");
+    }
+    // The top views the report shows are there.
+    for view in ["dem-analysis/top_view.png", "automaton/analysis/top_view.png"] {
+        assert!(Path::new(&out).join(view).is_file(), "{view} missing");
     }
     // Reusing the DEM run gives the same automaton side.
     let out2 = d.join("cmp2").display().to_string();

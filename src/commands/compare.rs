@@ -536,7 +536,9 @@ fn compare(args: &Args, file: &crate::scene_file::SceneFile, out: &Path) -> Resu
     md.push_str(
         "\nSpacing is the peak of the late frames' structure factor S(k) of the grain positions along x (for both models the same \
          measure); band widths and gaps are those of the bands of the late frames. S(k) of each model: `dem-analysis/structure_factor.png`, \
-         `automaton/analysis/structure_factor.png`.\n\n",
+         `automaton/analysis/structure_factor.png`.\n\n\
+         Top views (x-y) at the first, middle and last frames, to see whether the bands span the tray's width:\n\n\
+         ![DEM, top view](dem-analysis/top_view.png)\n\n![automaton, top view](automaton/analysis/top_view.png)\n\n",
     );
     let warnings = run_warnings(&[
         ("DEM run", &dem_summary),
