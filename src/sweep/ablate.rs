@@ -4,7 +4,6 @@
 //! stripe count (mean +- std), MSD plateaus and phase per configuration beside the thesis'
 //! values, and the density maps as a grid.
 
-use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -290,17 +289,11 @@ pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
             let (count, count_sd, _) = mean_std(&get("stripe_count_final"));
             let (before, _, _) = mean_std(&get("msd_plateau_before"));
             let (after, _, _) = mean_std(&get("msd_plateau_after"));
-            let mut phases: BTreeMap<String, usize> = BTreeMap::new();
-            for (_, r) in &mine {
-                *phases.entry(super::label(r, "phase")).or_default() += 1;
-            }
             // The majority phase; samples split evenly between phases are a tie, named as one.
-            let top = phases.values().copied().max().unwrap_or(0);
-            let leaders: Vec<&str> = phases.iter().filter(|(_, n)| **n == top).map(|(p, _)| p.as_str()).collect();
-            let phase = match leaders[..] {
-                [] => String::new(),
-                [one] => one.to_string(),
-                _ => format!("tie: {}", leaders.join(" / ")),
+            let phase = match super::majority(mine.iter().map(|(_, r)| super::label(r, "phase"))) {
+                super::Majority::None => String::new(),
+                super::Majority::One(p) => p,
+                super::Majority::Tie(ps) => format!("tie: {}", ps.join(" / ")),
             };
             let (thesis, diff) = match c.thesis {
                 Thesis::Stripes {

@@ -632,6 +632,30 @@ pub fn scale_line(sweep: &Sweep, finished: usize, unit: &str) -> Result<String, 
 }
 
 /// A number from a job's analysis summary (`NaN` when absent or null).
+/// The phase most samples of a cell or configuration share: one phase, a tie between the
+/// phases that share the largest count (never given to either), or none without samples.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Majority<T> {
+    None,
+    One(T),
+    Tie(Vec<T>),
+}
+
+/// The majority of `items` (see [`Majority`]); tied items come in their order.
+pub fn majority<T: Ord + Clone>(items: impl IntoIterator<Item = T>) -> Majority<T> {
+    let mut counts: std::collections::BTreeMap<T, usize> = std::collections::BTreeMap::new();
+    for item in items {
+        *counts.entry(item).or_default() += 1;
+    }
+    let top = counts.values().copied().max().unwrap_or(0);
+    let mut leaders: Vec<T> = counts.into_iter().filter(|(_, n)| *n == top).map(|(t, _)| t).collect();
+    match leaders.len() {
+        0 => Majority::None,
+        1 => Majority::One(leaders.remove(0)),
+        _ => Majority::Tie(leaders),
+    }
+}
+
 pub fn metric(result: &Value, key: &str) -> f64 {
     result["analysis"][key].as_f64().unwrap_or(f64::NAN)
 }
@@ -689,5 +713,20 @@ mod tests {
         assert_eq!("1/4".parse::<Shard>().unwrap(), Shard { index: 1, count: 4 });
         assert!("4/4".parse::<Shard>().is_err());
         assert!("x/2".parse::<Shard>().is_err());
+    }
+}
+
+#[cfg(test)]
+mod majority_tests {
+    use super::{majority, Majority};
+
+    /// A tie is named as one and never given to the first phase; one leader wins; nothing
+    /// gives nothing.
+    #[test]
+    fn an_even_split_is_a_tie() {
+        assert_eq!(majority(["stripes", "gas"]), Majority::Tie(vec!["gas", "stripes"]));
+        assert_eq!(majority(["stripes", "gas", "stripes"]), Majority::One("stripes"));
+        assert_eq!(majority([1usize, 0, 0, 1, 2]), Majority::Tie(vec![0, 1]));
+        assert_eq!(majority(Vec::<usize>::new()), Majority::None);
     }
 }

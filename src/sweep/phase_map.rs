@@ -117,19 +117,10 @@ pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
 
     // Majority phase per cell; a cell whose samples split evenly between phases is a tie
     // (index 4), not given to either.
-    let majority = |c: &Cell| {
-        let mut n = [0usize; 3];
-        for (p, _, _) in c {
-            if *p < 3 {
-                n[*p] += 1;
-            }
-        }
-        let top = n.iter().copied().max().unwrap_or(0);
-        match n.iter().filter(|&&k| k == top).count() {
-            _ if top == 0 => 3,
-            1 => n.iter().position(|&k| k == top).unwrap_or(3),
-            _ => TIE,
-        }
+    let majority = |c: &Cell| match super::majority(c.iter().map(|t| t.0).filter(|&p| p < 3)) {
+        super::Majority::None => 3,
+        super::Majority::One(p) => p,
+        super::Majority::Tie(_) => TIE,
     };
     let models: Vec<String> = {
         let mut m: Vec<String> = sweep.jobs.iter().map(|j| j.model.name().to_string()).collect();
