@@ -29,6 +29,11 @@ pub struct Measured {
 /// Runs `scene` for its `run.duration`, sampling `run.samples_per_period` times per period
 /// after `run.transient`.
 pub fn measure(scene: &EventScene) -> Result<Measured, String> {
+    observe(scene).map(|(m, _)| m)
+}
+
+/// The same, with the observer that sampled the run (its profiles).
+pub fn observe(scene: &EventScene) -> Result<(Measured, Observer), String> {
     let config = scene.config().map_err(|e| e.to_string())?;
     let mut sim = Simulation::new(config).map_err(|e| e.to_string())?;
     let top = sim.config.height + sim.config.lid.map_or(0.0, |m| m.amplitude);
@@ -46,7 +51,7 @@ pub fn measure(scene: &EventScene) -> Result<Measured, String> {
     }
     let cpu_s = clock.seconds();
     let collisions = sim.collisions();
-    Ok(Measured {
+    let measured = Measured {
         collisions,
         cpu_s,
         collisions_per_s: collisions as f64 / cpu_s.max(1e-9),
@@ -62,7 +67,8 @@ pub fn measure(scene: &EventScene) -> Result<Measured, String> {
             })
             .collect(),
         samples: obs.samples,
-    })
+    };
+    Ok((measured, obs))
 }
 
 /// `T_2 / T_1` over the middle third of a box of `height` (between the floor's and the lid's

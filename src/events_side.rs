@@ -33,8 +33,7 @@ pub struct SideSummary {
 impl SideSummary {
     fn new(st: &SideStats, interval_s: f64) -> Self {
         let n = st.residences.len();
-        let mean = st.mean_residence();
-        let var = st.residences.iter().map(|r| (r - mean).powi(2)).sum::<f64>() / (n.max(2) - 1) as f64;
+        let (mean, stderr) = analysis::stats::mean_stderr(&st.residences);
         SideSummary {
             samples: st.samples,
             interval_s,
@@ -43,7 +42,7 @@ impl SideSummary {
             threshold: st.threshold,
             residences: n,
             residence_mean_s: (n >= 1).then_some(mean),
-            residence_stderr_s: (n >= 2).then(|| (var / n as f64).sqrt()),
+            residence_stderr_s: (n >= 2).then_some(stderr),
             correlation_time_s: st.correlation_time,
         }
     }

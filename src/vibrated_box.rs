@@ -178,17 +178,6 @@ struct Measured {
     bins: Bins,
 }
 
-/// Mean and standard error of the mean over seeds (0 for one seed).
-fn mean_se(x: &[f64]) -> (f64, f64) {
-    let n = x.len() as f64;
-    let mean = x.iter().sum::<f64>() / n;
-    if x.len() < 2 {
-        return (mean, 0.0);
-    }
-    let var = x.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0);
-    (mean, (var / n).sqrt())
-}
-
 /// Sample times: `k / (f samples_per_period)` for `k >= 1`, those at or after `transient`.
 fn sample_times(frequency: f64, per_period: u32, duration: f64) -> Vec<f64> {
     let dt = 1.0 / (frequency * per_period as f64);
@@ -249,27 +238,17 @@ fn run_dem(scene: &Scene, seed: u64, opts: &Options) -> Result<Measured, CliErro
 
 /// The event-driven model on `scene`.
 fn run_events(scene: &EventScene, model: &'static str) -> Result<Measured, CliError> {
-    let config = scene.config()?;
-    let mut sim = events::Simulation::new(config)?;
-    let mut obs = Observer::new(1, scene.run.bin, scene.tray.height, sim.config.width);
-    let clock = Stopwatch::start(true);
-    for t in sample_times(scene.drive.frequency, scene.run.samples_per_period, scene.run.duration) {
-        sim.run_until(t)?;
-        if t >= scene.run.transient {
-            obs.sample(&sim);
-        }
-    }
-    let cpu = clock.seconds();
+    let (m, obs) = crate::events_measure::observe(scene)?;
     Ok(Measured {
         model,
         seed: scene.run.seed,
-        mean_height_m: obs.mean_height(),
-        k_over_r: obs.kinetic_ratio(),
+        mean_height_m: m.mean_height_m,
+        k_over_r: m.k_over_r,
         k_over_r_3d: None,
         vy2_over_vx2: None,
-        cpu_s_per_simulated_s: cpu / scene.run.duration,
-        work_per_simulated_s: sim.collisions() as f64 / scene.run.duration,
-        samples: obs.samples,
+        cpu_s_per_simulated_s: m.cpu_s / scene.run.duration,
+        work_per_simulated_s: m.collisions as f64 / scene.run.duration,
+        samples: m.samples,
         bins: Bins::of_events(&obs),
     })
 }
@@ -415,7 +394,7 @@ struct ModelSummary {
 }
 
 fn summarise(model: &'static str, runs: &[Measured]) -> ModelSummary {
-    let of = |f: fn(&Measured) -> f64| mean_se(&runs.iter().map(f).collect::<Vec<_>>());
+    let of = |f: fn(&Measured) -> f64| analysis::stats::mean_stderr(&runs.iter().map(f).collect::<Vec<_>>());
     ModelSummary {
         model,
         seeds: runs.len(),

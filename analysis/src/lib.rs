@@ -32,6 +32,7 @@ pub mod plot;
 pub mod report;
 pub mod segregation;
 pub mod snapshot;
+pub mod stats;
 pub mod stripes;
 pub mod structure;
 pub mod tracer;

@@ -212,7 +212,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
             row.push(group.len() as f64);
             for c in 0..columns.len() {
                 let xs: Vec<f64> = group.iter().map(|m| measures(m)[c].1).collect();
-                let (mean, err) = mean_stderr(&xs);
+                let (mean, err) = analysis::stats::mean_stderr(&xs);
                 row.push(mean);
                 row.push(err);
             }
@@ -280,20 +280,6 @@ pub fn run(args: Args) -> Result<String, CliError> {
     summary
 }
 
-/// Mean and standard error of the mean (0 for one value; NaN for none).
-fn mean_stderr(xs: &[f64]) -> (f64, f64) {
-    if xs.is_empty() {
-        return (f64::NAN, f64::NAN);
-    }
-    let n = xs.len() as f64;
-    let mean = xs.iter().sum::<f64>() / n;
-    if xs.len() < 2 {
-        return (mean, 0.0);
-    }
-    let var = xs.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0);
-    (mean, (var / n).sqrt())
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -309,7 +295,7 @@ mod tests {
         let e = axes(&["a=1,x".into()]).unwrap_err();
         assert!(e.to_string().contains("`x` is not a number"), "{e}");
         assert!(axes(&["a".into()]).is_err());
-        let (m, s) = mean_stderr(&[1.0, 2.0, 3.0]);
+        let (m, s) = analysis::stats::mean_stderr(&[1.0, 2.0, 3.0]);
         assert!((m - 2.0).abs() < 1e-15 && (s - (1.0f64 / 3.0).sqrt()).abs() < 1e-15);
     }
 }
