@@ -31,9 +31,20 @@ pub struct SampleCache {
     pub sample_cache: PathBuf,
 }
 
-/// `--force` and `--resume` of a command whose run can be continued from its checkpoint.
-#[derive(clap::Args, Clone, Copy, Debug, Default, Serialize)]
-pub struct Restart {
+/// What a command that simulates a scene file reads: the scene, its `--set` overrides, `--out`,
+/// and `--force`, `--resume` and `--quiet` of a long run that can be continued from its
+/// checkpoint.
+#[derive(clap::Args, Clone, Debug, Serialize)]
+pub struct SceneRun {
+    /// Scene file (TOML), e.g. scenes/stripes.toml (`stripes events` takes an event-driven
+    /// scene, e.g. scenes/mixture.toml).
+    pub scene: PathBuf,
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub set: Overrides,
+    /// Output directory (default: out/<command>-<scene name>).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
     /// Replace the files of an output directory that already holds some (default: refuse it).
     #[arg(long, conflicts_with = "resume")]
     pub force: bool,
@@ -41,6 +52,9 @@ pub struct Restart {
     /// run.duration, e.g. to extend a finished run).
     #[arg(long)]
     pub resume: bool,
+    /// No progress output (warnings still go to stderr, the summary to stdout).
+    #[arg(long)]
+    pub quiet: bool,
 }
 
 /// `--set` of a command that reads a scene file.

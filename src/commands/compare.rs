@@ -20,14 +20,6 @@ use crate::samples::sample_key;
 
 #[derive(clap::Args, Debug, Serialize)]
 pub struct Args {
-    /// Scene file (TOML), e.g. scenes/quick.toml.
-    pub scene: PathBuf,
-    /// Output directory (default: out/compare-<scene name>).
-    #[arg(long)]
-    pub out: Option<PathBuf>,
-    #[command(flatten)]
-    #[serde(flatten)]
-    pub set: crate::cli_args::Overrides,
     /// Reuse this DEM run directory instead of running the DEM (it must start from the
     /// same sample as the scene).
     #[arg(long)]
@@ -41,10 +33,7 @@ pub struct Args {
     pub samples: crate::cli_args::SampleCache,
     #[command(flatten)]
     #[serde(flatten)]
-    pub restart: crate::cli_args::Restart,
-    #[command(flatten)]
-    #[serde(flatten)]
-    pub progress: crate::cli_args::Quiet,
+    pub run: crate::cli_args::SceneRun,
     /// Vibrated box only (`drive.direction = "z"`): runs per model, seeds run.seed, run.seed + 1, ...
     #[arg(long, default_value_t = 3)]
     pub seeds: u64,
@@ -274,37 +263,38 @@ fn density_map(model: &str, analysis: &Path, length: f64) -> Result<Heatmap, Cli
 }
 
 pub fn run(args: Args) -> Result<String, CliError> {
-    let file = load_scene(&args.scene, &args.set.overrides)?;
+    let file = load_scene(&args.run.scene, &args.run.set.overrides)?;
     let scene = &file.dem;
     let name = args
+        .run
         .scene
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "scene".into());
-    let out = args.out.clone().unwrap_or_else(|| PathBuf::from(format!("out/compare-{name}")));
+    let out = args.run.out.clone().unwrap_or_else(|| PathBuf::from(format!("out/compare-{name}")));
     // A vertically vibrated box is compared with the event-driven model, not the automaton.
     if crate::vibrated_box::is_vibrated_box(scene) {
         return crate::vibrated_box::compare(
             &file,
             &crate::vibrated_box::Options {
-                scene: args.scene.clone(),
+                scene: args.run.scene.clone(),
                 out,
                 seeds: args.seeds,
                 transient: args.transient,
                 sample_cache: args.samples.sample_cache.clone(),
-                force: args.restart.force,
-                quiet: args.progress.quiet,
+                force: args.run.force,
+                quiet: args.run.quiet,
             },
         );
     }
-    if crate::output::non_empty(&out) && !args.restart.force && !args.restart.resume {
+    if crate::output::non_empty(&out) && !args.run.force && !args.run.resume {
         return Err(format!(
             "{} already holds files (an earlier comparison?); use --resume to continue it, --force to replace it, or another --out",
             out.display()
         )
         .into());
     }
-    if args.restart.resume && !out.join("dem").join("checkpoint.bin").is_file() && args.dem_run.is_none() {
+    if args.run.resume && !out.join("dem").join("checkpoint.bin").is_file() && args.dem_run.is_none() {
         return Err(format!(
             "--resume: {} holds no DEM run to continue (dem/checkpoint.bin); start it without --resume",
             out.display()
@@ -362,33 +352,33 @@ fn compare(args: &Args, file: &crate::scene_file::SceneFile, out: &Path) -> Resu
     let mut fresh = None;
     let dem_dir = match &args.dem_run {
         Some(d) => {
-            stage(args.progress.quiet, 1, &format!("DEM: reusing {}", d.display()));
+            stage(args.run.quiet, 1, &format!("DEM: reusing {}", d.display()));
             d.clone()
         }
         None => {
             let d = out.join("dem");
-            let finished = args.restart.resume && d.join("summary.json").is_file();
+            let finished = args.run.resume && d.join("summary.json").is_file();
             stage(
-                args.progress.quiet,
+                args.run.quiet,
                 1,
                 if finished {
                     "DEM run (finished before: kept)"
-                } else if args.restart.resume {
+                } else if args.run.resume {
                     "DEM run (resumed from its checkpoint)"
                 } else {
                     "DEM run"
                 },
             );
             if !finished {
-                let resolved = pipeline::resolve(&args.scene, file.clone())?;
+                let resolved = pipeline::resolve(&args.run.scene, file.clone())?;
                 let summary = pipeline::run_dem(
                     &resolved,
                     &RunOptions {
                         out: d.clone(),
-                        resume: args.restart.resume,
-                        force: args.restart.force,
+                        resume: args.run.resume,
+                        force: args.run.force,
                         sample_cache: args.samples.sample_cache.clone(),
-                        quiet: args.progress.quiet,
+                        quiet: args.run.quiet,
                         ..RunOptions::default()
                     },
                 )?;
@@ -407,22 +397,22 @@ fn compare(args: &Args, file: &crate::scene_file::SceneFile, out: &Path) -> Resu
     };
 
     // 2. Automaton, same scene and sample.
-    stage(args.progress.quiet, 2, "automaton run");
+    stage(args.run.quiet, 2, "automaton run");
     let auto_dir = out.join("automaton");
     let automaton = pipeline::run_automaton(
-        &pipeline::resolve_lattice(&args.scene, file.clone())?,
+        &pipeline::resolve_lattice(&args.run.scene, file.clone())?,
         &AutomatonOptions {
             out: auto_dir.clone(),
             force: true, // inside the comparison's own directory, claimed above
             rule: None,
             sample_cache: args.samples.sample_cache.clone(),
-            quiet: args.progress.quiet,
+            quiet: args.run.quiet,
         },
     )?;
     let auto_summary = serde_json::to_value(&automaton)?;
 
     // 3. The same analysis of both (the automaton's was made by its run).
-    stage(args.progress.quiet, 3, "analysis");
+    stage(args.run.quiet, 3, "analysis");
     let dem_analysis_dir = out.join("dem-analysis");
     let dem_keys = pipeline::analyze(&dem_dir, &AnalysisOptions::into_dir(dem_analysis_dir.clone()))?.shared_keys()?;
     let auto_keys = automaton.analysed.shared_keys()?;
@@ -456,7 +446,7 @@ fn compare(args: &Args, file: &crate::scene_file::SceneFile, out: &Path) -> Resu
     };
 
     // 4. Report.
-    stage(args.progress.quiet, 4, "report");
+    stage(args.run.quiet, 4, "report");
     let dem_counts = counts(&dem_analysis_dir)?;
     let auto_counts = counts(&auto_dir.join("analysis"))?;
     let plot = LinePlot::new("Stripe count over time, same scene and sample", "t (s)", "stripes")
@@ -494,7 +484,7 @@ fn compare(args: &Args, file: &crate::scene_file::SceneFile, out: &Path) -> Resu
     let simulated = scene.run.duration;
     let speed = |wall: Option<f64>| wall.map_or("unknown".to_string(), |w| format!("{:.3}", simulated / w.max(1e-12)));
     let mut md = String::new();
-    md.push_str(&format!("# DEM and automaton on `{}`\n\n", args.scene.display()));
+    md.push_str(&format!("# DEM and automaton on `{}`\n\n", args.run.scene.display()));
     md.push_str(&format!(
         "Same scene and same prepared sample (key `{:016x}`), same analysis (`stripes analyze`: exact area fraction in 1 mm cells, \
          stripes above 1.5 x the mean area fraction, capped halfway from the mean to a jammed layer's 0.82, and at least five mean \
@@ -617,7 +607,7 @@ fn compare(args: &Args, file: &crate::scene_file::SceneFile, out: &Path) -> Resu
         dir.note_tree(Path::new(sub));
     }
     dir.finish(json!({
-        "scene": args.scene.display().to_string(),
+        "scene": args.run.scene.display().to_string(),
         "sample_key": format!("{:016x}", sample_key(scene)),
         "dem_run": dem_dir.display().to_string(),
         "warnings": warnings,

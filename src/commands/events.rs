@@ -9,28 +9,11 @@
 
 use std::path::PathBuf;
 
-use serde::Serialize;
-
 use crate::output::{json_line, CliError};
 use crate::pipeline::{self, EventsOptions};
 
-#[derive(clap::Args, Debug, Serialize)]
-pub struct Args {
-    /// Event-driven scene file (TOML with model = "events"), e.g. scenes/mixture.toml.
-    pub scene: PathBuf,
-    #[command(flatten)]
-    #[serde(flatten)]
-    pub set: crate::cli_args::Overrides,
-    /// Output directory (default: out/events-<scene name>).
-    #[arg(long)]
-    pub out: Option<PathBuf>,
-    #[command(flatten)]
-    #[serde(flatten)]
-    pub restart: crate::cli_args::Restart,
-    #[command(flatten)]
-    #[serde(flatten)]
-    pub progress: crate::cli_args::Quiet,
-}
+/// The command's arguments: a scene run's, with nothing of its own.
+pub type Args = crate::cli_args::SceneRun;
 
 pub fn run(args: Args) -> Result<String, CliError> {
     let scene = crate::events_scene::load(&args.scene, &args.set.overrides)?;
@@ -40,9 +23,9 @@ pub fn run(args: Args) -> Result<String, CliError> {
         .map_or_else(|| "scene".into(), |s| s.to_string_lossy().into_owned());
     let opts = EventsOptions {
         out: args.out.clone().unwrap_or_else(|| PathBuf::from(format!("out/events-{name}"))),
-        force: args.restart.force,
-        resume: args.restart.resume,
-        quiet: args.progress.quiet,
+        force: args.force,
+        resume: args.resume,
+        quiet: args.quiet,
     };
     json_line(&pipeline::run_events(&args.scene, &scene, &opts)?)
 }

@@ -22,17 +22,9 @@ use crate::pipeline::{self, RunOptions};
 
 #[derive(clap::Args, Debug, Serialize)]
 pub struct Args {
-    /// Scene file (TOML), e.g. scenes/thesis-reference.toml.
-    pub scene: PathBuf,
-    /// Output directory (default: out/run-<scene name>).
-    #[arg(long)]
-    pub out: Option<PathBuf>,
     #[command(flatten)]
     #[serde(flatten)]
-    pub set: crate::cli_args::Overrides,
-    #[command(flatten)]
-    #[serde(flatten)]
-    pub restart: crate::cli_args::Restart,
+    pub run: crate::cli_args::SceneRun,
     /// Also write every snapshot for ParaView: vtk/series.pvd (open it) with one .vtp of the
     /// grains (id, radius, velocity, angular velocity) and one of the tray per snapshot.
     #[arg(long)]
@@ -51,35 +43,33 @@ pub struct Args {
     /// Die after this many steps as `kill -9` would (a test hook for checkpoints and --resume).
     #[arg(long, hide = true)]
     pub stop_after: Option<u64>,
-    #[command(flatten)]
-    #[serde(flatten)]
-    pub progress: crate::cli_args::Quiet,
 }
 
 impl Args {
     /// The pipeline's options these arguments select (the scene is read apart).
     pub fn options(&self) -> RunOptions {
         let name = self
+            .run
             .scene
             .file_stem()
             .map(|s| s.to_string_lossy().into_owned())
             .unwrap_or_else(|| "scene".into());
         RunOptions {
-            out: self.out.clone().unwrap_or_else(|| PathBuf::from(format!("out/run-{name}"))),
-            resume: self.restart.resume,
-            force: self.restart.force,
+            out: self.run.out.clone().unwrap_or_else(|| PathBuf::from(format!("out/run-{name}"))),
+            resume: self.run.resume,
+            force: self.run.force,
             vtk: self.vtk,
             thermo_interval: self.thermo_interval,
             sample_cache: self.samples.sample_cache.clone(),
             lammps_data: self.lammps_data.clone(),
             stop_after: self.stop_after,
-            quiet: self.progress.quiet,
+            quiet: self.run.quiet,
         }
     }
 }
 
 pub fn run(args: Args) -> Result<String, CliError> {
-    let file = crate::scene_file::load(&args.scene, &args.set.overrides)?;
-    let resolved = pipeline::resolve(&args.scene, file)?;
+    let file = crate::scene_file::load(&args.run.scene, &args.run.set.overrides)?;
+    let resolved = pipeline::resolve(&args.run.scene, file)?;
     json_line(&pipeline::run_dem(&resolved, &args.options())?)
 }

@@ -105,11 +105,11 @@ impl Config {
 /// The thesis dt of 8e-6 s, the reference of the speed ratios.
 pub const THESIS_DT: f64 = 8e-6;
 
-/// The base scene of both studies: thesis material and laws (Table 3.3), a 2 cm wide tray
-/// shaken at 20 Hz and 25 mm, with `count` grains in `count / 10000` m of length (packing
-/// 0.23).
+/// The base scene of both studies: the thesis' literal scene (`scenes/thesis-reference.toml`:
+/// material and laws of Table 3.3, a 2 cm wide tray shaken at 20 Hz and 25 mm) with `count`
+/// grains in `count / 10000` m of length (packing 0.23), run for `duration` at the thesis' step.
 pub fn base_scene(count: usize, duration: f64) -> Scene {
-    let mut scene = crate::scene_text::parse_scene(BASE_SCENE, &[], "bench").expect("the bench scene parses");
+    let mut scene = crate::scene_text::parse_scene(THESIS_SCENE, &[], "bench").expect("the bench scene parses");
     scene.tray.length = count as f64 / 1e4;
     scene.particles.count = count;
     scene.run.duration = duration;
@@ -118,24 +118,8 @@ pub fn base_scene(count: usize, duration: f64) -> Scene {
     scene
 }
 
-/// The bench's scene, whose length, count, duration and step [`base_scene`] sets (the
-/// thesis' material and laws are the scene defaults).
-const BASE_SCENE: &str = r#"
-[box]
-length = 0.02
-width = 0.02
-[drive]
-frequency = 20.0
-amplitude = 0.025
-[particles]
-count = 200
-radius_min = 0.25e-3
-radius_max = 0.5e-3
-[run]
-duration = 0.05
-dt = 8e-6
-seed = 1
-"#;
+/// The thesis' literal scene, of which the bench keeps the material, laws and drive.
+const THESIS_SCENE: &str = include_str!("../../scenes/thesis-reference.toml");
 
 /// `scene` with `edits` applied, checked.
 pub(crate) fn with(scene: &Scene, edits: &[DemEdit]) -> Result<Scene, SimError> {
