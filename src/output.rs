@@ -60,6 +60,14 @@ impl RunDir {
         Ok(())
     }
 
+    /// Writes a text file (a CSV with label columns, a report).
+    pub fn text(&mut self, name: &str, text: &str) -> Result<(), CliError> {
+        let p = self.path.join(name);
+        analysis::io::write_atomic(&p, text.as_bytes()).map_err(|e| format!("cannot write {}: {e}", p.display()))?;
+        self.written.push(p);
+        Ok(())
+    }
+
     /// Saves a plot as `<stem>.png` and `<stem>.svg`.
     pub fn plot(&mut self, stem: &str, plot: &LinePlot) -> Result<(), CliError> {
         let files = plot.save(&self.path.join(stem)).map_err(|e| format!("cannot draw {stem}: {e}"))?;
@@ -255,7 +263,21 @@ pub fn human_summary(summary: &serde_json::Value) -> String {
     }
     if let Some(p) = summary.get("phase") {
         let stripes = num("stripe_count_final").map_or(String::new(), |c| format!(", {c} stripes at the end"));
-        parts.push(format!("phase {}{stripes}", p.as_str().unwrap_or("none (too few frames)")));
+        let robust = match summary.get("phase_robust").and_then(serde_json::Value::as_bool) {
+            Some(true) => " (the same under every threshold set tried)".to_string(),
+            Some(false) => {
+                let votes = summary.get("phase_votes");
+                let v = |k: &str| votes.and_then(|v| v.get(k)).and_then(serde_json::Value::as_u64).unwrap_or(0);
+                format!(
+                    " (not robust: of 27 threshold sets, {} say stripes, {} gas, {} nothing; see phase_sensitivity.csv)",
+                    v("stripes"),
+                    v("gas"),
+                    v("nothing")
+                )
+            }
+            None => String::new(),
+        };
+        parts.push(format!("phase {}{robust}{stripes}", p.as_str().unwrap_or("none (too few frames)")));
     }
     let warnings = summary.get("warnings").and_then(serde_json::Value::as_array).map_or(0, Vec::len);
     parts.push(format!("{warnings} warning(s)"));

@@ -111,6 +111,12 @@ fn snapshots_and_a_lammps_dump_of_the_same_layer_give_the_same_analysis() {
     // Uniform steps of +-0.5 mm in x, independent each frame: D = (1e-3)^2 / 12.
     let after = s["msd_plateau_after"].as_f64().unwrap();
     assert!((after / (1e-6 / 12.0) - 1.0).abs() < 0.05, "{after}");
+    // The three sharp bands are stripes under every threshold set of the sensitivity sweep.
+    assert_eq!(s["phase_robust"], true, "{s}");
+    assert_eq!(s["phase_votes"]["stripes"], 27, "{s}");
+    let sensitivity = std::fs::read_to_string(out.join("phase_sensitivity.csv")).unwrap();
+    assert_eq!(sensitivity.lines().count(), 28);
+    assert!(sensitivity.lines().skip(1).all(|l| l.ends_with(",stripes")), "{sensitivity}");
     for f in [
         "density_map.png",
         "density_map.svg",

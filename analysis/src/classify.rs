@@ -139,6 +139,77 @@ pub fn classify(e: Evidence, params: ClassifyParams) -> Classification {
     }
 }
 
+/// Factors by which [`sensitivity`] scales each threshold: half and twice the mobility and
+/// the persistence, and the contrast threshold 20 % either way (contrasts of stripes and gases
+/// lie within a factor 2-3 of each other, so a factor 2 there would say nothing).
+pub const SENSITIVITY_FACTORS: [(&str, [f64; 3]); 3] = [
+    ("mobility_min", [0.5, 1.0, 2.0]),
+    ("contrast_min", [0.8, 1.0, 1.25]),
+    ("persistence_periods", [0.5, 1.0, 2.0]),
+];
+
+/// The phase under one set of thresholds.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct Variant {
+    pub params: ClassifyParams,
+    pub stationary_stripe_count: usize,
+    pub phase: Phase,
+}
+
+/// How the phase depends on the classifier's thresholds: the verdict under every
+/// combination of the factors of [`SENSITIVITY_FACTORS`] (27 sets, the given one among them).
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct Sensitivity {
+    pub variants: Vec<Variant>,
+}
+
+impl Sensitivity {
+    /// How many of the variants give `phase`.
+    pub fn count(&self, phase: Phase) -> usize {
+        self.variants.iter().filter(|v| v.phase == phase).count()
+    }
+
+    /// Whether every variant gives the same phase.
+    pub fn robust(&self) -> bool {
+        self.variants.windows(2).all(|w| w[0].phase == w[1].phase)
+    }
+}
+
+/// The verdicts around `base` (see [`Sensitivity`]). `e` is the evidence at `base`; the
+/// stationary stripe count depends on the persistence window and comes from
+/// `stationary_at(persistence_periods)`.
+pub fn sensitivity(base: ClassifyParams, e: Evidence, stationary_at: impl Fn(f64) -> usize) -> Sensitivity {
+    let [(_, fm), (_, fc), (_, fp)] = SENSITIVITY_FACTORS;
+    let mut variants = Vec::with_capacity(27);
+    for p in fp {
+        let persistence_periods = base.persistence_periods * p;
+        let stationary = if p == 1.0 {
+            e.stationary_stripe_count
+        } else {
+            stationary_at(persistence_periods)
+        };
+        for m in fm {
+            for c in fc {
+                let params = ClassifyParams {
+                    mobility_min: base.mobility_min * m,
+                    contrast_min: base.contrast_min * c,
+                    persistence_periods,
+                };
+                let evidence = Evidence {
+                    stationary_stripe_count: stationary,
+                    ..e
+                };
+                variants.push(Variant {
+                    params,
+                    stationary_stripe_count: stationary,
+                    phase: classify(evidence, params).phase,
+                });
+            }
+        }
+    }
+    Sensitivity { variants }
+}
+
 /// The cell-wise mean of equally long profiles (empty input: empty profile).
 pub fn time_average(profiles: &[Vec<f64>]) -> Vec<f64> {
     let Some(first) = profiles.first() else {
@@ -236,6 +307,43 @@ mod tests {
             tail_stripe_count: tail,
             stationary_stripe_count: stationary,
         }
+    }
+
+    /// Far from every threshold the phase is robust; a run whose contrast sits just above
+    /// the threshold and whose bands hold their place only over the shorter window is not,
+    /// and the variants say which thresholds decide it.
+    #[test]
+    fn the_sensitivity_names_the_thresholds_that_decide() {
+        let base = ClassifyParams::default();
+        let strong = sensitivity(base, evidence(5.0, 3.0, 4, 4), |_| 4);
+        assert_eq!(strong.variants.len(), 27);
+        assert!(strong.robust());
+        assert_eq!(strong.count(Phase::Stripes), 27);
+        assert!(strong.variants.contains(&Variant {
+            params: base,
+            stationary_stripe_count: 4,
+            phase: Phase::Stripes
+        }));
+
+        // Contrast 2.1: stripes unless the threshold rises to 2.5; bands stationary over 5
+        // periods but not over 10 or 20.
+        let edge = sensitivity(base, evidence(2.1, 3.0, 3, 0), |p| usize::from(p < 10.0));
+        assert!(!edge.robust());
+        for v in &edge.variants {
+            let expect = if v.params.persistence_periods < 10.0 || v.params.contrast_min <= 2.1 {
+                Phase::Stripes
+            } else {
+                Phase::Gas
+            };
+            assert_eq!(v.phase, expect, "{v:?}");
+        }
+        assert_eq!(edge.count(Phase::Gas), 6);
+        assert_eq!(edge.count(Phase::Stripes), 21);
+
+        // Mobility 0.15: `nothing` once the threshold doubles to 0.2.
+        let slow = sensitivity(base, evidence(1.0, 0.15, 0, 0), |_| 0);
+        assert_eq!(slow.count(Phase::Nothing), 9);
+        assert_eq!(slow.count(Phase::Gas), 18);
     }
 
     #[test]

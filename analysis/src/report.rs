@@ -20,7 +20,8 @@ use serde::Serialize;
 
 use crate::autocorr;
 use crate::classify::{
-    cell_std, classify, persistence_window, random_layer_sigma, time_average, Classification, ClassifyParams, Evidence, Phase,
+    cell_std, classify, persistence_window, random_layer_sigma, sensitivity, time_average, Classification, ClassifyParams, Evidence, Phase,
+    Sensitivity,
 };
 use crate::density::{add_area_fraction_cells, mean_area_fraction};
 use crate::msd::{flat_plateau, half_msd, median_spacing, MsdPoint, Plateau, PLATEAU_FLATNESS};
@@ -143,6 +144,8 @@ pub struct Report {
     /// Radii inside the stripes of the final-state (tail) frames against the whole layer.
     pub radii: RadiusDistribution,
     pub classification: Classification,
+    /// The phase under thresholds around the given ones ([`crate::classify::sensitivity`]).
+    pub sensitivity: Sensitivity,
     /// The structure of every frame: S(k) peak and fraction of grains in bands.
     pub structure: Vec<StructurePoint>,
     /// The late-time structure (the tail frames): S(k) averaged, band widths pooled.
@@ -160,6 +163,14 @@ impl Report {
         }
         Ok(self.classification.phase)
     }
+}
+
+/// How many threshold sets of the sensitivity sweep give each phase.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+pub struct PhaseVotes {
+    pub nothing: usize,
+    pub stripes: usize,
+    pub gas: usize,
 }
 
 /// The scalar results, as written to `summary.json`.
@@ -185,6 +196,10 @@ pub struct Summary {
     pub tail_stripe_count: usize,
     pub stationary_stripe_count: usize,
     pub classify_params: ClassifyParams,
+    /// Whether the phase is the same under every threshold set of the sensitivity sweep
+    /// (`phase_sensitivity.csv`), and how many of its 27 sets give each phase.
+    pub phase_robust: bool,
+    pub phase_votes: PhaseVotes,
     pub msd_plateau_before: Option<f64>,
     pub msd_plateau_before_stderr: Option<f64>,
     pub msd_plateau_before_window_s: Option<(f64, f64)>,
@@ -232,6 +247,12 @@ impl Report {
             tail_stripe_count: self.classification.tail_stripe_count,
             stationary_stripe_count: self.classification.stationary_stripe_count,
             classify_params: self.classification.params,
+            phase_robust: self.sensitivity.robust(),
+            phase_votes: PhaseVotes {
+                nothing: self.sensitivity.count(Phase::Nothing),
+                stripes: self.sensitivity.count(Phase::Stripes),
+                gas: self.sensitivity.count(Phase::Gas),
+            },
             msd_plateau_before: self.plateau_before.map(|p| p.value),
             msd_plateau_before_stderr: self.plateau_before.map(|p| p.stderr),
             msd_plateau_before_window_s: self.plateau_before.map(|p| (p.from, p.to)),
@@ -661,22 +682,24 @@ impl Analyzer {
         } else {
             (2.0 * tail_d.iter().sum::<f64>() / tail_d.len() as f64).sqrt() / self.mean_d
         };
-        let averaged = persistence_window(&self.times, tail_from, self.period, self.opts.classify.persistence_periods)
-            .map(|from| time_average(&self.map[from..]));
+        let averaged_over =
+            |periods: f64| persistence_window(&self.times, tail_from, self.period, periods).map(|from| time_average(&self.map[from..]));
+        let averaged = averaged_over(self.opts.classify.persistence_periods);
         let stationary = averaged.as_ref().map_or(0, |p| detect(p, l, &self.params).len());
         let spacing = averaged
             .as_ref()
             .filter(|_| stationary > 0)
             .and_then(|p| dominant_spacing(p, l, 2 * stationary));
-        let classification = classify(
-            Evidence {
-                contrast,
-                mobility,
-                tail_stripe_count: tail_count,
-                stationary_stripe_count: stationary,
-            },
-            self.opts.classify,
-        );
+        let evidence = Evidence {
+            contrast,
+            mobility,
+            tail_stripe_count: tail_count,
+            stationary_stripe_count: stationary,
+        };
+        let classification = classify(evidence, self.opts.classify);
+        let sensitivity = sensitivity(self.opts.classify, evidence, |periods| {
+            averaged_over(periods).map_or(0, |p| detect(&p, l, &self.params).len())
+        });
 
         // Plateaus of D.
         let (before, after) = match onset_s {
@@ -745,6 +768,7 @@ impl Analyzer {
             tracer: self.tracer,
             radii,
             classification,
+            sensitivity,
             structure: self.structure,
             late,
             late_gaps,

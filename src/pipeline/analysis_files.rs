@@ -72,6 +72,20 @@ pub(super) fn write_tables(dir: &mut RunDir, r: &Report, run: &analysis::input::
         })
         .collect();
     dir.csv("bands_late.csv", &["band_width_m", "gap_m"], &rows)?;
+    // The classifier's thresholds varied around the given ones: which phase each set gives.
+    let mut text = String::from("mobility_min,contrast_min,persistence_periods,stationary_stripe_count,phase\n");
+    for v in &r.sensitivity.variants {
+        let p = v.params;
+        text.push_str(&format!(
+            "{},{},{},{},{}\n",
+            p.mobility_min,
+            p.contrast_min,
+            p.persistence_periods,
+            v.stationary_stripe_count,
+            v.phase.name()
+        ));
+    }
+    dir.text("phase_sensitivity.csv", &text)?;
     let sk = LinePlot::new("Structure factor of the late frames", "wavelength 2 pi / k (m)", "S(k)")
         .series(
             "S(k)",

@@ -2,7 +2,8 @@
 //! its jobs, one per model, amplitude, frequency and sample, and its report.
 //!
 //! Writes `phase_map.csv` (`model,frequency,amplitude,sample,phase,stripe_count,contrast,
-//! mobility,onset_s`), per model the heat maps of contrast and mobility with the class
+//! mobility,onset_s,structure_peak_height,phase_robust`, the last 1 when the run's phase is the
+//! same under every threshold set of the analysis' sensitivity sweep), per model the heat maps of contrast and mobility with the class
 //! boundaries (nothing / stripes / gas, the analysis' classifier) drawn on them, and
 //! `report.md` with both models side by side and where they agree.
 
@@ -73,7 +74,10 @@ fn mean(v: &[f64]) -> f64 {
 /// Writes the CSV, the plots and the report of whatever results exist; returns the summary.
 pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
     let (results, mut dir) = super::open_report(root, sweep)?;
-    let mut csv = String::from("model,frequency,amplitude,sample,phase,stripe_count,contrast,mobility,onset_s\n");
+    let mut csv =
+        String::from("model,frequency,amplitude,sample,phase,stripe_count,contrast,mobility,onset_s,structure_peak_height,phase_robust\n");
+    // Runs whose phase changes with the classifier's thresholds.
+    let mut fragile = Vec::new();
     // (model, amplitude index, frequency index) -> per-sample (phase, contrast, mobility).
     let num = |v: &Value, k: &str| v[k].as_f64().unwrap_or(f64::NAN);
     let mut freqs: Vec<f64> = sweep
@@ -98,11 +102,25 @@ pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
         let (contrast, mobility) = (super::metric(r, "contrast"), super::metric(r, "mobility"));
         let count = super::metric(r, "stripe_count_final");
         let onset = super::metric(r, "stripe_onset_s");
+        let height = super::metric(r, "structure_peak_height");
+        let robust = r["analysis"]["phase_robust"].as_bool();
+        if robust == Some(false) {
+            let votes = &r["analysis"]["phase_votes"];
+            fragile.push(format!(
+                "{} ({f} Hz, {a} m, sample {}): {phase}; of 27 threshold sets {} say stripes, {} gas, {} nothing",
+                job.model.name(),
+                r["sample"].as_u64().unwrap_or(0),
+                votes["stripes"],
+                votes["gas"],
+                votes["nothing"]
+            ));
+        }
         writeln!(
             csv,
-            "{},{f},{a},{},{phase},{count},{contrast},{mobility},{onset}",
+            "{},{f},{a},{},{phase},{count},{contrast},{mobility},{onset},{height},{}",
             job.model.name(),
-            r["sample"].as_u64().unwrap_or(0)
+            r["sample"].as_u64().unwrap_or(0),
+            robust.map_or("?", |b| if b { "1" } else { "0" })
         )?;
         let fi = freqs.iter().position(|x| *x == f).unwrap_or(0);
         let ai = amps.iter().position(|x| *x == a).unwrap_or(0);
@@ -232,6 +250,17 @@ pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
         }
         writeln!(md)?;
     }
+    writeln!(
+        md,
+        "## Sensitivity to the classifier's thresholds\n\nEach run's phase was taken again under 27 threshold sets (mobility and persistence halved and doubled, contrast threshold 0.8 and 1.25 times; `phase_sensitivity.csv` in each run's analysis). {} of {} runs keep their phase under all of them{}\n",
+        results.len() - fragile.len(),
+        results.len(),
+        if fragile.is_empty() { "." } else { "; the others:" }
+    )?;
+    for f in &fragile {
+        writeln!(md, "- {f}")?;
+    }
+    writeln!(md)?;
     if let (Some(d), Some(c)) = (grids.get("dem"), grids.get("automaton")) {
         let (mut same, mut both, mut differ, mut ties) = (0, 0, Vec::new(), 0);
         for ai in 0..amps.len() {
@@ -275,6 +304,7 @@ pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
         "amplitude": amps,
         "phases": phases,
         "agreement": agreement,
+        "runs_with_threshold_sensitive_phase": fragile.len(),
     });
     let line = dir.finish(summary)?;
     Ok(serde_json::from_str(&line)?)
