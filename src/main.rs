@@ -5,6 +5,7 @@
 //! Every subcommand that computes numbers writes a directory with the resolved configuration
 //! (`config.json`) and `summary.json`, and prints that summary as the last line of stdout.
 
+mod analysis_dir;
 mod bytes;
 mod calibrate;
 mod cellular;
@@ -75,6 +76,9 @@ enum Command {
     Automaton(commands::automaton::Args),
     /// DEM and automaton on the same scene and sample, analysed alike: report.md.
     Compare(commands::compare::Args),
+    /// Several analysed runs of one scene side by side: pooled structure with errors,
+    /// pattern distances between runs, spacing and band count over time.
+    Seeds(commands::seeds::Args),
     /// Held, rolling and sliding grains inside and outside the dense bands of a finished run,
     /// continued from its checkpoint (thesis 3.4, 3.5).
     Mechanism(commands::mechanism::Args),
@@ -103,6 +107,7 @@ fn main() -> ExitCode {
         Command::Collect(a) => commands::collect::run(a),
         Command::Automaton(a) => commands::automaton::run(a),
         Command::Compare(a) => commands::compare::run(a),
+        Command::Seeds(a) => commands::seeds::run(a),
         Command::Bench(a) => commands::bench::run(a),
         Command::Events(a) => commands::events::run(a),
         Command::EventsSweep(a) => commands::events_sweep::run(a),

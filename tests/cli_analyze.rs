@@ -139,6 +139,28 @@ fn snapshots_and_a_lammps_dump_of_the_same_layer_give_the_same_analysis() {
         assert!(std::fs::metadata(out.join(f)).map(|m| m.len() > 0).unwrap_or(false), "{f} missing");
     }
 
+    // The same analysis twice, side by side: no spread and no pattern distance; a
+    // directory without an analysis is named.
+    let seeds_out = dir.join("seeds");
+    let (ok, stdout, stderr) = stripes(&[
+        "seeds",
+        run.to_str().unwrap(),
+        out.to_str().unwrap(),
+        "--out",
+        seeds_out.to_str().unwrap(),
+    ]);
+    assert!(ok, "{stderr}");
+    let e = summary_of(&stdout, &seeds_out);
+    assert_eq!(e["pattern_distance_max"], 0.0, "{e}");
+    assert_eq!(e["pooled"]["spacing_m"]["sd"], 0.0, "{e}");
+    assert_eq!(e["pooled"]["spacing_m"]["mean"], s["spacing_m"], "{e}");
+    assert_eq!(e["pooled"]["stripe_count_final"]["mean"], 3.0, "{e}");
+    let table = std::fs::read_to_string(seeds_out.join("seeds.csv")).unwrap();
+    assert_eq!(table.lines().count(), 3, "{table}");
+    assert!(seeds_out.join("spacing_over_time.png").is_file());
+    let (ok, _, stderr) = stripes(&["seeds", run.to_str().unwrap(), dir.to_str().unwrap()]);
+    assert!(!ok && stderr.contains("stripes analyze"), "{stderr}");
+
     let dump_out = dir.join("lammps-analysis");
     let (ok, stdout, stderr) = stripes(&[
         "analyze",

@@ -13,6 +13,7 @@ use analysis::plot::{Heatmap, LinePlot, Mark};
 use serde::Serialize;
 use serde_json::{json, Value};
 
+use crate::analysis_dir;
 use crate::cellular::load_scene;
 use crate::output::{CliError, RunDir};
 use crate::pipeline::{self, AnalysisOptions, AutomatonOptions, RunOptions};
@@ -53,18 +54,6 @@ fn read_json(path: &Path) -> Result<Value, CliError> {
     Ok(serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?)
 }
 
-/// The late-time structure an analysis directory wrote (`structure_factor_late.csv`,
-/// `bands_late.csv`).
-fn late_structure(analysis: &Path) -> Result<analysis::structure::Structure, CliError> {
-    let p = analysis.join("structure_factor_late.csv");
-    let (_, rows) = read_csv(&p).map_err(|e| format!("cannot read {}: {e}", p.display()))?;
-    let s = rows.iter().filter(|r| r.len() >= 3).map(|r| (r[0], r[2])).collect();
-    let p = analysis.join("bands_late.csv");
-    let (_, rows) = read_csv(&p).map_err(|e| format!("cannot read {}: {e}", p.display()))?;
-    let band_widths = rows.iter().filter_map(|r| r.first().copied()).filter(|w| w.is_finite()).collect();
-    Ok(analysis::structure::Structure { s, band_widths })
-}
-
 /// The pattern distance between the models in words: scaled by the seed-to-seed distance
 /// where there is one, and never called agreement without it.
 fn structure_line(distance: Option<f64>, scale: Option<f64>) -> String {
@@ -83,13 +72,6 @@ fn structure_line(distance: Option<f64>, scale: Option<f64>) -> String {
              so no agreement in structure is claimed."
         ),
     }
-}
-
-/// `(t, count)` of an analysis directory (the first two columns of its coarsening curve).
-fn counts(analysis: &Path) -> Result<Vec<(f64, f64)>, CliError> {
-    let p = analysis.join("coarsening.csv");
-    let (_, rows) = read_csv(&p).map_err(|e| format!("cannot read {}: {e}", p.display()))?;
-    Ok(rows.iter().filter(|r| r.len() >= 2).map(|r| (r[0], r[1])).collect())
 }
 
 /// A summary value for the report table: integers as they are, other numbers (times) to the
@@ -418,8 +400,8 @@ fn compare(args: &Args, file: &crate::scene_file::SceneFile, out: &Path) -> Resu
     let auto_keys = automaton.analysed.shared_keys()?;
 
     // The structures, and their distance; a second DEM seed gives its scale.
-    let dem_structure = late_structure(&dem_analysis_dir)?;
-    let auto_structure = late_structure(&auto_dir.join("analysis"))?;
+    let dem_structure = analysis_dir::late_structure(&dem_analysis_dir)?;
+    let auto_structure = analysis_dir::late_structure(&auto_dir.join("analysis"))?;
     let pattern_distance = analysis::structure::distance(&dem_structure, &auto_structure);
     let seed_scale = match &args.seed_scale_run {
         Some(d) => {
@@ -440,15 +422,15 @@ fn compare(args: &Args, file: &crate::scene_file::SceneFile, out: &Path) -> Resu
             }
             let dir2 = out.join("seed-scale-analysis");
             pipeline::analyze(d, &AnalysisOptions::into_dir(dir2.clone()))?;
-            analysis::structure::distance(&dem_structure, &late_structure(&dir2)?)
+            analysis::structure::distance(&dem_structure, &analysis_dir::late_structure(&dir2)?)
         }
         None => None,
     };
 
     // 4. Report.
     stage(args.run.quiet, 4, "report");
-    let dem_counts = counts(&dem_analysis_dir)?;
-    let auto_counts = counts(&auto_dir.join("analysis"))?;
+    let dem_counts = analysis_dir::counts(&dem_analysis_dir)?;
+    let auto_counts = analysis_dir::counts(&auto_dir.join("analysis"))?;
     let plot = LinePlot::new("Stripe count over time, same scene and sample", "t (s)", "stripes")
         .integer_y()
         .series("DEM", dem_counts.clone(), Mark::LinePoints)

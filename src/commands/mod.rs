@@ -14,4 +14,5 @@ pub mod events_sweep;
 pub mod mechanism;
 pub mod phase_map;
 pub mod run;
+pub mod seeds;
 pub mod single;
