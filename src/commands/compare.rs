@@ -182,7 +182,7 @@ fn interpret(model: &str, keys: &serde_json::Map<String, Value>) -> String {
             b.map_or("none".into(), |v| format!("{v:.2e} m^2"))
         ),
     };
-    match keys.get("phase").and_then(Value::as_str) {
+    let sentence = match keys.get("phase").and_then(Value::as_str) {
         Some("nothing") => format!(
             "The {model} layer stayed in lockstep with the tray (mobility {mobility}, below the `nothing` threshold): no stripes, contrast {contrast}; {plateaus}."
         ),
@@ -200,6 +200,18 @@ fn interpret(model: &str, keys: &serde_json::Map<String, Value>) -> String {
             "The {model} run gives no phase: {}.",
             keys.get("phase_note").and_then(Value::as_str).unwrap_or("unknown reason")
         ),
+    };
+    if keys.get("phase_robust").and_then(Value::as_bool) == Some(false) {
+        let votes = keys.get("phase_votes");
+        let v = |k: &str| votes.and_then(|v| v.get(k)).and_then(Value::as_u64).unwrap_or(0);
+        format!(
+            "{sentence} The label rests on the classifier's thresholds: of 27 threshold sets around the default, {} say stripes, {} gas and {} nothing.",
+            v("stripes"),
+            v("gas"),
+            v("nothing")
+        )
+    } else {
+        sentence
     }
 }
 
@@ -624,6 +636,15 @@ mod tests {
         );
         let s = interpret("automaton", &auto);
         assert!(s.contains("formed stripes: 3 at the end (2 stationary), onset 0.713 s"), "{s}");
+        assert!(!s.contains("thresholds"), "no sweep, no claim about it: {s}");
+        let mut fragile = auto.clone();
+        fragile.insert("phase_robust".into(), false.into());
+        fragile.insert("phase_votes".into(), json!({"nothing": 0, "stripes": 21, "gas": 6}));
+        let s = interpret("DEM", &fragile);
+        assert!(
+            s.ends_with("of 27 threshold sets around the default, 21 say stripes, 6 gas and 0 nothing."),
+            "{s}"
+        );
         let none = keys(json!({"phase": null, "phase_note": "too few frames for a phase"}));
         assert!(interpret("DEM", &none).contains("no phase: too few frames"));
         assert!(THESIS.contains("4 +- 0.875"));

@@ -88,11 +88,13 @@ pub struct AnalysisSummary {
 
 /// The keys of an analysis summary that a model's own summary repeats (`stripes
 /// automaton`, `stripes compare`).
-const SHARED_KEYS: [&str; 18] = [
+const SHARED_KEYS: [&str; 20] = [
     "stripe_count_final",
     "stripe_onset_s",
     "phase",
     "phase_note",
+    "phase_robust",
+    "phase_votes",
     "mobility",
     "contrast",
     "stationary_stripe_count",
