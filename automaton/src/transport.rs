@@ -67,7 +67,7 @@ impl SlopeTable {
     pub fn slope(self, phi: f64) -> f64 {
         let p = self.points();
         let (first, last) = (p[0], p[p.len() - 1]);
-        if !(phi > first.0) {
+        if phi.is_nan() || phi <= first.0 {
             return first.1;
         }
         if phi >= last.0 {
