@@ -285,7 +285,7 @@ mod tests {
             let mut cells = Vec::new();
             for c in 0..nx {
                 z = crate::rng::mix(z);
-                if z % 3 == 0 {
+                if z.is_multiple_of(3) {
                     cells.push(c);
                 }
             }
