@@ -171,12 +171,25 @@ pub fn lattice_from_positions(cells: &Cells, length: f64, pos: &[[f64; 2]]) -> (
     (Lattice::from_heights(nx, ny, &h).expect("sizes match"), displaced, stacked)
 }
 
+/// The lattice's cells and the scene's mean grain area `pi <r^2>`, with radii uniform in
+/// `[r_min, r_max]` as the samples draw them: `<r^2> = (a^2 + a b + b^2) / 3`.
+pub fn cell_shape(file: &SceneFile) -> mapping::CellShape {
+    let (c, p) = (Cells::of(file), &file.dem.particles);
+    let (a, b) = (p.radius_min, p.radius_max);
+    mapping::CellShape {
+        length: c.dx,
+        width: c.dy,
+        rows: c.ny,
+        grain_area: std::f64::consts::PI * (a * a + a * b + b * b) / 3.0,
+    }
+}
+
 /// The automaton's parameters for a scene, given the measured slide.
 pub fn params(file: &SceneFile, rule: RuleSet, slide: &SlideMeasure, free: &FreeParams) -> Params {
-    let (scene, cells) = (&file.dem, Cells::of(file));
+    let scene = &file.dem;
     Params {
         rule,
-        physical: mapping::physical(&tray_drive(scene), slide, cells.dx, free),
+        physical: mapping::physical(&tray_drive(scene), slide, &cell_shape(file), free),
         y: if scene.toggles.walls {
             YBoundary::Walls
         } else {

@@ -45,6 +45,7 @@ fn main() {
             sideways: Sideways::Bernoulli { p: 0.1 },
             frustration: Frustration::None,
             trains: false,
+            transport: automaton::Transport::Uniform,
         },
         y: YBoundary::Walls,
         seed: 1,

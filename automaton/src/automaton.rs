@@ -42,8 +42,12 @@ impl Automaton {
     pub fn new(lattice: Lattice, params: Params, first: Direction) -> Result<Self, ParamsError> {
         params.validate()?;
         let resolved = params.resolve();
-        // Trains have no bit-parallel step: they run on bytes.
-        let lattice = if resolved.trains { lattice.into_byte_storage() } else { lattice };
+        // Trains and graded transport have no bit-parallel step: they run on bytes.
+        let lattice = if resolved.trains || resolved.graded.is_some() {
+            lattice.into_byte_storage()
+        } else {
+            lattice
+        };
         let (nx, ny) = (lattice.nx, lattice.ny);
         Ok(Self {
             resolved,

@@ -14,7 +14,7 @@
 //!   lateral contacts and optional sideways moves ([`Physical`]), each switchable.
 //!
 //! Modules: [`lattice`] (storage), [`params`] (rules and switches), [`mapping`] (tray to
-//! parameters), `step` (bit-parallel submonolayer step, rows of up to 1024 cells), `scalar` (byte
+//! parameters), [`transport`] (graded transport and melting, from the DEM's measured slope), `step` (bit-parallel submonolayer step, rows of up to 1024 cells), `scalar` (byte
 //! step: any height, the resting rule, wider rows), `neighbours` (cells across rows), [`automaton`] (the driver), `rng` (counter-based random bits), `bits`
 //! (periodic bit rows).
 
@@ -28,10 +28,11 @@ mod rng;
 mod scalar;
 pub mod spec;
 mod step;
+pub mod transport;
 
 pub use automaton::{Automaton, Direction};
 pub use lattice::Lattice;
 pub use params::{
-    Activation, FlightCap, Frustration, Knock, Lateral, Params, ParamsError, Physical, RuleSet, Sideways, Threshold, YBoundary,
+    Activation, FlightCap, Frustration, Knock, Lateral, Params, ParamsError, Physical, RuleSet, Sideways, Threshold, Transport, YBoundary,
 };
-pub use spec::Spec;
+pub use spec::{Spec, TransportKind};

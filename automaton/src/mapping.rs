@@ -21,7 +21,8 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::params::{Activation, FlightCap, Frustration, Knock, Lateral, Physical, Sideways, Threshold};
+use crate::params::{Activation, FlightCap, Frustration, Knock, Lateral, Physical, Sideways, Threshold, Transport};
+use crate::transport::{hold_share, Graded, SlopeTable};
 
 /// The tray and the grains, SI units.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -154,6 +155,45 @@ pub struct FreeParams {
     pub trains: bool,
     /// Apply the flight cap.
     pub flight_cap: bool,
+    /// With `rolling`, up to the rolling limit: graded transport in place of frustration
+    /// (`None`: frustration as above).
+    pub graded: Option<GradedChoice>,
+}
+
+/// The choices of graded transport ([`crate::transport`]).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct GradedChoice {
+    /// Which measured slope table.
+    pub slope: SlopeTable,
+    /// `Gamma_c` of the melt rule ([`hold_share`]); `None`: agitation leaves the whole hold.
+    pub melt_gamma: Option<f64>,
+    /// Length of the strip over which a grain's local packing is taken (m).
+    pub window: f64,
+}
+
+/// The lattice's cells and grains, for the local packing of graded transport.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CellShape {
+    /// Cell length along x (m).
+    pub length: f64,
+    /// Cell width along y (m).
+    pub width: f64,
+    /// Rows across the tray.
+    pub rows: usize,
+    /// Mean projected area of a grain, `pi <r^2>` (m^2).
+    pub grain_area: f64,
+}
+
+/// The graded-transport slot for a drive and lattice: the hold left by agitation at the
+/// drive's `Gamma = A (2 pi nu)^2 / g`, and the area fraction one grain adds to its strip.
+pub fn graded(drive: &TrayDrive, cell: &CellShape, choice: &GradedChoice) -> Graded {
+    let gamma = drive.tray_acceleration() / drive.gravity;
+    Graded {
+        slope: choice.slope,
+        hold: choice.melt_gamma.map_or(1.0, |gc| hold_share(gamma, gc)),
+        grain_fraction: cell.grain_area / (choice.window * cell.width * cell.rows as f64),
+        window_cells: choice.window / cell.length,
+    }
 }
 
 /// The `physical` ingredients of a tray: cap `l = round(D / cell_length)` cells, threshold
@@ -182,8 +222,17 @@ pub struct FreeParams {
 ///
 /// **Trains** (`free.trains`, rolling regime only). Free grains all roll with the floor, at
 /// 5/7 of its velocity, so they do not stop one another: only resting grains stop a flight.
-pub fn physical(drive: &TrayDrive, slide: &SlideMeasure, cell_length: f64, free: &FreeParams) -> Physical {
+///
+/// **Graded transport** (`free.graded`, rolling regime only, in place of frustration): every
+/// grain goes its own excursion against the packing of its strip, from the DEM's measured
+/// slope, and agitation melts the hold ([`crate::transport`], [`graded`]).
+pub fn physical(drive: &TrayDrive, slide: &SlideMeasure, cell: &CellShape, free: &FreeParams) -> Physical {
+    let cell_length = cell.length;
     let rolling_regime = free.rolling && rolls_without_slip(drive);
+    let transport = match &free.graded {
+        Some(choice) if rolling_regime => Transport::Graded(graded(drive, cell, choice)),
+        _ => Transport::Uniform,
+    };
     Physical {
         threshold: if free.threshold && !free.rolling {
             Threshold::Coulomb {
@@ -211,10 +260,11 @@ pub fn physical(drive: &TrayDrive, slide: &SlideMeasure, cell_length: f64, free:
         lateral: free.lateral,
         sideways: free.sideways.map_or(Sideways::None, |p| Sideways::Bernoulli { p }),
         frustration: match free.frustration {
-            Some(p) if rolling_regime => Frustration::Bernoulli { p },
+            Some(p) if rolling_regime && transport == Transport::Uniform => Frustration::Bernoulli { p },
             _ => Frustration::None,
         },
         trains: free.trains && rolling_regime,
+        transport,
     }
 }
 
@@ -271,6 +321,13 @@ mod tests {
             frustration: Some(0.1),
             trains: true,
             flight_cap: true,
+            graded: None,
+        };
+        let cell = CellShape {
+            length: 0.75e-3,
+            width: 0.75e-3,
+            rows: 10,
+            grain_area: 0.4e-6,
         };
         let resolve = |ph: Physical| {
             Params {
@@ -281,11 +338,11 @@ mod tests {
             }
             .resolve()
         };
-        let rolls = resolve(physical(&drive, &rolling, 0.75e-3, &free(true)));
+        let rolls = resolve(physical(&drive, &rolling, &cell, &free(true)));
         assert!(!rolls.frozen);
         assert_eq!(rolls.cap, 19);
         assert_eq!(rolls.hold, crate::rng::quantise(0.1), "crowded grains are frustrated");
-        let slides = resolve(physical(&drive, &rolling, 0.75e-3, &free(false)));
+        let slides = resolve(physical(&drive, &rolling, &cell, &free(false)));
         assert!(slides.frozen, "the sliding reading: nothing moves below mu g");
         // Above the sliding threshold every grain slides: no frustration.
         let strong = TrayDrive {
@@ -293,7 +350,7 @@ mod tests {
             amplitude: 0.025,
             ..drive
         };
-        let sliding = resolve(physical(&strong, &rolling, 0.75e-3, &free(true)));
+        let sliding = resolve(physical(&strong, &rolling, &cell, &free(true)));
         assert_eq!(sliding.hold, 0);
         assert!(rolls.trains && !sliding.trains);
         // Above mu g but below (7/2) mu g a free sphere still rolls without slip.
@@ -303,13 +360,79 @@ mod tests {
             ..drive
         };
         assert!(brisk.tray_acceleration() > brisk.friction_acceleration());
-        let r = resolve(physical(&brisk, &rolling, 0.75e-3, &free(true)));
+        let r = resolve(physical(&brisk, &rolling, &cell, &free(true)));
         assert!(r.hold > 0 && r.trains, "Gamma 1.16 still rolls");
         // Rolling resisted (the free sphere stays within half a cell): frozen either way.
         let held = SlideMeasure {
             displacement: 0.3e-3,
             peak_speed: 0.01,
         };
-        assert!(resolve(physical(&drive, &held, 0.75e-3, &free(true))).frozen);
+        assert!(resolve(physical(&drive, &held, &cell, &free(true))).frozen);
+    }
+
+    /// Graded transport takes frustration's place where grains roll, keeps the whole hold
+    /// at the experiment's drive, melts it above `Gamma_c`, and is off where grains slide.
+    #[test]
+    fn graded_transport_replaces_frustration_and_melts_with_gamma() {
+        let drive = TrayDrive {
+            frequency: 3.0,
+            amplitude: 0.01,
+            mu: 0.7,
+            gravity: 9.81,
+        };
+        let slide = SlideMeasure {
+            displacement: 2.0 * 5.0 / 7.0 * drive.amplitude,
+            peak_speed: 0.13,
+        };
+        let cell = CellShape {
+            length: 0.6e-3,
+            width: 0.6e-3,
+            rows: 33,
+            grain_area: 0.46e-6,
+        };
+        let free = FreeParams {
+            activation: Some(1.0),
+            knock_speed: None,
+            sideways: None,
+            lateral: Lateral::None,
+            threshold: true,
+            rolling: true,
+            frustration: Some(0.25),
+            trains: true,
+            flight_cap: true,
+            graded: Some(GradedChoice {
+                slope: SlopeTable::InBands,
+                melt_gamma: Some(1.2),
+                window: 1e-3,
+            }),
+        };
+        let ph = physical(&drive, &slide, &cell, &free);
+        assert_eq!(ph.frustration, Frustration::None);
+        let Transport::Graded(g) = ph.transport else {
+            panic!("graded where grains roll")
+        };
+        assert_eq!(g.hold, 1.0, "Gamma 0.36 < Gamma_c");
+        assert!((g.window_cells - 1e-3 / 0.6e-3).abs() < 1e-12);
+        // N grains in the strip cover N pi <r^2> of its 1 mm x 33 rows.
+        assert!((g.grain_fraction - 0.46e-6 / (1e-3 * 0.6e-3 * 33.0)).abs() < 1e-15);
+        // Gamma 2.0 (5 Hz, 20 mm): a share (2/pi) asin(1.2 / 2.01) of the hold is left.
+        let brisk = TrayDrive {
+            frequency: 5.0,
+            amplitude: 0.02,
+            ..drive
+        };
+        let Transport::Graded(g) = physical(&brisk, &slide, &cell, &free).transport else {
+            panic!("Gamma 2 still rolls")
+        };
+        let gamma = brisk.tray_acceleration() / brisk.gravity;
+        assert!((g.hold - crate::transport::hold_share(gamma, 1.2)).abs() < 1e-12 && g.hold < 0.5);
+        // Above the rolling limit every grain slides: neither rule.
+        let sliding = TrayDrive {
+            frequency: 20.0,
+            amplitude: 0.025,
+            ..drive
+        };
+        let ph = physical(&sliding, &slide, &cell, &free);
+        assert_eq!((ph.transport, ph.frustration), (Transport::Uniform, Frustration::None));
     }
 }

@@ -3,6 +3,8 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::transport::Graded;
+
 /// Which rule set runs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
@@ -38,6 +40,9 @@ pub enum ParamsError {
     UnknownRuleSet { given: String },
     /// A probability outside [0, 1] (`field`: `activation`, `knock probability`, ...).
     Probability { field: &'static str, value: f64 },
+    /// A length or area fraction that must be positive and finite (`field`: `graded window`,
+    /// ...).
+    Positive { field: &'static str, value: f64 },
     /// A sliding threshold with a negative or non-finite acceleration (m/s^2).
     Threshold {
         tray_acceleration: f64,
@@ -52,6 +57,7 @@ impl std::fmt::Display for ParamsError {
                 write!(f, "unknown rule set `{given}`, expected one of {}", RuleSet::NAMES.join(", "))
             }
             ParamsError::Probability { field, value } => write!(f, "automaton.{field} must lie in [0, 1], got {value}"),
+            ParamsError::Positive { field, value } => write!(f, "automaton.{field} must be positive and finite, got {value}"),
             ParamsError::Threshold {
                 tray_acceleration,
                 friction_acceleration,
@@ -132,6 +138,18 @@ pub enum Frustration {
     Bernoulli { p: f64 },
 }
 
+/// How far a flying grain goes (rolling regime only, [`crate::mapping::physical`]).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case", tag = "kind")]
+pub enum Transport {
+    /// Every flying grain goes up to the cap; [`Frustration`] decides who flies.
+    Uniform,
+    /// Every grain goes its own excursion against the packing of its strip, from the DEM's
+    /// measured slope `a(phi)`, scaled by the hold agitation leaves ([`crate::transport`]).
+    /// Replaces [`Frustration`]; runs on the byte lattice, without knock-through.
+    Graded(Graded),
+}
+
 /// Contacts with the neighbouring rows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
@@ -184,6 +202,17 @@ pub struct Physical {
     /// a flight, and a train queues up behind one. Off: every grain of the unchanged copy L
     /// is an obstacle (thesis 3.1 rule 1). Runs on the byte lattice ([`crate::scalar`]).
     pub trains: bool,
+    /// How far a flying grain goes.
+    #[serde(default = "uniform", skip_serializing_if = "is_uniform")]
+    pub transport: Transport,
+}
+
+fn uniform() -> Transport {
+    Transport::Uniform
+}
+
+fn is_uniform(t: &Transport) -> bool {
+    *t == Transport::Uniform
 }
 
 impl Physical {
@@ -198,6 +227,7 @@ impl Physical {
             sideways: Sideways::None,
             frustration: Frustration::None,
             trains: false,
+            transport: Transport::Uniform,
         }
     }
 }
@@ -223,7 +253,7 @@ pub(crate) struct Tick {
 }
 
 /// The resolved per-half-step numbers both update paths use.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct Resolved {
     /// Nothing moves (below the sliding threshold, or a zero flight cap).
     pub frozen: bool,
@@ -239,6 +269,8 @@ pub(crate) struct Resolved {
     pub trains: bool,
     pub lateral: Lateral,
     pub periodic_y: bool,
+    /// Graded transport ([`Transport::Graded`]); `None`: every flight goes up to the cap.
+    pub graded: Option<Graded>,
 }
 
 impl Params {
@@ -263,6 +295,14 @@ impl Params {
         }
         if let Frustration::Bernoulli { p } = ph.frustration {
             prob("frustration", p)?;
+        }
+        if let Transport::Graded(g) = ph.transport {
+            prob("graded hold", g.hold)?;
+            for (field, value) in [("graded grain fraction", g.grain_fraction), ("graded window", g.window_cells)] {
+                if !(value.is_finite() && value > 0.0) {
+                    return Err(ParamsError::Positive { field, value });
+                }
+            }
         }
         if let Threshold::Coulomb {
             tray_acceleration: a,
@@ -292,6 +332,7 @@ impl Params {
                 trains: false,
                 lateral: Lateral::None,
                 periodic_y,
+                graded: None,
             },
             RuleSet::Physical => {
                 let p = &self.physical;
@@ -328,6 +369,10 @@ impl Params {
                     },
                     lateral: p.lateral,
                     periodic_y,
+                    graded: match p.transport {
+                        Transport::Uniform => None,
+                        Transport::Graded(g) => Some(g),
+                    },
                 }
             }
         }
@@ -355,6 +400,7 @@ mod tests {
                 sideways: Sideways::None,
                 frustration: Frustration::None,
                 trains: false,
+                transport: Transport::Uniform,
             },
             y: YBoundary::Walls,
             seed: 1,

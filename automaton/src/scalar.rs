@@ -28,6 +28,7 @@
 use crate::neighbours::{neighbour_row, offset_row, NEIGHBOURS};
 use crate::params::{Lateral, Resolved, Tick};
 use crate::rng::{self, Stream};
+use crate::transport::{landings, Graded};
 
 /// Buffers of the byte step.
 pub(crate) struct ScalarScratch {
@@ -36,6 +37,17 @@ pub(crate) struct ScalarScratch {
     snap: Vec<u8>,
     flies: Vec<bool>,
     impacts: Vec<(usize, usize, u8)>,
+    graded: GradedScratch,
+}
+
+/// Buffers of graded flights ([`graded_flights`]).
+#[derive(Default)]
+pub(crate) struct GradedScratch {
+    counts: Vec<u32>,
+    jumps: Vec<usize>,
+    cells: Vec<usize>,
+    row_jumps: Vec<usize>,
+    land: Vec<usize>,
 }
 
 impl ScalarScratch {
@@ -46,6 +58,11 @@ impl ScalarScratch {
             snap: vec![0; nx * ny],
             flies: vec![false; nx * ny],
             impacts: Vec::with_capacity(nx * ny),
+            graded: GradedScratch {
+                counts: vec![0; nx],
+                jumps: vec![0; nx],
+                ..GradedScratch::default()
+            },
         }
     }
 }
@@ -123,32 +140,36 @@ pub(crate) fn half_step(nx: usize, ny: usize, h: &mut [u8], r: &Resolved, tick: 
     };
     sc.impacts.clear();
     if !r.frozen {
-        for j in 0..ny {
-            let key = rng::row_key(seed, t, j);
-            for i in 0..nx {
-                if !flies[j * nx + i] {
-                    continue;
-                }
-                let z = lf[j * nx + i] - 1;
-                // k: the first obstacle ahead; m: the flying grains of a train before it,
-                // which land ahead of this one. Past `cap` free cells the flight is capped.
-                let (mut k, mut m) = (1, 0);
-                while k < nx && !obstacle(j, (i + k) % nx, z) {
-                    m += flyer(j, (i + k) % nx, z) as usize;
-                    if k - m > cap {
-                        break;
+        if let Some(g) = &r.graded {
+            graded_flights(nx, ny, lf, flies, &mut sc.new, g, cap, r.trains, &mut sc.graded);
+        } else {
+            for j in 0..ny {
+                let key = rng::row_key(seed, t, j);
+                for i in 0..nx {
+                    if !flies[j * nx + i] {
+                        continue;
                     }
-                    k += 1;
-                }
-                let gap = k - 1;
-                let dist = if k == nx { gap.min(cap) } else { (gap - m).min(cap) };
-                if dist > 0 {
-                    sc.new[j * nx + i] -= 1;
-                    sc.new[j * nx + (i + dist) % nx] += 1;
-                }
-                let p = (i + k) % nx;
-                if m == 0 && gap < cap && gap >= 1 && r.knock > 0 && bit(key, Stream::Knock, p, r.knock) {
-                    sc.impacts.push((j, p, z));
+                    let z = lf[j * nx + i] - 1;
+                    // k: the first obstacle ahead; m: the flying grains of a train before it,
+                    // which land ahead of this one. Past `cap` free cells the flight is capped.
+                    let (mut k, mut m) = (1, 0);
+                    while k < nx && !obstacle(j, (i + k) % nx, z) {
+                        m += flyer(j, (i + k) % nx, z) as usize;
+                        if k - m > cap {
+                            break;
+                        }
+                        k += 1;
+                    }
+                    let gap = k - 1;
+                    let dist = if k == nx { gap.min(cap) } else { (gap - m).min(cap) };
+                    if dist > 0 {
+                        sc.new[j * nx + i] -= 1;
+                        sc.new[j * nx + (i + dist) % nx] += 1;
+                    }
+                    let p = (i + k) % nx;
+                    if m == 0 && gap < cap && gap >= 1 && r.knock > 0 && bit(key, Stream::Knock, p, r.knock) {
+                        sc.impacts.push((j, p, z));
+                    }
                 }
             }
         }
@@ -214,6 +235,49 @@ pub(crate) fn half_step(nx: usize, ny: usize, h: &mut [u8], r: &Resolved, tick: 
     for j in 0..ny {
         for i in 0..nx {
             h[j * nx + i] = sc.new[j * nx + map(i)];
+        }
+    }
+}
+
+/// Graded flights ([`crate::params::Transport::Graded`]), in the flight frame `lf` into
+/// `new`: the grains of each column (all rows and levels) give the packing of its strip and
+/// the jump of a grain there ([`Graded::jumps`]); in each row every lone grain at the floor
+/// drawn to fly goes its jump, queueing behind the grain ahead of it with `trains`, or
+/// stopping before the start of the grain ahead without ([`landings`]). Piles rest. No
+/// impacts are recorded (no knock-through).
+#[allow(clippy::too_many_arguments)]
+fn graded_flights(
+    nx: usize,
+    ny: usize,
+    lf: &[u8],
+    flies: &[bool],
+    new: &mut [u8],
+    g: &Graded,
+    cap: usize,
+    trains: bool,
+    gs: &mut GradedScratch,
+) {
+    for (i, c) in gs.counts.iter_mut().enumerate() {
+        *c = (0..ny).map(|j| lf[j * nx + i] as u32).sum();
+    }
+    g.jumps(cap, &gs.counts, &mut gs.jumps);
+    for j in 0..ny {
+        gs.cells.clear();
+        gs.row_jumps.clear();
+        for i in 0..nx {
+            let h = lf[j * nx + i];
+            if h == 0 {
+                continue;
+            }
+            gs.cells.push(i);
+            gs.row_jumps.push(if h == 1 && flies[j * nx + i] { gs.jumps[i] } else { 0 });
+        }
+        landings(nx, &gs.cells, &gs.row_jumps, trains, &mut gs.land);
+        for (&c, &l) in gs.cells.iter().zip(&gs.land) {
+            if l != c {
+                new[j * nx + c] -= 1;
+                new[j * nx + l % nx] += 1;
+            }
         }
     }
 }

@@ -5,8 +5,21 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::mapping::FreeParams;
+use crate::mapping::{FreeParams, GradedChoice};
 use crate::params::{Lateral, RuleSet};
+use crate::transport::SlopeTable;
+
+/// How far a flying grain goes where grains roll (`[automaton] transport`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum TransportKind {
+    /// Up to the cap; `frustration` decides who flies (the default).
+    Frustration,
+    /// Each grain its own excursion against the packing of its strip, from the DEM's
+    /// measured slope (`slope`), with the melt rule (`melt`, `melt_gamma`); replaces
+    /// `frustration` ([`crate::transport`]).
+    Graded,
+}
 
 /// The `[automaton]` table; every key is optional.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -32,6 +45,21 @@ pub struct Spec {
     /// Trains (with `rolling`, while a free sphere rolls): free grains roll together with
     /// the floor, so flying grains do not stop one another; only resting grains do.
     pub trains: bool,
+    /// Where grains roll: `frustration` (default) or `graded` transport.
+    pub transport: TransportKind,
+    /// With `transport = "graded"`: the DEM's slope table, `in-bands` (default, 19 s) or
+    /// `before-bands` (1 s); chosen on the stripe scene's seed 1
+    /// (`docs/results/automaton-pattern/report.md`).
+    pub slope: SlopeTable,
+    /// With `transport = "graded"`: agitation melts the crowding's hold above `melt_gamma`.
+    pub melt: bool,
+    /// `Gamma_c` of the melt rule: the peak tray acceleration over g up to which pair
+    /// friction holds crowded grains for the whole half period (default 1.35, fitted on
+    /// part of the phase map).
+    pub melt_gamma: f64,
+    /// With `transport = "graded"`: length of the strip over which a grain's local packing
+    /// is taken (m; the DEM's measurement used 1 mm).
+    pub packing_window: f64,
     /// Flights end after the free grain's sliding displacement per half period.
     pub flight_cap: bool,
     /// Stochastic flights: each grain flies in a half period with probability `activation`.
@@ -65,6 +93,11 @@ impl Default for Spec {
             frustration: true,
             frustration_probability: 0.1,
             trains: true,
+            transport: TransportKind::Frustration,
+            slope: SlopeTable::InBands,
+            melt: true,
+            melt_gamma: 1.35,
+            packing_window: 1e-3,
             flight_cap: true,
             stochastic: true,
             activation: 0.8,
@@ -117,6 +150,14 @@ impl Spec {
                 format!("must be a positive speed (m/s), got {}", self.knock_speed),
             ));
         }
+        for (key, v) in [
+            ("automaton.melt_gamma", self.melt_gamma),
+            ("automaton.packing_window", self.packing_window),
+        ] {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(err(key, format!("must be positive and finite, got {v}")));
+            }
+        }
         if let Some(c) = self.cell {
             if !(c.is_finite() && c > 0.0) {
                 return Err(err("automaton.cell", format!("must be a positive length (m), got {c}")));
@@ -137,6 +178,11 @@ impl Spec {
             frustration: self.frustration.then_some(self.frustration_probability),
             trains: self.trains,
             flight_cap: self.flight_cap,
+            graded: (self.transport == TransportKind::Graded).then_some(GradedChoice {
+                slope: self.slope,
+                melt_gamma: self.melt.then_some(self.melt_gamma),
+                window: self.packing_window,
+            }),
         }
     }
 }
@@ -168,6 +214,20 @@ mod tests {
                     ..Spec::default()
                 },
                 "automaton.knock_speed",
+            ),
+            (
+                Spec {
+                    melt_gamma: 0.0,
+                    ..Spec::default()
+                },
+                "automaton.melt_gamma",
+            ),
+            (
+                Spec {
+                    packing_window: f64::NAN,
+                    ..Spec::default()
+                },
+                "automaton.packing_window",
             ),
             (
                 Spec {

@@ -538,6 +538,7 @@ mod tests {
                     sideways: Sideways::Bernoulli { p: 0.1 },
                     frustration: Frustration::Bernoulli { p: 0.3 },
                     trains: false,
+                    transport: crate::params::Transport::Uniform,
                 },
                 y,
                 seed: 3,

@@ -21,6 +21,7 @@ fn all_on(cap: usize, y: YBoundary) -> Params {
             sideways: Sideways::Bernoulli { p: 0.2 },
             frustration: Frustration::Bernoulli { p: 0.3 },
             trains: false,
+            transport: automaton::Transport::Uniform,
         },
         y,
         seed: 11,
@@ -424,5 +425,89 @@ proptest! {
             prop_assert!(a.lattice().heights().iter().all(|&x| x <= 1));
         }
         prop_assert_eq!(a.lattice().mass(), mass);
+    }
+}
+
+/// Graded transport from the DEM's measured slope ([`automaton::transport`]) with the given
+/// share of the hold left by agitation.
+fn graded(cap: usize, hold: f64, trains: bool, sideways: f64) -> Params {
+    use automaton::transport::{Graded, SlopeTable};
+    Params {
+        rule: RuleSet::Physical,
+        physical: Physical {
+            cap: FlightCap::Cells { cells: cap },
+            activation: Activation::None,
+            sideways: Sideways::Bernoulli { p: sideways },
+            trains,
+            transport: automaton::Transport::Graded(Graded {
+                slope: SlopeTable::InBands,
+                hold,
+                grain_fraction: 0.05,
+                window_cells: 1.67,
+            }),
+            ..Physical::off()
+        },
+        y: YBoundary::Walls,
+        seed: 5,
+    }
+}
+
+#[test]
+fn graded_transport_conserves_mass_and_keeps_a_submonolayer() {
+    for (nx, ny, fill) in [(167, 33, 0.36), (83, 33, 0.6), (40, 4, 0.9), (50, 1, 0.3)] {
+        for (trains, hold) in [(true, 1.0), (false, 1.0), (true, 0.3), (true, 0.0)] {
+            let h = random_heights(nx, ny, fill, 1, nx as u64);
+            let lattice = Lattice::from_heights(nx, ny, &h).unwrap();
+            let m0 = lattice.mass();
+            let mut a = Automaton::new(lattice, graded(24, hold, trains, 0.1), Direction::Plus).unwrap();
+            for _ in 0..60 {
+                a.half_step();
+                assert_eq!(a.lattice().mass(), m0, "{nx} x {ny}, trains {trains}, hold {hold}");
+                assert!(a.lattice().heights().iter().all(|&x| x <= 1), "grains never share a cell");
+            }
+        }
+    }
+}
+
+/// The melt rule's limit: with no hold left every grain jumps a free grain's cap, so a lone
+/// grain and a sparse layer go the cap forth and back; with the full hold a jammed strip
+/// (every cell of its columns taken) moves by its jammed slope's share of the cap only.
+#[test]
+fn without_hold_grains_jump_the_cap_and_jammed_strips_creep_with_it() {
+    let (nx, ny, cap) = (100, 3, 24);
+    let mut h = vec![0u8; nx * ny];
+    h[10] = 1;
+    let mut a = Automaton::new(
+        Lattice::from_heights(nx, ny, &h).unwrap(),
+        graded(cap, 0.0, true, 0.0),
+        Direction::Plus,
+    )
+    .unwrap();
+    a.half_step();
+    assert_eq!(a.lattice().height(10 + cap, 0), 1);
+    a.half_step();
+    assert_eq!(a.lattice().height(10, 0), 1, "back after a period");
+    // A jammed block of 10 columns across all 3 rows: its own packing sets its jump.
+    let mut h = vec![0u8; nx * ny];
+    for j in 0..ny {
+        for i in 40..50 {
+            h[j * nx + i] = 1;
+        }
+    }
+    let params = |hold| {
+        let mut p = graded(cap, hold, true, 0.0);
+        if let automaton::Transport::Graded(g) = &mut p.physical.transport {
+            g.grain_fraction = 0.9 / (3.0 * 1.67); // a full window of 3 rows: phi = 0.9
+        }
+        p
+    };
+    for (hold, expect) in [(1.0, 5), (0.0, cap)] {
+        let mut a = Automaton::new(Lattice::from_heights(nx, ny, &h).unwrap(), params(hold), Direction::Plus).unwrap();
+        a.half_step();
+        // Inside the block (column 45) the window is full, phi = 0.9, and the jammed slope
+        // 0.15 gives round(24 * 0.1536 / (5/7)) = 5 cells; its edges are less packed.
+        let moved: Vec<usize> = (0..nx).filter(|&i| a.lattice().height(i, 1) == 1).collect();
+        assert_eq!(moved.len(), 10);
+        assert!(moved.contains(&(45 + expect)), "hold {hold}: {moved:?}");
     }
 }
