@@ -98,20 +98,18 @@ MSD per period plateaus at a1 ~ 1.6e-4 m^2 before and a2 ~ 8.9e-4 m^2 after the 
 const EXPERIMENT: &str = "irregular clusters after about 1 s, merging into distinct stripes within 3-5 s \
 (clear at 10 s), static relative to the plate while the grains between them move like a gas (mustard seeds, 3 Hz, 10 mm)";
 
-/// Stripe spacing (m): the analysis' dominant wavelength of the stationary bands
-/// (`stripe_spacing_m`), else the tray length over the final stripe count.
-fn spacing(keys: &serde_json::Map<String, Value>, length: f64) -> Option<f64> {
-    if let Some(s) = keys.get("stripe_spacing_m").and_then(Value::as_f64) {
-        return Some(s);
-    }
-    let n = keys.get("stripe_count_final").and_then(Value::as_f64)?;
-    (n > 0.0).then(|| length / n)
+/// Stripe spacing (m) of a run with stripes: the late frames' S(k) peak (`spacing_m`), the
+/// one measure used for every model; none for a run without stripes.
+fn spacing(keys: &serde_json::Map<String, Value>) -> Option<f64> {
+    let striped = keys.get("phase").and_then(Value::as_str) == Some("stripes")
+        || keys.get("stripe_count_final").and_then(Value::as_f64).is_some_and(|n| n > 0.0);
+    striped.then(|| keys.get("spacing_m").and_then(Value::as_f64)).flatten()
 }
 
 /// Where the two models agree and where they differ, in words, with the likely reason.
 /// `rolling`: a free sphere rolls without slip on the drive (the automaton's frustration and
 /// trains act, [`::automaton::mapping::rolls_without_slip`]).
-fn agreement(dem: &serde_json::Map<String, Value>, auto: &serde_json::Map<String, Value>, length: f64, rolling: bool) -> Vec<String> {
+fn agreement(dem: &serde_json::Map<String, Value>, auto: &serde_json::Map<String, Value>, rolling: bool) -> Vec<String> {
     let num = |m: &serde_json::Map<String, Value>, k: &str| m.get(k).and_then(Value::as_f64);
     let phase = |m: &serde_json::Map<String, Value>| m.get("phase").and_then(Value::as_str).unwrap_or("unknown").to_string();
     let mut out = Vec::new();
@@ -129,7 +127,7 @@ fn agreement(dem: &serde_json::Map<String, Value>, auto: &serde_json::Map<String
             format!("Stripe counts differ by {d} (DEM {cd}, automaton {ca}).")
         });
     }
-    if let (Some(sd), Some(sa)) = (spacing(dem, length), spacing(auto, length)) {
+    if let (Some(sd), Some(sa)) = (spacing(dem), spacing(auto)) {
         let r = sa / sd;
         let within = (0.85..=1.15).contains(&r);
         out.push(format!(
@@ -140,8 +138,8 @@ fn agreement(dem: &serde_json::Map<String, Value>, auto: &serde_json::Map<String
         ));
         if rolling && !within {
             out.last_mut().expect("just pushed").push_str(
-                " Neither model's spacing follows the jump length; the automaton's depends on its cell length, \
-                 the coarse-graining fitted for the onset (docs/results/spacing/report.md, docs/results/automaton-rolling/report.md).",
+                " The automaton's spacing depends on its cell length, a coarse-graining fitted for the onset \
+                 (docs/results/automaton-rolling/report.md); what sets the DEM's is open (docs/results/spacing/report.md).",
             );
         }
     }
@@ -500,7 +498,7 @@ fn compare(args: &Args, file: &crate::scene_file::SceneFile, out: &Path) -> Resu
     md.push_str(&format!("- The thesis' experiment (sec 2.2.6): {EXPERIMENT}\n\n"));
     let rolling = file.automaton.rolling && ::automaton::mapping::rolls_without_slip(&crate::cellular::tray_drive(scene));
     md.push_str("## Where they agree and where they differ\n\n");
-    for line in agreement(&dem_keys, &auto_keys, scene.tray.length, rolling) {
+    for line in agreement(&dem_keys, &auto_keys, rolling) {
         md.push_str(&format!("- {line}\n"));
     }
     md.push_str(&format!("- {}\n", structure_line(pattern_distance, seed_scale)));
@@ -541,7 +539,7 @@ fn compare(args: &Args, file: &crate::scene_file::SceneFile, out: &Path) -> Resu
     md.push_str(&format!(
         "| DEM | {} | {} | {} | {} | {} | {} | {} | {} particle-steps/s |\n",
         fmt_opt(dem_keys.get("stripe_count_final")),
-        mm(spacing(&dem_keys, scene.tray.length)),
+        mm(spacing(&dem_keys)),
         mm(dem_keys.get("stripe_mean_width_final_m").and_then(Value::as_f64)),
         fmt_opt(dem_keys.get("stripe_onset_s")),
         fmt_opt(dem_keys.get("phase")),
@@ -552,7 +550,7 @@ fn compare(args: &Args, file: &crate::scene_file::SceneFile, out: &Path) -> Resu
     md.push_str(&format!(
         "| automaton | {} | {} | {} | {} | {} | {} | {} | {} cell updates/s |\n",
         fmt_opt(auto_keys.get("stripe_count_final")),
-        mm(spacing(&auto_keys, scene.tray.length)),
+        mm(spacing(&auto_keys)),
         mm(auto_keys.get("stripe_mean_width_final_m").and_then(Value::as_f64)),
         fmt_opt(auto_keys.get("stripe_onset_s")),
         fmt_opt(auto_keys.get("phase")),
@@ -655,9 +653,11 @@ mod tests {
     /// Issue 17, point 4: the report says where the models agree and differ, with spacing.
     #[test]
     fn agreement_names_phase_count_spacing_and_onset() {
-        let dem = keys(json!({"phase": "stripes", "stripe_count_final": 3, "stripe_onset_s": 1.5}));
-        let auto = keys(json!({"phase": "stripes", "stripe_count_final": 2, "stripe_onset_s": 4.5}));
-        let lines = agreement(&dem, &auto, 0.1, true);
+        let dem = keys(
+            json!({"phase": "stripes", "stripe_count_final": 3, "stripe_onset_s": 1.5, "spacing_m": 0.0333333, "stripe_spacing_m": 0.1}),
+        );
+        let auto = keys(json!({"phase": "stripes", "stripe_count_final": 2, "stripe_onset_s": 4.5, "spacing_m": 0.05}));
+        let lines = agreement(&dem, &auto, true);
         assert_eq!(lines[0], "Both models give phase `stripes`.");
         assert!(lines[1].contains("agree within one stripe"), "{lines:?}");
         assert!(
@@ -666,13 +666,15 @@ mod tests {
         );
         assert!(lines[3].contains("ratio 3.00") && lines[3].contains("more slowly"), "{lines:?}");
         let gas = keys(json!({"phase": "gas", "stripe_count_final": 0, "stripe_onset_s": null}));
-        let lines = agreement(&dem, &gas, 0.1, false);
+        let lines = agreement(&dem, &gas, false);
         assert!(lines[0].contains("differ") && lines[1].contains("differ by 3"), "{lines:?}");
         assert_eq!(lines.len(), 3, "no spacing without stripes: {lines:?}");
         assert!(lines[2].contains("automaton none"), "{lines:?}");
-        assert_eq!(spacing(&gas, 0.1), None);
-        let fourier = keys(json!({"stripe_count_final": 3, "stripe_spacing_m": 0.04}));
-        assert_eq!(spacing(&fourier, 0.1), Some(0.04), "the dominant wavelength first");
+        assert_eq!(spacing(&gas), None);
+        let gas_with_peak = keys(json!({"phase": "gas", "stripe_count_final": 0, "spacing_m": 0.02}));
+        assert_eq!(spacing(&gas_with_peak), None, "a gas's S(k) peak is not a stripe spacing");
+        let sk = keys(json!({"phase": "stripes", "stripe_count_final": 3, "stripe_spacing_m": 0.1, "spacing_m": 0.04}));
+        assert_eq!(spacing(&sk), Some(0.04), "the S(k) peak, not the time-averaged profile's mode");
     }
 
     /// Issue 19, point 14: the two density maps carry the model's name and share one scale.
