@@ -198,10 +198,11 @@ pub(crate) fn run_of(n: usize, threads: usize, t: usize) -> std::ops::Range<usiz
 /// thread takes its own blocks ([`run_of`]), so a step's stages run in one hand-over instead
 /// of one per stage, with no block lists built by the caller. Returns false, having run
 /// nothing, when the team is not available (busy with another simulation, or more threads
-/// than cores): the caller then runs its stages through [`on_blocks`].
-pub(crate) fn region(f: impl Fn(usize, usize, &Barrier) + Sync) -> bool {
+/// than cores): the caller then runs its stages through [`on_blocks`]. Work of fewer than
+/// two `blocks` runs on the calling thread alone, as in [`on_blocks`].
+pub(crate) fn region(blocks: usize, f: impl Fn(usize, usize, &Barrier) + Sync) -> bool {
     let threads = rayon::current_num_threads();
-    if threads == 1 {
+    if threads == 1 || blocks < 2 {
         f(0, 1, &Barrier::new(1));
         return true;
     }
@@ -372,6 +373,63 @@ mod tests {
             }
             assert_eq!(data, (200..1200).collect::<Vec<u64>>());
         });
+    }
+
+    #[test]
+    fn a_region_sees_every_threads_stage_after_its_barrier() {
+        for threads in [1, 2] {
+            pool(threads).install(|| {
+                let n = 9;
+                let counts: Vec<AtomicUsize> = (0..n).map(|_| AtomicUsize::new(0)).collect();
+                let (mut rounds, wrong) = (0, AtomicUsize::new(0));
+                let start = Instant::now();
+                while rounds < 300 && start.elapsed() < Duration::from_secs(60) {
+                    // Another test may hold the team: then nothing runs (the caller would use
+                    // `on_blocks`), and the round is tried again.
+                    let ran = region(n, |t, runs, barrier| {
+                        assert_eq!(runs, threads);
+                        for b in run_of(n, runs, t) {
+                            counts[b].fetch_add(1, Ordering::Relaxed);
+                        }
+                        assert!(barrier.wait());
+                        let behind = counts.iter().filter(|c| c.load(Ordering::Relaxed) != rounds + 1).count();
+                        wrong.fetch_add(behind, Ordering::Relaxed);
+                        // The second stage must not start before every thread has checked.
+                        assert!(barrier.wait());
+                    });
+                    rounds += ran as usize;
+                }
+                assert!(rounds > 0, "{threads} threads: the region never ran");
+                assert_eq!(wrong.load(Ordering::Relaxed), 0, "{threads} threads");
+                assert!(counts.iter().all(|c| c.load(Ordering::Relaxed) == rounds));
+            });
+        }
+    }
+
+    #[test]
+    fn a_panic_in_a_region_reaches_the_caller_and_releases_the_barrier() {
+        let team = Team::start(2);
+        for bad in [0, 1] {
+            let r = catch_unwind(AssertUnwindSafe(|| {
+                team.region(|t, _, barrier| {
+                    if t == bad {
+                        panic!("run {t}");
+                    }
+                    assert!(!barrier.wait(), "the barrier must not wait for a panicked thread");
+                })
+            }));
+            let msg = r.expect_err("the panic must propagate");
+            assert_eq!(
+                msg.downcast_ref::<String>().map(String::as_str),
+                Some(format!("run {bad}").as_str())
+            );
+            let sum = AtomicUsize::new(0);
+            team.region(|t, _, barrier| {
+                assert!(barrier.wait());
+                sum.fetch_add(t + 1, Ordering::Relaxed);
+            });
+            assert_eq!(sum.load(Ordering::Relaxed), 3);
+        }
     }
 
     #[test]

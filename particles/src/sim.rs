@@ -195,7 +195,7 @@ impl Simulation {
             let mut boxes = vec![(Vec3::zeros(), Vec3::zeros()); blocks];
             let (boxes_out, sums_out) = (RawArray::of(&mut boxes), RawArray::of(&mut sums));
             let decision = std::sync::Mutex::new(None);
-            let ran = region(|t, threads, barrier| {
+            let ran = region(blocks, |t, threads, barrier| {
                 let mine = run_of(blocks, threads, t);
                 for b in mine.clone() {
                     // SAFETY: block b (and its box) belongs to this thread's run alone.
