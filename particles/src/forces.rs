@@ -181,7 +181,10 @@ pub(crate) fn gather_block(
     if !inp.record {
         // Four slots at a time on lanes (diagnostics runs keep the per-contact path below,
         // which records each contact): the same kernels, the same bits.
-        pair_pass_dispatch(inp, (first, slots), (force, torque), pair_history, &mut sums);
+        on_lanes(
+            #[inline(always)]
+            || pair_pass(inp, (first, slots), (force, torque), pair_history, &mut sums),
+        );
     } else {
         pair_law.unswitched(|pair_law| {
             for ((&i, &j), zeta) in list.owner[slots.clone()]
@@ -283,7 +286,10 @@ pub(crate) fn gather_block(
             }),
             // The floor: four grains at a time (diagnostics runs keep the per-contact path,
             // which records each contact).
-            PlaneKind::Axis { axis: 2, .. } if !inp.record => floor_pass_dispatch(inp, (w, plane), out, &mut sums),
+            PlaneKind::Axis { axis: 2, .. } if !inp.record => on_lanes(
+                #[inline(always)]
+                || floor_pass::<2>(inp, (w, plane), out, &mut sums),
+            ),
             PlaneKind::Axis { .. } => wall_pass::<_, false>(inp, (w, plane), out, &mut sums, |k| {
                 if radius[k] - sign * (pos[k].z - origin.z) < 0.0 {
                     return None;
@@ -606,17 +612,32 @@ fn floor_pass<const AXIS: usize>(inp: &Inputs, (w, plane): (usize, &WallPlane), 
     acc.add_to(plane, sums);
 }
 
-/// [`floor_pass`] for the floor (`AXIS` 2), compiled twice: for the baseline instruction
-/// set (two lanes per vector instruction on x86-64) and, where the processor has AVX2, for
-/// four lanes per instruction. Rust never fuses a multiplication and an addition on its own,
-/// so both give the same bits (the test below runs both).
-fn floor_pass_dispatch(inp: &Inputs, wp: (usize, &WallPlane), out: &mut BlockOut, sums: &mut BlockSums) {
+/// Runs a pass over lanes ([`floor_pass`], [`pair_pass`]) compiled twice: for the baseline
+/// instruction set (two lanes per vector instruction on x86-64) and, where the processor has
+/// AVX2, for four lanes per instruction, chosen at run time. Rust never fuses a
+/// multiplication and an addition on its own, so both give the same bits (the test
+/// `the_floor_and_pair_passes_in_lanes_give_the_bits_of_the_one_contact_path` runs both).
+/// The pass, an `#[inline(always)]` closure, is compiled into each copy.
+#[inline(always)]
+fn on_lanes(pass: impl FnOnce()) {
     #[cfg(target_arch = "x86_64")]
     if avx2_lanes() {
         // SAFETY: the processor has AVX2 (checked at run time).
-        return unsafe { floor_pass_avx2(inp, wp, out, sums) };
+        return unsafe { on_avx2_lanes(pass) };
     }
-    floor_pass_portable(inp, wp, out, sums)
+    on_baseline_lanes(pass)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[inline(never)]
+unsafe fn on_avx2_lanes(pass: impl FnOnce()) {
+    pass()
+}
+
+#[inline(never)]
+fn on_baseline_lanes(pass: impl FnOnce()) {
+    pass()
 }
 
 /// Set to run the portable floor pass even where AVX2 is there (tests).
@@ -631,18 +652,6 @@ fn avx2_lanes() -> bool {
     // that do not know every AVX2 instruction).
     *AVX2.get_or_init(|| std::is_x86_feature_detected!("avx2") && std::env::var_os("STRIPES_PORTABLE_LANES").is_none())
         && !PORTABLE_LANES.load(std::sync::atomic::Ordering::Relaxed)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-#[inline(never)]
-unsafe fn floor_pass_avx2(inp: &Inputs, wp: (usize, &WallPlane), out: &mut BlockOut, sums: &mut BlockSums) {
-    floor_pass::<2>(inp, wp, out, sums)
-}
-
-#[inline(never)]
-fn floor_pass_portable(inp: &Inputs, wp: (usize, &WallPlane), out: &mut BlockOut, sums: &mut BlockSums) {
-    floor_pass::<2>(inp, wp, out, sums)
 }
 
 /// The particle pairs of a block's neighbour-list slots `slots` (those of the particles
@@ -746,46 +755,6 @@ fn pair_pass(
             }
         },
     );
-}
-
-/// [`pair_pass`], compiled like the floor pass for the baseline instruction set and for AVX2.
-fn pair_pass_dispatch(
-    inp: &Inputs,
-    block: (usize, std::ops::Range<usize>),
-    out: (&mut [Vec3], &mut [Vec3]),
-    pair_history: &mut [Vec3],
-    sums: &mut BlockSums,
-) {
-    #[cfg(target_arch = "x86_64")]
-    if avx2_lanes() {
-        // SAFETY: the processor has AVX2 (checked at run time).
-        return unsafe { pair_pass_avx2(inp, block, out, pair_history, sums) };
-    }
-    pair_pass_portable(inp, block, out, pair_history, sums)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-#[inline(never)]
-unsafe fn pair_pass_avx2(
-    inp: &Inputs,
-    block: (usize, std::ops::Range<usize>),
-    out: (&mut [Vec3], &mut [Vec3]),
-    pair_history: &mut [Vec3],
-    sums: &mut BlockSums,
-) {
-    pair_pass(inp, block, out, pair_history, sums)
-}
-
-#[inline(never)]
-fn pair_pass_portable(
-    inp: &Inputs,
-    block: (usize, std::ops::Range<usize>),
-    out: (&mut [Vec3], &mut [Vec3]),
-    pair_history: &mut [Vec3],
-    sums: &mut BlockSums,
-) {
-    pair_pass(inp, block, out, pair_history, sums)
 }
 
 /// `[f(0), f(1), f(2), f(3)]`, written out (`array::map` is not always inlined).

@@ -8,14 +8,16 @@
 //! stages run on a [`Team`]: `T - 1` threads of our own that spin on an atomic counter for
 //! the next job (parking after [`SPIN`] without one), and a caller that takes the first run
 //! of blocks itself and spins until the others are done. Each thread gets one contiguous run
-//! of blocks, as rayon did; which thread evaluates a block changes no result.
+//! of blocks, as rayon did; which thread evaluates a block changes no result. A step runs
+//! its stages in one [`region`]: every thread takes its own blocks, with a [`Barrier`]
+//! between the stages, so a step costs one hand-over instead of one per stage.
 
 use rayon::prelude::*;
 use std::any::Any;
 use std::cell::UnsafeCell;
 use std::collections::HashMap;
 use std::panic::{catch_unwind, resume_unwind, AssertUnwindSafe};
-use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
 use std::sync::{Arc, Condvar, Mutex, OnceLock, TryLockError};
 use std::time::{Duration, Instant};
 
@@ -131,43 +133,129 @@ impl Team {
     fn run<B: Send, T: Send>(&self, blocks: Vec<B>, f: impl Fn(B) -> T + Sync) -> Vec<T> {
         let n = blocks.len();
         let threads = self.threads;
-        let per = n.div_ceil(threads);
         let inputs: Vec<Slot<B>> = blocks.into_iter().map(|b| Slot(UnsafeCell::new(Some(b)))).collect();
         let outputs: Vec<Slot<T>> = (0..n).map(|_| Slot(UnsafeCell::new(None))).collect();
-        let job = |t: usize| {
-            for k in (t * per).min(n)..((t + 1) * per).min(n) {
+        self.dispatch(&|t: usize| {
+            for k in run_of(n, threads, t) {
                 // SAFETY: block k belongs to run t alone, and each run is executed once.
                 let b = unsafe { (*inputs[k].0.get()).take() }.expect("each block is taken once");
                 let r = f(b);
                 unsafe { *outputs[k].0.get() = Some(r) };
             }
-        };
-        {
-            let local: &Job<'_> = &job;
-            // SAFETY: the reference does not outlive this block: `Wait` below does not return
-            // (not even by unwinding) before every team thread has finished with it.
-            let erased: *const Job<'static> = unsafe { std::mem::transmute::<&Job<'_>, &'static Job<'static>>(local) };
-            let s = &*self.shared;
-            // A team thread's panic left over from a job whose caller panicked as well.
-            s.panic.lock().unwrap_or_else(|e| e.into_inner()).take();
-            s.pending.store(threads - 1, Ordering::Relaxed);
-            unsafe { *s.job.get() = Some(erased) };
-            s.epoch.fetch_add(1, Ordering::SeqCst);
-            if s.sleepers.load(Ordering::SeqCst) > 0 {
-                let _guard = s.park.lock().unwrap_or_else(|e| e.into_inner());
-                s.wake.notify_all();
-            }
-            let wait = Wait(s);
-            job(0);
-            drop(wait);
-            if let Some(p) = s.panic.lock().unwrap_or_else(|e| e.into_inner()).take() {
-                resume_unwind(p);
-            }
-        }
+        });
         outputs
             .into_iter()
             .map(|o| o.0.into_inner().expect("every block is evaluated"))
             .collect()
+    }
+
+    /// Runs `f(t, threads, barrier)` on every thread `t` of the team at once. The caller
+    /// holds the lease.
+    fn region(&self, f: impl Fn(usize, usize, &Barrier) + Sync) {
+        let barrier = Barrier::new(self.threads);
+        self.dispatch(&|t: usize| {
+            // A panicking thread never reaches the next barrier: release the others.
+            if let Err(p) = catch_unwind(AssertUnwindSafe(|| f(t, self.threads, &barrier))) {
+                barrier.abort.store(true, Ordering::Release);
+                resume_unwind(p);
+            }
+        });
+    }
+
+    /// Runs `job(t)` for `t` in `1..T` on the team threads and `job(0)` on the caller, and
+    /// returns when all have finished (a panic of any of them is resumed here).
+    fn dispatch(&self, job: &Job<'_>) {
+        // SAFETY: the reference does not outlive this call: `Wait` below does not return (not
+        // even by unwinding) before every team thread has finished with it.
+        let erased: *const Job<'static> = unsafe { std::mem::transmute::<&Job<'_>, &'static Job<'static>>(job) };
+        let s = &*self.shared;
+        // A team thread's panic left over from a job whose caller panicked as well.
+        s.panic.lock().unwrap_or_else(|e| e.into_inner()).take();
+        s.pending.store(self.threads - 1, Ordering::Relaxed);
+        unsafe { *s.job.get() = Some(erased) };
+        s.epoch.fetch_add(1, Ordering::SeqCst);
+        if s.sleepers.load(Ordering::SeqCst) > 0 {
+            let _guard = s.park.lock().unwrap_or_else(|e| e.into_inner());
+            s.wake.notify_all();
+        }
+        let wait = Wait(s);
+        job(0);
+        drop(wait);
+        if let Some(p) = s.panic.lock().unwrap_or_else(|e| e.into_inner()).take() {
+            resume_unwind(p);
+        }
+    }
+}
+
+/// The blocks of run `t` when `n` blocks are split into `threads` contiguous runs.
+pub(crate) fn run_of(n: usize, threads: usize, t: usize) -> std::ops::Range<usize> {
+    let per = n.div_ceil(threads);
+    (t * per).min(n)..((t + 1) * per).min(n)
+}
+
+/// A parallel region: `f(t, threads, barrier)` on each of `T = rayon::current_num_threads()`
+/// threads at once, where `barrier.wait()` returns once every thread has reached it. Each
+/// thread takes its own blocks ([`run_of`]), so a step's stages run in one hand-over instead
+/// of one per stage, with no block lists built by the caller. Returns false, having run
+/// nothing, when the team is not available (busy with another simulation, or more threads
+/// than cores): the caller then runs its stages through [`on_blocks`]. Work of fewer than
+/// two `blocks` runs on the calling thread alone, as in [`on_blocks`].
+pub(crate) fn region(blocks: usize, f: impl Fn(usize, usize, &Barrier) + Sync) -> bool {
+    let threads = rayon::current_num_threads();
+    if threads == 1 || blocks < 2 {
+        f(0, 1, &Barrier::new(1));
+        return true;
+    }
+    if threads > cores() {
+        return false;
+    }
+    let team = Team::of(threads);
+    let _lease = match team.lease.try_lock() {
+        Ok(lease) => lease,
+        Err(TryLockError::Poisoned(lease)) => lease.into_inner(),
+        Err(TryLockError::WouldBlock) => return false,
+    };
+    team.region(f);
+    true
+}
+
+/// A barrier among the threads of one [`region`].
+pub(crate) struct Barrier {
+    threads: usize,
+    arrived: AtomicUsize,
+    /// Incremented each time every thread has arrived.
+    generation: AtomicUsize,
+    /// Set when a thread of the region panicked: the barrier no longer waits.
+    abort: AtomicBool,
+}
+
+impl Barrier {
+    fn new(threads: usize) -> Barrier {
+        Barrier {
+            threads,
+            arrived: AtomicUsize::new(0),
+            generation: AtomicUsize::new(0),
+            abort: AtomicBool::new(false),
+        }
+    }
+
+    /// Waits until every thread of the region has called `wait` as often as this one.
+    /// Returns false if another thread panicked instead (the caller should return).
+    pub(crate) fn wait(&self) -> bool {
+        if self.threads == 1 {
+            return true;
+        }
+        let generation = self.generation.load(Ordering::Acquire);
+        if self.arrived.fetch_add(1, Ordering::AcqRel) + 1 == self.threads {
+            self.arrived.store(0, Ordering::Relaxed);
+            self.generation.fetch_add(1, Ordering::Release);
+        } else {
+            let passed = || self.generation.load(Ordering::Acquire) != generation || self.abort.load(Ordering::Acquire);
+            while !spin_until(passed) {
+                std::thread::yield_now();
+            }
+        }
+        !self.abort.load(Ordering::Acquire)
     }
 }
 
@@ -285,6 +373,63 @@ mod tests {
             }
             assert_eq!(data, (200..1200).collect::<Vec<u64>>());
         });
+    }
+
+    #[test]
+    fn a_region_sees_every_threads_stage_after_its_barrier() {
+        for threads in [1, 2] {
+            pool(threads).install(|| {
+                let n = 9;
+                let counts: Vec<AtomicUsize> = (0..n).map(|_| AtomicUsize::new(0)).collect();
+                let (mut rounds, wrong) = (0, AtomicUsize::new(0));
+                let start = Instant::now();
+                while rounds < 300 && start.elapsed() < Duration::from_secs(60) {
+                    // Another test may hold the team: then nothing runs (the caller would use
+                    // `on_blocks`), and the round is tried again.
+                    let ran = region(n, |t, runs, barrier| {
+                        assert_eq!(runs, threads);
+                        for b in run_of(n, runs, t) {
+                            counts[b].fetch_add(1, Ordering::Relaxed);
+                        }
+                        assert!(barrier.wait());
+                        let behind = counts.iter().filter(|c| c.load(Ordering::Relaxed) != rounds + 1).count();
+                        wrong.fetch_add(behind, Ordering::Relaxed);
+                        // The second stage must not start before every thread has checked.
+                        assert!(barrier.wait());
+                    });
+                    rounds += ran as usize;
+                }
+                assert!(rounds > 0, "{threads} threads: the region never ran");
+                assert_eq!(wrong.load(Ordering::Relaxed), 0, "{threads} threads");
+                assert!(counts.iter().all(|c| c.load(Ordering::Relaxed) == rounds));
+            });
+        }
+    }
+
+    #[test]
+    fn a_panic_in_a_region_reaches_the_caller_and_releases_the_barrier() {
+        let team = Team::start(2);
+        for bad in [0, 1] {
+            let r = catch_unwind(AssertUnwindSafe(|| {
+                team.region(|t, _, barrier| {
+                    if t == bad {
+                        panic!("run {t}");
+                    }
+                    assert!(!barrier.wait(), "the barrier must not wait for a panicked thread");
+                })
+            }));
+            let msg = r.expect_err("the panic must propagate");
+            assert_eq!(
+                msg.downcast_ref::<String>().map(String::as_str),
+                Some(format!("run {bad}").as_str())
+            );
+            let sum = AtomicUsize::new(0);
+            team.region(|t, _, barrier| {
+                assert!(barrier.wait());
+                sum.fetch_add(t + 1, Ordering::Relaxed);
+            });
+            assert_eq!(sum.load(Ordering::Relaxed), 3);
+        }
     }
 
     #[test]

@@ -1,7 +1,8 @@
 //! The simulation loop: the only place that knows the order of the stages of a time step.
 //!
-//! One step of [`Simulation::step`], in two passes over fixed blocks of particles (on the
-//! rayon pool, or serially when it has one thread; results are bit-identical either way):
+//! One step of [`Simulation::step`], in two passes over fixed blocks of particles, both in
+//! one parallel region of the step's threads (serially with one thread; results are
+//! bit-identical either way):
 //! 1. per block: integrator stage before the forces (positions to `t + dt`), periodic wrap,
 //!    and the box of this step's displacement velocities;
 //! 2. `t += dt`; neighbour list rebuilt if the drift bound (grains' motion relative to their
@@ -18,9 +19,9 @@ use crate::boundary::Boundary;
 use crate::error::StateMismatch;
 use crate::forces;
 use crate::neighbor::NeighborList;
-use crate::parallel::on_blocks;
+use crate::parallel::{on_blocks, region, run_of};
 use crate::setup::{ContactRecord, Partner, Setup, Vertical, MAX_OVERLAP_FRACTION};
-use crate::state::State;
+use crate::state::{State, StateBlock};
 use crate::{SimError, Vec3};
 
 /// Energy exchanged with the outside since the start (J).
@@ -174,46 +175,75 @@ impl Simulation {
     }
 
     /// Advances one time step.
+    ///
+    /// Stage 1 and, when the neighbour list needs no rebuild, stages 3 and 4 run in one
+    /// parallel region ([`region`]): each thread takes its own run of blocks through stage 1;
+    /// behind a barrier every thread makes the same neighbour-list decision from the blocks'
+    /// boxes (taken in block order); then each runs stages 3 and 4 on its blocks. A rebuild
+    /// ends the region after the decision, and the forces then run block by block through
+    /// [`on_blocks`] (as does everything when the thread team is busy with another
+    /// simulation): the same work per block, so the same bits for any number of threads.
     pub fn step(&mut self) -> Result<(), SimError> {
-        let (dt, rotate, integrator) = (self.setup.dt, self.rotate, self.setup.integrator);
-        let boundary = self.setup.boundary;
-        // Stage 1, per block: integrator before the forces, periodic wrap, and the box
-        // spanned by this step's displacement velocities (position += vel_half dt).
-        // A pinned layer moves in the plane only (z = R and v_z = 0 stay exact either way).
-        let planar = self.setup.vertical == Vertical::Pinned;
-        let boxes = on_blocks(self.state.blocks_mut(BLOCK), |mut b| {
-            let span = integrator.before_forces(&mut b, dt, rotate, planar);
-            // One pass per periodic axis (the tray has one): no test of the other axes.
-            for (axis, l) in boundary.periodic.iter().enumerate().filter_map(|(k, p)| p.map(|l| (k, l))) {
-                for x in b.pos.iter_mut() {
-                    x[axis] = Boundary::wrap_coordinate(x[axis], l);
+        let dt = self.setup.dt;
+        let blocks = self.state.len().div_ceil(BLOCK);
+        // The walls at the new time `t + dt`, where stage 3 evaluates them.
+        let planes = forces::wall_planes(&self.setup, self.time + dt);
+        let bounds = self.container_bounds();
+        let mut sums: Vec<Option<forces::BlockSums>> = (0..blocks).map(|_| None).collect();
+        let (drift, due) = {
+            let step = Step::of(self, &planes, bounds, true);
+            let mut boxes = vec![(Vec3::zeros(), Vec3::zeros()); blocks];
+            let (boxes_out, sums_out) = (RawArray::of(&mut boxes), RawArray::of(&mut sums));
+            let decision = std::sync::Mutex::new(None);
+            let ran = region(blocks, |t, threads, barrier| {
+                let mine = run_of(blocks, threads, t);
+                for b in mine.clone() {
+                    // SAFETY: block b (and its box) belongs to this thread's run alone.
+                    unsafe { boxes_out.part(b..b + 1)[0] = step.before_forces(b) };
+                }
+                if !barrier.wait() {
+                    return;
+                }
+                // SAFETY: stage 1 has ended on every thread; until the region ends, the boxes
+                // and the positions are only read.
+                let (drift, due) = unsafe { step.rebuild_due(boxes_out.all()) };
+                if t == 0 {
+                    *decision.lock().unwrap_or_else(|e| e.into_inner()) = Some((drift, due));
+                }
+                if !due {
+                    for b in mine {
+                        // SAFETY: as above, and block b's outputs belong to this thread alone.
+                        unsafe { sums_out.part(b..b + 1)[0] = Some(step.forces(b)) };
+                    }
+                }
+            });
+            match decision.into_inner().unwrap_or_else(|e| e.into_inner()) {
+                Some(decision) if ran => decision,
+                _ => {
+                    // The team is busy: stage 1 block by block.
+                    // SAFETY: each block goes to one call, and the decision follows them all.
+                    let boxes = on_blocks((0..blocks).collect(), |b| unsafe { step.before_forces(b) });
+                    unsafe { step.rebuild_due(&boxes) }
                 }
             }
-            span
-        });
-        self.time += dt;
-        // Stage 2: neighbour list, if due. Every displacement velocity u_i lies within
-        // `h = |hi - lo| / 2` of the box centre c, so over the steps since the build each grain
-        // has moved less than `drift = sum h dt` away from the common `sum c dt`, and two
-        // grains less than `2 drift` relative to each other: the list (built with a skin) is
-        // good while `drift <= skin / 2`. A tray's grains moving together cost no rebuilds, and
-        // no per-grain distance test is needed. `DRIFT_SLACK` covers the rounding of the
-        // position updates.
-        let (lo, hi) = boxes.into_iter().fold(
-            (Vec3::repeat(f64::INFINITY), Vec3::repeat(f64::NEG_INFINITY)),
-            |(l, h), (bl, bh)| (l.inf(&bl), h.sup(&bh)),
-        );
-        self.drift += 0.5 * (hi - lo).norm() * dt + DRIFT_SLACK;
-        let due = match self.neighbors.rebuild_distance2(&self.setup.neighbors) {
-            Some(limit) => self.drift * self.drift > limit || self.neighbors.anchor().len() != self.state.len(),
-            None => self.neighbors.needs_rebuild(&self.setup.neighbors, &self.state.pos, &boundary),
         };
+        self.time += dt;
+        // Stage 2: the neighbour list, if due (see `Step::rebuild_due`).
+        self.drift = drift;
         if due {
             self.rebuild_neighbors();
         }
-        // Stages 3 and 4, fused per block of particles: forces, then the integrator after
-        // the forces and the checks.
-        let first_bad = self.compute_forces(dt, true);
+        // Stages 3 and 4 where the region did not run them.
+        let sums: Vec<forces::BlockSums> = if sums.iter().all(Option::is_some) {
+            sums.into_iter().flatten().collect()
+        } else {
+            let step = Step::of(self, &planes, bounds, true);
+            // SAFETY: each block goes to one call, and positions, velocities and spins are
+            // only read.
+            on_blocks((0..blocks).collect(), |b| unsafe { step.forces(b) })
+        };
+        let kick = self.setup.integrator.has_after_stage();
+        let first_bad = self.absorb(sums, dt, kick);
         self.steps += 1;
         match (first_bad, self.overlap_violation) {
             (Some(i), _) => Err(self.describe_bad(i)),
@@ -378,110 +408,38 @@ impl Simulation {
     }
 
     /// Evaluates all forces and torques at the current positions; `ledger_dt` is the time
-    /// over which the resulting powers are booked (0 for a re-evaluation).
-    ///
-    /// With `finish`, each block of particles then runs the integrator's stage after the
-    /// forces ([`crate::integrate::Integrator::after_kick`]) and the checks, while its data is still in cache.
-    /// The new velocities and spins are written into the half-step arrays (other blocks still
-    /// read the predicted ones), which are swapped in afterwards. Returns the first particle
-    /// that is non-finite or outside the container.
+    /// over which the resulting powers are booked (0 for a re-evaluation). With `finish`,
+    /// each block then also runs the integrator's stage after the forces (see
+    /// [`Step::forces`]). Returns the first particle that is non-finite or outside the
+    /// container.
     fn compute_forces(&mut self, ledger_dt: f64, finish: bool) -> Option<usize> {
-        let n = self.state.len();
         let planes = forces::wall_planes(&self.setup, self.time);
-        let wall_stride = planes.len().max(1);
-        let (dt, integrator, rotate) = (self.setup.dt, self.setup.integrator, self.rotate);
-        let kick = finish && integrator.has_after_stage();
         let bounds = self.container_bounds();
-        let list = &self.neighbors;
-        let State {
-            pos,
-            vel,
-            omega,
-            force,
-            torque,
-            vel_half,
-            omega_half,
-            radius,
-            inv_mass,
-            inv_inertia,
-        } = &mut self.state;
-        let inputs = forces::Inputs {
-            setup: &self.setup,
-            planes: &planes,
-            list,
-            pos,
-            vel,
-            omega,
-            radius,
-            mass: &self.mass,
-            load: &self.load,
-            record: self.record,
+        let blocks = self.state.len().div_ceil(BLOCK);
+        let sums = {
+            let step = Step::of(self, &planes, bounds, finish);
+            // SAFETY: each block goes to one call, and positions, velocities and spins are
+            // only read.
+            on_blocks((0..blocks).collect(), |b| unsafe { step.forces(b) })
         };
+        let kick = finish && self.setup.integrator.has_after_stage();
+        self.absorb(sums, ledger_dt, kick)
+    }
 
-        // The arrays each block owns.
-        debug_assert_eq!(self.wall_history.len(), n * wall_stride);
-        let mut blocks = Vec::with_capacity(n.div_ceil(BLOCK));
-        let mut pair_rest = self.pair_history.as_mut_slice();
-        let mut chunks = force
-            .chunks_mut(BLOCK)
-            .zip(torque.chunks_mut(BLOCK))
-            .zip(
-                self.wall_history
-                    .chunks_mut(BLOCK * wall_stride)
-                    .zip(self.wall_touched.chunks_mut(BLOCK * wall_stride)),
-            )
-            .zip(vel_half.chunks_mut(BLOCK).zip(omega_half.chunks_mut(BLOCK)));
-        for b in 0..n.div_ceil(BLOCK) {
-            let (lo, hi) = (list.offsets[b * BLOCK], list.offsets[((b + 1) * BLOCK).min(n)]);
-            let (pair, tail) = pair_rest.split_at_mut(hi - lo);
-            pair_rest = tail;
-            let (((force, torque), (wall, touched)), (vel_half, omega_half)) = chunks.next().expect("one chunk per block");
-            blocks.push(BlockArrays {
-                first: b * BLOCK,
-                force,
-                torque,
-                pair,
-                wall,
-                touched,
-                vel_half,
-                omega_half,
-            });
-        }
-
-        let (inv_mass, inv_inertia) = (&*inv_mass, &*inv_inertia);
-        let sums = on_blocks(blocks, |b| {
-            let mut sums = forces::gather_block(&inputs, b.first, b.force, b.torque, b.pair, (b.wall, b.touched));
-            if finish {
-                let range = b.first..b.first + b.force.len();
-                if kick {
-                    integrator.after_kick(b.vel_half, b.force, &inv_mass[range.clone()], dt);
-                    if rotate {
-                        integrator.after_kick(b.omega_half, b.torque, &inv_inertia[range.clone()], dt);
-                    }
-                }
-                let v = if kick { &*b.vel_half } else { &inputs.vel[range.clone()] };
-                let w = if kick && rotate {
-                    &*b.omega_half
-                } else {
-                    &inputs.omega[range.clone()]
-                };
-                let x = &inputs.pos[range];
-                if !block_is_sound(x, v, w, &bounds) {
-                    sums.first_bad = x
-                        .iter()
-                        .zip(v)
-                        .zip(w)
-                        .position(|((x, v), w)| !is_sound(x, v, w, &bounds))
-                        .map(|k| b.first + k);
-                }
-            }
-            sums
-        });
-        assert_eq!(sums.len(), n.div_ceil(BLOCK), "every block of particles must be evaluated");
+    /// Takes in the blocks' results of a force evaluation: the new velocities and spins
+    /// (with `kick`), the contact counts, energies and records, added in block order.
+    /// Returns the first particle found unsound.
+    fn absorb(&mut self, sums: Vec<forces::BlockSums>, ledger_dt: f64, kick: bool) -> Option<usize> {
+        assert_eq!(
+            sums.len(),
+            self.state.len().div_ceil(BLOCK),
+            "every block of particles must be evaluated"
+        );
         if kick {
-            std::mem::swap(vel, vel_half);
-            if rotate {
-                std::mem::swap(omega, omega_half);
+            let s = &mut self.state;
+            std::mem::swap(&mut s.vel, &mut s.vel_half);
+            if self.rotate {
+                std::mem::swap(&mut s.omega, &mut s.omega_half);
             }
         }
 
@@ -524,16 +482,241 @@ impl Simulation {
     }
 }
 
-/// The arrays one block of particles owns during a force evaluation.
-struct BlockArrays<'a> {
-    first: usize,
-    force: &'a mut [Vec3],
-    torque: &'a mut [Vec3],
-    pair: &'a mut [Vec3],
-    wall: &'a mut [Vec3],
-    touched: &'a mut [u8],
-    vel_half: &'a mut [Vec3],
-    omega_half: &'a mut [Vec3],
+/// An array that the threads of a step share: each takes the elements of its own blocks
+/// mutably, or, while no thread writes it, all of it for reading.
+struct RawArray<T> {
+    ptr: *mut T,
+    len: usize,
+}
+
+impl<T> Clone for RawArray<T> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+impl<T> Copy for RawArray<T> {}
+
+// SAFETY: the callers of `part` and `all` keep the accesses of different threads apart.
+unsafe impl<T: Send> Send for RawArray<T> {}
+unsafe impl<T: Send + Sync> Sync for RawArray<T> {}
+
+impl<T> RawArray<T> {
+    fn of(v: &mut [T]) -> Self {
+        Self {
+            ptr: v.as_mut_ptr(),
+            len: v.len(),
+        }
+    }
+
+    /// The elements `range`, mutably.
+    ///
+    /// SAFETY: no other reference to them may be alive while the slice is, and the array
+    /// must outlive it.
+    #[allow(clippy::mut_from_ref)]
+    unsafe fn part<'a>(&self, range: std::ops::Range<usize>) -> &'a mut [T] {
+        assert!(range.start <= range.end && range.end <= self.len);
+        unsafe { std::slice::from_raw_parts_mut(self.ptr.add(range.start), range.end - range.start) }
+    }
+
+    /// Every element, for reading.
+    ///
+    /// SAFETY: no mutable reference to any element may be alive while the slice is, and the
+    /// array must outlive it.
+    unsafe fn all<'a>(&self) -> &'a [T] {
+        unsafe { std::slice::from_raw_parts(self.ptr, self.len) }
+    }
+}
+
+/// One step's (or one force evaluation's) view of a simulation for the threads of its
+/// parallel stages: the arrays that the stages write, as [`RawArray`]s of which each block
+/// takes its own part, and everything else, read-only. Each block builds its own slices.
+struct Step<'a> {
+    setup: &'a Setup,
+    planes: &'a [forces::WallPlane],
+    list: &'a NeighborList,
+    bounds: (Vec3, Vec3),
+    /// With the integrator's stage after the forces and the checks.
+    finish: bool,
+    rotate: bool,
+    record: bool,
+    /// The drift bound before this step.
+    drift: f64,
+    n: usize,
+    pos: RawArray<Vec3>,
+    vel: RawArray<Vec3>,
+    omega: RawArray<Vec3>,
+    force: RawArray<Vec3>,
+    torque: RawArray<Vec3>,
+    vel_half: RawArray<Vec3>,
+    omega_half: RawArray<Vec3>,
+    pair_history: RawArray<Vec3>,
+    wall_history: RawArray<Vec3>,
+    wall_touched: RawArray<u8>,
+    radius: &'a [f64],
+    inv_mass: &'a [f64],
+    inv_inertia: &'a [f64],
+    mass: &'a [f64],
+    load: &'a [f64],
+}
+
+impl<'a> Step<'a> {
+    fn of(sim: &'a mut Simulation, planes: &'a [forces::WallPlane], bounds: (Vec3, Vec3), finish: bool) -> Self {
+        let s = &mut sim.state;
+        debug_assert_eq!(sim.wall_history.len(), s.len() * planes.len().max(1));
+        Step {
+            setup: &sim.setup,
+            planes,
+            list: &sim.neighbors,
+            bounds,
+            finish,
+            rotate: sim.rotate,
+            record: sim.record,
+            drift: sim.drift,
+            n: s.pos.len(),
+            pos: RawArray::of(&mut s.pos),
+            vel: RawArray::of(&mut s.vel),
+            omega: RawArray::of(&mut s.omega),
+            force: RawArray::of(&mut s.force),
+            torque: RawArray::of(&mut s.torque),
+            vel_half: RawArray::of(&mut s.vel_half),
+            omega_half: RawArray::of(&mut s.omega_half),
+            pair_history: RawArray::of(&mut sim.pair_history),
+            wall_history: RawArray::of(&mut sim.wall_history),
+            wall_touched: RawArray::of(&mut sim.wall_touched),
+            radius: &s.radius,
+            inv_mass: &s.inv_mass,
+            inv_inertia: &s.inv_inertia,
+            mass: &sim.mass,
+            load: &sim.load,
+        }
+    }
+
+    /// The particles of block `b`.
+    fn range(&self, b: usize) -> std::ops::Range<usize> {
+        b * BLOCK..((b + 1) * BLOCK).min(self.n)
+    }
+
+    /// Stage 1 on block `b`: the integrator before the forces, the periodic wrap; returns
+    /// the box spanned by the block's displacement velocities. A pinned layer moves in the
+    /// plane only (z = R and v_z = 0 stay exact either way).
+    ///
+    /// SAFETY: no other reference to block `b`'s positions, velocities and spins (and their
+    /// half-step values), nor any mutable one to its forces and torques, may be alive.
+    unsafe fn before_forces(&self, b: usize) -> (Vec3, Vec3) {
+        let r = self.range(b);
+        let setup = self.setup;
+        let mut block = unsafe {
+            StateBlock {
+                start: r.start,
+                pos: self.pos.part(r.clone()),
+                vel: self.vel.part(r.clone()),
+                omega: self.omega.part(r.clone()),
+                vel_half: self.vel_half.part(r.clone()),
+                omega_half: self.omega_half.part(r.clone()),
+                force: &self.force.all()[r.clone()],
+                torque: &self.torque.all()[r.clone()],
+                inv_mass: &self.inv_mass[r.clone()],
+                inv_inertia: &self.inv_inertia[r],
+            }
+        };
+        let planar = setup.vertical == Vertical::Pinned;
+        let span = setup.integrator.before_forces(&mut block, setup.dt, self.rotate, planar);
+        // One pass per periodic axis (the tray has one): no test of the other axes.
+        for (axis, l) in setup.boundary.periodic.iter().enumerate().filter_map(|(k, p)| p.map(|l| (k, l))) {
+            for x in block.pos.iter_mut() {
+                x[axis] = Boundary::wrap_coordinate(x[axis], l);
+            }
+        }
+        span
+    }
+
+    /// Stage 2's decision, from the boxes of every block (in block order): the new drift
+    /// bound and whether the neighbour list must be rebuilt. Every displacement velocity
+    /// u_i lies within `h = |hi - lo| / 2` of the box centre c, so over the steps since the
+    /// build each grain has moved less than `drift = sum h dt` away from the common
+    /// `sum c dt`, and two grains less than `2 drift` relative to each other: the list
+    /// (built with a skin) is good while `drift <= skin / 2`. A tray's grains moving
+    /// together cost no rebuilds, and no per-grain distance test is needed. `DRIFT_SLACK`
+    /// covers the rounding of the position updates.
+    ///
+    /// SAFETY: no mutable reference to the positions may be alive.
+    unsafe fn rebuild_due(&self, boxes: &[(Vec3, Vec3)]) -> (f64, bool) {
+        let (lo, hi) = boxes.iter().fold(
+            (Vec3::repeat(f64::INFINITY), Vec3::repeat(f64::NEG_INFINITY)),
+            |(l, h), (bl, bh)| (l.inf(bl), h.sup(bh)),
+        );
+        let setup = self.setup;
+        let drift = self.drift + 0.5 * (hi - lo).norm() * setup.dt + DRIFT_SLACK;
+        let due = match self.list.rebuild_distance2(&setup.neighbors) {
+            Some(limit) => drift * drift > limit || self.list.anchor().len() != self.n,
+            None => self
+                .list
+                .needs_rebuild(&setup.neighbors, unsafe { self.pos.all() }, &setup.boundary),
+        };
+        (drift, due)
+    }
+
+    /// Stages 3 and 4 on block `b`: gravity, pairs and walls ([`forces::gather_block`]),
+    /// then, with `finish`, while the block is still in cache, the integrator stage after the
+    /// forces ([`crate::integrate::Integrator::after_kick`], written into the half-step
+    /// arrays: other blocks still read the predicted velocities) and the checks.
+    ///
+    /// SAFETY: no other reference to block `b`'s forces, torques, half-step velocities and
+    /// spins and histories may be alive, nor any mutable one to the positions, velocities and
+    /// spins.
+    unsafe fn forces(&self, b: usize) -> forces::BlockSums {
+        let r = self.range(b);
+        let setup = self.setup;
+        let (pos, vel, omega) = unsafe { (self.pos.all(), self.vel.all(), self.omega.all()) };
+        let inputs = forces::Inputs {
+            setup,
+            planes: self.planes,
+            list: self.list,
+            pos,
+            vel,
+            omega,
+            radius: self.radius,
+            mass: self.mass,
+            load: self.load,
+            record: self.record,
+        };
+        let stride = self.planes.len().max(1);
+        let slots = self.list.offsets[r.start]..self.list.offsets[r.end];
+        let walls = r.start * stride..r.end * stride;
+        let (force, torque, pair, wall, touched) = unsafe {
+            (
+                self.force.part(r.clone()),
+                self.torque.part(r.clone()),
+                self.pair_history.part(slots),
+                self.wall_history.part(walls.clone()),
+                self.wall_touched.part(walls),
+            )
+        };
+        let mut sums = forces::gather_block(&inputs, r.start, force, torque, pair, (wall, touched));
+        if self.finish {
+            let (dt, integrator) = (setup.dt, setup.integrator);
+            let kick = integrator.has_after_stage();
+            let (vel_half, omega_half) = unsafe { (self.vel_half.part(r.clone()), self.omega_half.part(r.clone())) };
+            if kick {
+                integrator.after_kick(vel_half, force, &self.inv_mass[r.clone()], dt);
+                if self.rotate {
+                    integrator.after_kick(omega_half, torque, &self.inv_inertia[r.clone()], dt);
+                }
+            }
+            let v = if kick { &*vel_half } else { &vel[r.clone()] };
+            let w = if kick && self.rotate { &*omega_half } else { &omega[r.clone()] };
+            let x = &pos[r.clone()];
+            if !block_is_sound(x, v, w, &self.bounds) {
+                sums.first_bad = x
+                    .iter()
+                    .zip(v)
+                    .zip(w)
+                    .position(|((x, v), w)| !is_sound(x, v, w, &self.bounds))
+                    .map(|k| r.start + k);
+            }
+        }
+        sums
+    }
 }
 
 /// True if every position, velocity and spin of a block is finite and every position inside

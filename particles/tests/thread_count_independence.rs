@@ -49,3 +49,20 @@ fn one_and_two_threads_give_the_same_bits() {
         assert!(one == two, "{name}: states or histories differ");
     }
 }
+
+#[test]
+fn two_simulations_sharing_the_thread_team_give_the_bits_of_one_thread() {
+    // Two-thread simulations stepping at the same time contend for one team of threads: a
+    // step that finds it busy runs its stages block by block on rayon's pool instead of in
+    // the team's parallel region. The bits must not depend on which route a step took.
+    let edit: Edit = common::unchanged;
+    let (one, one_summary) = run(1, edit);
+    let both = std::thread::scope(|scope| {
+        let handles: Vec<_> = (0..2).map(|_| scope.spawn(move || run(2, edit))).collect();
+        handles.into_iter().map(|h| h.join().unwrap()).collect::<Vec<_>>()
+    });
+    for (k, (two, two_summary)) in both.into_iter().enumerate() {
+        assert_eq!(one_summary, two_summary, "simulation {k}");
+        assert!(one == two, "simulation {k}: states or histories differ");
+    }
+}

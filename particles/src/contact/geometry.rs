@@ -52,16 +52,7 @@ impl ContactGeometry {
             return None;
         }
         let g = LaneGeometry::<V3<f64>, f64>::pair(d.into(), dist2, (a.v.into(), b.v.into()), (a.w.into(), b.w.into()), (a.r, b.r));
-        Some(Self {
-            n: g.n.into(),
-            overlap: g.overlap,
-            overlap_rate: g.overlap_rate,
-            v_t: g.v_t.into(),
-            omega_rel: g.omega_rel.into(),
-            arm_i: g.arm_i,
-            arm_j: g.arm_j,
-            r_eff: g.r_eff,
-        })
+        Some(Self::from_lane(g))
     }
 
     /// Geometry of a sphere against a flat wall with unit normal `normal` (pointing into the
@@ -235,6 +226,23 @@ pub struct LaneGeometry<N, L> {
     pub r_eff: L,
 }
 
+impl<N> ContactGeometry<N> {
+    /// The contact of a one-lane geometry, its normal taken as an `N`.
+    #[inline(always)]
+    fn from_lane<M: Into<N>>(g: LaneGeometry<M, f64>) -> Self {
+        Self {
+            n: g.n.into(),
+            overlap: g.overlap,
+            overlap_rate: g.overlap_rate,
+            v_t: g.v_t.into(),
+            omega_rel: g.omega_rel.into(),
+            arm_i: g.arm_i,
+            arm_j: g.arm_j,
+            r_eff: g.r_eff,
+        }
+    }
+}
+
 impl<N: Normal> ContactGeometry<N> {
     /// The same geometry as one lane.
     #[inline(always)]
@@ -327,16 +335,7 @@ impl<const AXIS: usize> ContactGeometry<AxisNormal<AXIS>> {
         if g.overlap < 0.0 {
             return None;
         }
-        Some(Self {
-            n: g.n,
-            overlap: g.overlap,
-            overlap_rate: g.overlap_rate,
-            v_t: g.v_t.into(),
-            omega_rel: g.omega_rel.into(),
-            arm_i: g.arm_i,
-            arm_j: g.arm_j,
-            r_eff: g.r_eff,
-        })
+        Some(Self::from_lane(g))
     }
 }
 
