@@ -392,15 +392,8 @@ mod tests {
         let mut params = Params {
             rule: RuleSet::Physical,
             physical: Physical {
-                threshold: Threshold::None,
-                cap: FlightCap::None,
                 activation: Activation::Bernoulli { p: 1.5 },
-                knock: Knock::None,
-                lateral: Lateral::None,
-                sideways: Sideways::None,
-                frustration: Frustration::None,
-                trains: false,
-                transport: Transport::Uniform,
+                ..Physical::off()
             },
             y: YBoundary::Walls,
             seed: 1,
