@@ -34,6 +34,7 @@ pub mod observe;
 pub mod phase_field;
 pub mod queue;
 pub mod sawtooth;
+pub mod segregation;
 pub mod side;
 pub mod sim;
 pub mod thinned;
