@@ -390,7 +390,7 @@ mod tests {
     #[test]
     fn a_search_that_runs_out_of_steps_says_where_it_stopped() {
         // A gap that never closes but shrinks forever: the bound's steps shrink with it.
-        let at = |t: f64| (1e-3 * (-1e3 * t).exp(), -1.0 * (-1e3 * t).exp());
+        let at = |t: f64| (1e-3 * (-1e3 * t).exp(), -(-1e3 * t).exp());
         match search_contact(at, 1e9, 0.0, 1.0) {
             Search::GaveUp(t) => assert!(t > 0.0 && t < 1.0),
             other => panic!("{other:?}"),
