@@ -48,3 +48,6 @@ have axes/kt714 || $B compare $S $T --out $D/axes/kt714 $A --set contact.tangent
 have axes/kt2095 || $B compare $S $T --out $D/axes/kt2095 $A --set contact.tangential_stiffness=2095 > /dev/null
 have axes/n25 || $B compare $S $T --out $D/axes/n25 $A --set particles.count=25 --set box.length=5e-3 > /dev/null
 have axes/n100 || $B compare $S $T --out $D/axes/n100 $A --set particles.count=100 --set box.length=20e-3 > /dev/null
+# mu = 0 held in the plane: one size in a gap of 1.005 mm.
+have axes/mu0-planar || $B compare $S $T --out $D/axes/mu0-planar $A --set contact.friction=0 \
+  --set particles.radius_min=0.5e-3 --set particles.radius_max=0.5e-3 --set box.width=1.005e-3 > /dev/null
