@@ -427,6 +427,8 @@ pub fn decode(bytes: &[u8]) -> Result<Checkpoint, String> {
             velocity_samples,
             side,
             field,
+            // Checkpoints are written by `stripes events`, whose observer keeps everything.
+            distributions: true,
         },
     })
 }

@@ -37,7 +37,9 @@ pub fn observe(scene: &EventScene) -> Result<(Measured, Observer), String> {
     let config = scene.config().map_err(|e| e.to_string())?;
     let mut sim = Simulation::new(config).map_err(|e| e.to_string())?;
     let top = sim.config.height + sim.config.lid.map_or(0.0, |m| m.amplitude);
-    let mut obs = Observer::new(sim.config.species.len(), scene.run.bin, top, sim.config.width);
+    // The measured numbers and the comparison's profiles need only the means and the
+    // profiles against height.
+    let mut obs = Observer::new(sim.config.species.len(), scene.run.bin, top, sim.config.width).means_and_heights();
     let e0 = sim.energy();
     let dt_sample = 1.0 / (scene.drive.frequency * scene.run.samples_per_period as f64);
     let samples = (scene.run.duration / dt_sample).floor() as u64;

@@ -279,9 +279,20 @@ fn tables(scene: &Scene) -> Result<(Vec<Row>, Vec<Row>), CliError> {
         ..pair
     };
     Ok((
-        restitution::table(&pair, &TABLE_G_N, &TABLE_RATIOS)?,
-        restitution::table(&floor, &TABLE_G_N, &TABLE_RATIOS)?,
+        within_bounds(restitution::table(&pair, &TABLE_G_N, &TABLE_RATIOS)?),
+        within_bounds(restitution::table(&floor, &TABLE_G_N, &TABLE_RATIOS)?),
     ))
+}
+
+/// The table's coefficients brought within their physical bounds, eps_n in [0, 1] and beta
+/// in [-1, 1], which the event-driven model's table requires: the lab's integration measures
+/// a frictionless contact (mu = 0) at beta = -1.001 to -0.984, some of it a hair below smooth.
+fn within_bounds(mut rows: Vec<Row>) -> Vec<Row> {
+    for r in &mut rows {
+        r.eps_n = r.eps_n.clamp(0.0, 1.0);
+        r.beta = r.beta.clamp(-1.0, 1.0);
+    }
+    rows
 }
 
 /// The constant-coefficient Walton rule fitted to a table: `e` the mean normal restitution of

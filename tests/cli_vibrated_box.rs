@@ -67,3 +67,38 @@ fn compare_on_the_vibrated_box_runs_three_models_and_writes_their_report() {
     assert!(!ok && stderr.contains("--force"), "{stderr}");
     let _ = std::fs::remove_dir_all(tmp);
 }
+
+#[test]
+fn compare_runs_a_frictionless_box_although_its_lab_measures_beta_a_hair_below_smooth() {
+    let tmp = std::env::temp_dir().join(format!("stripes-cli-vibrated-box-mu0-{}", std::process::id()));
+    let out = tmp.join("cmp").display().to_string();
+    let cache = tmp.join("samples").display().to_string();
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/vibrated-box-dem.toml");
+    let (ok, stdout, stderr) = stripes(&[
+        "compare",
+        scene,
+        "--seeds",
+        "1",
+        "--transient",
+        "0.05",
+        "--set",
+        "run.duration=0.1",
+        "--set",
+        "contact.friction=0",
+        "--quiet",
+        "--out",
+        &out,
+        "--sample-cache",
+        &cache,
+    ]);
+    assert!(ok, "{stderr}");
+    let v: serde_json::Value = serde_json::from_str(stdout.lines().last().unwrap()).unwrap();
+    assert_eq!(v["walton_fit"]["pair"]["beta0"], -1.0, "a smooth fit without friction");
+    // The table the event-driven model read keeps beta within [-1, 1].
+    let table = std::fs::read_to_string(tmp.join("cmp/restitution.csv")).unwrap();
+    for line in table.lines().skip(1) {
+        let beta: f64 = line.split(',').nth(3).unwrap().parse().unwrap();
+        assert!((-1.0..=-0.98).contains(&beta), "{line}");
+    }
+    let _ = std::fs::remove_dir_all(tmp);
+}

@@ -57,6 +57,11 @@ pub fn height_time(z0: f64, vz: f64, gravity: f64, level: f64, upward: bool) -> 
             _ => None,
         };
     }
+    // Only from below (c < 0) while rising on the way up; from above (c > 0) while falling,
+    // or after the apex, on the way down. Checked before the square root.
+    if (upward && !(c < 0.0 && vz > 0.0)) || (!upward && vz < 0.0 && c <= 0.0) {
+        return None;
+    }
     let disc = vz * vz + 2.0 * gravity * c;
     if disc <= 0.0 {
         // Never reached, or only touched at the apex.
@@ -64,14 +69,12 @@ pub fn height_time(z0: f64, vz: f64, gravity: f64, level: f64, upward: bool) -> 
     }
     let sq = disc.sqrt();
     if upward {
-        // From below (c < 0) while rising.
-        (c < 0.0 && vz > 0.0).then(|| -2.0 * c / (vz + sq))
+        Some(-2.0 * c / (vz + sq))
     } else if vz >= 0.0 {
         let s = (vz + sq) / gravity;
         (s > 0.0).then_some(s)
     } else {
-        // Falling: through the level below (c > 0).
-        (c > 0.0).then(|| 2.0 * c / (sq - vz))
+        Some(2.0 * c / (sq - vz))
     }
 }
 

@@ -14,7 +14,7 @@
 //! while the particle approaches the wall (`h' < 0`), so round-off that leaves a particle a
 //! hair inside a wall makes it bounce at once and never sink.
 
-use crate::flight::fly;
+use crate::flight::{fly, height_time};
 use crate::Vec2;
 
 /// Bisection width of a wall contact (s).
@@ -158,17 +158,47 @@ impl Wall {
         }
     }
 
+    /// Whether the wall moves along its normal (a vibrated floor or lid), so that finding a
+    /// contact with it takes a bounded search.
+    pub fn moves_along_normal(&self) -> bool {
+        self.horizontal() && !self.motion.is_fixed()
+    }
+
+    /// The time from now (s) until a particle at `(r, v)` first comes within reach of any
+    /// position the horizontal wall can take (its mean line +- amplitude): 0 if it is within
+    /// reach now, infinite if it never comes; 0 for a side wall. No contact can come before it.
+    pub fn reach(&self, r: Vec2, v: Vec2, radius: f64, gravity: f64) -> f64 {
+        let reach = self.motion.amplitude.abs() + radius;
+        let (level, upward) = match self.kind {
+            WallKind::Floor if r.y > self.position + reach => (self.position + reach, false),
+            WallKind::Lid if r.y < self.position - reach => (self.position - reach, true),
+            _ => return 0.0,
+        };
+        height_time(r.y, v.y, gravity, level, upward).unwrap_or(f64::INFINITY)
+    }
+
     /// The first time `t >= t0` before `t0 + horizon` at which a particle at `(r, v)` at `t0`
-    /// meets the wall while approaching it, or `None`.
+    /// meets the wall while approaching it, or `None` (also when the search of a moving wall
+    /// gave up: see [`Wall::search`]).
     pub fn contact_time(&self, r: Vec2, v: Vec2, radius: f64, gravity: f64, t0: f64, horizon: f64) -> Option<f64> {
+        match self.search(r, v, radius, gravity, t0, horizon) {
+            Search::At(t) => Some(t),
+            Search::Clear | Search::GaveUp(_) => None,
+        }
+    }
+
+    /// The same search, telling a wall that is clear up to `t0 + horizon` from a search of a
+    /// moving wall that gave up before it.
+    pub fn search(&self, r: Vec2, v: Vec2, radius: f64, gravity: f64, t0: f64, horizon: f64) -> Search {
+        let found = |t: Option<f64>| t.map_or(Search::Clear, Search::At);
         if self.horizontal() && self.clear_of(r, v, radius, gravity, horizon) {
-            return None;
+            return Search::Clear;
         }
         let h0 = self.gap(r, radius, t0);
         let rate0 = self.gap_rate(v, t0);
         if h0 <= 0.0 && rate0 < 0.0 {
             // Touching or inside by round-off, and approaching: bounce now.
-            return Some(t0);
+            return Search::At(t0);
         }
         // Touching and separating: gravity or the wall may bring them together again.
         let h0 = h0.max(0.0);
@@ -178,9 +208,9 @@ impl Wall {
             let s = match self.kind {
                 WallKind::Left if v.x < 0.0 => h0 / -v.x,
                 WallKind::Right if v.x > 0.0 => h0 / v.x,
-                _ => return None,
+                _ => return Search::Clear,
             };
-            return (t0 + s <= end).then_some(t0 + s);
+            return found((t0 + s <= end).then_some(t0 + s));
         }
         let n = self.normal().y;
         if self.motion.is_fixed() {
@@ -197,21 +227,21 @@ impl Wall {
             } else if a > 0.0 {
                 let disc = rate0 * rate0 - 2.0 * a * h0;
                 if rate0 >= 0.0 || disc < 0.0 {
-                    return None;
+                    return Search::Clear;
                 }
                 2.0 * h0 / (-rate0 + disc.sqrt())
             } else if rate0 < 0.0 {
                 h0 / -rate0
             } else {
-                return None;
+                return Search::Clear;
             };
-            return (t0 + s <= end).then_some(t0 + s);
+            return found((t0 + s <= end).then_some(t0 + s));
         }
         let at = |t: f64| {
             let (rr, vv) = fly(r, v, gravity, t - t0);
             (self.gap(rr, radius, t), self.gap_rate(vv, t))
         };
-        first_contact(at, gravity + self.motion.max_acceleration(), t0, end)
+        search_contact(at, gravity + self.motion.max_acceleration(), t0, end)
     }
 }
 
@@ -223,16 +253,36 @@ impl Wall {
 /// last bracket is bisected to [`TIME_TOLERANCE`]. A gap closed by round-off at `t0` while
 /// closing is a contact now; one closed while opening is not, so nothing sinks.
 pub fn first_contact(at: impl Fn(f64) -> (f64, f64), k: f64, t0: f64, end: f64) -> Option<f64> {
+    match search_contact(at, k, t0, end) {
+        Search::At(t) => Some(t),
+        Search::Clear | Search::GaveUp(_) => None,
+    }
+}
+
+/// What a search for a contact found.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Search {
+    /// The first contact, at this time.
+    At(f64),
+    /// No contact up to the end of the search.
+    Clear,
+    /// The iteration budget ran out at this time, before the end of the search, with no
+    /// contact before it.
+    GaveUp(f64),
+}
+
+/// [`first_contact`], telling a gap that stays open to `end` from a search that gave up.
+pub fn search_contact(at: impl Fn(f64) -> (f64, f64), k: f64, t0: f64, end: f64) -> Search {
     let (h0, rate0) = at(t0);
     if h0 <= 0.0 && rate0 < 0.0 {
-        return Some(t0);
+        return Search::At(t0);
     }
     let (mut t, mut h, mut rate) = (t0, h0.max(0.0), rate0);
     for _ in 0..100_000 {
         let s = (rate + (rate * rate + 2.0 * k * h.max(0.0)).sqrt()) / k;
         let next = t + s.max(TIME_TOLERANCE);
         if next > end {
-            return None;
+            return Search::Clear;
         }
         let (hn, rn) = at(next);
         if hn <= 0.0 {
@@ -249,7 +299,7 @@ pub fn first_contact(at: impl Fn(f64) -> (f64, f64), k: f64, t0: f64, end: f64) 
             }
             let (_, rate_hi) = at(hi);
             if rate_hi < 0.0 {
-                return Some(hi);
+                return Search::At(hi);
             }
             // Touching but not approaching there: go on from the contact, gap zero.
             (t, h, rate) = (hi, 0.0, rate_hi);
@@ -257,12 +307,12 @@ pub fn first_contact(at: impl Fn(f64) -> (f64, f64), k: f64, t0: f64, end: f64) 
         }
         (t, h, rate) = (next, hn, rn);
         if h <= 1e-15 && rate < 0.0 {
-            return Some(t);
+            return Search::At(t);
         }
     }
     // A grazing approach that never quite touches within the iteration budget: the caller
-    // looks again at its horizon.
-    None
+    // looks again from where the search stopped.
+    Search::GaveUp(t)
 }
 
 #[cfg(test)]
@@ -305,6 +355,48 @@ mod tests {
                 assert!(w.gap(rs, 5e-4, s) > -1e-15, "inside at {s}");
             }
         }
+    }
+
+    #[test]
+    fn no_contact_comes_before_a_particle_reaches_the_band_the_wall_sweeps() {
+        // The floor sweeps z in [-1, 1] mm; a grain of radius 0.5 mm dropped from 5 mm comes
+        // within reach when its centre falls to 1.5 mm, after sqrt(2 (3.5 mm) / g).
+        let w = floor(1e-3, 50.0);
+        let (r, g) = (Vec2::new(0.0, 5e-3), 10.0);
+        let entry = w.reach(r, Vec2::zeros(), 5e-4, g);
+        assert!((entry - (2.0 * 3.5e-3 / g).sqrt()).abs() < 1e-15, "{entry}");
+        let contact = w.contact_time(r, Vec2::zeros(), 5e-4, g, 0.0, 1.0).unwrap();
+        assert!(contact >= entry);
+        // Within reach now: 0; thrown up without gravity: never.
+        assert_eq!(w.reach(Vec2::new(0.0, 1e-3), Vec2::zeros(), 5e-4, g), 0.0);
+        assert_eq!(w.reach(r, Vec2::new(0.0, 1.0), 5e-4, 0.0), f64::INFINITY);
+        // A lid at 10 mm sweeping [9, 11] mm: reached rising at 1 m/s from 5 mm when the
+        // centre passes 8.5 mm.
+        let lid = Wall {
+            kind: WallKind::Lid,
+            position: 1e-2,
+            motion: Motion {
+                amplitude: 1e-3,
+                frequency: 50.0,
+                phase: 0.0,
+            },
+        };
+        let up = lid.reach(r, Vec2::new(0.0, 1.0), 5e-4, g);
+        let z = r.y + up - 0.5 * g * up * up;
+        assert!((z - 8.5e-3).abs() < 1e-15, "{z}");
+        assert_eq!(lid.reach(r, Vec2::new(0.0, 0.1), 5e-4, g), f64::INFINITY);
+    }
+
+    #[test]
+    fn a_search_that_runs_out_of_steps_says_where_it_stopped() {
+        // A gap that never closes but shrinks forever: the bound's steps shrink with it.
+        let at = |t: f64| (1e-3 * (-1e3 * t).exp(), -(-1e3 * t).exp());
+        match search_contact(at, 1e9, 0.0, 1.0) {
+            Search::GaveUp(t) => assert!(t > 0.0 && t < 1.0),
+            other => panic!("{other:?}"),
+        }
+        assert_eq!(first_contact(at, 1e9, 0.0, 1.0), None);
+        assert_eq!(search_contact(|_| (1.0, 0.0), 1.0, 0.0, 1.0), Search::Clear);
     }
 
     #[test]

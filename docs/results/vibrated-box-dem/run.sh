@@ -36,3 +36,18 @@ have planar || $B compare $S $T --out $D/planar --seeds 5 --transient 1 --set ru
 # The event-driven model's collapse guard: t_c of the TC model, 1e-5 s against 1e-6 s.
 [ -s $D/tc.json ] || $B events-sweep $D/v0.4/events-table.toml --force --quiet --threads 1 --out $D/tc --seeds 5 \
   --vary guard.tc=1e-5,1e-6 > $D/tc.json
+# Section 3's other axes at V = 0.4 m/s, 3 seeds of 11 s each: mu, beta0 through the
+# Cundall-Strack spring (-cos(pi sqrt(7 k_t / 2 k_n)) = -0.5, 0, +0.9 without damping), and
+# N and L at N/L = 5 grains per mm.
+A="--seeds 3 --transient 1 --set run.duration=11"
+have axes/mu0 || $B compare $S $T --out $D/axes/mu0 $A --set contact.friction=0 > /dev/null
+have axes/mu2 || $B compare $S $T --out $D/axes/mu2 $A --set contact.friction=2 > /dev/null
+have axes/mu20 || $B compare $S $T --out $D/axes/mu20 $A --set contact.friction=20 > /dev/null
+have axes/kt317 || $B compare $S $T --out $D/axes/kt317 $A --set contact.tangential_stiffness=317.5 > /dev/null
+have axes/kt714 || $B compare $S $T --out $D/axes/kt714 $A --set contact.tangential_stiffness=714.3 > /dev/null
+have axes/kt2095 || $B compare $S $T --out $D/axes/kt2095 $A --set contact.tangential_stiffness=2095 > /dev/null
+have axes/n25 || $B compare $S $T --out $D/axes/n25 $A --set particles.count=25 --set box.length=5e-3 > /dev/null
+have axes/n100 || $B compare $S $T --out $D/axes/n100 $A --set particles.count=100 --set box.length=20e-3 > /dev/null
+# mu = 0 held in the plane: one size in a gap of 1.005 mm.
+have axes/mu0-planar || $B compare $S $T --out $D/axes/mu0-planar $A --set contact.friction=0 \
+  --set particles.radius_min=0.5e-3 --set particles.radius_max=0.5e-3 --set box.width=1.005e-3 > /dev/null
