@@ -3,18 +3,19 @@
 //! (`checkpoint.bin`) written atomically. A run continued from it with `--resume` goes on
 //! bit for bit as if it had not stopped.
 //!
-//! Layout (little-endian): the magic `STRIPES-EVENTS-CKPT-1\n`, the scene's fingerprint
+//! Layout (little-endian): the magic `STRIPES-EVENTS-CKPT-5\n`, the scene's fingerprint
 //! (u64), then the payload, then an FNV-1a checksum (u64) of the payload. Vectors are a
 //! u64 length followed by their items. A file cut short or altered fails its checksum and
 //! is refused with the byte count, never half read.
 
 use events::observe::{Observer, Profile};
 use events::phase_field::PhaseField;
+use events::segregation::Mixing;
 use events::sim::{Counts, Ledger};
 use events::thinned::Thinned;
 use events::{Next, State, Vec2};
 
-const MAGIC: &[u8] = b"STRIPES-EVENTS-CKPT-4\n";
+const MAGIC: &[u8] = b"STRIPES-EVENTS-CKPT-5\n";
 
 /// Where a run stands at a checkpoint.
 #[derive(Clone, Debug, PartialEq)]
@@ -243,6 +244,17 @@ pub fn encode(c: &Checkpoint) -> Vec<u8> {
             o.us(&f.samples.iter().map(|&n| n as usize).collect::<Vec<_>>());
         }
     }
+    match &b.mixing {
+        None => o.u(0),
+        Some(m) => {
+            o.u(1);
+            for v in [&m.neighbours, &m.same] {
+                o.us(&v.iter().map(|&n| n as usize).collect::<Vec<_>>());
+            }
+            o.us(&m.count);
+            o.u(m.samples);
+        }
+    }
     let payload = o.0;
     let mut bytes = MAGIC.to_vec();
     bytes.extend_from_slice(&c.fingerprint.to_le_bytes());
@@ -397,6 +409,24 @@ pub fn decode(bytes: &[u8]) -> Result<Checkpoint, String> {
         }
         other => return Err(format!("unknown phase-field flag {other}")),
     };
+    let mixing = match i.u()? {
+        0 => None,
+        1 => {
+            let neighbours: Vec<u64> = i.us()?.into_iter().map(|n| n as u64).collect();
+            let same: Vec<u64> = i.us()?.into_iter().map(|n| n as u64).collect();
+            let count = i.us()?;
+            if neighbours.len() != count.len() || same.len() != count.len() {
+                return Err("the neighbour record does not have the species it claims".into());
+            }
+            Some(Mixing {
+                neighbours,
+                same,
+                count,
+                samples: i.u()?,
+            })
+        }
+        other => return Err(format!("unknown neighbour-record flag {other}")),
+    };
     if i.at != payload.len() {
         return Err(format!("{} bytes left over after the checkpoint", payload.len() - i.at));
     }
@@ -427,6 +457,7 @@ pub fn decode(bytes: &[u8]) -> Result<Checkpoint, String> {
             velocity_samples,
             side,
             field,
+            mixing,
             // Checkpoints are written by `stripes events`, whose observer keeps everything.
             distributions: true,
         },
@@ -448,6 +479,10 @@ mod tests {
             sim.run_until(k as f64 * 0.01).unwrap();
             observer.sample(&sim);
         }
+        // The ratchet has one species; a mixture's neighbour record travels too.
+        let mut mixing = Mixing::new(&[0, 1, 1]);
+        mixing.add(&[0.0, 1e-3, 5e-3], &[1e-3, 1e-3, 1e-3], &[6e-4; 3], &[0, 1, 1], None);
+        observer.mixing = Some(mixing);
         Checkpoint {
             fingerprint: 42,
             sample: 20,

@@ -19,6 +19,7 @@ mod events_distributions;
 mod events_fields;
 mod events_measure;
 mod events_scene;
+mod events_segregation;
 mod events_side;
 mod output;
 mod pipeline;

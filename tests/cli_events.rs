@@ -94,6 +94,17 @@ fn the_mixture_runs_writes_its_profiles_and_analyze_reads_it() {
     let rms = side["imbalance_rms"].as_f64().unwrap();
     assert!(rms > 0.0 && rms <= 1.0, "{side}");
     assert!(side["threshold"].as_f64().unwrap() >= 2.0 / 300f64.sqrt() - 1e-12, "{side}");
+    // The neighbour record: per species its grains, a share of its own kind between 0 and
+    // 1, the chance share (150 - 1) / (300 - 1), and their ratio.
+    let seg = &s["segregation"];
+    assert_eq!(seg["samples"].as_u64(), s["samples"].as_u64(), "{seg}");
+    for sp in seg["species"].as_array().unwrap() {
+        assert_eq!(sp["grains"], 150, "{seg}");
+        assert!((sp["chance_fraction"].as_f64().unwrap() - 149.0 / 299.0).abs() < 1e-12, "{seg}");
+        let (same, ratio) = (sp["same_fraction"].as_f64().unwrap(), sp["ratio"].as_f64().unwrap());
+        assert!((0.0..=1.0).contains(&same) && (ratio - same * 299.0 / 149.0).abs() < 1e-9, "{seg}");
+        assert!(sp["neighbours_per_grain"].as_f64().unwrap() > 0.0, "{seg}");
+    }
     // The same seed gives the same numbers.
     let out2 = d.join("mix2").display().to_string();
     let mut again = vec!["events", scene, "--out", &out2, "--quiet"];
@@ -186,6 +197,7 @@ fn a_ratchet_run_extended_with_resume_matches_the_whole_run_byte_for_byte() {
     let (ok, stdout, stderr) = run(&whole, "3", &[]);
     assert!(ok, "{stderr}");
     let full = last_json(&stdout);
+    assert!(full["segregation"].is_null(), "one species: no neighbour record");
     assert!(run(&part, "1.5", &[]).0);
     // Resuming needs --resume: a plain second run is refused.
     assert!(!run(&part, "3", &[]).0);

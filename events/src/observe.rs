@@ -7,6 +7,7 @@
 use crate::config::SideWalls;
 use crate::phase_field::PhaseField;
 use crate::sawtooth::Sawtooth;
+use crate::segregation::Mixing;
 use crate::side;
 use crate::sim::Simulation;
 use crate::thinned::Thinned;
@@ -107,6 +108,9 @@ pub struct Observer {
     /// On a sawtooth base, the mass and momentum over one tooth per phase of the drive
     /// ([`crate::phase_field`]); `None` elsewhere.
     pub field: Option<PhaseField>,
+    /// In a mixture, the near neighbours of each species' grains and how many are of its
+    /// own kind ([`crate::segregation`]); `None` for one species, and until the first sample.
+    pub mixing: Option<Mixing>,
     /// Whether the samples also fill the profiles across the box, the velocity lists and
     /// the side imbalance (true unless [`Observer::means_and_heights`] turned them off).
     pub distributions: bool,
@@ -136,6 +140,7 @@ impl Observer {
             velocity_samples: 0,
             side: Thinned::new(),
             field: None,
+            mixing: None,
             distributions: true,
         }
     }
@@ -195,6 +200,12 @@ impl Observer {
         if sim.config.side_walls != SideWalls::Periodic {
             let width = sim.config.width;
             self.side.push(side::imbalance((0..n).map(|i| sim.state(i).0.x), width));
+        }
+        if self.species.len() > 1 {
+            let mixing = self.mixing.get_or_insert_with(|| Mixing::new(&sim.species));
+            let (x, z): (Vec<f64>, Vec<f64>) = (0..n).map(|i| (sim.state(i).0.x, sim.state(i).0.y)).unzip();
+            let period = (sim.config.side_walls == SideWalls::Periodic).then_some(sim.config.width);
+            mixing.add(&x, &z, &sim.radius, &sim.species, period);
         }
         if let Some(f) = &mut self.field {
             f.add(sim);

@@ -61,6 +61,9 @@ pub struct EventsSummary {
     pub temperatures: Vec<Temperatures>,
     /// The side-wall cluster's record (null in a periodic box).
     pub side_cluster: Option<crate::events_side::SideSummary>,
+    /// In a mixture, each species' share of its own kind among its near neighbours against
+    /// random labels (`null` for one species).
+    pub segregation: Option<crate::events_segregation::SegregationSummary>,
     pub wall_s: f64,
     pub warnings: Vec<String>,
     #[serde(flatten)]
@@ -270,6 +273,7 @@ fn simulate(
         temperature_ratio_bulk: crate::events_measure::bulk_ratio(&obs, sim.config.height),
         temperatures,
         side_cluster,
+        segregation: crate::events_segregation::summary(&obs),
         wall_s,
         warnings,
         written: dir.written(),
