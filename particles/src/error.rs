@@ -111,15 +111,6 @@ impl fmt::Display for SimError {
 
 impl std::error::Error for SimError {}
 
-impl From<crate::scene::SceneError> for SimError {
-    fn from(e: crate::scene::SceneError) -> Self {
-        SimError::InvalidParameter {
-            field: e.key,
-            message: e.message,
-        }
-    }
-}
-
 /// A name that is none of an option's names, as a scene file or the command line wrote it,
 /// e.g. `unknown integrator `leapfrog`, expected one of velocity-verlet, thesis`.
 #[derive(Clone, Debug, PartialEq, Eq)]

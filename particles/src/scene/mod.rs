@@ -257,6 +257,16 @@ pub struct SceneError {
     pub message: String,
 }
 
+/// A scene's error where a simulation's is expected: the field and what is wrong with it.
+impl From<SceneError> for crate::error::SimError {
+    fn from(e: SceneError) -> Self {
+        crate::error::SimError::InvalidParameter {
+            field: e.key,
+            message: e.message,
+        }
+    }
+}
+
 impl std::fmt::Display for SceneError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(f, "scene `{}`: {}", self.key, self.message)
