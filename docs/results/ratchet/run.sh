@@ -71,3 +71,8 @@ have fig12-onset || $B events-sweep $S $T --out $D/fig12-onset --seeds 14 \
   --set particles.species.0.count=51 \
   --set box.width=0.06 --set base.tooth_height=0.006 --set base.asymmetry=0.25 \
   --set run.duration=30 --set run.transient=3 > $D/fig12-onset.json
+# Fig 10 at n = 1.05 on a finer grid below the reversal (31 disks), 14 seeds of 30 s.
+have fig10-n105-low || $B events-sweep $S $T --out $D/fig10-n105-low --seeds 14 \
+  --vary drive.frequency=11,12,13,13.5,14,14.5,15,16,17 --set particles.species.0.count=31 \
+  --set box.width=0.06 --set base.tooth_height=0.006 --set base.asymmetry=0.25 \
+  --set run.duration=30 --set run.transient=3 > $D/fig10-n105-low.json
