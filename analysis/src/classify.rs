@@ -210,6 +210,25 @@ pub fn sensitivity(base: ClassifyParams, e: Evidence, stationary_at: impl Fn(f64
     Sensitivity { variants }
 }
 
+/// The frames from `from` on that are a whole number of drive periods before the last one
+/// (to a hundredth of a period): the frames at the last frame's phase of the drive. All of
+/// them without a period. Positions are in the laboratory frame, where a band that rests on
+/// the tray moves with it by the drive's amplitude within a period: an average over frames
+/// at several phases smears it, one over frames at one phase does not.
+pub fn same_phase(times: &[f64], from: usize, period: Option<f64>) -> Vec<usize> {
+    let Some(&last) = times.last() else {
+        return Vec::new();
+    };
+    (from..times.len())
+        .filter(|&i| {
+            period.is_none_or(|p| {
+                let k = (last - times[i]) / p;
+                (k - k.round()).abs() < 0.01
+            })
+        })
+        .collect()
+}
+
 /// The cell-wise mean of equally long profiles (empty input: empty profile).
 pub fn time_average(profiles: &[Vec<f64>]) -> Vec<f64> {
     let Some(first) = profiles.first() else {
@@ -289,6 +308,18 @@ mod tests {
     use super::*;
     use crate::density::area_fraction_cells;
     use rand::{Rng, SeedableRng};
+
+    /// Four frames a period: the window's average takes every fourth, counted back from the
+    /// last; one frame a period, or no period: all of them.
+    #[test]
+    fn the_persistence_average_keeps_the_last_frames_phase() {
+        let four: Vec<f64> = (0..20).map(|k| 0.25 + k as f64 * 0.25 + 1e-6 * (k % 3) as f64).collect();
+        assert_eq!(same_phase(&four, 8, Some(1.0)), vec![11, 15, 19]);
+        let one: Vec<f64> = (0..6).map(|k| 0.25 + k as f64).collect();
+        assert_eq!(same_phase(&one, 2, Some(1.0)), vec![2, 3, 4, 5]);
+        assert_eq!(same_phase(&four, 17, None), vec![17, 18, 19]);
+        assert!(same_phase(&[], 0, Some(1.0)).is_empty());
+    }
 
     /// One frame holds no evidence of persistence: no stationary stripes, with or without a
     /// known period.

@@ -20,7 +20,7 @@ use serde::Serialize;
 
 use crate::autocorr;
 use crate::classify::{
-    cell_std, classify, persistence_window, random_layer_sigma, sensitivity, time_average, Classification, ClassifyParams, Evidence, Phase,
+    cell_std, classify, persistence_window, random_layer_sigma, same_phase, sensitivity, time_average, Classification, ClassifyParams, Evidence, Phase,
     Sensitivity,
 };
 use crate::density::{add_area_fraction_cells, mean_area_fraction};
@@ -682,8 +682,17 @@ impl Analyzer {
         } else {
             (2.0 * tail_d.iter().sum::<f64>() / tail_d.len() as f64).sqrt() / self.mean_d
         };
-        let averaged_over =
-            |periods: f64| persistence_window(&self.times, tail_from, self.period, periods).map(|from| time_average(&self.map[from..]));
+        // The persistence window's frames at the last frame's phase of the drive (see
+        // [`same_phase`]).
+        let averaged_over = |periods: f64| {
+            persistence_window(&self.times, tail_from, self.period, periods).map(|from| {
+                let frames: Vec<Vec<f64>> = same_phase(&self.times, from, self.period)
+                    .into_iter()
+                    .map(|i| self.map[i].clone())
+                    .collect();
+                time_average(&frames)
+            })
+        };
         let averaged = averaged_over(self.opts.classify.persistence_periods);
         let stationary = averaged.as_ref().map_or(0, |p| detect(p, l, &self.params).len());
         let spacing = averaged
