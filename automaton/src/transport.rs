@@ -21,7 +21,7 @@
 //! to it (`docs/results/automaton-pattern/mechanism-gamma/`, 0.05 m, packing 0.46,
 //! A = 10 mm): at Gamma 0.64 crowded grains are held as at 0.36 (|a| 0.29-0.45 in the
 //! classes above phi 0.5) and 11-47 % of the grains are off the floor; at Gamma 1.42 the
-//! slope no longer falls with the packing (|a| 0.69-0.75 in every class, 0.08 of the hold
+//! slope no longer falls with the packing (|a| 0.68-0.75 in every class, 0.08 of the hold
 //! left), 67-80 % of the grains are off the floor and the mean pair-contact count is 16
 //! against 54. The hold does not wear away at the contacts; it goes when the layer lifts
 //! off the floor and its contacts open. The rule is that lift-off: the whole hold up to
