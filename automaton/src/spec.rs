@@ -53,9 +53,9 @@ pub struct Spec {
     pub slope: SlopeTable,
     /// With `transport = "graded"`: agitation melts the crowding's hold above `melt_gamma`.
     pub melt: bool,
-    /// `Gamma_c` of the melt rule: the peak tray acceleration over g up to which pair
-    /// friction holds crowded grains for the whole half period (default 1.35, fitted on
-    /// part of the phase map).
+    /// `Gamma_c` of the melt rule: the peak tray acceleration over g at which the layer
+    /// lifts off the floor and pair friction stops holding crowded grains (default 1.35,
+    /// fitted on part of the phase map; the DEM brackets it between 0.64 and 1.42).
     pub melt_gamma: f64,
     /// With `transport = "graded"`: length of the strip over which a grain's local packing
     /// is taken (m; the DEM's measurement used 1 mm).
