@@ -20,8 +20,8 @@ use serde::Serialize;
 
 use crate::autocorr;
 use crate::classify::{
-    cell_std, classify, persistence_window, random_layer_sigma, same_phase, sensitivity, time_average, Classification, ClassifyParams, Evidence, Phase,
-    Sensitivity,
+    cell_std, classify, persistence_window, random_layer_sigma, same_phase, sensitivity, time_average, Classification, ClassifyParams,
+    Evidence, Phase, Sensitivity,
 };
 use crate::density::{add_area_fraction_cells, mean_area_fraction};
 use crate::msd::{flat_plateau, half_msd, median_spacing, MsdPoint, Plateau, PLATEAU_FLATNESS};

@@ -11,6 +11,7 @@ use crate::segregation::Mixing;
 use crate::side;
 use crate::sim::Simulation;
 use crate::thinned::Thinned;
+use crate::Vec2;
 
 /// Profiles of one species along one axis (height, or x across the box), accumulated over
 /// samples.
@@ -178,14 +179,9 @@ impl Observer {
         let n = sim.len();
         let (mut h, mut vx) = (0.0, 0.0);
         for i in 0..n {
-            let (r, v) = sim.state(i);
-            let k = sim.species[i];
-            let m = sim.mass[i];
+            let (r, v, k, m, iw2) = self.add_to_heights(sim, i);
             h += r.y;
             vx += v.x;
-            let iw2 = sim.config.q * m * sim.radius[i].powi(2) * sim.w[i].powi(2);
-            let b = ((r.y / self.bin).floor().max(0.0) as usize).min(self.bins - 1);
-            self.species[k].add(b, m, v.x, v.y, iw2);
             let x = r.x.rem_euclid(sim.config.width) / sim.config.width;
             let c = ((x * self.across_bins as f64) as usize).min(self.across_bins - 1);
             self.across[k].add(c, m, v.x, v.y, iw2);
@@ -218,21 +214,27 @@ impl Observer {
         self.samples += 1;
     }
 
+    /// Adds grain `i` to its species' profile against height; returns its position,
+    /// velocity, species, mass and `q m R^2 w^2` for the caller's other records.
+    fn add_to_heights(&mut self, sim: &Simulation, i: usize) -> (Vec2, Vec2, usize, f64, f64) {
+        let (r, v) = sim.state(i);
+        let (k, m) = (sim.species[i], sim.mass[i]);
+        let iw2 = sim.config.q * m * sim.radius[i].powi(2) * sim.w[i].powi(2);
+        // Truncation is the floor for a non-negative height (and 0 below the floor).
+        let b = ((r.y / self.bin).max(0.0) as usize).min(self.bins - 1);
+        self.species[k].add(b, m, v.x, v.y, iw2);
+        (r, v, k, m, iw2)
+    }
+
     /// [`Observer::sample`] without the distributions: the means and the profiles against
     /// height, added in the same order, so that they hold the same sums to the last bit.
     fn sample_heights(&mut self, sim: &Simulation) {
         let n = sim.len();
         let (mut h, mut vx) = (0.0, 0.0);
         for i in 0..n {
-            let (r, v) = sim.state(i);
-            let k = sim.species[i];
-            let m = sim.mass[i];
+            let (r, v, ..) = self.add_to_heights(sim, i);
             h += r.y;
             vx += v.x;
-            let iw2 = sim.config.q * m * sim.radius[i].powi(2) * sim.w[i].powi(2);
-            // Truncation is the floor for a non-negative height (and 0 below the floor).
-            let b = ((r.y / self.bin).max(0.0) as usize).min(self.bins - 1);
-            self.species[k].add(b, m, v.x, v.y, iw2);
         }
         if let Some(f) = &mut self.field {
             f.add(sim);
