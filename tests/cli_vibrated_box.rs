@@ -6,29 +6,27 @@
 mod common;
 use common::stripes;
 
+/// `stripes compare` on the vibrated box into a fresh directory named `name`: the directory,
+/// and whether it succeeded with its stdout's last line and stderr. `args` follow the scene.
+fn compare(name: &str, args: &[&str]) -> (std::path::PathBuf, bool, serde_json::Value, String) {
+    let tmp = std::env::temp_dir().join(format!("stripes-cli-{name}-{}", std::process::id()));
+    let (out, cache) = (tmp.join("cmp"), tmp.join("samples"));
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/vibrated-box-dem.toml");
+    let mut all = vec!["compare", scene];
+    all.extend_from_slice(args);
+    let (out, cache) = (out.display().to_string(), cache.display().to_string());
+    all.extend(["--quiet", "--out", &out, "--sample-cache", &cache]);
+    let (ok, stdout, stderr) = stripes(&all);
+    let v = stdout.lines().last().and_then(|l| serde_json::from_str(l).ok()).unwrap_or_default();
+    (tmp, ok, v, stderr)
+}
+
 #[test]
 fn compare_on_the_vibrated_box_runs_three_models_and_writes_their_report() {
-    let tmp = std::env::temp_dir().join(format!("stripes-cli-vibrated-box-{}", std::process::id()));
-    let out = tmp.join("cmp").display().to_string();
-    let cache = tmp.join("samples").display().to_string();
-    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/vibrated-box-dem.toml");
-    let (ok, stdout, stderr) = stripes(&[
-        "compare",
-        scene,
-        "--seeds",
-        "2",
-        "--transient",
-        "0.1",
-        "--set",
-        "run.duration=0.3",
-        "--quiet",
-        "--out",
-        &out,
-        "--sample-cache",
-        &cache,
-    ]);
+    let (tmp, ok, v, stderr) = compare("vibrated-box", &["--seeds", "2", "--transient", "0.1", "--set", "run.duration=0.3"]);
     assert!(ok, "{stderr}");
-    let v: serde_json::Value = serde_json::from_str(stdout.lines().last().unwrap()).unwrap();
+    let (out, cache) = (tmp.join("cmp").display().to_string(), tmp.join("samples").display().to_string());
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/vibrated-box-dem.toml");
     let models = v["models"].as_array().unwrap();
     let names: Vec<&str> = models.iter().map(|m| m["model"].as_str().unwrap()).collect();
     assert_eq!(names, ["dem", "events-table", "events-walton"]);
@@ -70,29 +68,20 @@ fn compare_on_the_vibrated_box_runs_three_models_and_writes_their_report() {
 
 #[test]
 fn compare_runs_a_frictionless_box_although_its_lab_measures_beta_a_hair_below_smooth() {
-    let tmp = std::env::temp_dir().join(format!("stripes-cli-vibrated-box-mu0-{}", std::process::id()));
-    let out = tmp.join("cmp").display().to_string();
-    let cache = tmp.join("samples").display().to_string();
-    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/vibrated-box-dem.toml");
-    let (ok, stdout, stderr) = stripes(&[
-        "compare",
-        scene,
-        "--seeds",
-        "1",
-        "--transient",
-        "0.05",
-        "--set",
-        "run.duration=0.1",
-        "--set",
-        "contact.friction=0",
-        "--quiet",
-        "--out",
-        &out,
-        "--sample-cache",
-        &cache,
-    ]);
+    let (tmp, ok, v, stderr) = compare(
+        "vibrated-box-mu0",
+        &[
+            "--seeds",
+            "1",
+            "--transient",
+            "0.05",
+            "--set",
+            "run.duration=0.1",
+            "--set",
+            "contact.friction=0",
+        ],
+    );
     assert!(ok, "{stderr}");
-    let v: serde_json::Value = serde_json::from_str(stdout.lines().last().unwrap()).unwrap();
     assert_eq!(v["walton_fit"]["pair"]["beta0"], -1.0, "a smooth fit without friction");
     // The table the event-driven model read keeps beta within [-1, 1].
     let table = std::fs::read_to_string(tmp.join("cmp/restitution.csv")).unwrap();
