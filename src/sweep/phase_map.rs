@@ -2,10 +2,11 @@
 //! its jobs, one per model, amplitude, frequency and sample, and its report.
 //!
 //! Writes `phase_map.csv` (`model,frequency,amplitude,sample,phase,stripe_count,contrast,
-//! mobility,onset_s,structure_peak_height,phase_robust`, the last 1 when the run's phase is the
-//! same under every threshold set of the analysis' sensitivity sweep), per model the heat maps of contrast and mobility with the class
-//! boundaries (nothing / stripes / gas, the analysis' classifier) drawn on them, and
-//! `report.md` with both models side by side and where they agree.
+//! mobility,onset_s,structure_peak_height,phase_robust`, the last 1 when the run's phase is
+//! the same under every threshold set of the analysis' sensitivity sweep), per model the heat
+//! maps of contrast, mobility and S(k) peak height with the class boundaries (nothing /
+//! stripes / gas, the analysis' classifier) drawn on them, and `report.md` with both models
+//! side by side and where they agree.
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
@@ -46,6 +47,14 @@ pub fn jobs(freqs: &[f64], amps: &[f64], models: &[Model], samples: usize, seed:
 }
 
 const PHASES: [&str; 3] = ["nothing", "stripes", "gas"];
+
+/// The continuous numbers drawn as heat maps under the phases, with their colour-bar labels:
+/// `phase_<model>_<metric>.png`.
+const METRICS: [(&str, &str); 3] = [
+    ("contrast", "contrast (x a random layer's)"),
+    ("mobility", "mobility (mean diameters per period)"),
+    ("structure_peak_height", "S(k) peak height of the late frames"),
+];
 
 /// Whether the values are evenly spaced (to 1e-9 of their span), so a linear axis shows them.
 fn evenly_spaced(v: &[f64]) -> bool {
@@ -94,7 +103,8 @@ pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
         v.sort_by(f64::total_cmp);
         v.dedup();
     }
-    type Cell = Vec<(usize, f64, f64)>;
+    // Per sample: phase, then the metrics of METRICS in order.
+    type Cell = Vec<(usize, [f64; 3])>;
     let mut cells: BTreeMap<(String, usize, usize), Cell> = BTreeMap::new();
     for (job, r) in &results {
         let (f, a) = (num(r, "frequency"), num(r, "amplitude"));
@@ -127,7 +137,7 @@ pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
         cells
             .entry((job.model.name().to_string(), ai, fi))
             .or_default()
-            .push((phase_index(&phase), contrast, mobility));
+            .push((phase_index(&phase), [contrast, mobility, height]));
     }
     let path = root.join("phase_map.csv");
     analysis::io::write_atomic(&path, csv.as_bytes())?;
@@ -158,14 +168,14 @@ pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
                     .collect()
             })
             .collect();
-        for (metric, k) in [("contrast", 1usize), ("mobility", 2usize)] {
+        for (k, (metric, label)) in METRICS.iter().enumerate() {
             let values: Vec<Vec<f64>> = (0..amps.len())
                 .map(|ai| {
                     (0..freqs.len())
                         .map(|fi| {
-                            cells.get(&(model.clone(), ai, fi)).map_or(f64::NAN, |c| {
-                                mean(&c.iter().map(|t| if k == 1 { t.1 } else { t.2 }).collect::<Vec<_>>())
-                            })
+                            cells
+                                .get(&(model.clone(), ai, fi))
+                                .map_or(f64::NAN, |c| mean(&c.iter().map(|t| t.1[k]).collect::<Vec<_>>()))
                         })
                         .collect()
                 })
@@ -177,10 +187,7 @@ pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
                 x_range: (freqs[0] - 0.5 * df, freqs[freqs.len() - 1] + 0.5 * df),
                 y_range: (amps[0] - 0.5 * da, amps[amps.len() - 1] + 0.5 * da),
                 values,
-                colorbar_label: match metric {
-                    "contrast" => "contrast (x a random layer's)".into(),
-                    _ => "mobility (mean diameters per period)".into(),
-                },
+                colorbar_label: (*label).into(),
                 scale: None,
                 cell_names: None,
             };
@@ -236,6 +243,15 @@ pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
             .map(|m| format!("![](phase_{m}_mobility.png)"))
             .collect::<Vec<_>>()
             .join(" | ")
+    )?;
+    writeln!(
+        md,
+        "S(k) peak height (the late frames' structure factor; large for regular bands): {}\n",
+        models
+            .iter()
+            .map(|m| format!("![](phase_{m}_structure_peak_height.png)"))
+            .collect::<Vec<_>>()
+            .join(" ")
     )?;
     for model in &models {
         writeln!(
