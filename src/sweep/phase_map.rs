@@ -48,12 +48,13 @@ pub fn jobs(freqs: &[f64], amps: &[f64], models: &[Model], samples: usize, seed:
 
 const PHASES: [&str; 3] = ["nothing", "stripes", "gas"];
 
-/// The continuous numbers drawn as heat maps under the phases, with their colour-bar labels:
+/// The continuous numbers drawn as heat maps under the phases, with their titles and
+/// colour-bar labels:
 /// `phase_<model>_<metric>.png`.
-const METRICS: [(&str, &str); 3] = [
-    ("contrast", "contrast (x a random layer's)"),
-    ("mobility", "mobility (mean diameters per period)"),
-    ("structure_peak_height", "S(k) peak height of the late frames"),
+const METRICS: [(&str, &str, &str); 3] = [
+    ("contrast", "contrast", "contrast (x a random layer's)"),
+    ("mobility", "mobility", "mobility (mean diameters per period)"),
+    ("structure_peak_height", "S(k) peak height", "S(k) peak height of the late frames"),
 ];
 
 /// Whether the values are evenly spaced (to 1e-9 of their span), so a linear axis shows them.
@@ -168,7 +169,7 @@ pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
                     .collect()
             })
             .collect();
-        for (k, (metric, label)) in METRICS.iter().enumerate() {
+        for (k, (metric, name, label)) in METRICS.iter().enumerate() {
             let values: Vec<Vec<f64>> = (0..amps.len())
                 .map(|ai| {
                     (0..freqs.len())
@@ -181,7 +182,7 @@ pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
                 })
                 .collect();
             let heat = Heatmap {
-                title: format!("{model}: {metric} and phase"),
+                title: format!("{model}: {name} and phase"),
                 x_label: "frequency (Hz)".into(),
                 y_label: "amplitude (m)".into(),
                 x_range: (freqs[0] - 0.5 * df, freqs[freqs.len() - 1] + 0.5 * df),
