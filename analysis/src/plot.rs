@@ -56,6 +56,9 @@ pub struct Series {
     pub label: String,
     pub points: Vec<(f64, f64)>,
     pub mark: Mark,
+    /// Half-lengths of vertical error bars, one per point (none: no bars; a non-finite or
+    /// non-positive value: no bar at that point).
+    pub errors: Option<Vec<f64>>,
 }
 
 /// An x-y plot of one or more series. On a log axis, points with a non-positive coordinate
@@ -195,8 +198,37 @@ impl LinePlot {
             label: label.into(),
             points,
             mark,
+            errors: None,
         });
         self
+    }
+
+    /// Adds a series with vertical error bars `y +- errors[i]` (for example standard errors
+    /// over seeds); the axis range takes the bars in.
+    pub fn series_with_errors(mut self, label: &str, points: Vec<(f64, f64)>, errors: Vec<f64>, mark: Mark) -> Self {
+        assert_eq!(points.len(), errors.len(), "one error per point");
+        self.series.push(Series {
+            label: label.into(),
+            points,
+            mark,
+            errors: Some(errors),
+        });
+        self
+    }
+
+    /// The error bars of series `k` that can be drawn: `(x, y - e, y + e)`.
+    fn bars(&self, k: usize) -> Vec<(f64, f64, f64)> {
+        let s = &self.series[k];
+        let Some(errors) = &s.errors else {
+            return Vec::new();
+        };
+        s.points
+            .iter()
+            .zip(errors)
+            .filter(|&(&(x, y), &e)| e.is_finite() && e > 0.0 && x.is_finite() && y.is_finite())
+            .map(|(&(x, y), &e)| (x, y - e, y + e))
+            .filter(|&(x, lo, _)| (!self.log_x || x > 0.0) && (!self.log_y || lo > 0.0))
+            .collect()
     }
 
     /// Logarithmic x axis.
@@ -230,7 +262,12 @@ impl LinePlot {
     /// Writes `<stem>.png` and `<stem>.svg`; returns the paths written.
     pub fn save(&self, stem: &Path) -> Result<Vec<PathBuf>, PlotError> {
         register_font();
-        let all: Vec<(f64, f64)> = (0..self.series.len()).flat_map(|k| self.drawable(k)).collect();
+        let mut all: Vec<(f64, f64)> = (0..self.series.len()).flat_map(|k| self.drawable(k)).collect();
+        all.extend(
+            (0..self.series.len())
+                .flat_map(|k| self.bars(k))
+                .flat_map(|(x, lo, hi)| [(x, lo), (x, hi)]),
+        );
         let x = padded(all.iter().map(|p| p.0), self.log_x).unwrap_or(if self.log_x { 0.1..10.0 } else { 0.0..1.0 });
         let extra = self
             .y_include
@@ -348,6 +385,13 @@ impl LinePlot {
                     .draw_series(pts.iter().map(|&p| Circle::new(p, 3, color.filled())))
                     .map_err(perr)?;
             }
+            chart
+                .draw_series(
+                    self.bars(k)
+                        .into_iter()
+                        .map(|(x, lo, hi)| PathElement::new(vec![(x, lo), (x, hi)], color.stroke_width(2))),
+                )
+                .map_err(perr)?;
         }
         if self.series.len() > 1 {
             chart
@@ -850,6 +894,29 @@ fn write_svg(
 
 #[cfg(test)]
 mod tests {
+
+    /// Error bars: drawn where the error is a positive number, left out where a bar would
+    /// reach below zero on a log axis, and taken into the axis range.
+    #[test]
+    fn error_bars_are_drawn_where_they_can_be() {
+        let p = LinePlot::new("t", "x", "y").series_with_errors(
+            "a",
+            vec![(1.0, 1.0), (2.0, 2.0), (3.0, f64::NAN), (4.0, 3.0)],
+            vec![0.5, f64::NAN, 1.0, 0.0],
+            Mark::LinePoints,
+        );
+        assert_eq!(p.bars(0), vec![(1.0, 0.5, 1.5)]);
+        assert_eq!(p.clone().log_y().bars(0), vec![(1.0, 0.5, 1.5)]);
+        let below_zero = LinePlot::new("t", "x", "y")
+            .log_y()
+            .series_with_errors("a", vec![(1.0, 1.0)], vec![2.0], Mark::Points);
+        assert!(below_zero.bars(0).is_empty());
+        let dir = std::env::temp_dir().join(format!("stripes-plot-errors-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let files = p.save(&dir.join("e")).unwrap();
+        assert!(files.iter().all(|f| std::fs::metadata(f).map(|m| m.len() > 0).unwrap_or(false)));
+        let _ = std::fs::remove_dir_all(dir);
+    }
 
     /// The MSD plot's lowest decade had no label: a log range now starts just below a power
     /// of ten, so that the lowest decade's tick lies inside it.

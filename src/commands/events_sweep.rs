@@ -231,13 +231,14 @@ pub fn run(args: Args) -> Result<String, CliError> {
         let mut plot = LinePlot::new(&format!("{} against {}", columns[c], first.key), &first.key, label);
         let rest = points.len() / first.values.len();
         for r in 0..rest {
-            let line: Vec<(f64, f64)> = (0..first.values.len())
+            // Mean and standard error over seeds at each value of the first axis.
+            let (line, errors): (Vec<(f64, f64)>, Vec<f64>) = (0..first.values.len())
                 .map(|i| {
                     let row = &means[i * rest + r];
-                    (row[0], row[axes.len() + 1 + 2 * c])
+                    ((row[0], row[axes.len() + 1 + 2 * c]), row[axes.len() + 2 + 2 * c])
                 })
-                .filter(|(_, y)| y.is_finite())
-                .collect();
+                .filter(|((_, y), _)| y.is_finite())
+                .unzip();
             let name: Vec<String> = axes[1..]
                 .iter()
                 .enumerate()
@@ -248,7 +249,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
             } else {
                 name.join(", ")
             };
-            plot = plot.series(&name, line, Mark::LinePoints);
+            plot = plot.series_with_errors(&name, line, errors, Mark::LinePoints);
         }
         if c == 0 {
             plot = plot.include_y(0.0);
