@@ -329,6 +329,11 @@ pub fn load(path: &Path, set: &[String]) -> Result<EventScene, SceneError> {
     })
 }
 
+/// The most samples (observer updates and frames) a run may take: about 5 us each and a
+/// frame of 48 bytes per particle, so 1e7 samples are about a minute of sampling and 24 GB of
+/// snapshots for the vibrated box's 50 spheres. The shipped scenes take at most 1.8e5.
+const MAX_SAMPLES: f64 = 1e7;
+
 fn bad(key: &str, message: impl Into<String>) -> SceneError {
     SceneError {
         key: key.into(),
@@ -429,6 +434,19 @@ impl EventScene {
             return Err(bad(
                 "drive.frequency",
                 format!("must be positive (it sets the sampling phase), got {}", self.drive.frequency),
+            ));
+        }
+        // Every sample stops the run, updates the observer and (after the transient) writes a
+        // frame: an absurd count is a run that never ends or fills the disk, not a measurement.
+        let samples = self.run.duration * self.drive.frequency * f64::from(self.run.samples_per_period);
+        if samples > MAX_SAMPLES {
+            return Err(bad(
+                "run.samples_per_period",
+                format!(
+                    "run.duration x drive.frequency x run.samples_per_period = {} x {} x {} = {samples:.3e} samples, \
+                     more than {MAX_SAMPLES:e}; lower one of them",
+                    self.run.duration, self.drive.frequency, self.run.samples_per_period
+                ),
             ));
         }
         let config = Config {
@@ -605,6 +623,10 @@ mod tests {
         assert_eq!(key(&["rules.pair.e=[0.9, 0.8]"]), "rules.pair.e");
         assert_eq!(key(&["box.side_walls=round"]), "box.side_walls");
         assert_eq!(key(&["model=tray"]), "model");
+        // 1e9 Hz sampled 4 times a period for 10 s: 4e10 samples, a run that would never end.
+        assert_eq!(key(&["drive.frequency=1e9"]), "run.samples_per_period");
+        assert_eq!(key(&["run.duration=6e4"]), "run.samples_per_period");
+        assert_eq!(key(&["run.duration=4e4"]), "accepted");
         assert_eq!(key(&["run.transient=20"]), "run.transient");
         assert_eq!(key(&["rules.floor.e=[1.0, 1.0]", "rules.floor.table=x.csv"]), "rules.floor.table");
         assert_eq!(key(&["drive.peak_speed=0.5"]), "drive.peak_speed");

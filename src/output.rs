@@ -15,13 +15,47 @@ pub type CliError = Box<dyn std::error::Error + Send + Sync>;
 
 /// The one rule of every command's output directory: a directory that already holds files
 /// is refused unless `--force` (replace them). `stripes run` and the sweeps add `--resume`.
+///
+/// With `--force` the previous output's `summary.json` and the files it lists are removed
+/// first, so that a new run that fails part-way never leaves the old summary (or old tables)
+/// beside its own files as if they belonged to it. Files the summary does not list, and
+/// anything outside the directory, are left alone.
 pub fn claim(dir: &Path, force: bool) -> Result<(), CliError> {
-    if non_empty(dir) && !force {
+    if !non_empty(dir) {
+        return Ok(());
+    }
+    if !force {
         return Err(format!(
             "{} already holds files; use --force to replace them, or another --out",
             dir.display()
         )
         .into());
+    }
+    remove_previous_outputs(dir)
+}
+
+/// Removes `dir/summary.json` and the files inside `dir` that it lists under `files`.
+fn remove_previous_outputs(dir: &Path) -> Result<(), CliError> {
+    let summary = dir.join("summary.json");
+    let Ok(text) = std::fs::read_to_string(&summary) else {
+        return Ok(());
+    };
+    let listed: Vec<PathBuf> = serde_json::from_str::<serde_json::Value>(&text)
+        .ok()
+        .and_then(|v| v.get("files").and_then(|f| f.as_array()).cloned())
+        .unwrap_or_default()
+        .iter()
+        .filter_map(|f| f.as_str().map(PathBuf::from))
+        .collect();
+    let inside = |p: &Path| {
+        let parent = p.parent().and_then(|d| d.canonicalize().ok());
+        parent.is_some() && parent == dir.canonicalize().ok()
+    };
+    for p in listed.iter().chain([&summary]) {
+        if !(p.is_file() && inside(p)) {
+            continue;
+        }
+        std::fs::remove_file(p).map_err(|e| format!("--force: cannot remove {}: {e}", p.display()))?;
     }
     Ok(())
 }
@@ -289,6 +323,34 @@ pub fn human_summary(summary: &serde_json::Value) -> String {
         parts.push(format!("{files} files in {out}"));
     }
     format!("done: {}", parts.join("; "))
+}
+
+#[cfg(test)]
+mod claim_tests {
+    use super::*;
+
+    /// `--force` removes the old summary and the files it lists, and nothing else: not a file
+    /// of the user's in the directory, not a listed file outside it.
+    #[test]
+    fn force_removes_the_previous_outputs_and_only_them() {
+        let root = std::env::temp_dir().join(format!("stripes-claim-{}", std::process::id()));
+        let dir = root.join("out");
+        std::fs::create_dir_all(&dir).unwrap();
+        let outside = root.join("elsewhere.csv");
+        for f in [dir.join("a.csv"), dir.join("notes.txt"), outside.clone()] {
+            std::fs::write(f, "x").unwrap();
+        }
+        let files = [dir.join("a.csv"), outside.clone(), dir.join("summary.json")];
+        let summary = serde_json::json!({ "files": files });
+        std::fs::write(dir.join("summary.json"), summary.to_string()).unwrap();
+        assert!(claim(&dir, false).unwrap_err().to_string().contains("--force"));
+        claim(&dir, true).unwrap();
+        assert!(!dir.join("a.csv").exists() && !dir.join("summary.json").exists());
+        assert!(dir.join("notes.txt").exists() && outside.exists());
+        // Without a summary (a run that failed), --force still lets the new run start.
+        claim(&dir, true).unwrap();
+        std::fs::remove_dir_all(root).unwrap();
+    }
 }
 
 #[cfg(test)]

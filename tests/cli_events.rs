@@ -138,6 +138,8 @@ fn bad_event_scenes_are_refused_and_leave_nothing() {
         ("rules.pair.beta0=-2", "rules.pair[0].beta0"),
         ("rules.pair.mu=-0.1", "rules.pair[0].mu"),
         ("drive.amplitude=0.05", "drive.amplitude"),
+        // 4e10 samples: a run that would never end, refused before it starts.
+        ("drive.frequency=1e9", "run.samples_per_period"),
     ] {
         let out = d.join("bad").display().to_string();
         let (ok, _, stderr) = stripes(&["events", scene, "--set", set, "--out", &out, "--quiet"]);
@@ -169,6 +171,27 @@ fn bad_event_scenes_are_refused_and_leave_nothing() {
     ]);
     assert!(!ok && stderr.contains("collapse") && stderr.contains("particles"), "{stderr}");
     assert!(!d.join("collapse").exists());
+    // A box that nothing moves runs (elastic here, so it does not slow down), and says so.
+    let out = d.join("still").display().to_string();
+    let vibrated_box = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/vibrated-box.toml");
+    let (ok, stdout, stderr) = stripes(&[
+        "events",
+        vibrated_box,
+        "--out",
+        &out,
+        "--quiet",
+        "--set",
+        "drive.peak_speed=0",
+        "--set",
+        "rules.pair.e=1",
+        "--set",
+        "run.duration=0.2",
+        "--set",
+        "run.transient=0",
+    ]);
+    assert!(ok, "{stderr}");
+    assert!(stderr.contains("nothing moves the grains"), "{stderr}");
+    assert!(last_json(&stdout)["warnings"].to_string().contains("nothing moves"), "{stdout}");
     let _ = std::fs::remove_dir_all(&d);
 }
 
