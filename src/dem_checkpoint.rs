@@ -2,18 +2,23 @@
 //! physics crate as plain data) in a small binary format, so a resumed run continues bit for
 //! bit as if it had never stopped.
 //!
-//! Layout (little endian): magic `STRPCKP1`, `u64` scene fingerprint, `f64` time, `u64` steps,
+//! Layout (little endian): magic `STRPCKP2`, `u64` scene fingerprint, `f64` time, `u64` steps,
 //! ledger (`f64` injected, dissipated), `f64` stored energy, `u64` N, then per particle
 //! position, velocity, spin, half-step velocity, half-step spin, force, torque (7 x 3 `f64`),
 //! then the live pair histories (`u64` count, then `u32 i, u32 j, 3 f64`), then the wall
-//! histories (`u64` count, then `3 f64` each), then `u64` caller data (e.g. snapshots written).
+//! histories (`u64` count, then `3 f64` each), then the grains' places in the simulation's
+//! arrays (`u64` count, 0 while every grain is at its own index, then `u32` each: see
+//! `SavedState::order`), then `u64` caller data (e.g. snapshots written). A checkpoint of the
+//! layout before the places (`STRPCKP1`) is read as one whose grains are at their own indices.
 
 use particles::saved::SavedState;
 use particles::sim::{Ledger, Simulation};
 
 use crate::bytes::{Reader, Writer};
 
-const MAGIC: &[u8; 8] = b"STRPCKP1";
+const MAGIC: &[u8; 8] = b"STRPCKP2";
+/// The layout without the grains' places.
+const MAGIC_WITHOUT_PLACES: &[u8; 8] = b"STRPCKP1";
 
 /// The checkpoint of `sim`; `fingerprint` identifies the scene (checked on restore) and
 /// `extra` is caller data stored alongside (e.g. the number of snapshots written).
@@ -51,6 +56,10 @@ pub fn encode(sim: &Simulation, fingerprint: u64, extra: u64) -> Vec<u8> {
     for h in &s.wall_histories {
         w.vec3(h);
     }
+    w.u64(s.order.len() as u64);
+    for &g in &s.order {
+        w.u32(g);
+    }
     w.u64(extra);
     w.0
 }
@@ -58,7 +67,7 @@ pub fn encode(sim: &Simulation, fingerprint: u64, extra: u64) -> Vec<u8> {
 /// Restores a checkpoint written by [`encode`] into `sim`, built from the same scene and
 /// sample; returns the caller data. An error says what does not match.
 pub fn restore(sim: &mut Simulation, bytes: &[u8], fingerprint: u64) -> Result<u64, String> {
-    let (saved, extra) = decode(bytes, fingerprint, sim.state.len())?;
+    let (saved, extra) = decode(bytes, fingerprint, sim.len())?;
     sim.import_state(saved).map_err(|e| e.to_string())?;
     Ok(extra)
 }
@@ -67,9 +76,11 @@ pub fn restore(sim: &mut Simulation, bytes: &[u8], fingerprint: u64) -> Result<u
 /// hold `particles` particles.
 fn decode(bytes: &[u8], fingerprint: u64, particles: usize) -> Result<(SavedState, u64), String> {
     let mut r = Reader::new(bytes);
-    if r.take(8)? != MAGIC {
-        return Err("not a stripes checkpoint".into());
-    }
+    let places = match r.take(8)? {
+        m if m == MAGIC => true,
+        m if m == MAGIC_WITHOUT_PLACES => false,
+        _ => return Err("not a stripes checkpoint".into()),
+    };
     if r.u64()? != fingerprint {
         return Err("the checkpoint belongs to a different scene (a key or the sample changed)".into());
     }
@@ -98,6 +109,7 @@ fn decode(bytes: &[u8], fingerprint: u64, particles: usize) -> Result<(SavedStat
         torque: Vec::with_capacity(n),
         pair_histories: Vec::new(),
         wall_histories: Vec::new(),
+        order: Vec::new(),
     };
     for _ in 0..n {
         s.pos.push(r.vec3()?);
@@ -117,6 +129,13 @@ fn decode(bytes: &[u8], fingerprint: u64, particles: usize) -> Result<(SavedStat
     s.wall_histories.reserve_exact(count);
     for _ in 0..count {
         s.wall_histories.push(r.vec3()?);
+    }
+    if places {
+        let count = r.count(4, "places")?;
+        s.order.reserve_exact(count);
+        for _ in 0..count {
+            s.order.push(r.u32()?);
+        }
     }
     let extra = r.u64()?;
     Ok((s, extra))

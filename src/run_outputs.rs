@@ -77,7 +77,8 @@ impl Recorder {
 
     /// Writes a snapshot of the current state now.
     pub fn snapshot(&mut self, sim: &Simulation) -> Result<(), ObserverError> {
-        let s = &sim.state;
+        let state = sim.state();
+        let s = &*state;
         self.writer.push(sim.time, plain(&s.pos), plain(&s.vel))?;
         if let Some(vtk) = &mut self.vtk {
             vtk.frame(sim, self.frames)?;

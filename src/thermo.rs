@@ -91,7 +91,8 @@ impl Thermo {
     /// Appends the row of the simulation's current state; `recorded` when its contacts were
     /// recorded at the last force evaluation.
     pub fn push(&mut self, sim: &Simulation, recorded: bool) {
-        let s = &sim.state;
+        let state = sim.state();
+        let s = &*state;
         let (k, r, p) = (
             measure::kinetic_energy(s),
             measure::rotational_energy(s),

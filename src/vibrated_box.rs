@@ -203,7 +203,8 @@ fn run_dem(scene: &Scene, seed: u64, opts: &Options) -> Result<Measured, CliErro
         if t < opts.transient {
             continue;
         }
-        let s = &sim.state;
+        let state = sim.state();
+        let s = &*state;
         let n = s.len();
         let mut zsum = 0.0;
         for i in 0..n {

@@ -37,7 +37,8 @@ impl VtkSeries {
 
     /// Writes snapshot `k` of `sim`: the grains, the tray, and the updated `.pvd`.
     pub fn frame(&mut self, sim: &Simulation, k: u64) -> std::io::Result<()> {
-        let s = &sim.state;
+        let state = sim.state();
+        let s = &*state;
         let v3 = |v: &particles::Vec3| [v.x, v.y, v.z];
         let (pos, vel, omega): (Vec<_>, Vec<_>, Vec<_>) = (
             s.pos.iter().map(v3).collect(),

@@ -71,7 +71,7 @@ fn random_checkpoints_never_panic_nor_allocate_beyond_their_size() {
     assert_eq!(dem_checkpoint::restore(&mut restored, &good, 7), Ok(3));
     assert_eq!(dem_checkpoint::encode(&restored, 7, 3), good, "a restored run saves the same bytes");
     // Offsets of the two record counts: after the particles, and after the pair records.
-    let n = sim.state.len();
+    let n = sim.len();
     let pairs_at = 8 + 8 + 8 + 8 + 3 * 8 + 8 + n * 7 * 24;
     let mut rng = ChaCha8Rng::seed_from_u64(31);
     for k in 0..400 {

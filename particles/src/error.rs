@@ -148,6 +148,9 @@ pub enum StateMismatch {
     WallSlots { saved: usize, slots: usize },
     /// A saved spring joins grains `i` and `j`, which are not neighbours here.
     NotNeighbours { i: usize, j: usize },
+    /// The saved places of the grains (`SavedState::order`) are not an order of the
+    /// `particles` grains.
+    Order { particles: usize },
 }
 
 impl fmt::Display for StateMismatch {
@@ -162,6 +165,9 @@ impl fmt::Display for StateMismatch {
             StateMismatch::WallSlots { saved, slots } => write!(f, "{saved} wall histories for {slots} slots"),
             StateMismatch::NotNeighbours { i, j } => {
                 write!(f, "pair ({i}, {j}) of the checkpoint is not a neighbour pair")
+            }
+            StateMismatch::Order { particles } => {
+                write!(f, "the grains' places in the checkpoint are not an order of {particles} grains")
             }
         }
     }

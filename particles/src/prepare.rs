@@ -37,6 +37,9 @@ pub fn reference(scene: &Scene) -> Scene {
     s.run.threads = 0;
     s.run.checkpoint_interval = 0.0;
     s.run.snapshots_per_period = 1;
+    // The preparation keeps the grains in their order, so that a sample does not depend on
+    // the sort of the runs that start from it.
+    s.run.sort_interval = crate::scene::SortInterval::NONE;
     s
 }
 
@@ -117,7 +120,7 @@ pub fn prepare(scene: &Scene, mut progress: impl FnMut(f64)) -> Result<State, Si
         }
     }
     progress(1.0);
-    let mut state = sim.state;
+    let mut state = sim.into_state();
     for i in 0..state.len() {
         state.vel[i] = Vec3::zeros();
         state.omega[i] = Vec3::zeros();

@@ -31,6 +31,11 @@ pub struct SavedState {
     pub pair_histories: Vec<(usize, usize, Vec3)>,
     /// Tangential springs of particle-wall contacts, slot `i * max(walls, 1) + k`.
     pub wall_histories: Vec<Vec3>,
+    /// Where the simulation keeps each grain (`run.sort_interval`): `order[k]` is the grain
+    /// at place `k` of its arrays; empty while every grain is at its own index. Every other
+    /// field is in the grains' own order; a resumed run takes these places back, so that it
+    /// adds each grain's forces in the same order as the run it continues.
+    pub order: Vec<u32>,
 }
 
 impl SavedState {
@@ -48,7 +53,7 @@ impl SavedState {
 impl Simulation {
     /// The dynamic state as plain data (see [`SavedState`]).
     pub fn export_state(&self) -> SavedState {
-        let s = &self.state;
+        let s = self.state();
         SavedState {
             time: self.time,
             steps: self.steps,
@@ -62,7 +67,8 @@ impl Simulation {
             force: s.force.clone(),
             torque: s.torque.clone(),
             pair_histories: self.pair_histories(),
-            wall_histories: self.wall_histories().to_vec(),
+            wall_histories: self.wall_histories(),
+            order: self.order().to_vec(),
         }
     }
 
@@ -70,7 +76,7 @@ impl Simulation {
     /// exported `saved`, from that state. An error names what does not match; the simulation
     /// is then left in an unspecified state and must not be stepped.
     pub fn import_state(&mut self, saved: SavedState) -> Result<(), StateMismatch> {
-        let n = self.state.len();
+        let n = self.len();
         if saved.len() != n {
             return Err(StateMismatch::ParticleCount {
                 saved: saved.len(),
@@ -88,11 +94,12 @@ impl Simulation {
         if per_particle.iter().any(|v| v.len() != n) {
             return Err(StateMismatch::FieldLength { particles: n });
         }
+        self.unsort();
         self.time = saved.time;
         self.steps = saved.steps;
         self.ledger = saved.ledger;
         self.stored_energy = saved.stored_energy;
-        let s = &mut self.state;
+        let s = self.state_mut();
         s.pos = saved.pos;
         s.vel = saved.vel;
         s.omega = saved.omega;
@@ -100,6 +107,11 @@ impl Simulation {
         s.omega_half = saved.omega_half;
         s.force = saved.force;
         s.torque = saved.torque;
-        self.set_histories(&saved.pair_histories, saved.wall_histories)
+        self.set_histories(&saved.pair_histories, saved.wall_histories)?;
+        if saved.order.is_empty() {
+            Ok(())
+        } else {
+            self.place_grains(&saved.order)
+        }
     }
 }

@@ -6,6 +6,7 @@ use crate::boundary::Boundary;
 use crate::contact::{self, ContactGeometry, ContactLaw};
 use crate::integrate::Integrator;
 use crate::neighbor::NeighborSearch;
+use crate::scene::SortInterval;
 use crate::wall::Wall;
 use crate::Vec3;
 
@@ -28,6 +29,8 @@ pub struct Setup {
     pub vertical: Vertical,
     /// Box `[lo, hi]` (m) on the non-periodic axes: a particle outside it has escaped.
     pub container: Option<(Vec3, Vec3)>,
+    /// Steps between spatial sorts of the grains, or none.
+    pub sort: SortInterval,
 }
 
 /// Vertical freedom of the particles.

@@ -132,7 +132,7 @@ proptest! {
             contacts += sim.contact_counts.0;
         }
         prop_assert!(contacts > 0, "the grains never met");
-        let dp = (measure::momentum(&sim.state) - p0).norm();
+        let dp = (measure::momentum(&sim.state()) - p0).norm();
         println!("momentum: {dp:.2e} of {scale:.2e}, {contacts} contact-steps");
         prop_assert!(dp < 1e-13 * scale, "momentum changed by {dp:e} (scale {scale:e})");
     }
@@ -155,7 +155,7 @@ proptest! {
             friction_acted |= sim.contact_counts.0 > 0;
         }
         prop_assert!(friction_acted);
-        let dl = (measure::angular_momentum(&sim.state) - l0).norm();
+        let dl = (measure::angular_momentum(&sim.state()) - l0).norm();
         println!("angular momentum: {dl:.2e} of {scale:.2e}");
         prop_assert!(dl < 1e-12 * scale, "angular momentum changed by {dl:e} (scale {scale:e})");
     }
@@ -173,13 +173,13 @@ proptest! {
         let toggles = Toggles { friction, jumping, dissipation: true, walls, rolling };
         let scene = common::tray_scene(0.01, 0.008, 40, TimeStep::Seconds(4e-6), seed, |s| s.toggles = toggles);
         let mut sim = Simulation::new(tray::setup(&scene, tray::drive(&scene), time_step::for_scene(&scene).unwrap()).unwrap(), initial_state(&scene).unwrap()).unwrap();
-        let n = sim.state.len();
+        let n = sim.len();
         for _ in 0..2500 {
             sim.step().unwrap();
         }
-        prop_assert_eq!(sim.state.len(), n);
+        prop_assert_eq!(sim.len(), n);
         prop_assert_eq!(n, 40);
-        for (i, x) in sim.state.pos.iter().enumerate() {
+        for (i, x) in sim.state().pos.iter().enumerate() {
             prop_assert!(x.iter().all(|c| c.is_finite()), "grain {} not finite", i);
             prop_assert!((0.0..scene.tray.length).contains(&x.x) && (0.0..=scene.tray.width).contains(&x.y), "grain {} at {}", i, x);
         }

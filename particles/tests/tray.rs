@@ -60,16 +60,16 @@ fn a_contact_across_the_periodic_seam_equals_the_same_pair_shifted() {
         periodic: [Some(l), None, None],
     };
     for i in 0..2 {
-        let shift = b.min_image(seam.state.pos[i] - middle.state.pos[i]);
+        let shift = b.min_image(seam.state().pos[i] - middle.state().pos[i]);
         assert!(
             (shift.x - (l - 4e-4 - 0.5 * l)).abs() < 1e-12,
             "grain {i} moved differently: {shift}"
         );
         assert!(shift.y.abs() < 1e-12 && shift.z.abs() < 1e-12);
-        assert!((seam.state.vel[i] - middle.state.vel[i]).norm() < 1e-12);
-        assert!((seam.state.omega[i] - middle.state.omega[i]).norm() < 1e-9);
+        assert!((seam.state().vel[i] - middle.state().vel[i]).norm() < 1e-12);
+        assert!((seam.state().omega[i] - middle.state().omega[i]).norm() < 1e-9);
     }
-    assert!(middle.state.vel[1].x > -0.05, "they did collide");
+    assert!(middle.state().vel[1].x > -0.05, "they did collide");
 }
 
 #[test]
@@ -79,24 +79,24 @@ fn pinned_mode_keeps_z_equal_to_the_radius_exactly() {
     for _ in 0..3000 {
         sim.step().unwrap();
     }
-    for i in 0..sim.state.len() {
-        assert_eq!(sim.state.pos[i].z, sim.state.radius[i], "grain {i}");
-        assert_eq!(sim.state.vel[i].z, 0.0);
+    for i in 0..sim.len() {
+        assert_eq!(sim.state().pos[i].z, sim.state().radius[i], "grain {i}");
+        assert_eq!(sim.state().vel[i].z, 0.0);
     }
     // The floor still drives: grains move.
-    assert!(sim.state.vel.iter().any(|v| v.x.abs() > 1e-3));
+    assert!(sim.state().vel.iter().any(|v| v.x.abs() > 1e-3));
 }
 
 #[test]
 fn the_particle_count_is_conserved_and_grains_stay_in_the_box() {
     let mut sim = tray_sim(common::unchanged);
-    let n = sim.state.len();
+    let n = sim.len();
     for _ in 0..5000 {
         sim.step().unwrap();
     }
-    assert_eq!(sim.state.len(), n);
+    assert_eq!(sim.len(), n);
     let s = scene(common::unchanged);
-    for x in &sim.state.pos {
+    for x in &sim.state().pos {
         assert!((0.0..s.tray.length).contains(&x.x) && (0.0..=s.tray.width).contains(&x.y) && x.z > 0.0);
     }
 }
@@ -105,42 +105,42 @@ fn the_particle_count_is_conserved_and_grains_stay_in_the_box() {
 fn bad_runtime_input_names_the_particle_and_the_step() {
     let base = tray_sim(common::unchanged);
     // Overlapping grains at the start.
-    let mut st = base.state.clone();
+    let mut st = base.state().into_owned();
     st.pos[7] = st.pos[3] + Vec3::new(1e-4, 0.0, 0.0);
     match Simulation::new(base.setup.clone(), st) {
         Err(SimError::InitialOverlap { i: 3, j: 7, .. }) => {}
         other => panic!("expected an overlap of grains 3 and 7, got {other:?}"),
     }
     // A NaN, and a grain outside the side walls, at the start.
-    let mut st = base.state.clone();
+    let mut st = base.state().into_owned();
     st.omega[11].x = f64::NAN;
     let e = Simulation::new(base.setup.clone(), st).unwrap_err();
     assert!(matches!(e, SimError::NonFinite { step: 0, particle: 11, .. }), "{e:?}");
-    let mut st = base.state.clone();
+    let mut st = base.state().into_owned();
     st.pos[9].y = -0.01;
     let e = Simulation::new(base.setup.clone(), st).unwrap_err();
     assert!(matches!(e, SimError::Escaped { step: 0, particle: 9, .. }), "{e:?}");
     // A NaN.
     let mut sim = base.clone();
     sim.step().unwrap();
-    sim.state.vel[42].y = f64::NAN;
+    sim.state_mut().vel[42].y = f64::NAN;
     let e = sim.step().unwrap_err();
     assert!(matches!(e, SimError::NonFinite { step: 2, particle: 42, .. }), "{e:?}");
     assert!(e.to_string().contains("step 2: particle 42"), "{e}");
     // A grain shot through the side wall at y = 0 (it crosses the wall within one step).
     let mut sim = base.clone();
-    sim.state.vel[5] = Vec3::new(0.0, -2000.0, 0.0);
+    sim.state_mut().vel[5] = Vec3::new(0.0, -2000.0, 0.0);
     let e = (0..1000).find_map(|_| sim.step().err()).expect("the grain escapes");
     assert!(matches!(e, SimError::Escaped { particle: 5, .. }), "{e:?}");
     assert!(e.to_string().contains("particle 5 left the box"), "{e}");
     // The top is open (thesis 3.5.3): a grain thrown up falls back, unless a ceiling is set.
     let mut sim = base.clone();
-    sim.state.vel[5] = Vec3::new(0.0, 0.0, 2.0);
+    sim.state_mut().vel[5] = Vec3::new(0.0, 0.0, 2.0);
     for _ in 0..12_500 {
         sim.step().unwrap();
     }
     let mut sim = tray_sim(|s| s.tray.height = Some(0.1));
-    sim.state.vel[5] = Vec3::new(0.0, 0.0, 2.0);
+    sim.state_mut().vel[5] = Vec3::new(0.0, 0.0, 2.0);
     let e = (0..12_500).find_map(|_| sim.step().err()).expect("the grain passes the ceiling");
     assert!(matches!(e, SimError::Escaped { particle: 5, .. }), "{e:?}");
 }

@@ -73,7 +73,7 @@ fn a_resting_sphere_rides_the_floor_below_one_g_and_lifts_off_where_it_first_pul
         let mut lift_off = None;
         while sim.time < 1.0 / 20.0 {
             sim.step().unwrap();
-            let gap = sim.state.pos[0].z - r - floor(&scene, sim.time);
+            let gap = sim.state().pos[0].z - r - floor(&scene, sim.time);
             if gap > 0.0 && lift_off.is_none() {
                 lift_off = Some(sim.time);
             }
@@ -136,9 +136,9 @@ fn an_impact_on_the_moving_floor_rebounds_with_the_fixed_walls_restitution_relat
     let v_floor = |t: f64| 0.4 * (2.0 * PI * 100.0 * t).cos();
     let mut g_in = 0.0;
     while end.is_none() && sim.time < 0.02 {
-        let before = sim.state.vel[0].z;
+        let before = sim.state().vel[0].z;
         sim.step().unwrap();
-        let touching = sim.state.pos[0].z - r - floor(&scene, sim.time) <= 0.0;
+        let touching = sim.state().pos[0].z - r - floor(&scene, sim.time) <= 0.0;
         if touching && start.is_none() {
             start = Some(sim.time);
             v_in = before;
@@ -158,7 +158,7 @@ fn an_impact_on_the_moving_floor_rebounds_with_the_fixed_walls_restitution_relat
     assert!((g_in - (0.5 + GRAVITY * t_s + 0.4)).abs() < 1e-3, "g_in {g_in}");
     let lab = lab(g_in);
     // Gravity acts over the contact too: add back g t_c to the rebound.
-    let g_out = sim.state.vel[0].z + GRAVITY * (end - start) - v_floor(end);
+    let g_out = sim.state().vel[0].z + GRAVITY * (end - start) - v_floor(end);
     let eps = g_out / g_in;
     assert!(
         (eps - lab.eps_n).abs() < 2e-3,
@@ -172,7 +172,7 @@ fn an_impact_on_the_moving_floor_rebounds_with_the_fixed_walls_restitution_relat
         lab.t_c
     );
     // And the floor did work on the sphere: it leaves faster than it came in.
-    assert!(sim.state.vel[0].z > -v_in, "{} after {v_in}", sim.state.vel[0].z);
+    assert!(sim.state().vel[0].z > -v_in, "{} after {v_in}", sim.state().vel[0].z);
 }
 
 #[test]

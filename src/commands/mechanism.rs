@@ -69,7 +69,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
     let (nu, a) = (scene.drive.frequency, scene.drive.amplitude);
     let floor_speed = 2.0 * std::f64::consts::PI * nu * a;
     let motion = tray::drive(scene);
-    let radii = sim.state.radius.clone();
+    let radii = sim.state().radius.clone();
     let mean_d = 2.0 * radii.iter().sum::<f64>() / radii.len() as f64;
     let params = StripeParams::default_for(mean_area_fraction(&radii, l, w), mean_d);
     let cells = (l / 1e-3).round().max(1.0) as usize;
@@ -85,7 +85,8 @@ pub fn run(args: Args) -> Result<String, CliError> {
         while sim.time < target - 0.5 * dt {
             sim.step()?;
         }
-        let s = &sim.state;
+        let state = sim.state();
+        let s = &*state;
         let grains: Vec<Grain> = (0..s.len())
             .map(|i| Grain {
                 pos: [s.pos[i].x.rem_euclid(l), s.pos[i].y, s.pos[i].z],

@@ -244,14 +244,10 @@ fn start(resolved: &Resolved, opts: &RunOptions, checkpoint: Option<Vec<u8>>) ->
     // and `stripes compare --dem-run` on this directory see the automaton the scene asked for.
     analysis::io::write_atomic(&out.join("scene.toml"), file.to_toml()?.as_bytes())?;
     if let Some(path) = &args.lammps_data {
-        let title = format!(
-            "stripes {} at t = {} s, {} grains",
-            resolved.path.display(),
-            sim.time,
-            sim.state.len()
-        );
+        let title = format!("stripes {} at t = {} s, {} grains", resolved.path.display(), sim.time, sim.len());
         let mut grains = analysis::lammps_data::Grains::default();
-        let s = &sim.state;
+        let state = sim.state();
+        let s = &*state;
         for i in 0..s.len() {
             let v = |x: &particles::Vec3| [x.x, x.y, x.z];
             grains.push(v(&s.pos[i]), v(&s.vel[i]), v(&s.omega[i]), s.radius[i]);
@@ -280,7 +276,7 @@ fn start(resolved: &Resolved, opts: &RunOptions, checkpoint: Option<Vec<u8>>) ->
         header: Header {
             length: scene.tray.length,
             width: scene.tray.width,
-            radii: sim.state.radius.clone(),
+            radii: sim.state().radius.clone(),
         },
         snapshots: out.join("snapshots.bin"),
         frames,
@@ -383,7 +379,8 @@ fn step(resolved: &Resolved, opts: &RunOptions, started: Started, threads_why: S
     }
     let frames = recorder.frames;
     let (pair_mean, wall_mean) = contacts.means();
-    let s = &sim.state;
+    let state = sim.state();
+    let s = &*state;
     let stepped = sim.steps - start_steps;
     let (balance, balance_relative) = thermo.balance().map_or((None, None), |b| (Some(b.0), Some(b.1)));
     let energy = Energy {

@@ -106,10 +106,15 @@ pub fn parse<T>(text: &str, overrides: &[String], origin: &str, read: impl Fn(to
 /// A deserialisation message in the user's words, not Rust's: type names (`usize`, `f64`,
 /// ...) and the untagged `run.dt` become what a scene file may hold.
 pub(crate) fn plain_words(message: &str) -> String {
-    let mut m = message.replace(
-        "data did not match any variant of untagged enum TimeStep",
-        "expected a number of seconds or \"auto\"",
-    );
+    let mut m = message
+        .replace(
+            "data did not match any variant of untagged enum TimeStep",
+            "expected a number of seconds or \"auto\"",
+        )
+        .replace(
+            "data did not match any variant of untagged enum SortInterval",
+            "expected a whole number of steps >= 1 or \"none\"",
+        );
     for (rust, words) in [
         ("usize", "a whole number >= 0"),
         ("u64", "a whole number >= 0"),

@@ -72,8 +72,9 @@ pub(super) fn run_tray(
         sim.step()?;
         if sim.time >= next - 0.5 * sim.setup.dt {
             let mut x = vec![0.0; n];
+            let state = sim.state();
             for (k, &i) in order.iter().enumerate() {
-                x[i] = sim.state.pos[k].x;
+                x[i] = state.pos[k].x;
             }
             profiles.push(area_fraction_cells(&x, &radius, l, w, cells));
             times.push(sim.time);

@@ -298,6 +298,7 @@ impl Collision {
             neighbors: NeighborSearch::AllPairs,
             vertical: Vertical::Free,
             container: None,
+            sort: crate::scene::SortInterval::NONE,
         };
         let mut sim = Simulation::new(setup, state)?;
         sim.record_contacts(true);
@@ -315,7 +316,7 @@ impl Collision {
                 }
                 min_normal_force = min_normal_force.min(c.normal);
             }
-            let (overlap, rate) = self.overlap(&sim.state);
+            let (overlap, rate) = self.overlap(&sim.state());
             max_overlap = max_overlap.max(overlap);
             let margin = self.law.normal.release_margin(overlap, rate);
             if sim.steps > 1 && (overlap <= 0.0 || (margin <= 0.0 && rate < 0.0)) {
@@ -352,7 +353,7 @@ impl Collision {
                 reason: format!("the bodies never overlapped (largest overlap {max_overlap:e} m): no contact was resolved"),
             });
         }
-        let energy_after = energy(&sim.state);
+        let energy_after = energy(&sim.state());
         if energy_after > energy_before * (1.0 + 1e-3) {
             return Err(SimError::CollisionUnresolved {
                 reason: format!(
@@ -360,7 +361,8 @@ impl Collision {
                 ),
             });
         }
-        let s = &sim.state;
+        let state = sim.state();
+        let s = &*state;
         let g1 = self.relative_velocity(s);
         // Normal at the end of the contact; a wall's never turns.
         let e1 = match self.target {

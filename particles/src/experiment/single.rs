@@ -130,12 +130,13 @@ impl SphereOnFloor {
             neighbors: NeighborSearch::AllPairs,
             vertical: Vertical::Free,
             container: None,
+            sort: crate::scene::SortInterval::NONE,
         };
         Simulation::new(setup, state)
     }
 
     fn sample(sim: &Simulation, motion: &Motion) -> Sample {
-        let s = &sim.state;
+        let s = sim.state();
         Sample {
             t: sim.time,
             x: s.pos[0].x,

@@ -9,7 +9,10 @@
 
 mod run;
 
-pub use run::{AutoDt, Run, TimeStep, DEFAULT_CHECKPOINT_INTERVAL, DEFAULT_RESTITUTION_TOLERANCE, DEFAULT_STEPS_PER_CONTACT};
+pub use run::{
+    AutoDt, NoSort, Run, SortInterval, TimeStep, DEFAULT_CHECKPOINT_INTERVAL, DEFAULT_RESTITUTION_TOLERANCE, DEFAULT_SORT_INTERVAL,
+    DEFAULT_STEPS_PER_CONTACT,
+};
 
 use serde::{Deserialize, Serialize};
 

@@ -8,7 +8,7 @@ use particles::material::Material;
 use particles::neighbor::NeighborSearch;
 use particles::scene::{
     AutoDt, ContactSpec, Drive, Particles, Prepare, Run, Scene, TimeStep, Toggles, TrayBox, DEFAULT_CHECKPOINT_INTERVAL,
-    DEFAULT_RESTITUTION_TOLERANCE, DEFAULT_STEPS_PER_CONTACT,
+    DEFAULT_RESTITUTION_TOLERANCE, DEFAULT_SORT_INTERVAL, DEFAULT_STEPS_PER_CONTACT,
 };
 use particles::setup::{Setup, Vertical};
 use particles::sim::Simulation;
@@ -48,6 +48,7 @@ pub fn tray_scene(length: f64, width: f64, count: usize, dt: TimeStep, seed: u64
             threads: 0,
             snapshots_per_period: 1,
             checkpoint_interval: DEFAULT_CHECKPOINT_INTERVAL,
+            sort_interval: DEFAULT_SORT_INTERVAL,
             integrator: Integrator::default(),
         },
     };
@@ -109,5 +110,6 @@ pub fn free_setup(law: ContactLaw, boundary: Boundary, dt: f64) -> Setup {
         neighbors: NeighborSearch::AllPairs,
         vertical: Vertical::Free,
         container: None,
+        sort: particles::scene::SortInterval::NONE,
     }
 }
