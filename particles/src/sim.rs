@@ -179,12 +179,8 @@ impl Simulation {
         if self.order.is_empty() {
             return Cow::Borrowed(&self.state);
         }
-        let mut places = vec![0u32; self.order.len()];
-        for (k, &g) in self.order.iter().enumerate() {
-            places[g as usize] = k as u32;
-        }
         let mut state = self.state.clone();
-        permute_state(&mut state, &places);
+        permute_state(&mut state, &self.places());
         Cow::Owned(state)
     }
 
@@ -209,6 +205,15 @@ impl Simulation {
     /// True when there are no particles.
     pub fn is_empty(&self) -> bool {
         self.state.is_empty()
+    }
+
+    /// The place of each grain, by identity: the inverse of `order`.
+    fn places(&self) -> Vec<u32> {
+        let mut places = vec![0u32; self.order.len()];
+        for (k, &g) in self.order.iter().enumerate() {
+            places[g as usize] = k as u32;
+        }
+        places
     }
 
     /// The identity of the grain at place `k` of the arrays.
@@ -415,13 +420,10 @@ impl Simulation {
 
     /// Wall histories of the grains' identities, `i * max(walls, 1) + k`.
     pub(crate) fn wall_histories(&self) -> Vec<Vec3> {
-        let stride = self.setup.walls.len().max(1);
-        let mut out = self.wall_history.clone();
-        for (k, &g) in self.order.iter().enumerate() {
-            let g = g as usize;
-            out[g * stride..(g + 1) * stride].copy_from_slice(&self.wall_history[k * stride..(k + 1) * stride]);
+        if self.order.is_empty() {
+            return self.wall_history.clone();
         }
-        out
+        gather(&self.wall_history, &self.places(), self.setup.walls.len().max(1))
     }
 
     /// Moves the grain at place `from[k]` to place `k`, for every place: the state, the
@@ -431,21 +433,12 @@ impl Simulation {
         permute_state(&mut self.state, from);
         for v in [&mut self.mass, &mut self.load] {
             if !v.is_empty() {
-                *v = from.iter().map(|&k| v[k as usize]).collect();
+                *v = gather(v, from, 1);
             }
         }
         let stride = self.setup.walls.len().max(1);
-        let walls: Vec<Vec3> = from
-            .iter()
-            .flat_map(|&k| &self.wall_history[k as usize * stride..(k as usize + 1) * stride])
-            .copied()
-            .collect();
-        let touched: Vec<u8> = from
-            .iter()
-            .flat_map(|&k| &self.wall_touched[k as usize * stride..(k as usize + 1) * stride])
-            .copied()
-            .collect();
-        (self.wall_history, self.wall_touched) = (walls, touched);
+        self.wall_history = gather(&self.wall_history, from, stride);
+        self.wall_touched = gather(&self.wall_touched, from, stride);
         let order: Vec<u32> = from.iter().map(|&k| self.id(k as usize) as u32).collect();
         let home = order.iter().enumerate().all(|(k, &g)| k == g as usize);
         self.order = if home { Vec::new() } else { order };
@@ -469,10 +462,7 @@ impl Simulation {
         if self.order.is_empty() {
             return;
         }
-        let mut from = vec![0u32; self.order.len()];
-        for (k, &g) in self.order.iter().enumerate() {
-            from[g as usize] = k as u32;
-        }
+        let from = self.places();
         self.move_grains(&from);
         self.rebuild_after(Some(&from));
     }
@@ -683,11 +673,20 @@ fn permute_state(state: &mut State, from: &[u32]) {
         &mut s.vel_half,
         &mut s.omega_half,
     ] {
-        *v = from.iter().map(|&k| v[k as usize]).collect();
+        *v = gather(v, from, 1);
     }
     for v in [&mut s.radius, &mut s.inv_mass, &mut s.inv_inertia] {
-        *v = from.iter().map(|&k| v[k as usize]).collect();
+        *v = gather(v, from, 1);
     }
+}
+
+/// The runs of `stride` elements of `v` in the order `from`: run `k` of the result is run
+/// `from[k]` of `v`.
+fn gather<T: Copy>(v: &[T], from: &[u32], stride: usize) -> Vec<T> {
+    from.iter()
+        .flat_map(|&k| &v[k as usize * stride..(k as usize + 1) * stride])
+        .copied()
+        .collect()
 }
 
 /// An array that the threads of a step share: each takes the elements of its own blocks
