@@ -165,21 +165,11 @@ impl NeighborList {
         let (columns, rows) = (grid.dims[0], grid.dims[1]);
         let key = |x: &Vec3| {
             let c = grid.cell(x) as usize;
-            (c % columns) * rows + c / columns
+            ((c % columns) * rows + c / columns) as u32
         };
-        let keys: Vec<usize> = pos.iter().map(key).collect();
-        let mut start = vec![0usize; columns * rows + 1];
-        for &k in &keys {
-            start[k + 1] += 1;
-        }
-        for c in 0..columns * rows {
-            start[c + 1] += start[c];
-        }
-        let mut order = vec![0u32; pos.len()];
-        for (i, &k) in keys.iter().enumerate() {
-            order[start[k]] = i as u32;
-            start[k] += 1;
-        }
+        let keys: Vec<u32> = pos.iter().map(key).collect();
+        let (mut start, mut fill, mut order) = (Vec::new(), Vec::new(), Vec::new());
+        counting_sort(&keys, columns * rows, &mut start, &mut fill, &mut order);
         Some(order)
     }
 
@@ -189,26 +179,16 @@ impl NeighborList {
             return;
         }
         let grid = Grid::new(skin, pos, radius, boundary);
-        // Counting sort of particles into cells (stable: increasing index within a cell).
+        // Particles sorted into cells (stable: increasing index within a cell).
         self.cell_of.clear();
         self.cell_of.extend(pos.iter().map(|x| grid.cell(x)));
-        self.cell_start.clear();
-        self.cell_start.resize(grid.dims[0] * grid.dims[1] + 1, 0);
-        for &c in &self.cell_of {
-            self.cell_start[c as usize + 1] += 1;
-        }
-        for c in 0..grid.dims[0] * grid.dims[1] {
-            self.cell_start[c + 1] += self.cell_start[c];
-        }
-        self.cell_items.clear();
-        self.cell_items.resize(n, 0);
-        self.cell_fill.clear();
-        self.cell_fill.extend_from_slice(&self.cell_start);
-        for (i, &c) in self.cell_of.iter().enumerate() {
-            let slot = &mut self.cell_fill[c as usize];
-            self.cell_items[*slot] = i as u32;
-            *slot += 1;
-        }
+        counting_sort(
+            &self.cell_of,
+            grid.dims[0] * grid.dims[1],
+            &mut self.cell_start,
+            &mut self.cell_fill,
+            &mut self.cell_items,
+        );
         // Each particle's candidates from its 3 x 3 cells (fewer on a short or walled axis),
         // in fixed chunks of particles, possibly in parallel: the lists do not depend on the
         // chunking or the number of threads.
@@ -347,6 +327,29 @@ impl Grid {
             c[k] = (((x[k] - self.lo[k]) / self.size[k]).floor().max(0.0) as usize).min(self.dims[k] - 1);
         }
         (c[1] * self.dims[0] + c[0]) as u32
+    }
+}
+
+/// Stable counting sort of the indices `0..keys.len()` by their key (each below `buckets`):
+/// `items` lists the indices key by key, increasing within one key, and the indices of key
+/// `k` are `items[start[k]..start[k + 1]]`. `fill` is scratch.
+fn counting_sort(keys: &[u32], buckets: usize, start: &mut Vec<usize>, fill: &mut Vec<usize>, items: &mut Vec<u32>) {
+    start.clear();
+    start.resize(buckets + 1, 0);
+    for &k in keys {
+        start[k as usize + 1] += 1;
+    }
+    for c in 0..buckets {
+        start[c + 1] += start[c];
+    }
+    items.clear();
+    items.resize(keys.len(), 0);
+    fill.clear();
+    fill.extend_from_slice(start);
+    for (i, &k) in keys.iter().enumerate() {
+        let slot = &mut fill[k as usize];
+        items[*slot] = i as u32;
+        *slot += 1;
     }
 }
 
