@@ -139,18 +139,33 @@ fn snapshots_and_a_lammps_dump_of_the_same_layer_give_the_same_analysis() {
         assert!(std::fs::metadata(out.join(f)).map(|m| m.len() > 0).unwrap_or(false), "{f} missing");
     }
 
-    // The same analysis twice, side by side: no spread and no pattern distance; a
-    // directory without an analysis is named.
+    // One analysis given twice (the run and its analysis directory) is refused, naming both.
+    let (ok, _, stderr) = stripes(&["seeds", run.to_str().unwrap(), out.to_str().unwrap()]);
+    assert!(
+        !ok && stderr.contains("same analysis") && stderr.contains(out.to_str().unwrap()),
+        "{stderr}"
+    );
+    // A copy of it elsewhere is another run to the command: no spread and no pattern
+    // distance; a directory without an analysis is named.
+    let copy = dir.join("analysis-copy");
+    std::fs::create_dir_all(&copy).unwrap();
+    for f in std::fs::read_dir(&out).unwrap() {
+        let f = f.unwrap().path();
+        if f.is_file() {
+            std::fs::copy(&f, copy.join(f.file_name().unwrap())).unwrap();
+        }
+    }
     let seeds_out = dir.join("seeds");
     let (ok, stdout, stderr) = stripes(&[
         "seeds",
         run.to_str().unwrap(),
-        out.to_str().unwrap(),
+        copy.to_str().unwrap(),
         "--out",
         seeds_out.to_str().unwrap(),
     ]);
     assert!(ok, "{stderr}");
     let e = summary_of(&stdout, &seeds_out);
+    assert_eq!(e["warnings"], serde_json::json!([]), "{e}");
     assert_eq!(e["pattern_distance_max"], 0.0, "{e}");
     assert_eq!(e["pooled"]["spacing_m"]["sd"], 0.0, "{e}");
     assert_eq!(e["pooled"]["spacing_m"]["mean"], s["spacing_m"], "{e}");

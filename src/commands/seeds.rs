@@ -49,13 +49,64 @@ fn spread(v: &[f64]) -> (f64, f64, f64, usize) {
     (mean, stderr * (f.len() as f64).sqrt(), stderr, f.len())
 }
 
+/// One analysis given twice (the same directory, or a run and its `analysis/`) would count as
+/// two independent runs and shrink every standard error: refused, naming both arguments.
+fn refuse_repeats(runs: &[PathBuf], dirs: &[PathBuf]) -> Result<(), CliError> {
+    let real: Vec<PathBuf> = dirs
+        .iter()
+        .map(|d| std::fs::canonicalize(d).unwrap_or_else(|_| d.clone()))
+        .collect();
+    for j in 1..real.len() {
+        if let Some(i) = real[..j].iter().position(|r| *r == real[j]) {
+            return Err(format!(
+                "runs {} and {} are the same analysis ({}): each run must be given once, or its numbers count twice",
+                runs[i].display(),
+                runs[j].display(),
+                real[j].display()
+            )
+            .into());
+        }
+    }
+    Ok(())
+}
+
+/// Runs that are not of one scene: their grain count, drive period or tray packing differ.
+/// Pooling them is allowed (any set worth pooling), but said, so that a spread between seeds
+/// is not read from runs of different scenes.
+fn unlike_runs(runs: &[PathBuf], summaries: &[Value]) -> Vec<String> {
+    let mut warnings = Vec::new();
+    for (key, what, rel) in [
+        ("particles", "grain counts", 0.0),
+        ("period_s", "drive periods", 1e-9),
+        ("mean_area_fraction", "packings", 0.05),
+    ] {
+        let v: Vec<Option<f64>> = summaries.iter().map(|s| s[key].as_f64()).collect();
+        let Some(first) = v.iter().flatten().next().copied() else {
+            continue;
+        };
+        if v.iter().flatten().any(|x| (x - first).abs() > rel * first.abs()) {
+            let each: Vec<String> = runs
+                .iter()
+                .zip(&v)
+                .map(|(r, x)| format!("{} {}", r.display(), x.map_or("?".into(), |x| format!("{x:.4}"))))
+                .collect();
+            warnings.push(format!(
+                "the runs differ in their {what} ({key}: {}), so they are not seeds of one scene",
+                each.join(", ")
+            ));
+        }
+    }
+    warnings
+}
+
 pub fn run(args: Args) -> Result<String, CliError> {
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from("out/seeds"));
     let dirs = args.runs.iter().map(|r| analysis_dir::resolve(r)).collect::<Result<Vec<_>, _>>()?;
+    refuse_repeats(&args.runs, &dirs)?;
     let summaries = dirs.iter().map(|d| analysis_dir::summary(d)).collect::<Result<Vec<_>, _>>()?;
+    let mut warnings = unlike_runs(&args.runs, &summaries);
     // A run analysed before the late structure was written has no pattern distance; it
     // still counts for everything else.
-    let mut warnings = Vec::new();
     let structures: Vec<_> = dirs
         .iter()
         .map(|d| {
@@ -165,4 +216,37 @@ pub fn run(args: Args) -> Result<String, CliError> {
         "out": out.display().to_string(),
         "warnings": warnings,
     }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn runs(n: usize) -> Vec<PathBuf> {
+        (1..=n).map(|i| PathBuf::from(format!("seed-{i}"))).collect()
+    }
+
+    #[test]
+    fn seeds_of_one_scene_pass_and_other_scenes_are_named() {
+        let a = json!({"particles": 2000.0, "period_s": 1.0 / 3.0, "mean_area_fraction": 0.458});
+        let b = json!({"particles": 2000.0, "period_s": 1.0 / 3.0, "mean_area_fraction": 0.461});
+        assert!(unlike_runs(&runs(2), &[a.clone(), b]).is_empty());
+        let c = json!({"particles": 1000.0, "period_s": 0.2, "mean_area_fraction": 0.458});
+        let w = unlike_runs(&runs(3), &[a.clone(), a, c]);
+        assert_eq!(w.len(), 2, "{w:?}");
+        assert!(w[0].contains("grain counts") && w[0].contains("seed-3 1000"), "{w:?}");
+        assert!(w[1].contains("drive periods") && w[1].contains("seed-3 0.2000"), "{w:?}");
+    }
+
+    #[test]
+    fn one_analysis_given_twice_is_refused() {
+        let dir = std::env::temp_dir().join(format!("stripes-seeds-repeat-{}", std::process::id()));
+        std::fs::create_dir_all(dir.join("analysis")).unwrap();
+        let dirs = vec![dir.join("analysis"), dir.join("analysis").join(".."), dir.join("analysis")];
+        let given = vec![dir.clone(), dir.join("x"), dir.join("analysis")];
+        let e = refuse_repeats(&given, &dirs).unwrap_err().to_string();
+        assert!(e.contains("same analysis") && e.contains(&given[0].display().to_string()), "{e}");
+        assert!(refuse_repeats(&given[..2], &dirs[..2]).is_ok());
+        std::fs::remove_dir_all(dir).unwrap();
+    }
 }
