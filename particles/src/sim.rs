@@ -828,10 +828,15 @@ impl<'a> Step<'a> {
         };
         let planar = setup.vertical == Vertical::Pinned;
         let span = setup.integrator.before_forces(&mut block, setup.dt, self.rotate, planar);
-        // One pass per periodic axis (the tray has one): no test of the other axes.
+        // One pass per periodic axis (the tray has one): no test of the other axes. A
+        // branch-free test of the block first: the wrap is the identity inside `[0, l)` (a NaN
+        // is outside), and its branches per grain cost a quarter of this stage on every block.
         for (axis, l) in setup.boundary.periodic.iter().enumerate().filter_map(|(k, p)| p.map(|l| (k, l))) {
-            for x in block.pos.iter_mut() {
-                x[axis] = Boundary::wrap_coordinate(x[axis], l);
+            let outside = block.pos.iter().fold(false, |out, x| out | !((x[axis] >= 0.0) & (x[axis] < l)));
+            if outside {
+                for x in block.pos.iter_mut() {
+                    x[axis] = Boundary::wrap_coordinate(x[axis], l);
+                }
             }
         }
         span
