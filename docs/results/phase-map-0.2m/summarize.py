@@ -3,7 +3,10 @@
 
     python3 docs/results/phase-map-0.2m/summarize.py docs/results/phase-map-0.2m/runs.csv
 """
-import csv, math, sys
+import csv, math, os, sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..'))
+from lsq import line_fit  # noqa: E402
 from collections import defaultdict
 
 rows = list(csv.DictReader(open(sys.argv[1])))
@@ -78,12 +81,7 @@ if len({p[0] for p in pts}) >= 2:
     xs = [math.log(a) for a, _ in pts]
     ys = [math.log(s) for _, s in pts]
     n = len(xs)
-    mx, my = sum(xs) / n, sum(ys) / n
-    sxx = sum((x - mx) ** 2 for x in xs)
-    b = sum((x - mx) * (y - my) for x, y in zip(xs, ys)) / sxx
-    c = my - b * mx
-    res = sum((y - c - b * x) ** 2 for x, y in zip(xs, ys))
-    se_b = math.sqrt(res / (n - 2) / sxx) if n > 2 else float('nan')
+    b, se_b, c, _, _ = line_fit(xs, ys)
     print(f'\nPower law over {n} runs: spacing = {math.exp(c) * 1e3:.3g} mm x (A / 1 m)^b, '
           f'**b = {b:.2f} +- {se_b:.2f}** (the prediction: b = 1).')
     # The prediction's form (spacing proportional to A): ratio spacing / A, mean and s.e.
