@@ -1,8 +1,8 @@
 //! The simulation loop: the only place that knows the order of the stages of a time step.
 //!
-//! One step of [`Simulation::step`], in two passes over fixed blocks of particles, both in
-//! one parallel region of the step's threads (serially with one thread; results are
-//! bit-identical either way):
+//! One step of [`Simulation::step`], in three passes over fixed blocks of particles (stages
+//! 1, 3 and 4), all in one parallel region of the step's threads (serially with one thread;
+//! results are bit-identical either way):
 //! 1. per block: integrator stage before the forces (positions to `t + dt`), periodic wrap,
 //!    and the box of this step's displacement velocities;
 //! 2. `t += dt`; neighbour list rebuilt if the drift bound (grains' motion relative to their
@@ -88,8 +88,8 @@ pub struct Simulation {
     /// `neighbors.partners`: the spring of the pair `(i, j)`, `i < j` in the places of the
     /// arrays, seen from `i`; zero for pairs not in contact.
     pair_history: Vec<Vec3>,
-    /// Each slot's reaction on its partner at the current force evaluation (scratch between
-    /// the two passes of stage 3 and 4, aligned with `neighbors.partners`).
+    /// Each slot's reaction on its partner at the current force evaluation (scratch from
+    /// stage 3 to stage 4, aligned with `neighbors.partners`).
     reactions: Vec<forces::Reaction>,
     /// Tangential spring of each particle-wall contact, `i * max(walls, 1) + k` (one unused
     /// slot per particle without walls, so the per-block chunks always line up).
