@@ -1,7 +1,18 @@
 //! Force gathering: the force and torque on every particle from gravity, its neighbour-list
-//! partners and the walls, evaluated per particle in fixed blocks (so that partial sums, and
+//! pairs and the walls, evaluated per particle in fixed blocks (so that partial sums, and
 //! therefore every result, are the same for any number of threads). [`crate::sim`] decides
 //! when this runs; this module only knows how one evaluation is done.
+//!
+//! An evaluation has two passes over the blocks, the second after the first has ended on
+//! every block ([`crate::sim`] puts a barrier between them):
+//! 1. [`gather_block`]: gravity, each pair of the (half) neighbour list once, in the list of
+//!    its smaller index `i`, whose force and torque it adds to `i` and whose reaction
+//!    (`-F`, the torque on `j`) it leaves in the pair's slot of [`Reaction`]s; then the walls;
+//! 2. [`add_reactions`]: each particle adds the reactions of the pairs in which it is the
+//!    partner, in increasing order of the other index ([`NeighborList::incoming_of`]).
+//!
+//! So each grain sums gravity, its own pairs, its walls and its reactions in an order that
+//! the list alone fixes, whichever thread evaluated which block.
 //!
 //! Hot-path choices, none of which changes a force law:
 //! - walls whose normal is a coordinate axis (the tray's floor and side walls) get their
@@ -97,6 +108,14 @@ pub(crate) struct Inputs<'a> {
     pub record: bool,
 }
 
+/// What a pair evaluated from its smaller index `i` leaves for its partner `j`: the force
+/// `-F_ij` and the torque on `j`. Zero for a pair not in contact.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(crate) struct Reaction {
+    pub force: Vec3,
+    pub torque: Vec3,
+}
+
 /// Partial results of one block of particles.
 #[derive(Default)]
 pub(crate) struct BlockSums {
@@ -144,16 +163,17 @@ impl BlockSums {
     }
 }
 
-/// Forces and torques on the particles `first..first + force.len()`. `pair_history` holds
-/// the tangential springs of their neighbour-list slots (from `list.offsets[first]` on),
-/// `wall_history` those of their wall contacts, `walls.len().max(1)` per particle, with a
-/// flag per spring that is 1 while it may be non-zero.
+/// The first pass ([module docs](self)) on the particles `first..first + force.len()`: their
+/// forces and torques from gravity, their own pairs and the walls. `pair_history` holds the
+/// tangential springs of their neighbour-list slots (from `list.offsets[first]` on), and
+/// `reactions` receives those slots' reactions; `wall_history` holds the springs of their
+/// wall contacts, `walls.len().max(1)` per particle, with a flag per spring that is 1 while
+/// it may be non-zero. The pinned layer's vertical force is dropped by [`add_reactions`].
 pub(crate) fn gather_block(
     inp: &Inputs,
     first: usize,
-    force: &mut [Vec3],
-    torque: &mut [Vec3],
-    pair_history: &mut [Vec3],
+    (force, torque): (&mut [Vec3], &mut [Vec3]),
+    (pair_history, reactions): (&mut [Vec3], &mut [Reaction]),
     (wall_history, wall_touched): (&mut [Vec3], &mut [u8]),
 ) -> BlockSums {
     let setup = inp.setup;
@@ -161,7 +181,6 @@ pub(crate) fn gather_block(
     let pair_law = &setup.pair_law;
     let pair_history_on = pair_law.has_history();
     let (dt, gravity) = (setup.dt, setup.gravity);
-    let pinned = setup.vertical == Vertical::Pinned;
     let base_slot = list.offsets[first];
     let mut sums = BlockSums::default();
     // Gravity.
@@ -173,24 +192,25 @@ pub(crate) fn gather_block(
         *f = gravity * m;
         *t = Vec3::repeat(0.0 * m);
     }
-    // Particle pairs, each evaluated from both sides (half the energies each), in one flat
-    // loop over the block's neighbour-list slots: in a dilute layer most particles have zero
-    // to two candidates, and a loop nested per particle would mispredict its exit each time.
-    // Each particle still adds its partners in slot order.
+    // Particle pairs, each evaluated once from its smaller index (the whole energies), in
+    // one flat loop over the block's neighbour-list slots: in a dilute layer most particles
+    // have zero to two candidates, and a loop nested per particle would mispredict its exit
+    // each time. Each particle still adds its partners in slot order.
     let slots = base_slot..list.offsets[first + n];
     if !inp.record {
         // Four slots at a time on lanes (diagnostics runs keep the per-contact path below,
         // which records each contact): the same kernels, the same bits.
         on_lanes(
             #[inline(always)]
-            || pair_pass(inp, (first, slots), (force, torque), pair_history, &mut sums),
+            || pair_pass(inp, (first, slots), (force, torque), (pair_history, reactions), &mut sums),
         );
     } else {
         pair_law.unswitched(|pair_law| {
-            for ((&i, &j), zeta) in list.owner[slots.clone()]
+            for (((&i, &j), zeta), reaction) in list.owner[slots.clone()]
                 .iter()
                 .zip(&list.partners[slots])
                 .zip(pair_history.iter_mut())
+                .zip(reactions.iter_mut())
             {
                 let (i, j) = (i as usize, j as usize);
                 let xi = pos[i];
@@ -211,18 +231,21 @@ pub(crate) fn gather_block(
                     if pair_history_on {
                         *zeta = Vec3::zeros();
                     }
+                    *reaction = Reaction::default();
                     continue;
                 };
                 let c = contact::evaluate(pair_law, &g, zeta, dt);
                 force[i - first] += c.force;
                 torque[i - first] += c.torque_i;
-                sums.pair_contacts += (i < j) as u64;
+                *reaction = Reaction {
+                    force: -c.force,
+                    torque: c.torque_j,
+                };
+                sums.pair_contacts += 1;
                 sums.check_overlap(i, Partner::Particle(j), g.overlap, radius[i].min(radius[j]));
-                sums.stored += 0.5 * c.stored_energy;
-                sums.dissipated += 0.5 * c.dissipation_rate;
-                if inp.record && i < j {
-                    sums.record(i, Partner::Particle(j), &g, &c, pair_law.tangential.mu());
-                }
+                sums.stored += c.stored_energy;
+                sums.dissipated += c.dissipation_rate;
+                sums.record(i, Partner::Particle(j), &g, &c, pair_law.tangential.mu());
             }
         });
     }
@@ -302,12 +325,31 @@ pub(crate) fn gather_block(
         }
         w += 1;
     }
-    if pinned {
-        for f in out.force.iter_mut() {
+    sums
+}
+
+/// The second pass ([module docs](self)) on the particles `first..first + force.len()`: each
+/// adds the reactions of the pairs whose partner it is, in increasing order of the other
+/// index, once every block's first pass has ended; a pinned layer then drops the vertical
+/// force (eq 3.28).
+pub(crate) fn add_reactions(inp: &Inputs, reactions: &[Reaction], first: usize, (force, torque): (&mut [Vec3], &mut [Vec3])) {
+    let list = inp.list;
+    let n = force.len();
+    let torque = &mut torque[..n];
+    // One flat loop over the block's incoming slots, as the pairs' loop over its own.
+    let incoming = &list.incoming[list.incoming_offsets[first]..list.incoming_offsets[first + n]];
+    for &s in incoming {
+        let s = s as usize;
+        let k = list.partners[s] as usize - first;
+        let r = &reactions[s];
+        force[k] += r.force;
+        torque[k] += r.torque;
+    }
+    if inp.setup.vertical == Vertical::Pinned {
+        for f in force.iter_mut() {
             f.z = 0.0;
         }
     }
-    sums
 }
 
 /// The per-particle outputs of one block: forces and torques of the particles
@@ -656,16 +698,17 @@ fn avx2_lanes() -> bool {
 
 /// The particle pairs of a block's neighbour-list slots `slots` (those of the particles
 /// `first..first + force.len()`, whose forces and torques are summed here; `pair_history`
-/// holds their springs), four slots at a time: the nearest images are taken per slot, the
-/// geometry and the laws run on [`F64x4`] lanes by the kernels that serve one contact, and
-/// the results of the lanes in contact are added in slot order, as the one-contact loop in
-/// [`gather_block`] does (each pair seen from both sides, half the energies each).
+/// holds their springs and `reactions` receives their partners' shares), four slots at a
+/// time: the nearest images are taken per slot, the geometry and the laws run on [`F64x4`]
+/// lanes by the kernels that serve one contact, and the results of the lanes in contact are
+/// added in slot order, as the one-contact loop in [`gather_block`] does (each pair once, from
+/// its smaller index, with its whole energies).
 #[inline(always)]
 fn pair_pass(
     inp: &Inputs,
     (first, slots): (usize, std::ops::Range<usize>),
     (force, torque): (&mut [Vec3], &mut [Vec3]),
-    pair_history: &mut [Vec3],
+    (pair_history, reactions): (&mut [Vec3], &mut [Reaction]),
     sums: &mut BlockSums,
 ) {
     let (list, pos, vel, omega, radius) = (inp.list, inp.pos, inp.vel, inp.omega, inp.radius);
@@ -735,21 +778,30 @@ fn pair_pass(
                             if history_on {
                                 pair_history[s + l] = Vec3::zeros();
                             }
+                            reactions[s + l] = Reaction::default();
                             continue;
                         }
                         if history_on {
                             pair_history[s + l] = zeta.lane(l);
                         }
                         let (i, j) = (i[l], j[l]);
-                        force[i - first] += c.force.lane(l);
+                        let f = c.force.lane(l);
+                        force[i - first] += f;
                         torque[i - first] += c.torque_i.lane(l);
-                        sums.pair_contacts += (i < j) as u64;
+                        reactions[s + l] = Reaction {
+                            force: -f,
+                            torque: c.torque_j.lane(l),
+                        };
+                        sums.pair_contacts += 1;
                         sums.check_overlap(i, Partner::Particle(j), overlap[l], ri[l].min(rj[l]));
-                        sums.stored += 0.5 * stored[l];
-                        sums.dissipated += 0.5 * dissipated[l];
+                        sums.stored += stored[l];
+                        sums.dissipated += dissipated[l];
                     }
-                } else if history_on {
-                    pair_history[s..s + live].fill(Vec3::zeros());
+                } else {
+                    if history_on {
+                        pair_history[s..s + live].fill(Vec3::zeros());
+                    }
+                    reactions[s..s + live].fill(Reaction::default());
                 }
                 s += 4;
             }

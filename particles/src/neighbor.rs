@@ -1,10 +1,11 @@
 //! Neighbour search: which pairs can touch.
 //!
-//! Lists are *full*: every pair appears in the lists of both particles, so the force on a
-//! particle can be gathered by that particle alone. That doubles the pair arithmetic but makes
-//! the force loop trivially parallel, free of write conflicts, and bit-identical for any
-//! number of threads. Pair kernels are exactly antisymmetric (IEEE negation and commutative
-//! addition), so `F_ji = -F_ij` bit for bit.
+//! Lists are *half* lists: every pair `(i, j)` appears once, in the list of its smaller index
+//! `i`, so that the force pass evaluates each contact once. The list also says, for every
+//! particle, which slots hold it as the partner (`incoming`, in increasing owner order): the
+//! force pass adds those pairs' reactions to it after every slot has been evaluated, each
+//! particle in an order fixed by the list alone, so the forces are bit-identical for any
+//! number of threads.
 
 use crate::boundary::Boundary;
 use crate::parallel::on_blocks;
@@ -49,8 +50,9 @@ impl NeighborSearch {
 /// either way).
 pub const TARGET_LIFETIME: f64 = 24.0;
 
-/// Candidate partners of every particle in compressed-row form: the partners of `i` are
-/// `partners[offsets[i]..offsets[i + 1]]`, in increasing index order.
+/// Candidate pairs in compressed-row form, each pair once: the partners of `i` are the
+/// larger indices `partners[offsets[i]..offsets[i + 1]]`, in increasing order (a *slot* is an
+/// index into `partners`).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct NeighborList {
     pub offsets: Vec<usize>,
@@ -58,6 +60,10 @@ pub struct NeighborList {
     /// The particle whose list holds each slot: `owner[s] = i` for `s` in
     /// `offsets[i]..offsets[i + 1]`, so a loop can run over slots without nesting.
     pub owner: Vec<u32>,
+    /// The slots whose partner is `j` are `incoming[incoming_offsets[j]..incoming_offsets[j + 1]]`,
+    /// in increasing owner order (the pairs `(i, j)` with `i < j`).
+    pub incoming_offsets: Vec<usize>,
+    pub incoming: Vec<u32>,
     /// Positions at the last build, for the displacement criterion.
     anchor: Vec<Vec3>,
     /// Skin (m) of the last build.
@@ -72,10 +78,21 @@ pub struct NeighborList {
 }
 
 impl NeighborList {
-    /// Partners of particle `i`.
+    /// Partners of particle `i`: the candidates with a larger index.
     #[inline]
     pub fn of(&self, i: usize) -> &[u32] {
         &self.partners[self.offsets[i]..self.offsets[i + 1]]
+    }
+
+    /// The slots that hold particle `j` as the partner, in increasing owner order.
+    #[inline]
+    pub fn incoming_of(&self, j: usize) -> &[u32] {
+        &self.incoming[self.incoming_offsets[j]..self.incoming_offsets[j + 1]]
+    }
+
+    /// The slot of the pair `(i, j)`, `i < j`, if it is in the list.
+    pub fn slot(&self, i: usize, j: usize) -> Option<usize> {
+        self.of(i).binary_search(&(j as u32)).ok().map(|k| self.offsets[i] + k)
     }
 
     /// Positions at the last build.
@@ -126,7 +143,7 @@ impl NeighborList {
         match *search {
             NeighborSearch::AllPairs => {
                 for i in 0..n {
-                    self.partners.extend((0..n as u32).filter(|&j| j as usize != i));
+                    self.partners.extend(i as u32 + 1..n as u32);
                     self.offsets.push(self.partners.len());
                 }
             }
@@ -142,6 +159,10 @@ impl NeighborList {
         for i in 0..n {
             self.owner.resize(self.offsets[i + 1], i as u32);
         }
+        // The slots by partner: a stable counting sort keeps the owners increasing.
+        let (mut start, mut fill) = (std::mem::take(&mut self.incoming_offsets), std::mem::take(&mut self.cell_fill));
+        counting_sort(&self.partners, n, &mut start, &mut fill, &mut self.incoming);
+        (self.incoming_offsets, self.cell_fill) = (start, fill);
         self.anchor.clear();
         self.anchor.extend_from_slice(pos);
         self.builds += 1;
@@ -189,9 +210,9 @@ impl NeighborList {
             &mut self.cell_fill,
             &mut self.cell_items,
         );
-        // Each particle's candidates from its 3 x 3 cells (fewer on a short or walled axis),
-        // in fixed chunks of particles, possibly in parallel: the lists do not depend on the
-        // chunking or the number of threads.
+        // Each particle's candidates of larger index from its 3 x 3 cells (fewer on a short
+        // or walled axis), in fixed chunks of particles, possibly in parallel: the lists do not
+        // depend on the chunking or the number of threads.
         let (cells, starts, items) = (&self.cell_of, &self.cell_start, &self.cell_items);
         let chunks: Vec<std::ops::Range<usize>> = (0..n.div_ceil(BUILD_CHUNK))
             .map(|c| c * BUILD_CHUNK..((c + 1) * BUILD_CHUNK).min(n))
@@ -206,7 +227,7 @@ impl NeighborList {
                 let mut scan = |cells: std::ops::Range<usize>| {
                     for &j in &items[starts[cells.start]..starts[cells.end]] {
                         let cut = ri + radius[j as usize] + skin;
-                        if j as usize != i && boundary.min_image(xi - pos[j as usize]).norm_squared() < cut * cut {
+                        if j as usize > i && boundary.min_image(xi - pos[j as usize]).norm_squared() < cut * cut {
                             partners.push(j);
                         }
                     }
@@ -384,18 +405,49 @@ mod tests {
         (pos, radius)
     }
 
-    /// Pairs within `R_i + R_j + skin` by brute force.
+    /// Pairs within `R_i + R_j + skin` by brute force: each particle's partners of larger
+    /// index.
     fn brute(pos: &[Vec3], radius: &[f64], b: &Boundary, skin: f64) -> Vec<Vec<u32>> {
         (0..pos.len())
             .map(|i| {
-                (0..pos.len() as u32)
+                (i as u32 + 1..pos.len() as u32)
                     .filter(|&j| {
                         let cut = radius[i] + radius[j as usize] + skin;
-                        j as usize != i && b.min_image(pos[i] - pos[j as usize]).norm_squared() < cut * cut
+                        b.min_image(pos[i] - pos[j as usize]).norm_squared() < cut * cut
                     })
                     .collect()
             })
             .collect()
+    }
+
+    /// Each slot is found once among the incoming slots of its partner, those of each
+    /// particle in increasing owner order.
+    fn assert_incoming_is_the_transpose(list: &NeighborList, n: usize) {
+        let mut seen = vec![0u32; list.partners.len()];
+        for j in 0..n {
+            let owners: Vec<u32> = list.incoming_of(j).iter().map(|&s| list.owner[s as usize]).collect();
+            assert!(
+                owners.windows(2).all(|w| w[0] < w[1]),
+                "owners of particle {j}'s incoming slots: {owners:?}"
+            );
+            for &s in list.incoming_of(j) {
+                assert_eq!(list.partners[s as usize] as usize, j);
+                seen[s as usize] += 1;
+            }
+        }
+        assert!(seen.iter().all(|&c| c == 1));
+    }
+
+    #[test]
+    fn all_pairs_hold_each_pair_once() {
+        let (pos, radius) = layout(7, 0.01, 0.01, 5);
+        let mut list = NeighborList::default();
+        list.build(&NeighborSearch::AllPairs, &pos, &radius, &Boundary::open());
+        assert_eq!(list.partners.len(), 7 * 6 / 2);
+        for i in 0..7 {
+            assert_eq!(list.of(i), (i as u32 + 1..7).collect::<Vec<_>>().as_slice());
+        }
+        assert_incoming_is_the_transpose(&list, 7);
     }
 
     #[test]
@@ -415,6 +467,8 @@ mod tests {
                 assert!(owners.iter().all(|&o| o as usize == i), "owner of particle {i}'s slots");
             }
             assert_eq!(list.owner.len(), list.partners.len());
+            assert_incoming_is_the_transpose(&list, pos.len());
+            assert!(list.partners.len() > pos.len(), "{} pairs", list.partners.len());
         }
     }
 
@@ -455,6 +509,7 @@ mod tests {
             for (i, e) in brute.iter().enumerate() {
                 assert_eq!(list.of(i), e.as_slice(), "particle {i} at skin {}", list.skin);
             }
+            assert_incoming_is_the_transpose(&list, pos.len());
         }
         // A list that lasted 100 times the target (a layer at rest): the skin shrinks tenfold,
         // back to the smallest.

@@ -26,8 +26,10 @@ pub struct SavedState {
     pub omega_half: Vec<Vec3>,
     pub force: Vec<Vec3>,
     pub torque: Vec<Vec3>,
-    /// Non-zero tangential springs of particle pairs, `(i, j, zeta)` with `i < j` in
-    /// neighbour-list order.
+    /// Non-zero tangential springs of particle pairs, `(i, j, zeta)` with `i < j`, the spring
+    /// seen from `i`, ordered by `i`, then `j`. States saved while each pair was evaluated
+    /// from both sides also hold `(j, i, -zeta)`; an import takes the smaller index's entry
+    /// and the other only where it is alone.
     pub pair_histories: Vec<(usize, usize, Vec3)>,
     /// Tangential springs of particle-wall contacts, slot `i * max(walls, 1) + k`.
     pub wall_histories: Vec<Vec3>,
