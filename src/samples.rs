@@ -17,6 +17,16 @@ pub fn sample_key(scene: &Scene) -> u64 {
     particles::measure::fnv1a(format!("sample revision {SAMPLE_REVISION}\n{text}").as_bytes())
 }
 
+/// The grains' fixed properties (radii, masses, inertias) for a run that continues from a
+/// checkpoint, which holds every moving quantity: the lattice before relaxation (a
+/// relaxation moves grains, it never changes their radii or masses), through the cache's
+/// encoding, so that they are the bits a prepared sample gives. A resume neither prepares
+/// the sample (for the thesis scene, 10 s of relaxation) nor needs it in the cache.
+pub fn for_resume(scene: &Scene) -> Result<State, String> {
+    let lattice = particles::prepare::initial_state(scene).map_err(|e| format!("sample: {e}"))?;
+    decode_sample(&encode_sample(&lattice))
+}
+
 /// Loads the sample of `scene` from `dir` (file `sample-<key>.bin`, see [`sample_key`]) or
 /// prepares and stores it. Returns the state and whether it came from the cache.
 pub fn load_or_prepare(scene: &Scene, dir: &std::path::Path, progress: impl FnMut(f64)) -> Result<(State, bool), String> {

@@ -1,7 +1,7 @@
 //! `stripes run` is reproducible: the same seed gives the same `state_hash` with 1 and 2
 //! threads, and a run killed mid-way (as `kill -9` would, via the hidden `--stop-after` hook)
 //! and resumed from its last checkpoint ends bit-identical to an uninterrupted run, with the
-//! same snapshot stream.
+//! same snapshot stream, without the prepared sample.
 
 mod common;
 
@@ -34,7 +34,7 @@ use common::summary;
 
 #[test]
 fn same_seed_same_state_for_one_and_two_threads_and_after_a_kill_and_resume() {
-    for d in ["samples", "t1", "t2", "killed"] {
+    for d in ["samples", "no-samples", "t1", "t2", "killed"] {
         let _ = std::fs::remove_dir_all(tmp(d));
     }
     let samples = tmp("samples");
@@ -50,12 +50,17 @@ fn same_seed_same_state_for_one_and_two_threads_and_after_a_kill_and_resume() {
     assert!(!killed.status.success());
     assert!(dir.join("checkpoint.bin").exists());
     let data = dir.join("resumed.data");
+    // The resume gets an empty sample cache: it needs no prepared sample (the checkpoint holds
+    // every moving quantity) and prepares none.
+    let no_samples = tmp("no-samples");
     let resumed = summary(&run(
         &dir,
-        &samples,
+        &no_samples,
         &["--set", "run.threads=1", "--resume", "--lammps-data", data.to_str().unwrap()],
     ));
     assert_eq!(resumed["state_hash"], one["state_hash"], "resume diverged");
+    assert!(!no_samples.exists(), "the resume prepared a sample");
+    assert_eq!(resumed["sample_cached"], false);
     // The LAMMPS data file holds the state the resumed run started from: the checkpoint.
     let data = std::fs::read_to_string(&data).unwrap();
     assert!(
@@ -84,7 +89,7 @@ fn same_seed_same_state_for_one_and_two_threads_and_after_a_kill_and_resume() {
     let b = std::fs::read(dir.join("snapshots.bin")).unwrap();
     assert!(a == b, "the resumed snapshot stream differs from the uninterrupted one");
 
-    for d in ["samples", "t1", "t2", "killed"] {
+    for d in ["samples", "no-samples", "t1", "t2", "killed"] {
         let _ = std::fs::remove_dir_all(tmp(d));
     }
 }

@@ -79,8 +79,9 @@ pub struct DemSummary {
     pub threads_chosen_by: String,
     pub steps_per_contact: f64,
     pub snapshots: u64,
-    /// Whether the sample came from the cache, and the wall seconds spent preparing or
-    /// loading it (waiting for another process that prepares it included).
+    /// Whether the sample came from the cache (false for a resume, which needs no sample), and
+    /// the wall seconds spent preparing or loading it (waiting for another process that
+    /// prepares it included).
     pub sample_cached: bool,
     pub prepare_s: f64,
     pub sample_cache: String,
@@ -224,10 +225,15 @@ fn start(resolved: &Resolved, opts: &RunOptions, checkpoint: Option<Vec<u8>>) ->
     let interval = args.thermo_interval.unwrap_or(0.1 / scene.drive.frequency);
     let mut thermo = Thermo::new(interval, dt, out.join("thermo.csv"), every, total)?;
 
-    // Sample: prepared once per (population, box, material, seed), shared by every run.
-    let bar = progress_bar(1000, args.quiet, "prepare");
+    // Sample: prepared once per (population, box, material, seed), shared by every run. A
+    // resume takes its grains' radii and masses from the lattice instead: everything that
+    // moves comes from the checkpoint, so nothing is prepared only to be overwritten.
+    let bar = progress_bar(1000, args.quiet || checkpoint.is_some(), "prepare");
     let preparing = Instant::now();
-    let (state, cached) = crate::samples::load_or_prepare(scene, &args.sample_cache, |f| bar.set_position((f * 1000.0) as u64))?;
+    let (state, cached) = match checkpoint {
+        Some(_) => (crate::samples::for_resume(scene)?, false),
+        None => crate::samples::load_or_prepare(scene, &args.sample_cache, |f| bar.set_position((f * 1000.0) as u64))?,
+    };
     bar.finish_and_clear();
     let prepare_s = preparing.elapsed().as_secs_f64();
     let mut sim = Simulation::new(resolved.setup.clone(), state)?;
