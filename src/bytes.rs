@@ -36,7 +36,13 @@ impl<'a> Reader<'a> {
         Self { bytes, at: 0 }
     }
     pub fn take(&mut self, n: usize) -> Result<&'a [u8], String> {
-        let end = self.at.checked_add(n).filter(|&e| e <= self.bytes.len()).ok_or("truncated file")?;
+        let len = self.bytes.len();
+        let end = self.at.checked_add(n).filter(|&e| e <= len).ok_or_else(|| {
+            format!(
+                "truncated file: it ends at byte {len}, inside a field of {n} bytes that starts at byte {}",
+                self.at
+            )
+        })?;
         let s = &self.bytes[self.at..end];
         self.at = end;
         Ok(s)
@@ -62,5 +68,25 @@ impl<'a> Reader<'a> {
             return Err(format!("truncated file: it claims {n} {what} but holds bytes for at most {left}"));
         }
         Ok(n as usize)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_cut_file_names_where_it_ends_and_what_was_being_read() {
+        let mut w = Writer::default();
+        w.u64(7);
+        w.f64(1.5);
+        let mut bytes = w.0;
+        bytes.truncate(12);
+        let mut r = Reader::new(&bytes);
+        assert_eq!(r.u64(), Ok(7));
+        assert_eq!(
+            r.f64(),
+            Err("truncated file: it ends at byte 12, inside a field of 8 bytes that starts at byte 8".to_string())
+        );
     }
 }

@@ -241,8 +241,12 @@ fn start(resolved: &Resolved, opts: &RunOptions, checkpoint: Option<Vec<u8>>) ->
     let ckpt_path = out.join("checkpoint.bin");
     let mut frames = 0;
     if let Some(bytes) = &checkpoint {
-        frames =
-            crate::dem_checkpoint::restore(&mut sim, bytes, fingerprint).map_err(|e| format!("--resume: {}: {e}", ckpt_path.display()))?;
+        frames = crate::dem_checkpoint::restore(&mut sim, bytes, fingerprint).map_err(|e| {
+            format!(
+                "--resume: {}: {e} (nothing was changed; --force starts the run again)",
+                ckpt_path.display()
+            )
+        })?;
         thermo.resume(&out.join("thermo.csv"), sim.time)?;
     }
     let dir = RunDir::create(out, &json!({ "args": args, "scene_file": resolved.path, "scene": scene }))?;
