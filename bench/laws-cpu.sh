@@ -10,6 +10,7 @@
 #   STEPS=40000 ROUNDS=7 bench/laws-cpu.sh BIN
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source bench/lib.sh
 BIN=$1
 STEPS=${STEPS:-20000}
 ROUNDS=${ROUNDS:-5}
@@ -17,9 +18,7 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 scene=scenes/thesis-reference.toml
 # Haff-Werner's dt = "auto", read from a one-step run.
-dt=$("$BIN" run "$scene" --quiet --out "$work/dt" --set prepare.duration=0 --set run.duration=1e-9 \
-  --set run.dt=auto --set run.checkpoint_interval=0 2> /dev/null | tail -1 \
-  | python3 -c "import json,sys; print(json.load(sys.stdin)['dt'])")
+dt=$(auto_dt "$BIN" "$scene" "$work/dt" --set run.dt=auto)
 user() { # extra --set arguments -> user seconds
   rm -rf "$work/run"
   /usr/bin/time -f "%U" -o "$work/time" "$BIN" run "$scene" --quiet --out "$work/run" \

@@ -9,6 +9,7 @@
 #   STEPS=40000 ROUNDS=5 bench/speed-ratio-cpu.sh OLD NEW
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source bench/lib.sh
 OLD=$1
 NEW=$2
 STEPS=${STEPS:-20000}
@@ -24,8 +25,7 @@ user() { # BIN SCENE DT -> user seconds
   tail -1 "$work/time"
 }
 # The stripe scene's dt = "auto", read from a one-step run.
-stripes_dt=$("$NEW" run scenes/stripes.toml --quiet --out "$work/dt" --set prepare.duration=0 --set run.duration=1e-9 \
-  --set run.checkpoint_interval=0 2> /dev/null | tail -1 | python3 -c "import json,sys; print(json.load(sys.stdin)['dt'])")
+stripes_dt=$(auto_dt "$NEW" scenes/stripes.toml "$work/dt")
 for scene in "thesis scenes/thesis-reference.toml 8e-6" "stripes scenes/stripes.toml $stripes_dt"; do
   set -- $scene
   printf '%s, %s steps, load before: %s\n' "$1" "$STEPS" "$(uptime | sed 's/.*load/load/')"

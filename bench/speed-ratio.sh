@@ -15,6 +15,7 @@
 # at its dt = "auto". With THREADS="1 2" and OLD = NEW it compares thread counts instead.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source bench/lib.sh
 OLD=$1
 NEW=$2
 SCENE=${SCENE:-thesis}
@@ -44,9 +45,7 @@ rate() {
     # Simulated time for STEPS steps: the scene's dt ("auto": read from a 1-step run).
     local step=$dt
     if [ "$dt" = auto ]; then
-      step=$("$bin" run "$file" --quiet --out "$dir" --set prepare.duration=0 --set run.duration=1e-9 \
-        --set run.checkpoint_interval=0 2> /dev/null | tail -1 | python3 -c "import json,sys; print(json.load(sys.stdin)['dt'])")
-      rm -rf "$dir"
+      step=$(auto_dt "$bin" "$file" "$dir")
     fi
     "$bin" run "$file" --quiet --out "$dir" --set prepare.duration=0 \
       --set run.duration="$(python3 -c "print($STEPS * $step)")" --set run.threads="$threads" \
