@@ -273,7 +273,7 @@ impl Simulation {
         };
         // The walls at the new time `t + dt`, where stage 3 evaluates them.
         let planes = forces::wall_planes(&self.setup, self.time + dt);
-        let bounds = self.container_bounds();
+        let bounds = self.container_bounds(self.time + dt);
         let mut sums: Vec<Option<forces::BlockSums>> = (0..blocks).map(|_| None).collect();
         let (drift, due) = {
             let step = Step::of(self, &planes, bounds, true);
@@ -372,7 +372,7 @@ impl Simulation {
     /// Every position, velocity and spin finite, and every particle inside the container
     /// ([`is_sound`], the per-step test).
     fn check_finite(&self) -> Result<(), SimError> {
-        let (s, bounds) = (&self.state, self.container_bounds());
+        let (s, bounds) = (&self.state, self.container_bounds(self.time));
         let bad = (0..s.len()).find(|&i| !is_sound(&s.pos[i], &s.vel[i], &s.omega[i], &bounds));
         bad.map_or(Ok(()), |i| Err(self.describe_bad(i)))
     }
@@ -607,7 +607,7 @@ impl Simulation {
     /// container.
     fn compute_forces(&mut self, ledger_dt: f64, finish: bool) -> Option<usize> {
         let planes = forces::wall_planes(&self.setup, self.time);
-        let bounds = self.container_bounds();
+        let bounds = self.container_bounds(self.time);
         let sums = Step::of(self, &planes, bounds, finish).forces_on_blocks();
         let kick = finish && self.setup.integrator.has_after_stage();
         self.absorb(sums, ledger_dt, kick)
@@ -668,10 +668,11 @@ impl Simulation {
         first_bad
     }
 
-    /// The container as per-axis bounds, infinite on periodic axes and without a container.
-    fn container_bounds(&self) -> (Vec3, Vec3) {
+    /// The container at time `t` (s) as per-axis bounds, infinite on periodic axes and
+    /// without a container.
+    fn container_bounds(&self, t: f64) -> (Vec3, Vec3) {
         let inf = Vec3::repeat(f64::INFINITY);
-        let (mut lo, mut hi) = self.setup.container.unwrap_or((-inf, inf));
+        let (mut lo, mut hi) = self.setup.container.as_ref().map_or((-inf, inf), |c| c.at(t));
         for k in 0..3 {
             if self.setup.boundary.periodic[k].is_some() {
                 (lo[k], hi[k]) = (f64::NEG_INFINITY, f64::INFINITY);

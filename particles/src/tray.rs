@@ -5,7 +5,7 @@ use crate::boundary::Boundary;
 use crate::constants::GRAVITY;
 use crate::neighbor::NeighborSearch;
 use crate::scene::{DriveDirection, Scene};
-use crate::setup::{Setup, Vertical};
+use crate::setup::{Container, Setup, Vertical};
 use crate::wall::{Motion, Wall};
 use crate::{SimError, Vec3};
 
@@ -37,7 +37,8 @@ pub fn drive(scene: &Scene) -> Motion {
 /// at x = 0 and x = L (`box.x_walls`). With a horizontal drive every wall moves with the
 /// tray; with a vertical one (`drive.direction = "z"`) only the floor moves, and the floor's
 /// height `A sin(2 pi nu t)` and vertical velocity enter its contacts through the wall's
-/// position and velocity, as any wall's do.
+/// position and velocity, as any wall's do. The escape check's box moves as the side and end
+/// walls do (with the tray, or not at all).
 pub fn setup(scene: &Scene, motion: Motion, dt: f64) -> Result<Setup, SimError> {
     let (pair_law, wall_law) = scene.laws()?;
     let (l, w, h) = (scene.tray.length, scene.tray.width, scene.tray.height.unwrap_or(f64::INFINITY));
@@ -81,8 +82,15 @@ pub fn setup(scene: &Scene, motion: Motion, dt: f64) -> Result<Setup, SimError> 
         vertical: if scene.toggles.jumping { Vertical::Free } else { Vertical::Pinned },
         // Grains may sink into the floor by their overlap; anything below -R_max (below the
         // vibrated floor's lowest position), outside the side walls, or above the optional
-        // ceiling `box.height` has escaped (open top by default, thesis 3.5.3).
-        container: Some((Vec3::new(0.0, 0.0, -scene.particles.radius_max - floor_low), Vec3::new(l, w, h))),
+        // ceiling `box.height` has escaped (open top by default, thesis 3.5.3). The box moves
+        // with the side and end walls: on a shaken tray the end walls at x = u(t) and
+        // L + u(t) hold the grains, and a grain pressed against the far one at its forward
+        // turning point sits beyond L (the bug of end walls on a shaken tray, 2026-11-28).
+        container: Some(Container {
+            lo: Vec3::new(0.0, 0.0, -scene.particles.radius_max - floor_low),
+            hi: Vec3::new(l, w, h),
+            motion: sides,
+        }),
         sort: scene.run.sort_interval,
     })
 }
