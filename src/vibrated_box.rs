@@ -433,6 +433,9 @@ fn stage(opts: &Options, what: &str) {
 /// `opts.out`; returns the summary as one line of JSON.
 pub fn compare(file: &SceneFile, opts: &Options) -> Result<String, CliError> {
     let scene = &file.dem;
+    if !scene.drive.stages.is_empty() {
+        return Err("scene `drive.stages`: the vibrated box's comparison runs one drive, not a schedule".into());
+    }
     if opts.seeds == 0 {
         return Err("--seeds must be at least 1".into());
     }

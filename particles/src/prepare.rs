@@ -31,6 +31,9 @@ pub fn reference(scene: &Scene) -> Scene {
     // The tray rests during preparation, so its frequency changes nothing either: every
     // frequency of a sweep shares one sample per seed.
     s.drive.frequency = 1.0;
+    // Nor the schedule of its stages: the experiment's protocol starts from the sample of
+    // its tray.
+    s.drive.stages.clear();
     // Nor its direction: a vibrated box and a shaken tray of the same grains share samples.
     s.drive.direction = Default::default();
     s.run.duration = s.prepare.duration;

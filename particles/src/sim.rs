@@ -1067,6 +1067,7 @@ mod tests {
                 frequency: 20.0,
                 amplitude: 0.025,
                 direction: Default::default(),
+                stages: Vec::new(),
             },
             particles: Particles {
                 count,

@@ -22,12 +22,18 @@ pub const DEFAULT_SKIN: f64 = 0.2;
 pub const MAX_SKIN: f64 = 2.0;
 
 /// The motion of the tray: `u(t) = A sin(2 pi nu t)` along `drive.direction` (x: the shaken
-/// tray; z: the vibrated floor).
+/// tray; z: the vibrated floor), or the stages of `[[drive.stages]]` ([`crate::drive`]).
 pub fn drive(scene: &Scene) -> Motion {
-    Motion::Harmonic {
-        amplitude: scene.drive.amplitude,
-        frequency: scene.drive.frequency,
-        direction: scene.drive.direction.unit(),
+    match scene.drive.schedule() {
+        None => Motion::Harmonic {
+            amplitude: scene.drive.amplitude,
+            frequency: scene.drive.frequency,
+            direction: scene.drive.direction.unit(),
+        },
+        Some(schedule) => Motion::Scheduled {
+            schedule: std::sync::Arc::new(schedule),
+            direction: scene.drive.direction.unit(),
+        },
     }
 }
 
@@ -43,17 +49,22 @@ pub fn setup(scene: &Scene, motion: Motion, dt: f64) -> Result<Setup, SimError> 
     let (pair_law, wall_law) = scene.laws()?;
     let (l, w, h) = (scene.tray.length, scene.tray.width, scene.tray.height.unwrap_or(f64::INFINITY));
     let sides = match scene.drive.direction {
-        DriveDirection::X => motion,
+        DriveDirection::X => motion.clone(),
         DriveDirection::Z => Motion::Fixed,
+    };
+    // A vibrated floor sinks to -A below its mean position.
+    let floor_low = match scene.drive.direction {
+        DriveDirection::X => 0.0,
+        DriveDirection::Z => motion.displacement_bound(),
     };
     let mut walls = vec![Wall::new("floor", Vec3::zeros(), Vec3::z(), motion)];
     if scene.toggles.walls {
-        walls.push(Wall::new("side y=0", Vec3::zeros(), Vec3::y(), sides));
-        walls.push(Wall::new("side y=W", Vec3::new(0.0, w, 0.0), -Vec3::y(), sides));
+        walls.push(Wall::new("side y=0", Vec3::zeros(), Vec3::y(), sides.clone()));
+        walls.push(Wall::new("side y=W", Vec3::new(0.0, w, 0.0), -Vec3::y(), sides.clone()));
     }
     if scene.tray.x_walls {
-        walls.push(Wall::new("end x=0", Vec3::zeros(), Vec3::x(), sides));
-        walls.push(Wall::new("end x=L", Vec3::new(l, 0.0, 0.0), -Vec3::x(), sides));
+        walls.push(Wall::new("end x=0", Vec3::zeros(), Vec3::x(), sides.clone()));
+        walls.push(Wall::new("end x=L", Vec3::new(l, 0.0, 0.0), -Vec3::x(), sides.clone()));
     }
     let boundary = Boundary {
         periodic: [
@@ -61,11 +72,6 @@ pub fn setup(scene: &Scene, motion: Motion, dt: f64) -> Result<Setup, SimError> 
             if scene.toggles.walls { None } else { Some(w) },
             None,
         ],
-    };
-    // A vibrated floor sinks to -A below its mean position.
-    let floor_low = match scene.drive.direction {
-        DriveDirection::X => 0.0,
-        DriveDirection::Z => motion.displacement_bound(),
     };
     Ok(Setup {
         pair_law,

@@ -25,6 +25,7 @@ fn box_scene(frequency: f64, amplitude: f64) -> Scene {
             frequency,
             amplitude,
             direction: DriveDirection::Z,
+            stages: Vec::new(),
         };
         s.particles.radius_min = 0.5e-3;
         s.particles.radius_max = 0.5e-3;

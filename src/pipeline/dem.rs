@@ -64,6 +64,17 @@ pub struct Contacts {
     pub wall_mean: f64,
 }
 
+/// One stage of the drive as the summary lists it.
+#[derive(Clone, Debug, Serialize)]
+pub struct StageStart {
+    /// s.
+    pub start_s: f64,
+    /// Hz.
+    pub frequency: f64,
+    /// m.
+    pub amplitude: f64,
+}
+
 /// What a DEM run did: `summary.json` of its directory, field for field.
 #[derive(Clone, Debug, Serialize)]
 pub struct DemSummary {
@@ -90,6 +101,8 @@ pub struct DemSummary {
     pub energy: Energy,
     pub contacts: Contacts,
     pub neighbor_builds: u64,
+    /// The drive's stages in order, each with its start (s): one for a single drive.
+    pub drive_stages: Vec<StageStart>,
     pub state_hash: String,
     pub warnings: Vec<String>,
     #[serde(flatten)]
@@ -280,8 +293,11 @@ fn start(resolved: &Resolved, opts: &RunOptions, checkpoint: Option<Vec<u8>>) ->
     };
 
     // Snapshot k >= 1 at the turning point x_tray = +A of each period (sin = 1):
-    // t_k = 1/(4 nu) + (k - 1) / (s nu), taken at the nearest step.
+    // t_k = 1/(4 nu) + (k - 1) / (s nu), taken at the nearest step; with a schedule, at each
+    // stage's own turning points (`particles::drive::Schedule::snapshot_time`).
     let (nu, per) = (scene.drive.frequency, scene.run.snapshots_per_period as f64);
+    let schedule = scene.drive.schedule();
+    let per_u32 = scene.run.snapshots_per_period;
     let mut recorder = Recorder::open(RecorderPlan {
         header: Header {
             length: scene.tray.length,
@@ -290,7 +306,10 @@ fn start(resolved: &Resolved, opts: &RunOptions, checkpoint: Option<Vec<u8>>) ->
         },
         snapshots: out.join("snapshots.bin"),
         frames,
-        snap_time: Box::new(move |k: u64| 0.25 / nu + (k - 1) as f64 / (per * nu)),
+        snap_time: match schedule {
+            None => Box::new(move |k: u64| 0.25 / nu + (k - 1) as f64 / (per * nu)),
+            Some(schedule) => Box::new(move |k: u64| schedule.snapshot_time(k, per_u32)),
+        },
         vtk,
         checkpoint: ckpt_path,
         fingerprint,
@@ -425,6 +444,16 @@ fn step(resolved: &Resolved, opts: &RunOptions, started: Started, threads_why: S
         energy,
         contacts: Contacts { pair_mean, wall_mean },
         neighbor_builds: sim.neighbor_builds(),
+        drive_stages: scene
+            .drive
+            .stage_starts()
+            .into_iter()
+            .map(|(start_s, frequency, amplitude)| StageStart {
+                start_s,
+                frequency,
+                amplitude,
+            })
+            .collect(),
         state_hash: format!("{:016x}", measure::state_hash(s)),
         warnings,
         written: dir.written(),

@@ -51,13 +51,14 @@ pub fn resolve(path: &Path, file: SceneFile) -> Result<Resolved, Error> {
     let scene = &file.dem;
     scene.validate()?;
     let setup = tray::setup(scene, tray::drive(scene), time_step::for_scene(scene)?)?;
-    let gap = 1.0 / (scene.run.snapshots_per_period as f64 * scene.drive.frequency);
+    // The fastest stage of a schedule takes its snapshots closest together.
+    let gap = 1.0 / (scene.run.snapshots_per_period as f64 * scene.drive.highest_frequency());
     if gap < 2.0 * setup.dt {
         return Err(format!(
             "scene `run.snapshots_per_period` = {}: snapshots {gap:e} s apart are closer than two steps of {:e} s; at most {} per period",
             scene.run.snapshots_per_period,
             setup.dt,
-            (1.0 / (2.0 * setup.dt * scene.drive.frequency)).floor()
+            (1.0 / (2.0 * setup.dt * scene.drive.highest_frequency())).floor()
         )
         .into());
     }

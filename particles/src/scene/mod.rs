@@ -117,18 +117,172 @@ impl From<DriveDirection> for String {
     }
 }
 
-/// `[drive]`: tray motion `x_tray(t) = amplitude sin(2 pi frequency t)` along `direction`.
+/// `[drive]`: tray motion `x_tray(t) = amplitude sin(2 pi frequency t)` along `direction`,
+/// or a schedule of such stages, `[[drive.stages]]` ([`crate::drive`]).
+///
+/// In a scene file, either `frequency` and `amplitude` (one stage for the whole run) or
+/// `stages`. With stages, `frequency` and `amplitude` are the last stage's (filled in when
+/// left out, and checked against it when given): the drive whose period the analysis uses.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(try_from = "DriveFile", into = "DriveFile")]
 pub struct Drive {
+    /// Hz (with stages: the last stage's).
+    pub frequency: f64,
+    /// m (with stages: the last stage's).
+    pub amplitude: f64,
+    /// `"x"` (default: the horizontally shaken tray) or `"z"` (a vertically vibrated floor).
+    /// Left out of the serialised scene when `"x"`, so that the tray scenes' sample keys hold.
+    pub direction: DriveDirection,
+    /// The schedule, stage after stage from t = 0 (empty: one stage, `frequency` and
+    /// `amplitude`, for the whole run). Left out of the serialised scene when empty.
+    pub stages: Vec<DriveStage>,
+}
+
+/// `[[drive.stages]]`: one stage of a drive schedule. Each starts at a zero crossing of the
+/// tray, where the one before it ended ([`crate::drive`]).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DriveStage {
     /// Hz.
     pub frequency: f64,
     /// m.
     pub amplitude: f64,
-    /// `"x"` (default: the horizontally shaken tray) or `"z"` (a vertically vibrated floor).
-    /// Left out of the serialised scene when `"x"`, so that the tray scenes' sample keys hold.
+    /// s: a whole number of periods, except for the last stage.
+    pub duration: f64,
+}
+
+/// `[drive]` as written in a scene file (see [`Drive`]).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct DriveFile {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    frequency: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    amplitude: Option<f64>,
     #[serde(default, skip_serializing_if = "DriveDirection::is_x")]
-    pub direction: DriveDirection,
+    direction: DriveDirection,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    stages: Vec<DriveStage>,
+}
+
+impl TryFrom<DriveFile> for Drive {
+    type Error = String;
+    fn try_from(f: DriveFile) -> Result<Self, String> {
+        let missing = |key: &str, unit: &str| {
+            format!("missing field `{key}` (drive.{key}, {unit}; or a schedule of [[drive.stages]] with frequency, amplitude and duration)")
+        };
+        let last = f.stages.last();
+        Ok(Drive {
+            frequency: f
+                .frequency
+                .or(last.map(|s| s.frequency))
+                .ok_or_else(|| missing("frequency", "Hz"))?,
+            amplitude: f.amplitude.or(last.map(|s| s.amplitude)).ok_or_else(|| missing("amplitude", "m"))?,
+            direction: f.direction,
+            stages: f.stages,
+        })
+    }
+}
+
+impl From<Drive> for DriveFile {
+    fn from(d: Drive) -> Self {
+        DriveFile {
+            frequency: Some(d.frequency),
+            amplitude: Some(d.amplitude),
+            direction: d.direction,
+            stages: d.stages,
+        }
+    }
+}
+
+impl Drive {
+    /// The schedule of a drive with stages, `None` for the single stage.
+    pub fn schedule(&self) -> Option<crate::drive::Schedule> {
+        let stages: Vec<(f64, f64, f64)> = self.stages.iter().map(|s| (s.frequency, s.amplitude, s.duration)).collect();
+        crate::drive::Schedule::new(&stages)
+    }
+
+    /// The stages as `(start (s), frequency (Hz), amplitude (m))`: one starting at 0 for the
+    /// single drive.
+    pub fn stage_starts(&self) -> Vec<(f64, f64, f64)> {
+        match self.schedule() {
+            Some(s) => s.stages().iter().map(|s| (s.start, s.frequency, s.amplitude)).collect(),
+            None => vec![(0.0, self.frequency, self.amplitude)],
+        }
+    }
+
+    /// Total duration of the schedule (s), `None` for the single drive (which lasts the run).
+    pub fn schedule_duration(&self) -> Option<f64> {
+        (!self.stages.is_empty()).then(|| self.stages.iter().map(|s| s.duration).sum())
+    }
+
+    /// Peak speed of the tray `2 pi nu A` (m/s): the fastest stage's.
+    pub fn peak_speed(&self) -> f64 {
+        if self.stages.is_empty() {
+            return 2.0 * std::f64::consts::PI * self.frequency * self.amplitude;
+        }
+        self.stages
+            .iter()
+            .map(|s| 2.0 * std::f64::consts::PI * s.frequency * s.amplitude)
+            .fold(0.0, f64::max)
+    }
+
+    /// Highest frequency of any stage (Hz): the one whose snapshots come closest together.
+    pub fn highest_frequency(&self) -> f64 {
+        self.stages.iter().map(|s| s.frequency).fold(self.frequency, f64::max)
+    }
+
+    /// Checks the schedule: each stage's frequency, amplitude and duration positive, every
+    /// stage but the last a whole number of its periods (so that it ends at a zero crossing,
+    /// where the next one starts), and `drive.frequency` / `drive.amplitude`, when given, the
+    /// last stage's. Stages carry no start times (each starts where the one before ends), so
+    /// they can neither overlap nor leave gaps.
+    fn validate_stages(&self) -> Result<(), SceneError> {
+        let n = self.stages.len();
+        for (i, s) in self.stages.iter().enumerate() {
+            let key = |k: &str| format!("drive.stages[{i}].{k}");
+            for (k, x, unit) in [
+                ("frequency", s.frequency, "Hz"),
+                ("amplitude", s.amplitude, "m"),
+                ("duration", s.duration, "s"),
+            ] {
+                if !(x.is_finite() && x > 0.0) {
+                    return Err(err(&key(k), format!("must be a positive number ({unit}), got {x}")));
+                }
+            }
+            let periods = s.duration * s.frequency;
+            if i + 1 < n && (periods - periods.round()).abs() > 1e-9 * periods.max(1.0) {
+                return Err(err(
+                    &key("duration"),
+                    format!(
+                        "must be a whole number of the stage's periods ({} s at {} Hz), so that the stage ends at a zero \
+                         crossing of the tray where the next one starts; got {} s = {periods} periods",
+                        1.0 / s.frequency,
+                        s.frequency,
+                        s.duration
+                    ),
+                ));
+            }
+        }
+        if let Some(last) = self.stages.last() {
+            for (k, given, wanted) in [
+                ("frequency", self.frequency, last.frequency),
+                ("amplitude", self.amplitude, last.amplitude),
+            ] {
+                if given != wanted {
+                    return Err(err(
+                        &format!("drive.{k}"),
+                        format!(
+                            "with [[drive.stages]], drive.{k} is the last stage's ({wanted}); got {given}: leave it out, \
+                             or change drive.stages[{}].{k}",
+                            n - 1
+                        ),
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
 }
 
 /// `[particles]`: the population, radii uniform in `[radius_min, radius_max]`.
@@ -304,6 +458,7 @@ impl Scene {
         if let Some(h) = self.tray.height {
             positive("box.height", h)?;
         }
+        self.drive.validate_stages()?;
         positive("drive.frequency", self.drive.frequency)?;
         non_negative("drive.amplitude", self.drive.amplitude)?;
         if self.particles.count == 0 {
@@ -363,6 +518,20 @@ impl Scene {
         non_negative("prepare.speed", self.prepare.speed)?;
         non_negative("prepare.duration", self.prepare.duration)?;
         positive("run.duration", self.run.duration)?;
+        if let Some(total) = self.drive.schedule_duration() {
+            // A shorter run stops inside the schedule (a first look at a long protocol); a
+            // longer one would shake past the schedule's end with no stage to say how.
+            if self.run.duration > total * (1.0 + 1e-12) {
+                return Err(err(
+                    "run.duration",
+                    format!(
+                        "{} s is longer than the drive schedule's {total} s (the sum of drive.stages[..].duration): \
+                         lengthen the last stage, or shorten the run",
+                        self.run.duration
+                    ),
+                ));
+            }
+        }
         if let TimeStep::Seconds(dt) = self.run.dt {
             positive("run.dt", dt)?;
         }
