@@ -189,8 +189,9 @@ pub struct CorrelationPoint {
     pub c: f64,
 }
 
-/// The normalised autocorrelation of the profiles (module docs) up to `max_lag` frames, and
-/// the correlation time (s): the first lag with `C < 1/e`, None when `C` stays above it.
+/// The normalised autocorrelation of the profiles (module docs) up to `max_lag` frames (every
+/// lag up to 32, then lags 10 % apart), and the correlation time (s): the first of those lags
+/// with `C < 1/e`, None when `C` stays above it.
 pub fn profile_correlation(times: &[f64], profiles: &[Vec<f64>], max_lag: usize) -> (Vec<CorrelationPoint>, Option<f64>) {
     let d: Vec<Vec<f64>> = profiles
         .iter()
@@ -204,7 +205,16 @@ pub fn profile_correlation(times: &[f64], profiles: &[Vec<f64>], max_lag: usize)
     let var = d.iter().map(|v| dot(v, v)).sum::<f64>() / n.max(1) as f64;
     let mut out = Vec::new();
     let mut time = None;
-    for lag in 0..=max_lag.min(n.saturating_sub(1)) {
+    // Every lag up to 32, then lags 10 % apart: the cost stays near 100 n cells however
+    // long the run.
+    let top = max_lag.min(n.saturating_sub(1));
+    let mut lags: Vec<usize> = (0..=top.min(32)).collect();
+    let mut next = 33.0f64;
+    while (next as usize) <= top {
+        lags.push(next as usize);
+        next = (next * 1.1).max(next + 1.0);
+    }
+    for lag in lags {
         let pairs = n - lag;
         let c = (0..pairs).map(|k| dot(&d[k], &d[k + lag])).sum::<f64>() / pairs as f64 / var;
         let lag_s = (0..pairs).map(|k| times[k + lag] - times[k]).sum::<f64>() / pairs as f64;
@@ -300,6 +310,17 @@ mod tests {
         let fixed: Vec<Vec<f64>> = times.iter().map(|_| (0..50).map(|i| (i as f64 * 0.6).sin()).collect()).collect();
         let (c, time) = profile_correlation(&times, &fixed, 10);
         assert!(c.iter().all(|p| (p.c - 1.0).abs() < 1e-12) && time.is_none());
+        // A long run: every lag to 32, then lags 10 % apart.
+        let long: Vec<f64> = (0..200).map(f64::from).collect();
+        let fixed_long = vec![fixed[0].clone(); 200];
+        let (c, _) = profile_correlation(&long, &fixed_long, 100);
+        let lags: Vec<usize> = c.iter().map(|p| p.lag).collect();
+        assert_eq!(&lags[..33], &(0..=32).collect::<Vec<_>>()[..]);
+        assert!(
+            lags.windows(2).all(|w| w[1] > w[0]) && *lags.last().unwrap() <= 100 && lags.len() < 50,
+            "{lags:?}"
+        );
+        assert!(c.iter().all(|p| (p.lag_s - p.lag as f64).abs() < 1e-12));
         // A band that jumps to a new place every frame: correlated only with itself.
         let moving: Vec<Vec<f64>> = (0..30)
             .map(|k| (0..50).map(|i| if i == (k * 7) % 50 { 1.0 } else { 0.0 }).collect())
