@@ -84,5 +84,6 @@ pub fn setup(scene: &Scene, motion: Motion, dt: f64) -> Result<Setup, SimError> 
         // ceiling `box.height` has escaped (open top by default, thesis 3.5.3).
         container: Some((Vec3::new(0.0, 0.0, -scene.particles.radius_max - floor_low), Vec3::new(l, w, h))),
         sort: scene.run.sort_interval,
+        rolling_mu: scene.rolling_mu(),
     })
 }
