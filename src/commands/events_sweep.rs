@@ -94,7 +94,9 @@ fn measures(m: &Measured) -> Vec<(&'static str, f64)> {
     let mut out = vec![
         ("current_x_m_per_s", m.current_x_m_per_s),
         ("mean_height_m", m.mean_height_m),
+        ("reduced_height_m", m.reduced_height_m),
         ("k_over_r", m.k_over_r),
+        ("k_over_r_phase0", m.k_over_r_phase0),
         ("collisions", m.collisions as f64),
         ("collisions_per_s", m.collisions_per_s),
         ("energy_ledger_error", m.energy_ledger_error),
