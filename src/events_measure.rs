@@ -142,3 +142,80 @@ impl PaperObservables {
 pub fn phase_index(phase: f64, count: usize) -> usize {
     ((phase * count as f64).round() as usize) % count.max(1)
 }
+
+#[cfg(test)]
+mod report_checks {
+    //! One short case of each event-driven report, rerun and compared with the values it
+    //! gave at the commit the report names (`docs/results/<report>/check.json`): the
+    //! collision count exactly, every measure within a relative 1e-9 (the engine is bit for
+    //! bit reproducible on one machine; the margin allows another libm). A change that moves
+    //! a trajectory fails here: rerun the report, then write the new values with
+    //! `STRIPES_WRITE_REPORT_CHECKS=1 cargo test --release -p stripes report_checks`.
+
+    use super::*;
+
+    const TOLERANCE: f64 = 1e-9;
+
+    fn check(report: &str, scene_file: &str, overrides: &[&str]) {
+        let root = env!("CARGO_MANIFEST_DIR");
+        let overrides: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
+        let scene = crate::events_scene::load(&std::path::Path::new(root).join(scene_file), &overrides).unwrap();
+        let m = measure(&scene).unwrap();
+        let measures = [
+            ("mean_height_m", m.mean_height_m),
+            ("reduced_height_m", m.reduced_height_m),
+            ("k_over_r", m.k_over_r),
+            ("k_over_r_phase0", m.k_over_r_phase0),
+            ("current_x_m_per_s", m.current_x_m_per_s),
+            ("temperature_ratio_bulk", m.temperature_ratio_bulk),
+        ];
+        let path = std::path::Path::new(root).join("docs/results").join(report).join("check.json");
+        if std::env::var_os("STRIPES_WRITE_REPORT_CHECKS").is_some() {
+            let mut values = serde_json::Map::new();
+            for (k, v) in measures {
+                values.insert(k.into(), if v.is_finite() { v.into() } else { serde_json::Value::Null });
+            }
+            let json = serde_json::json!({
+                "what": "one short case of this report, rerun by `cargo test --release -p stripes report_checks`",
+                "scene": scene_file,
+                "overrides": overrides,
+                "tolerance": "collisions exact, measures within a relative 1e-9",
+                "collisions": m.collisions,
+                "measures": values,
+            });
+            std::fs::write(&path, serde_json::to_string_pretty(&json).unwrap() + "\n").unwrap();
+            return;
+        }
+        let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        let want: serde_json::Value = serde_json::from_str(&text).unwrap();
+        assert_eq!(m.collisions, want["collisions"].as_u64().unwrap(), "{report}: collisions");
+        for (k, v) in measures {
+            match want["measures"][k].as_f64() {
+                Some(w) => assert!(
+                    (v - w).abs() <= TOLERANCE * w.abs().max(1e-300),
+                    "{report}: {k} = {v}, the report's check {w}"
+                ),
+                None => assert!(!v.is_finite(), "{report}: {k} = {v}, the report's check null"),
+            }
+        }
+    }
+
+    #[test]
+    fn report_checks_vibrated_box() {
+        check(
+            "vibrated-box",
+            "scenes/vibrated-box.toml",
+            &["run.duration=1.0", "run.transient=0.2"],
+        );
+    }
+
+    #[test]
+    fn report_checks_mixture() {
+        check("mixture", "scenes/mixture.toml", &["run.duration=0.4", "run.transient=0.1"]);
+    }
+
+    #[test]
+    fn report_checks_ratchet() {
+        check("ratchet", "scenes/ratchet.toml", &["run.duration=0.5", "run.transient=0.1"]);
+    }
+}
