@@ -309,7 +309,7 @@ impl Config {
         }
         positive("guard.collapse_window", self.guard.collapse_window)?;
         if let Some(v) = self.guard.collapse_speed {
-            if !(v > 0.0) {
+            if v.is_nan() || v <= 0.0 {
                 return Err(invalid(
                     "guard.collapse_speed",
                     format!("must be a positive speed (or inf: every collision counts), got {v}"),
