@@ -362,6 +362,7 @@ fn events_scene(scene: &Scene, (pair, wall): (EventRule, EventRule), seed: u64, 
         base: None,
         particles: EventParticles {
             shape: "sphere".into(),
+            q: None,
             species: vec![EventSpecies {
                 count: scene.particles.count,
                 radius_min: scene.particles.radius_min,
@@ -380,6 +381,7 @@ fn events_scene(scene: &Scene, (pair, wall): (EventRule, EventRule), seed: u64, 
         guard: EventGuard {
             min_rebound_speed: None,
             tc: Some(TC),
+            collapse_speed: None,
         },
         run: EventRun {
             duration: scene.run.duration,
@@ -387,6 +389,8 @@ fn events_scene(scene: &Scene, (pair, wall): (EventRule, EventRule), seed: u64, 
             seed,
             samples_per_period: scene.run.snapshots_per_period,
             bin: BIN,
+            phase: 0.0,
+            phase_resolved: false,
         },
     }
 }
