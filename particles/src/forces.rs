@@ -101,6 +101,10 @@ pub(crate) struct Inputs<'a> {
     pub radius: &'a [f64],
     /// Masses (kg), `1 / inv_mass` computed once.
     pub mass: &'a [f64],
+    /// Each grain's tangential mobility at its contact points (1/kg), `1/m + R^2/I` (`1/m`
+    /// when spins are not integrated), computed once: a pair's contact has the sum of its
+    /// grains', a wall contact its grain's ([`ContactGeometry`]'s `mobility`).
+    pub mobility: &'a [f64],
     /// Pinned layer: each grain's floor load `-g_z / inv_mass` (N), computed once (empty
     /// otherwise).
     pub load: &'a [f64],
@@ -227,7 +231,7 @@ pub(crate) fn gather_block(
                     w: omega[j],
                     r: radius[j],
                 };
-                let Some(g) = ContactGeometry::pair(a, b) else {
+                let Some(g) = ContactGeometry::pair(a, b).map(|g| g.with_mobility(inp.mobility[i] + inp.mobility[j])) else {
                     if pair_history_on {
                         *zeta = Vec3::zeros();
                     }
@@ -546,6 +550,7 @@ fn add_wall_contact<N: Normal, const SUPPORT: bool>(
     sums: &mut BlockSums,
 ) {
     let Grain { i, zeta, force, torque } = grain;
+    let g = &g.with_mobility(inp.mobility[i]);
     let c = if SUPPORT {
         contact::evaluate_with_normal(law, g, inp.load[i], zeta, dt)
     } else {
@@ -577,11 +582,12 @@ fn floor_pass<const AXIS: usize>(inp: &Inputs, (w, plane): (usize, &WallPlane), 
     let (_, wall_stride) = wall_histories(inp);
     let n = force.len();
     let torque = &mut torque[..n];
-    let (pos, vel, omega, radius) = (
+    let (pos, vel, omega, radius, mobility) = (
         &inp.pos[first..first + n],
         &inp.vel[first..first + n],
         &inp.omega[first..first + n],
         &inp.radius[first..first + n],
+        &inp.mobility[first..first + n],
     );
     let mut acc = WallSums::default();
     let (dt, sign, origin, v_wall) = (inp.setup.dt, plane.sign(), plane.origin[AXIS], plane.velocity);
@@ -619,7 +625,8 @@ fn floor_pass<const AXIS: usize>(inp: &Inputs, (w, plane): (usize, &WallPlane), 
                     origin,
                     sign,
                     v_wall,
-                );
+                )
+                .with_mobility(F64x4::new(idx.map(|q| mobility[q])));
                 let slot = |l: usize| idx[l] * wall_stride + w;
                 let slots = [slot(0), slot(1), slot(2), slot(3)];
                 let mut zeta = if history_on { V3::gather(wall_history, slots) } else { V3::zeros() };
@@ -768,7 +775,11 @@ fn pair_pass(
                         (V3::gather(vel, i), V3::gather(vel, j)),
                         (V3::gather(omega, i), V3::gather(omega, j)),
                         (ri, rj),
-                    );
+                    )
+                    .with_mobility(F64x4::new(four(
+                        #[inline(always)]
+                        |l| inp.mobility[i[l]] + inp.mobility[j[l]],
+                    )));
                     let mut zeta = if history_on { V3::gather(pair_history, at) } else { V3::zeros() };
                     let c = contact::evaluate_lanes(law, &g, &mut zeta, dt);
                     let (stored, dissipated, overlap) = (c.stored_energy.to_array(), c.dissipation_rate.to_array(), g.overlap.to_array());

@@ -80,6 +80,8 @@ pub struct Simulation {
     rotate: bool,
     /// Masses `1 / inv_mass` (kg), computed once.
     mass: Vec<f64>,
+    /// Tangential mobilities `1/m + R^2/I` (1/kg, see [`forces::Inputs`]), computed once.
+    mobility: Vec<f64>,
     /// Pinned layer: each grain's floor load `-g_z / inv_mass` (N), computed once; empty
     /// otherwise.
     load: Vec<f64>,
@@ -132,12 +134,14 @@ impl Simulation {
             }
         }
         let mass = state.inv_mass.iter().map(|&inv| 1.0 / inv).collect();
+        let mobility = tangential_mobility(&state, rotate);
         let load = match setup.vertical {
             Vertical::Pinned => state.inv_mass.iter().map(|&inv| -setup.gravity.z / inv).collect(),
             Vertical::Free => Vec::new(),
         };
         let mut sim = Self {
             mass,
+            mobility,
             load,
             setup,
             state,
@@ -449,7 +453,7 @@ impl Simulation {
     /// pair springs) must be rebuilt next, through [`Self::rebuild_after`] with `from`.
     fn move_grains(&mut self, from: &[u32]) {
         permute_state(&mut self.state, from);
-        for v in [&mut self.mass, &mut self.load] {
+        for v in [&mut self.mass, &mut self.mobility, &mut self.load] {
             if !v.is_empty() {
                 *v = gather(v, from, 1);
             }
@@ -682,6 +686,18 @@ impl Simulation {
 }
 
 /// Moves the particle at index `from[k]` of `state` to index `k`, for every `k`.
+/// Each grain's tangential mobility at a contact point on its surface (1/kg): the slip
+/// velocity a unit tangential impulse gives it, `1/m + R^2/I` with its spin integrated
+/// (`7 / (2 m)` for a solid sphere), `1/m` without.
+fn tangential_mobility(state: &State, rotate: bool) -> Vec<f64> {
+    (0..state.len())
+        .map(|i| {
+            let r = state.radius[i];
+            state.inv_mass[i] + if rotate { r * r * state.inv_inertia[i] } else { 0.0 }
+        })
+        .collect()
+}
+
 fn permute_state(state: &mut State, from: &[u32]) {
     let s = state;
     for v in [
@@ -784,6 +800,7 @@ struct Step<'a> {
     inv_mass: &'a [f64],
     inv_inertia: &'a [f64],
     mass: &'a [f64],
+    mobility: &'a [f64],
     load: &'a [f64],
 }
 
@@ -816,6 +833,7 @@ impl<'a> Step<'a> {
             inv_mass: &s.inv_mass,
             inv_inertia: &s.inv_inertia,
             mass: &sim.mass,
+            mobility: &sim.mobility,
             load: &sim.load,
         }
     }
@@ -920,6 +938,7 @@ impl<'a> Step<'a> {
             omega,
             radius: self.radius,
             mass: self.mass,
+            mobility: self.mobility,
             load: self.load,
             record: self.record,
         }

@@ -9,7 +9,6 @@ use analysis::snapshot::Header;
 use particles::advance::{advance, ObserverError};
 use particles::measure;
 use particles::sim::Simulation;
-use particles::time_step;
 use particles::timescale;
 use serde::Serialize;
 use serde_json::json;
@@ -177,9 +176,6 @@ fn run_in_pool(resolved: &Resolved, opts: &RunOptions, threads_why: String) -> R
             return Err(e);
         }
     };
-    for w in &resolved.warnings {
-        eprintln!("warning: {w}");
-    }
     let checkpoint = if opts.resume {
         let path = out.join("checkpoint.bin");
         Some(std::fs::read(&path).map_err(|e| format!("--resume: cannot read {}: {e}", path.display()))?)
@@ -316,7 +312,7 @@ fn start(resolved: &Resolved, opts: &RunOptions, checkpoint: Option<Vec<u8>>) ->
 /// The time loop of a started run, then its summary.
 fn step(resolved: &Resolved, opts: &RunOptions, started: Started, threads_why: String) -> Result<DemSummary, Error> {
     let (scene, out, args) = (resolved.scene(), opts.out.as_path(), opts);
-    let mut warnings = resolved.warnings.clone();
+    let mut warnings = Vec::new();
     let Started {
         mut dir,
         mut sim,
@@ -377,8 +373,7 @@ fn step(resolved: &Resolved, opts: &RunOptions, started: Started, threads_why: S
     recorder.writer.sync()?;
     bar.finish_and_clear();
     thermo.write()?;
-    let resolving = time_step::viscous_friction_ratio(scene, dt)?.filter(|r| *r > 1.0).map(|r| dt / r);
-    if let Some(w) = thermo.balance_warning(dt, resolving) {
+    if let Some(w) = thermo.balance_warning(dt) {
         eprintln!("warning: {w}");
         warnings.push(w);
     }
