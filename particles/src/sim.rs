@@ -29,7 +29,7 @@ use crate::boundary::Boundary;
 use crate::error::StateMismatch;
 use crate::forces;
 use crate::neighbor::NeighborList;
-use crate::parallel::{on_blocks, region, run_of};
+use crate::parallel::{on_blocks, region};
 use crate::scene::SortInterval;
 use crate::setup::{ContactRecord, Partner, Setup, Vertical, MAX_OVERLAP_FRACTION};
 use crate::state::{State, StateBlock};
@@ -258,7 +258,8 @@ impl Simulation {
     /// Advances one time step.
     ///
     /// Stage 1 and, when the neighbour list needs no rebuild, stages 3 and 4 run in one
-    /// parallel region ([`region`]): each thread takes its own run of blocks through stage 1;
+    /// parallel region ([`region`]): each thread takes its own run of blocks through stage 1
+    /// (and then any block of another run not yet started, see `Crew::each`);
     /// behind a barrier every thread makes the same neighbour-list decision from the blocks'
     /// boxes (taken in block order); then each runs stage 3 on its blocks and, behind a
     /// second barrier (a pair's partner may be in another thread's block), stage 4. A
@@ -284,40 +285,39 @@ impl Simulation {
             let mut boxes = vec![(Vec3::zeros(), Vec3::zeros()); blocks];
             let (boxes_out, sums_out) = (RawArray::of(&mut boxes), RawArray::of(&mut sums));
             let decision = std::sync::Mutex::new(None);
-            let ran = region(blocks, |t, threads, barrier| {
-                let mine = run_of(blocks, threads, t);
-                for b in mine.clone() {
-                    // SAFETY: block b (and its box) belongs to this thread's run alone.
+            let ran = region(blocks, 3, |crew| {
+                crew.each(0, |b| {
+                    // SAFETY: block b (and its box) goes to this call alone.
                     unsafe { boxes_out.part(b..b + 1)[0] = step.before_forces(b) };
-                }
-                if !barrier.wait() {
+                });
+                if !crew.wait() {
                     return;
                 }
                 // SAFETY: stage 1 has ended on every thread; until the region ends, the boxes
                 // and the positions are only read.
                 let (drift, due) = unsafe { step.rebuild_due(boxes_out.all()) };
                 let due = due || sort;
-                if t == 0 {
+                if crew.t == 0 {
                     *decision.lock().unwrap_or_else(|e| e.into_inner()) = Some((drift, due));
                 }
                 if due {
                     return;
                 }
-                for b in mine.clone() {
-                    // SAFETY: as above, and block b's outputs belong to this thread alone.
+                crew.each(1, |b| {
+                    // SAFETY: as above, and block b's outputs go to this call alone.
                     unsafe { sums_out.part(b..b + 1)[0] = Some(step.forces(b)) };
-                }
-                if !barrier.wait() {
+                });
+                if !crew.wait() {
                     return;
                 }
-                for b in mine {
+                crew.each(2, |b| {
                     // SAFETY: stage 3 has ended on every thread: the reactions are only read,
-                    // and block b's outputs belong to this thread alone.
+                    // and block b's outputs go to this call alone.
                     unsafe {
                         let sums = sums_out.part(b..b + 1)[0].as_mut().expect("stage 3 ran on this block");
                         sums.first_bad = step.after_forces(b);
                     }
-                }
+                });
             });
             match decision.into_inner().unwrap_or_else(|e| e.into_inner()) {
                 Some(decision) if ran => decision,

@@ -399,6 +399,13 @@ fn step(resolved: &Resolved, opts: &RunOptions, started: Started, threads_why: S
         balance_relative,
     };
     dir.json("scene.json", scene)?;
+    if let Some(w) = particles::waits() {
+        // `STRIPES_WAITS` set: where the threads waited (docs/performance.md, issue 41).
+        eprintln!(
+            "waits (all threads, s): team for its next job {:.3}, at barriers {:.3}, caller for the team {:.3}; {} waits ended asleep; {} blocks taken over; stepping {stepping:.3} s",
+            w.for_job_s, w.at_barrier_s, w.for_team_s, w.sleeps, w.taken_over
+        );
+    }
     let summary = DemSummary {
         scene: resolved.path.display().to_string(),
         particles: s.len(),
