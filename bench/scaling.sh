@@ -62,6 +62,7 @@ header="scene"
 for t in $THREADS; do header="$header | $t"; done
 echo "particle-steps/s (median of $ROUNDS), speed-up over the first column in brackets"
 echo "| $header |"
+echo "|---$(for _ in $THREADS; do printf '|---'; done)|"
 for row in "${rows[@]}"; do
   IFS='|' read -r name file steps dt sets <<< "$row"
   line="$name"
