@@ -105,6 +105,10 @@ pub(crate) struct Inputs<'a> {
     pub radius: &'a [f64],
     /// Masses (kg), `1 / inv_mass` computed once.
     pub mass: &'a [f64],
+    /// Each grain's tangential mobility at its contact points (1/kg), `1/m + R^2/I` (`1/m`
+    /// when spins are not integrated), computed once: a pair's contact has the sum of its
+    /// grains', a wall contact its grain's ([`ContactGeometry`]'s `mobility`).
+    pub mobility: &'a [f64],
     /// Pinned layer: each grain's floor load `-g_z / inv_mass` (N), computed once (empty
     /// otherwise).
     pub load: &'a [f64],
@@ -346,7 +350,7 @@ pub(crate) fn gather_block(
                     w: omega[j],
                     r: radius[j],
                 };
-                let Some(g) = ContactGeometry::pair(a, b) else {
+                let Some(g) = ContactGeometry::pair(a, b).map(|g| g.with_mobility(inp.mobility[i] + inp.mobility[j])) else {
                     pair_springs.clear(k, kept);
                     *reaction = Reaction::default();
                     continue;
@@ -668,6 +672,7 @@ fn add_wall_contact<N: Normal, const SUPPORT: bool>(
         force,
         torque,
     } = grain;
+    let g = &g.with_mobility(inp.mobility[i]);
     let kept = Kept::of(law);
     let mut h = springs.get(0, kept);
     let load = if SUPPORT { Some(inp.load[i]) } else { None };
@@ -699,11 +704,12 @@ fn floor_pass<const AXIS: usize>(inp: &Inputs, (w, plane): (usize, &WallPlane), 
     let (_, wall_stride) = wall_histories(inp);
     let n = force.len();
     let torque = &mut torque[..n];
-    let (pos, vel, omega, radius) = (
+    let (pos, vel, omega, radius, mobility) = (
         &inp.pos[first..first + n],
         &inp.vel[first..first + n],
         &inp.omega[first..first + n],
         &inp.radius[first..first + n],
+        &inp.mobility[first..first + n],
     );
     let mut acc = WallSums::default();
     let (dt, sign, origin, v_wall) = (inp.setup.dt, plane.sign(), plane.origin[AXIS], plane.velocity);
@@ -742,7 +748,8 @@ fn floor_pass<const AXIS: usize>(inp: &Inputs, (w, plane): (usize, &WallPlane), 
                     origin,
                     sign,
                     v_wall,
-                );
+                )
+                .with_mobility(F64x4::new(idx.map(|q| mobility[q])));
                 let slot = |l: usize| idx[l] * wall_stride + w;
                 let slots = [slot(0), slot(1), slot(2), slot(3)];
                 let mut h = wall_springs.gather(slots, kept);
@@ -895,7 +902,11 @@ fn pair_pass(
                         (V3::gather(vel, i), V3::gather(vel, j)),
                         (V3::gather(omega, i), V3::gather(omega, j)),
                         (ri, rj),
-                    );
+                    )
+                    .with_mobility(F64x4::new(four(
+                        #[inline(always)]
+                        |l| inp.mobility[i[l]] + inp.mobility[j[l]],
+                    )));
                     let mut h = pair_springs.gather(at, kept);
                     let mu_r = F64x4::new(four(
                         #[inline(always)]

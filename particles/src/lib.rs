@@ -49,6 +49,7 @@ pub mod tray;
 pub mod wall;
 
 pub use error::SimError;
+pub use parallel::{waits, Waits};
 
 /// Three-vector used throughout (metres, m/s, rad/s, newtons, ...).
 pub type Vec3 = nalgebra::Vector3<f64>;

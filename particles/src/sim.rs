@@ -29,7 +29,7 @@ use crate::boundary::Boundary;
 use crate::error::StateMismatch;
 use crate::forces;
 use crate::neighbor::NeighborList;
-use crate::parallel::{on_blocks, region, run_of};
+use crate::parallel::{on_blocks, region};
 use crate::scene::SortInterval;
 use crate::setup::{ContactRecord, Partner, Setup, Vertical, MAX_OVERLAP_FRACTION};
 use crate::state::{State, StateBlock};
@@ -80,6 +80,8 @@ pub struct Simulation {
     rotate: bool,
     /// Masses `1 / inv_mass` (kg), computed once.
     mass: Vec<f64>,
+    /// Tangential mobilities `1/m + R^2/I` (1/kg, see [`forces::Inputs`]), computed once.
+    mobility: Vec<f64>,
     /// Pinned layer: each grain's floor load `-g_z / inv_mass` (N), computed once; empty
     /// otherwise.
     load: Vec<f64>,
@@ -141,6 +143,7 @@ impl Simulation {
             }
         }
         let mass = state.inv_mass.iter().map(|&inv| 1.0 / inv).collect();
+        let mobility = tangential_mobility(&state, rotate);
         let load = match setup.vertical {
             Vertical::Pinned => state.inv_mass.iter().map(|&inv| -setup.gravity.z / inv).collect(),
             Vertical::Free => Vec::new(),
@@ -159,6 +162,7 @@ impl Simulation {
         };
         let mut sim = Self {
             mass,
+            mobility,
             load,
             rolling_mu,
             wall_roll,
@@ -278,7 +282,8 @@ impl Simulation {
     /// Advances one time step.
     ///
     /// Stage 1 and, when the neighbour list needs no rebuild, stages 3 and 4 run in one
-    /// parallel region ([`region`]): each thread takes its own run of blocks through stage 1;
+    /// parallel region ([`region`]): each thread takes its own run of blocks through stage 1
+    /// (and then any block of another run not yet started, see `Crew::each`);
     /// behind a barrier every thread makes the same neighbour-list decision from the blocks'
     /// boxes (taken in block order); then each runs stage 3 on its blocks and, behind a
     /// second barrier (a pair's partner may be in another thread's block), stage 4. A
@@ -304,40 +309,39 @@ impl Simulation {
             let mut boxes = vec![(Vec3::zeros(), Vec3::zeros()); blocks];
             let (boxes_out, sums_out) = (RawArray::of(&mut boxes), RawArray::of(&mut sums));
             let decision = std::sync::Mutex::new(None);
-            let ran = region(blocks, |t, threads, barrier| {
-                let mine = run_of(blocks, threads, t);
-                for b in mine.clone() {
-                    // SAFETY: block b (and its box) belongs to this thread's run alone.
+            let ran = region(blocks, 3, |crew| {
+                crew.each(0, |b| {
+                    // SAFETY: block b (and its box) goes to this call alone.
                     unsafe { boxes_out.part(b..b + 1)[0] = step.before_forces(b) };
-                }
-                if !barrier.wait() {
+                });
+                if !crew.wait() {
                     return;
                 }
                 // SAFETY: stage 1 has ended on every thread; until the region ends, the boxes
                 // and the positions are only read.
                 let (drift, due) = unsafe { step.rebuild_due(boxes_out.all()) };
                 let due = due || sort;
-                if t == 0 {
+                if crew.t == 0 {
                     *decision.lock().unwrap_or_else(|e| e.into_inner()) = Some((drift, due));
                 }
                 if due {
                     return;
                 }
-                for b in mine.clone() {
-                    // SAFETY: as above, and block b's outputs belong to this thread alone.
+                crew.each(1, |b| {
+                    // SAFETY: as above, and block b's outputs go to this call alone.
                     unsafe { sums_out.part(b..b + 1)[0] = Some(step.forces(b)) };
-                }
-                if !barrier.wait() {
+                });
+                if !crew.wait() {
                     return;
                 }
-                for b in mine {
+                crew.each(2, |b| {
                     // SAFETY: stage 3 has ended on every thread: the reactions are only read,
-                    // and block b's outputs belong to this thread alone.
+                    // and block b's outputs go to this call alone.
                     unsafe {
                         let sums = sums_out.part(b..b + 1)[0].as_mut().expect("stage 3 ran on this block");
                         sums.first_bad = step.after_forces(b);
                     }
-                }
+                });
             });
             match decision.into_inner().unwrap_or_else(|e| e.into_inner()) {
                 Some(decision) if ran => decision,
@@ -496,7 +500,7 @@ impl Simulation {
     /// pair springs) must be rebuilt next, through [`Self::rebuild_after`] with `from`.
     fn move_grains(&mut self, from: &[u32]) {
         permute_state(&mut self.state, from);
-        for v in [&mut self.mass, &mut self.load, &mut self.rolling_mu] {
+        for v in [&mut self.mass, &mut self.mobility, &mut self.load, &mut self.rolling_mu] {
             if !v.is_empty() {
                 *v = gather(v, from, 1);
             }
@@ -777,6 +781,18 @@ impl Simulation {
 }
 
 /// Moves the particle at index `from[k]` of `state` to index `k`, for every `k`.
+/// Each grain's tangential mobility at a contact point on its surface (1/kg): the slip
+/// velocity a unit tangential impulse gives it, `1/m + R^2/I` with its spin integrated
+/// (`7 / (2 m)` for a solid sphere), `1/m` without.
+fn tangential_mobility(state: &State, rotate: bool) -> Vec<f64> {
+    (0..state.len())
+        .map(|i| {
+            let r = state.radius[i];
+            state.inv_mass[i] + if rotate { r * r * state.inv_inertia[i] } else { 0.0 }
+        })
+        .collect()
+}
+
 fn permute_state(state: &mut State, from: &[u32]) {
     let s = state;
     for v in [
@@ -881,6 +897,7 @@ struct Step<'a> {
     inv_mass: &'a [f64],
     inv_inertia: &'a [f64],
     mass: &'a [f64],
+    mobility: &'a [f64],
     load: &'a [f64],
     rolling_mu: &'a [f64],
 }
@@ -916,6 +933,7 @@ impl<'a> Step<'a> {
             inv_mass: &s.inv_mass,
             inv_inertia: &s.inv_inertia,
             mass: &sim.mass,
+            mobility: &sim.mobility,
             load: &sim.load,
             rolling_mu: &sim.rolling_mu,
         }
@@ -1021,6 +1039,7 @@ impl<'a> Step<'a> {
             omega,
             radius: self.radius,
             mass: self.mass,
+            mobility: self.mobility,
             load: self.load,
             rolling_mu: self.rolling_mu,
             record: self.record,

@@ -9,7 +9,6 @@ use analysis::snapshot::Header;
 use particles::advance::{advance, ObserverError};
 use particles::measure;
 use particles::sim::Simulation;
-use particles::time_step;
 use particles::timescale;
 use serde::Serialize;
 use serde_json::json;
@@ -190,9 +189,6 @@ fn run_in_pool(resolved: &Resolved, opts: &RunOptions, threads_why: String) -> R
             return Err(e);
         }
     };
-    for w in &resolved.warnings {
-        eprintln!("warning: {w}");
-    }
     let checkpoint = if opts.resume {
         let path = out.join("checkpoint.bin");
         Some(std::fs::read(&path).map_err(|e| format!("--resume: cannot read {}: {e}", path.display()))?)
@@ -335,7 +331,7 @@ fn start(resolved: &Resolved, opts: &RunOptions, checkpoint: Option<Vec<u8>>) ->
 /// The time loop of a started run, then its summary.
 fn step(resolved: &Resolved, opts: &RunOptions, started: Started, threads_why: String) -> Result<DemSummary, Error> {
     let (scene, out, args) = (resolved.scene(), opts.out.as_path(), opts);
-    let mut warnings = resolved.warnings.clone();
+    let mut warnings = Vec::new();
     let Started {
         mut dir,
         mut sim,
@@ -396,8 +392,7 @@ fn step(resolved: &Resolved, opts: &RunOptions, started: Started, threads_why: S
     recorder.writer.sync()?;
     bar.finish_and_clear();
     thermo.write()?;
-    let resolving = time_step::viscous_friction_ratio(scene, dt)?.filter(|r| *r > 1.0).map(|r| dt / r);
-    if let Some(w) = thermo.balance_warning(dt, resolving) {
+    if let Some(w) = thermo.balance_warning(dt) {
         eprintln!("warning: {w}");
         warnings.push(w);
     }
@@ -423,6 +418,13 @@ fn step(resolved: &Resolved, opts: &RunOptions, started: Started, threads_why: S
         balance_relative,
     };
     dir.json("scene.json", scene)?;
+    if let Some(w) = particles::waits() {
+        // `STRIPES_WAITS` set: where the threads waited (docs/performance.md, issue 41).
+        eprintln!(
+            "waits (all threads, s): team for its next job {:.3}, at barriers {:.3}, caller for the team {:.3}; {} waits ended asleep; {} blocks taken over; stepping {stepping:.3} s",
+            w.for_job_s, w.at_barrier_s, w.for_team_s, w.sleeps, w.taken_over
+        );
+    }
     let summary = DemSummary {
         scene: resolved.path.display().to_string(),
         particles: s.len(),

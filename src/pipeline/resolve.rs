@@ -23,9 +23,6 @@ pub struct Resolved {
     /// Laws, walls, gravity, boundaries and the step (`run.dt`, chosen by the collision lab
     /// for `"auto"`).
     pub setup: Setup,
-    /// What the step leaves unresolved, said before a run starts
-    /// ([`particles::time_step::warnings`]).
-    pub warnings: Vec<String>,
     /// The prepared sample the scene starts from ([`crate::samples::sample_key`]).
     pub sample_key: u64,
     /// What a checkpoint must match to be resumed ([`checkpoint_fingerprint`]).
@@ -62,14 +59,12 @@ pub fn resolve(path: &Path, file: SceneFile) -> Result<Resolved, Error> {
         )
         .into());
     }
-    let warnings = time_step::warnings(scene, setup.dt)?;
     Ok(Resolved {
         path: path.to_path_buf(),
         sample_key: sample_key(scene),
         fingerprint: checkpoint_fingerprint(scene)?,
         file,
         setup,
-        warnings,
     })
 }
 
