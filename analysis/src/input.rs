@@ -20,6 +20,7 @@
 use std::io::Read;
 use std::path::{Path, PathBuf};
 
+use crate::drive::TrayDrive;
 use crate::snapshot::{read_snapshots_counting, Frame, Header};
 
 /// The kind of input found at a path.
@@ -44,6 +45,10 @@ pub struct Run {
     pub period: Option<f64>,
     /// What the frames show, from the run's metadata (a tray seen from above without it).
     pub geometry: Geometry,
+    /// The tray's horizontal motion `x_tray(t)` from the run's metadata (`scene.drive`:
+    /// `amplitude sin(2 pi frequency t)` along x); None without metadata, for a vertical
+    /// drive, or without shaking.
+    pub drive: Option<TrayDrive>,
     /// LAMMPS dumps: the velocity columns used (the others read as zero).
     pub velocity_columns: Option<Vec<String>>,
     /// Problems that did not stop the reading (a cut-off file).
@@ -119,6 +124,8 @@ pub enum MetadataError {
     NotJson { path: PathBuf, source: serde_json::Error },
     /// `scene.drive.frequency` is there but not a number.
     FrequencyNotANumber { path: PathBuf, value: serde_json::Value },
+    /// `scene.drive.amplitude` is there but not a number, or the drive it gives is refused.
+    Amplitude { path: PathBuf, value: serde_json::Value },
 }
 
 impl std::fmt::Display for MetadataError {
@@ -129,6 +136,9 @@ impl std::fmt::Display for MetadataError {
             MetadataError::FrequencyNotANumber { path, value } => {
                 write!(f, "{}: scene.drive.frequency is {value}, not a number", path.display())
             }
+            MetadataError::Amplitude { path, value } => {
+                write!(f, "{}: scene.drive.amplitude is {value}, not a number >= 0", path.display())
+            }
         }
     }
 }
@@ -138,7 +148,7 @@ impl std::error::Error for MetadataError {
         match self {
             MetadataError::Unreadable { source, .. } => Some(source),
             MetadataError::NotJson { source, .. } => Some(source),
-            MetadataError::FrequencyNotANumber { .. } => None,
+            MetadataError::FrequencyNotANumber { .. } | MetadataError::Amplitude { .. } => None,
         }
     }
 }
@@ -157,12 +167,17 @@ pub enum Geometry {
 }
 
 /// What a run's `config.json` says about it.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct Metadata {
     /// The drive period `1 / scene.drive.frequency` (s).
     pub period: Option<f64>,
     /// `Geometry::VerticalBox` for `scene.model = "events"`.
     pub geometry: Geometry,
+    /// `x_tray(t) = scene.drive.amplitude sin(2 pi scene.drive.frequency t)`, when the drive
+    /// is horizontal (`scene.drive.direction` absent or `"x"`) and moves the tray.
+    pub drive: Option<TrayDrive>,
+    /// What was there but not read (a drive schedule this reader does not know).
+    pub notes: Vec<String>,
 }
 
 /// The metadata in the `config.json` beside `file`. No period when the run has none to
@@ -189,16 +204,47 @@ pub fn metadata(file: &Path) -> Result<Metadata, MetadataError> {
     } else {
         Geometry::Tray
     };
-    let Some(value) = scene.and_then(|s| s.get("drive")).and_then(|d| d.get("frequency")) else {
-        return Ok(Metadata { period: None, geometry });
+    let drive_table = scene.and_then(|s| s.get("drive"));
+    let Some(value) = drive_table.and_then(|d| d.get("frequency")) else {
+        return Ok(Metadata {
+            geometry,
+            ..Metadata::default()
+        });
     };
     let f = value.as_f64().ok_or_else(|| MetadataError::FrequencyNotANumber {
-        path,
+        path: path.clone(),
         value: value.clone(),
     })?;
+    let period = (f.is_finite() && f > 0.0).then(|| 1.0 / f);
+    let horizontal = drive_table
+        .and_then(|d| d.get("direction"))
+        .and_then(|v| v.as_str())
+        .is_none_or(|d| d == "x");
+    let mut drive = None;
+    if let (Some(_), true) = (period, horizontal) {
+        if let Some(a) = drive_table.and_then(|d| d.get("amplitude")) {
+            let bad = || MetadataError::Amplitude {
+                path: path.clone(),
+                value: a.clone(),
+            };
+            let amplitude = a.as_f64().ok_or_else(bad)?;
+            let d = TrayDrive::harmonic(amplitude, f).map_err(|_| bad())?;
+            drive = (amplitude > 0.0).then_some(d);
+        }
+    }
+    let mut notes = Vec::new();
+    if let Some(stages) = drive_table.and_then(|d| d.get("stages")) {
+        notes.push(format!(
+            "{}: scene.drive.stages ({} entries) is not read yet: the tray frame and the turning points use drive.frequency and drive.amplitude alone",
+            path.display(),
+            stages.as_array().map_or(0, Vec::len)
+        ));
+    }
     Ok(Metadata {
-        period: (f.is_finite() && f > 0.0).then(|| 1.0 / f),
+        period,
         geometry,
+        drive,
+        notes,
     })
 }
 
@@ -264,6 +310,7 @@ pub fn load(path: &Path, dt: f64) -> Result<Run, LoadError> {
         InputKind::Snapshots => metadata(&file).map_err(LoadError::Metadata)?,
         InputKind::LammpsDump => Metadata::default(),
     };
+    warnings.extend(meta.notes);
     Ok(Run {
         file,
         kind,
@@ -271,6 +318,7 @@ pub fn load(path: &Path, dt: f64) -> Result<Run, LoadError> {
         frames,
         period: meta.period,
         geometry: meta.geometry,
+        drive: meta.drive,
         velocity_columns,
         warnings,
     })
@@ -297,9 +345,28 @@ mod tests {
             metadata(&file).unwrap(),
             Metadata {
                 period: Some(0.05),
-                geometry: Geometry::VerticalBox
+                geometry: Geometry::VerticalBox,
+                ..Metadata::default()
             }
         );
+        std::fs::write(&config, r#"{"scene": {"drive": {"frequency": 3.0, "amplitude": 0.01}}}"#).unwrap();
+        let d = metadata(&file).unwrap().drive.unwrap();
+        assert!((d.displacement(0.25 / 3.0) - 0.01).abs() < 1e-15);
+        std::fs::write(
+            &config,
+            r#"{"scene": {"drive": {"frequency": 3.0, "amplitude": 0.01, "direction": "z"}}}"#,
+        )
+        .unwrap();
+        assert!(metadata(&file).unwrap().drive.is_none(), "a vertical drive leaves x alone");
+        std::fs::write(&config, r#"{"scene": {"drive": {"frequency": 3.0, "amplitude": "big"}}}"#).unwrap();
+        let e = metadata(&file).unwrap_err();
+        assert!(e.to_string().contains("scene.drive.amplitude"), "{e}");
+        std::fs::write(
+            &config,
+            r#"{"scene": {"drive": {"frequency": 3.0, "amplitude": 0.01, "stages": [{}, {}]}}}"#,
+        )
+        .unwrap();
+        assert!(metadata(&file).unwrap().notes[0].contains("scene.drive.stages (2 entries)"));
         std::fs::write(&config, r#"{"scene": {"drive": {"frequency": 0.0}}}"#).unwrap();
         assert!(metadata_period(&file).unwrap().is_none(), "no shaking");
         std::fs::write(&config, "{ cut off").unwrap();
