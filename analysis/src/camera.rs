@@ -28,8 +28,9 @@
 //!   layer is no longer a random one (thesis 2.2.6: "irregular clusters ... after about
 //!   1 second"). The *onset of stripes* is the first stroboscopic frame from which on every
 //!   frame holds at least one stripe ([`crate::stripes::onset`]).
-//! - **Coarsening law** ([`crate::coarsening_law`]) on the count from the onset of stripes on,
-//!   and **lifetimes** ([`crate::lifetime`]) of the stripes tracked in the tray frame.
+//! - **Coarsening law** ([`crate::coarsening_law`]) on the count from its peak on (the first
+//!   frame after the onset of stripes holding the most stripes: coarsening is the decay
+//!   that follows the stripes' formation), and **lifetimes** ([`crate::lifetime`]) of the stripes tracked in the tray frame.
 
 use serde::Serialize;
 
@@ -123,6 +124,8 @@ pub struct Camera {
     pub cluster_onset: Option<f64>,
     pub stripe_onset: Option<f64>,
     pub law: LawComparison,
+    /// Time (s) of the first frame of the coarsening fit (None: no stripes).
+    pub law_from: Option<f64>,
     pub tracks: Vec<Track>,
     pub lifetimes: Lifetimes,
     pub correlation: Vec<CorrelationPoint>,
@@ -161,7 +164,11 @@ pub fn measure(header: &Header, frames: &[Frame], drive: Option<&TrayDrive>, par
     } else {
         (onset(&t, &clustered), onset(&t, &counts))
     };
-    let from = stripe_onset.map_or(t.len(), |on| t.partition_point(|&x| x < on));
+    // Coarsening is the count's decay: fitted from the first frame holding the most stripes
+    // (after the onset of stripes) to the end.
+    let onset_at = stripe_onset.map_or(t.len(), |on| t.partition_point(|&x| x < on));
+    let most = counts[onset_at..].iter().copied().max().unwrap_or(0);
+    let from = onset_at + counts[onset_at..].iter().position(|&c| c == most).unwrap_or(0);
     let law = compare(&t[from..], &counts[from..].iter().map(|&c| c as f64).collect::<Vec<_>>());
     let tracks = track(&t, &stripes, l);
     let lifetimes = lifetimes(&tracks, &t);
@@ -183,6 +190,7 @@ pub fn measure(header: &Header, frames: &[Frame], drive: Option<&TrayDrive>, par
         cluster_onset,
         stripe_onset,
         law,
+        law_from: t.get(from).copied(),
         tracks,
         lifetimes,
         correlation,
@@ -208,6 +216,8 @@ pub struct CameraSummary {
     pub cluster_onset_s: Option<f64>,
     pub stripe_onset_s: Option<f64>,
     pub coarsening_law: LawComparison,
+    /// Time (s) from which on the coarsening law is fitted (the count's peak).
+    pub coarsening_from_s: Option<f64>,
     pub lifetimes: Lifetimes,
     /// Time (s) for the tray-frame profile's autocorrelation to fall below 1/e (None: it
     /// stays above over half the run).
@@ -237,6 +247,7 @@ impl Camera {
             cluster_onset_s: self.cluster_onset,
             stripe_onset_s: self.stripe_onset,
             coarsening_law: self.law.clone(),
+            coarsening_from_s: self.law_from,
             lifetimes: self.lifetimes,
             profile_correlation_time_s: self.correlation_time,
         }

@@ -316,6 +316,7 @@ pub(super) fn top_view(dir: &mut RunDir, run: &analysis::input::Run, camera: &Ca
 pub(super) fn write_camera(dir: &mut RunDir, c: &Camera, r: &Report) -> Result<(), Error> {
     let nan = f64::NAN;
     let (power, log) = (c.law.power, c.law.logarithmic);
+    let fitted = |t: f64| c.law_from.is_some_and(|from| t >= from);
     let rows: Vec<Vec<f64>> = c
         .frames
         .iter()
@@ -328,8 +329,8 @@ pub(super) fn write_camera(dir: &mut RunDir, c: &Camera, r: &Report) -> Result<(
                 f.offset.unwrap_or(nan),
                 s.len() as f64,
                 *k,
-                power.map_or(nan, |p| p.eval(f.time, true)),
-                log.map_or(nan, |p| p.eval(f.time, false)),
+                power.filter(|_| fitted(f.time)).map_or(nan, |p| p.eval(f.time, true)),
+                log.filter(|_| fitted(f.time)).map_or(nan, |p| p.eval(f.time, false)),
             ]
         })
         .collect();
@@ -396,7 +397,7 @@ pub(super) fn draw_camera(dir: &mut RunDir, c: &Camera, r: &Report) -> Result<()
     let fit_times: Vec<f64> = pts
         .iter()
         .map(|p| p.0)
-        .filter(|t| c.stripe_onset.is_some_and(|on| *t >= on))
+        .filter(|t| c.law_from.is_some_and(|from| *t >= from))
         .collect();
     for (name, fit, power) in [("S = a t^-alpha", c.law.power, true), ("S = a - b ln t", c.law.logarithmic, false)] {
         if let Some(f) = fit {
