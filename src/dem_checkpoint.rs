@@ -2,22 +2,28 @@
 //! physics crate as plain data) in a small binary format, so a resumed run continues bit for
 //! bit as if it had never stopped.
 //!
-//! Layout (little endian): magic `STRPCKP2`, `u64` scene fingerprint, `f64` time, `u64` steps,
+//! Layout (little endian): magic `STRPCKP3`, `u64` scene fingerprint, `f64` time, `u64` steps,
 //! ledger (`f64` injected, dissipated), `f64` stored energy, `u64` N, then per particle
 //! position, velocity, spin, half-step velocity, half-step spin, force, torque (7 x 3 `f64`),
 //! then the live pair histories (`u64` count, then `u32 i, u32 j, 3 f64`), then the wall
-//! histories (`u64` count, then `3 f64` each), then the grains' places in the simulation's
+//! histories (`u64` count, then `3 f64` each), then the rolling springs of the
+//! spring-dashpot-slider in the same two layouts (pairs, then walls; counts 0 without them),
+//! then the grains' places in the simulation's
 //! arrays (`u64` count, 0 while every grain is at its own index, then `u32` each: see
-//! `SavedState::order`), then `u64` caller data (e.g. snapshots written). A checkpoint of the
-//! layout before the places (`STRPCKP1`) is read as one whose grains are at their own indices.
+//! `SavedState::order`), then `u64` caller data (e.g. snapshots written). A checkpoint of an
+//! older layout is read as one without rolling springs (`STRPCKP2`: no rolling springs; its
+//! runs had no rolling spring to keep), and `STRPCKP1` also as one whose grains are at their
+//! own indices.
 
 use particles::saved::SavedState;
 use particles::sim::{Ledger, Simulation};
 
 use crate::bytes::{Reader, Writer};
 
-const MAGIC: &[u8; 8] = b"STRPCKP2";
-/// The layout without the grains' places.
+const MAGIC: &[u8; 8] = b"STRPCKP3";
+/// The layout without the rolling springs.
+const MAGIC_WITHOUT_ROLLS: &[u8; 8] = b"STRPCKP2";
+/// The layout without the rolling springs and the grains' places.
 const MAGIC_WITHOUT_PLACES: &[u8; 8] = b"STRPCKP1";
 
 /// The checkpoint of `sim`; `fingerprint` identifies the scene (checked on restore) and
@@ -56,6 +62,16 @@ pub fn encode(sim: &Simulation, fingerprint: u64, extra: u64) -> Vec<u8> {
     for h in &s.wall_histories {
         w.vec3(h);
     }
+    w.u64(s.pair_rolls.len() as u64);
+    for (i, j, h) in &s.pair_rolls {
+        w.u32(*i as u32);
+        w.u32(*j as u32);
+        w.vec3(h);
+    }
+    w.u64(s.wall_rolls.len() as u64);
+    for h in &s.wall_rolls {
+        w.vec3(h);
+    }
     w.u64(s.order.len() as u64);
     for &g in &s.order {
         w.u32(g);
@@ -76,9 +92,10 @@ pub fn restore(sim: &mut Simulation, bytes: &[u8], fingerprint: u64) -> Result<u
 /// hold `particles` particles.
 fn decode(bytes: &[u8], fingerprint: u64, particles: usize) -> Result<(SavedState, u64), String> {
     let mut r = Reader::new(bytes);
-    let places = match r.take(8)? {
-        m if m == MAGIC => true,
-        m if m == MAGIC_WITHOUT_PLACES => false,
+    let (places, rolls) = match r.take(8)? {
+        m if m == MAGIC => (true, true),
+        m if m == MAGIC_WITHOUT_ROLLS => (true, false),
+        m if m == MAGIC_WITHOUT_PLACES => (false, false),
         _ => return Err("not a stripes checkpoint".into()),
     };
     if r.u64()? != fingerprint {
@@ -109,6 +126,8 @@ fn decode(bytes: &[u8], fingerprint: u64, particles: usize) -> Result<(SavedStat
         torque: Vec::with_capacity(n),
         pair_histories: Vec::new(),
         wall_histories: Vec::new(),
+        pair_rolls: Vec::new(),
+        wall_rolls: Vec::new(),
         order: Vec::new(),
     };
     for _ in 0..n {
@@ -129,6 +148,18 @@ fn decode(bytes: &[u8], fingerprint: u64, particles: usize) -> Result<(SavedStat
     s.wall_histories.reserve_exact(count);
     for _ in 0..count {
         s.wall_histories.push(r.vec3()?);
+    }
+    if rolls {
+        let count = r.count(4 + 4 + 24, "pair rolling springs")?;
+        s.pair_rolls.reserve_exact(count);
+        for _ in 0..count {
+            s.pair_rolls.push((r.u32()? as usize, r.u32()? as usize, r.vec3()?));
+        }
+        let count = r.count(24, "wall rolling springs")?;
+        s.wall_rolls.reserve_exact(count);
+        for _ in 0..count {
+            s.wall_rolls.push(r.vec3()?);
+        }
     }
     if places {
         let count = r.count(4, "places")?;

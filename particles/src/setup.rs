@@ -31,6 +31,10 @@ pub struct Setup {
     pub container: Option<Container>,
     /// Steps between spatial sorts of the grains, or none.
     pub sort: SortInterval,
+    /// Each grain's rolling coefficient `mu_r` (dimensionless) for a spring-dashpot-slider
+    /// law, by the grains' indices; a contact takes the mean of its grains' (a wall contact
+    /// the grain's). Empty: every contact takes the law's `mu_r`.
+    pub rolling_mu: Vec<f64>,
 }
 
 /// The box `[lo, hi]` (m) a particle must stay in, at rest, moving with `motion`: at time t

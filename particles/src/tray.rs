@@ -98,5 +98,6 @@ pub fn setup(scene: &Scene, motion: Motion, dt: f64) -> Result<Setup, SimError> 
             motion: sides,
         }),
         sort: scene.run.sort_interval,
+        rolling_mu: scene.rolling_mu(),
     })
 }

@@ -32,6 +32,26 @@ pub enum TangentialLaw {
     CundallStrack { kt: f64, mu: f64 },
 }
 
+/// A spring vector `s` stored at the last evaluation, rotated into the tangent plane of the
+/// normal `n` now, keeping its length (Cundall-Strack's tangential spring, the
+/// spring-dashpot-slider's rolling spring). A wall's normal never turns: its springs have no
+/// normal part, and the rescaling (a square root and a division) is skipped; at an axis wall
+/// the normal component is set to zero, so the compiler drops it from what follows.
+#[inline(always)]
+pub(crate) fn turn_into_plane<L: Lane, N: Normal<L>>(n: &N, s: V3<L>) -> V3<L> {
+    let zero = L::splat(0.0);
+    let along = n.dot(s);
+    let mut t = n.in_plane(s);
+    let flat = L::equal(along, zero);
+    if !L::all(flat) {
+        let in_plane2 = t.norm_squared();
+        let keep = flat | L::le(in_plane2, zero);
+        let turned = t.scale(((in_plane2 + along * along) / in_plane2).sqrt());
+        t = V3::select(keep, t, turned);
+    }
+    t
+}
+
 /// Effective mass (kg) of the tangential contact-point motion of two solid spheres whose
 /// normal effective mass is `m_eff` (kg): `1/m_t = sum_k (1/m_k + R_k^2/I_k)` with
 /// `I = (2/5) m R^2` gives `m_t = (2/7) m_eff` (a wall is the limit of infinite mass).
@@ -52,6 +72,11 @@ pub struct TangentialForce<F = Vec3, L = f64> {
 }
 
 impl TangentialLaw {
+    /// True if the law keeps a per-contact spring (Cundall-Strack).
+    pub fn has_history(&self) -> bool {
+        matches!(self, TangentialLaw::CundallStrack { .. })
+    }
+
     /// Friction coefficient of the Coulomb limit (0 for smooth contacts).
     pub fn mu(&self) -> f64 {
         match *self {
@@ -124,19 +149,8 @@ impl TangentialLaw {
             }
             TangentialLaw::CundallStrack { kt, mu } => {
                 // Rotate the stored spring into the current tangent plane, keeping its
-                // length. A wall's normal never turns: its springs have no normal part, and
-                // the rescaling (a square root and a division) is skipped; at an axis wall
-                // the normal component is set to zero, so the compiler drops it from what
-                // follows.
-                let along = g.n.dot(*zeta);
-                let mut s = g.n.in_plane(*zeta);
-                let flat = L::equal(along, zero);
-                if !L::all(flat) {
-                    let in_plane2 = s.norm_squared();
-                    let keep = flat | L::le(in_plane2, zero);
-                    let turned = s.scale(((in_plane2 + along * along) / in_plane2).sqrt());
-                    s = V3::select(keep, s, turned);
-                }
+                // length.
+                let s = turn_into_plane(&g.n, *zeta);
                 // The spring now: the second half of the trapezoid over the last step.
                 let half = g.v_t.scale(L::splat(0.5 * dt));
                 let mut z = s + half;

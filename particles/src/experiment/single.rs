@@ -131,6 +131,7 @@ impl SphereOnFloor {
             vertical: Vertical::Free,
             container: None,
             sort: crate::scene::SortInterval::NONE,
+            rolling_mu: Vec::new(),
         };
         Simulation::new(setup, state)
     }

@@ -20,6 +20,9 @@ use crate::contact::choice::{LawChoice, LawParameters, Missing, NormalKind, Roll
 use crate::contact::{ContactLaw, RollingLaw, TangentialLaw};
 use crate::material::{mix, Material};
 
+/// The ChaCha stream of the per-grain rolling coefficients ([`Scene::rolling_mu`]).
+const ROLLING_MU_STREAM: u64 = 0x726f_6c6c; // "roll"
+
 /// A scene. Sections mirror the tables of a scene file.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -319,6 +322,32 @@ pub struct ContactSpec {
     pub tangential_stiffness: Option<f64>,
     /// Brilliantov-Pöschel rolling friction mu_r (s).
     pub rolling_friction: f64,
+    /// Spring-dashpot-slider (`rolling = "sds"`): the rolling resistance mu_r
+    /// (dimensionless), the mean of the grains' values; needed by `rolling = "sds"`. A grain
+    /// at rest holds on an incline up to `tan(theta) = mu_r`. (This key and the three below
+    /// are left out of the serialised scene at their defaults, so that sample keys and
+    /// checkpoint fingerprints of older scenes still hold.)
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rolling_resistance: Option<f64>,
+    /// Spring-dashpot-slider: half-width of the uniform distribution of the per-grain mu_r
+    /// around `rolling_resistance` (dimensionless, at most the mean); 0: every grain the
+    /// mean. Drawn from `run.seed`; a contact takes the mean of its two grains' values.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub rolling_resistance_spread: f64,
+    /// Spring-dashpot-slider: rolling stiffness k_roll (N/m), LAMMPS' `k_roll`; the spring
+    /// torque per rolling angle is `k_roll R_eff^2`. Absent: `2.25 mu_r^2 k_n` (Ai et al.
+    /// 2011), with k_n the normal law's tangent stiffness at the current overlap.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rolling_stiffness: Option<f64>,
+    /// Spring-dashpot-slider: rolling damping gamma_roll (N s/m), LAMMPS' `gamma_roll`: a
+    /// torque `-gamma_roll R_eff^2 omega_roll` while the spring is below its limit.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub rolling_damping: f64,
+}
+
+/// Whether a key is at its default of 0 (left out of the serialised scene).
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
 }
 
 impl Default for ContactSpec {
@@ -334,6 +363,10 @@ impl Default for ContactSpec {
             tangential_damping: 0.007,
             tangential_stiffness: None,
             rolling_friction: 8.5e-6,
+            rolling_resistance: None,
+            rolling_resistance_spread: 0.0,
+            rolling_stiffness: None,
+            rolling_damping: 0.0,
         }
     }
 }
@@ -507,6 +540,24 @@ impl Scene {
         friction("contact.wall_friction", c.wall_friction)?;
         non_negative("contact.tangential_damping", c.tangential_damping)?;
         non_negative("contact.rolling_friction", c.rolling_friction)?;
+        if let Some(mu_r) = c.rolling_resistance {
+            non_negative("contact.rolling_resistance", mu_r)?;
+        }
+        non_negative("contact.rolling_resistance_spread", c.rolling_resistance_spread)?;
+        let mean = c.rolling_resistance.unwrap_or(0.0);
+        if c.rolling_resistance_spread > mean {
+            return Err(err(
+                "contact.rolling_resistance_spread",
+                format!(
+                    "must be at most contact.rolling_resistance = {mean} (a uniform half-width wider than the mean would draw a negative mu_r), got {}",
+                    c.rolling_resistance_spread
+                ),
+            ));
+        }
+        if let Some(k) = c.rolling_stiffness {
+            positive("contact.rolling_stiffness", k)?;
+        }
+        non_negative("contact.rolling_damping", c.rolling_damping)?;
         non_negative("contact.gamma_n", c.gamma_n.unwrap_or(0.0))?;
         if let Some(kn) = c.kn {
             positive("contact.kn", kn)?;
@@ -564,6 +615,25 @@ impl Scene {
         self.projected_area() / (self.tray.length * self.tray.width)
     }
 
+    /// Each grain's rolling coefficient for a spring-dashpot-slider (`rolling = "sds"`,
+    /// [`crate::setup::Setup::rolling_mu`]): uniform in `rolling_resistance +-
+    /// rolling_resistance_spread`, drawn from `run.seed` on a stream of its own (the sample's
+    /// draws do not move); empty without a spread or without the law.
+    pub fn rolling_mu(&self) -> Vec<f64> {
+        use rand::{Rng, SeedableRng};
+        let c = &self.contact;
+        let spread = c.rolling_resistance_spread;
+        let mean = c.rolling_resistance.unwrap_or(0.0);
+        if c.rolling != RollingKind::SpringDashpotSlider || !self.toggles.rolling || spread <= 0.0 {
+            return Vec::new();
+        }
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(self.run.seed);
+        rng.set_stream(ROLLING_MU_STREAM);
+        (0..self.particles.count)
+            .map(|_| mean + spread * (2.0 * rng.gen::<f64>() - 1.0))
+            .collect()
+    }
+
     /// Material of grains and walls.
     pub fn material(&self) -> Material {
         self.material
@@ -590,10 +660,14 @@ impl Scene {
                 gamma_t: c.tangential_damping,
                 kt: c.tangential_stiffness,
                 mu_r: c.rolling_friction,
+                rolling_resistance: c.rolling_resistance,
+                k_roll: c.rolling_stiffness,
+                gamma_roll: c.rolling_damping,
             };
             choice.build(&parameters).map_err(|m| match m {
                 Missing::Kn => err("contact.kn", "needed by normal = \"linear\""),
                 Missing::Kt => err("contact.tangential_stiffness", "needed by tangential = \"cundall-strack\""),
+                Missing::RollingResistance => err("contact.rolling_resistance", "needed by rolling = \"sds\" (dimensionless mu_r)"),
             })
         };
         let (mut pair, mut wall) = (build(c.friction)?, build(c.wall_friction)?);

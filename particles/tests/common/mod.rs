@@ -112,5 +112,6 @@ pub fn free_setup(law: ContactLaw, boundary: Boundary, dt: f64) -> Setup {
         vertical: Vertical::Free,
         container: None,
         sort: particles::scene::SortInterval::NONE,
+        rolling_mu: Vec::new(),
     }
 }
