@@ -20,7 +20,7 @@
 use std::io::Read;
 use std::path::{Path, PathBuf};
 
-use crate::drive::TrayDrive;
+use crate::drive::{Stage, TrayDrive};
 use crate::snapshot::{read_snapshots_counting, Frame, Header};
 
 /// The kind of input found at a path.
@@ -126,6 +126,8 @@ pub enum MetadataError {
     FrequencyNotANumber { path: PathBuf, value: serde_json::Value },
     /// `scene.drive.amplitude` is there but not a number, or the drive it gives is refused.
     Amplitude { path: PathBuf, value: serde_json::Value },
+    /// A stage of `scene.drive.stages` lacks a number, or the stages give no drive.
+    Stage { path: PathBuf, key: String, value: serde_json::Value },
 }
 
 impl std::fmt::Display for MetadataError {
@@ -139,6 +141,9 @@ impl std::fmt::Display for MetadataError {
             MetadataError::Amplitude { path, value } => {
                 write!(f, "{}: scene.drive.amplitude is {value}, not a number >= 0", path.display())
             }
+            MetadataError::Stage { path, key, value } => {
+                write!(f, "{}: {key} is {value}, not a drive stage's number", path.display())
+            }
         }
     }
 }
@@ -148,7 +153,7 @@ impl std::error::Error for MetadataError {
         match self {
             MetadataError::Unreadable { source, .. } => Some(source),
             MetadataError::NotJson { source, .. } => Some(source),
-            MetadataError::FrequencyNotANumber { .. } | MetadataError::Amplitude { .. } => None,
+            MetadataError::FrequencyNotANumber { .. } | MetadataError::Amplitude { .. } | MetadataError::Stage { .. } => None,
         }
     }
 }
@@ -233,18 +238,49 @@ pub fn metadata(file: &Path) -> Result<Metadata, MetadataError> {
         }
     }
     let mut notes = Vec::new();
-    if let Some(stages) = drive_table.and_then(|d| d.get("stages")) {
-        notes.push(format!(
-            "{}: scene.drive.stages ({} entries) is not read yet: the tray frame and the turning points use drive.frequency and drive.amplitude alone",
-            path.display(),
-            stages.as_array().map_or(0, Vec::len)
-        ));
+    if let (Some(stages), true) = (drive_table.and_then(|d| d.get("stages")), horizontal) {
+        drive = schedule(stages, &path)?;
     }
     Ok(Metadata {
         period,
         geometry,
         drive,
         notes,
+    })
+}
+
+/// The tray's motion of a drive schedule, `scene.drive.stages` as the DEM writes it: a list of
+/// `{frequency, amplitude, duration}`, stage `k` starting at the sum of the durations before it
+/// with `x_tray = A_k sin(2 pi nu_k (t - t_k))` (a zero crossing, `particles::drive`). An
+/// empty list is the single drive above; a stage whose field is not a number is an error
+/// naming it.
+fn schedule(stages: &serde_json::Value, path: &Path) -> Result<Option<TrayDrive>, MetadataError> {
+    let Some(list) = stages.as_array().filter(|l| !l.is_empty()) else {
+        return Ok(None);
+    };
+    let mut start = 0.0;
+    let mut out = Vec::with_capacity(list.len());
+    for (k, stage) in list.iter().enumerate() {
+        let field = |name: &str| {
+            stage.get(name).and_then(|v| v.as_f64()).ok_or_else(|| MetadataError::Stage {
+                path: path.to_path_buf(),
+                key: format!("scene.drive.stages[{k}].{name}"),
+                value: stage.get(name).cloned().unwrap_or(serde_json::Value::Null),
+            })
+        };
+        let (frequency, amplitude, duration) = (field("frequency")?, field("amplitude")?, field("duration")?);
+        out.push(Stage {
+            start,
+            frequency,
+            amplitude,
+            phase: 0.0,
+        });
+        start += duration;
+    }
+    TrayDrive::from_stages(out).map(Some).map_err(|e| MetadataError::Stage {
+        path: path.to_path_buf(),
+        key: "scene.drive.stages".into(),
+        value: serde_json::Value::String(e.to_string()),
     })
 }
 
@@ -366,7 +402,20 @@ mod tests {
             r#"{"scene": {"drive": {"frequency": 3.0, "amplitude": 0.01, "stages": [{}, {}]}}}"#,
         )
         .unwrap();
-        assert!(metadata(&file).unwrap().notes[0].contains("scene.drive.stages (2 entries)"));
+        let e = metadata(&file).unwrap_err();
+        assert!(e.to_string().contains("scene.drive.stages[0].frequency"), "{e}");
+        // The experiment's protocol: 2 s at 5 Hz / 20 mm, then 3 Hz / 10 mm from a zero crossing.
+        std::fs::write(
+            &config,
+            r#"{"scene": {"drive": {"frequency": 3.0, "amplitude": 0.01, "stages": [
+                {"frequency": 5.0, "amplitude": 0.02, "duration": 2.0},
+                {"frequency": 3.0, "amplitude": 0.01, "duration": 3600.0}]}}}"#,
+        )
+        .unwrap();
+        let d = metadata(&file).unwrap().drive.unwrap();
+        assert!((d.displacement(0.05) - 0.02).abs() < 1e-15, "the first stage's turning point");
+        assert!((d.displacement(2.0 + 0.25 / 3.0) - 0.01).abs() < 1e-15, "the second stage's");
+        assert_eq!(d.turning_point(2.0 + 1.25 / 3.0).unwrap().stage, 1);
         std::fs::write(&config, r#"{"scene": {"drive": {"frequency": 0.0}}}"#).unwrap();
         assert!(metadata_period(&file).unwrap().is_none(), "no shaking");
         std::fs::write(&config, "{ cut off").unwrap();
