@@ -1356,7 +1356,9 @@ mod tests {
                     w: s.omega[k],
                     r: s.radius[k],
                 };
-                let Some(g) = ContactGeometry::pair(sphere(i, s.pos[i]), sphere(j, s.pos[i] - d)) else {
+                let Some(g) = ContactGeometry::pair(sphere(i, s.pos[i]), sphere(j, s.pos[i] - d))
+                    .map(|g| g.with_mobility(sim.mobility[i] + sim.mobility[j]))
+                else {
                     continue;
                 };
                 let zeta = springs.get(&(i.min(j), i.max(j))).copied().unwrap_or_default();
@@ -1374,6 +1376,7 @@ mod tests {
             for (w, wall) in setup.walls.iter().enumerate() {
                 let (origin, v_wall) = (wall.origin_at(t), wall.motion.velocity(t));
                 if let Some(g) = ContactGeometry::wall(s.pos[i], s.vel[i], s.omega[i], s.radius[i], origin, wall.normal, v_wall) {
+                    let g = g.with_mobility(sim.mobility[i]);
                     let mut zeta = sim.wall_history[i * stride + w];
                     let c = contact::evaluate(&setup.wall_law, &g, &mut zeta, setup.dt);
                     force[i] += c.force;
