@@ -1482,7 +1482,9 @@ mod tests {
                     w: s.omega[k],
                     r: s.radius[k],
                 };
-                let Some(g) = ContactGeometry::pair(sphere(i, s.pos[i]), sphere(j, s.pos[i] - d)) else {
+                let Some(g) = ContactGeometry::pair(sphere(i, s.pos[i]), sphere(j, s.pos[i] - d))
+                    .map(|g| g.with_mobility(sim.mobility[i] + sim.mobility[j]))
+                else {
                     continue;
                 };
                 let key = (i.min(j), i.max(j));
@@ -1512,6 +1514,7 @@ mod tests {
             for (w, wall) in setup.walls.iter().enumerate() {
                 let (origin, v_wall) = (wall.origin_at(t), wall.motion.velocity(t));
                 if let Some(g) = ContactGeometry::wall(s.pos[i], s.vel[i], s.omega[i], s.radius[i], origin, wall.normal, v_wall) {
+                    let g = g.with_mobility(sim.mobility[i]);
                     let mut h = History {
                         slide: sim.wall_history[i * stride + w],
                         roll: sim.wall_roll.get(i * stride + w).copied().unwrap_or_default(),
