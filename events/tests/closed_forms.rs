@@ -364,10 +364,10 @@ fn a_resting_grain_collapses_without_a_guard_and_rests_with_one() {
 }
 
 /// The collapse detector at Gamma 240-320 tells a collapse from fast, dense dynamics. A grain
-/// rattling elastically across a column 1 nm wider than itself, at the peak speed of a
-/// Gamma 320 floor (5 m/s), collides every 0.2 ns at that speed: the old detector (every
-/// collision counted, `collapse_speed = inf`) stopped such a run; the detector that counts
-/// only slow collisions lets it run. A grain that meets the same floor at its lowest point,
+/// rattling elastically between a side wall and a much heavier grain, 0.5 nm from each, at
+/// 5 m/s (about the peak speed of the Gamma 320 floor), collides every 0.1-1 ns at metres
+/// per second: the old detector (every collision counted, `collapse_speed = inf`) stopped
+/// such a run; the detector that counts only slow collisions lets it run. A grain that meets the same floor at its lowest point,
 /// where it pushes up at 240-320 g, with e = 0.5, does collapse: its approach speeds fall to
 /// zero, and the run stops with the error naming it.
 #[test]
@@ -392,6 +392,15 @@ fn the_collapse_detector_tells_a_collapse_from_fast_dynamics_at_gamma_240_to_320
             let run = sim.run_until(5e-6);
             (run, sim.collisions())
         };
+        let (run, collisions) = rattle(&cfg);
+        assert!(run.is_ok(), "Gamma {gamma}: {run:?}");
+        assert!(collisions > 2_000, "{collisions}");
+        let mut every = cfg.clone();
+        every.guard.collapse_speed = Some(f64::INFINITY);
+        assert!(
+            matches!(rattle(&every).0, Err(EventsError::Collapse { .. })),
+            "the old detector, every collision counted, stops the rattle"
+        );
         // The floor at its lowest point (phase 3/4), the grain resting 1 nm above it.
         let mut push = ball_on_plate(0.5, gamma, 100.0);
         push.guard = Guard::default();
