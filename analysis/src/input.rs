@@ -179,10 +179,9 @@ pub struct Metadata {
     /// `Geometry::VerticalBox` for `scene.model = "events"`.
     pub geometry: Geometry,
     /// `x_tray(t) = scene.drive.amplitude sin(2 pi scene.drive.frequency t)`, when the drive
-    /// is horizontal (`scene.drive.direction` absent or `"x"`) and moves the tray.
+    /// is horizontal (`scene.drive.direction` absent or `"x"`) and moves the tray; the stages of
+    /// `scene.drive.stages` when the run has a drive schedule.
     pub drive: Option<TrayDrive>,
-    /// What was there but not read (a drive schedule this reader does not know).
-    pub notes: Vec<String>,
 }
 
 /// The metadata in the `config.json` beside `file`. No period when the run has none to
@@ -237,7 +236,6 @@ pub fn metadata(file: &Path) -> Result<Metadata, MetadataError> {
             drive = (amplitude > 0.0).then_some(d);
         }
     }
-    let mut notes = Vec::new();
     if let (Some(stages), true) = (drive_table.and_then(|d| d.get("stages")), horizontal) {
         drive = schedule(stages, &path)?;
     }
@@ -245,7 +243,6 @@ pub fn metadata(file: &Path) -> Result<Metadata, MetadataError> {
         period,
         geometry,
         drive,
-        notes,
     })
 }
 
@@ -346,7 +343,6 @@ pub fn load(path: &Path, dt: f64) -> Result<Run, LoadError> {
         InputKind::Snapshots => metadata(&file).map_err(LoadError::Metadata)?,
         InputKind::LammpsDump => Metadata::default(),
     };
-    warnings.extend(meta.notes);
     Ok(Run {
         file,
         kind,
