@@ -127,7 +127,11 @@ pub enum MetadataError {
     /// `scene.drive.amplitude` is there but not a number, or the drive it gives is refused.
     Amplitude { path: PathBuf, value: serde_json::Value },
     /// A stage of `scene.drive.stages` lacks a number, or the stages give no drive.
-    Stage { path: PathBuf, key: String, value: serde_json::Value },
+    Stage {
+        path: PathBuf,
+        key: String,
+        value: serde_json::Value,
+    },
 }
 
 impl std::fmt::Display for MetadataError {
@@ -239,11 +243,7 @@ pub fn metadata(file: &Path) -> Result<Metadata, MetadataError> {
     if let (Some(stages), true) = (drive_table.and_then(|d| d.get("stages")), horizontal) {
         drive = schedule(stages, &path)?;
     }
-    Ok(Metadata {
-        period,
-        geometry,
-        drive,
-    })
+    Ok(Metadata { period, geometry, drive })
 }
 
 /// The tray's motion of a drive schedule, `scene.drive.stages` as the DEM writes it: a list of
