@@ -19,7 +19,7 @@ for kv in "$@"; do extra+=(--set "$kv"); done
   --set run.duration=12 --set run.seed="$seed" --set run.threads=1 --set run.snapshots_per_period=4 \
   --set contact.rolling=sds --set contact.rolling_resistance="$mean" \
   --set contact.rolling_resistance_spread="$spread" ${extra[@]+"${extra[@]}"} > "$dir.run.json"
-"$bin" analyze "$dir" --quiet --force > "$dir.analysis.json"
+"$bin" analyze "$dir" --force > "$dir.analysis.json"
 python3 - "$dir.analysis.json" <<'PY'
 import json, sys
 s = json.load(open(sys.argv[1]))
