@@ -151,15 +151,19 @@ pub fn fit_log(t: &[f64], s: &[f64]) -> Option<Fit> {
     Some(finish(a, b, &j, rss))
 }
 
-/// `S = a t^-alpha` by least squares on `S` (points with `t > 0` and `S > 0`); None with
-/// fewer than 3 such points or a single time.
-pub fn fit_power(t: &[f64], s: &[f64]) -> Option<Fit> {
-    let (t, s): (Vec<f64>, Vec<f64>) = t
-        .iter()
+/// The points with `t > 0` and `S > 0`, the only ones both laws are defined on.
+fn positive_points(t: &[f64], s: &[f64]) -> (Vec<f64>, Vec<f64>) {
+    t.iter()
         .zip(s)
         .filter(|(t, s)| **t > 0.0 && **s > 0.0)
         .map(|(t, s)| (*t, *s))
-        .unzip();
+        .unzip()
+}
+
+/// `S = a t^-alpha` by least squares on `S` (points with `t > 0` and `S > 0`); None with
+/// fewer than 3 such points or a single time.
+pub fn fit_power(t: &[f64], s: &[f64]) -> Option<Fit> {
+    let (t, s) = positive_points(t, s);
     if t.len() < 3 {
         return None;
     }
@@ -217,12 +221,7 @@ pub fn fit_power(t: &[f64], s: &[f64]) -> Option<Fit> {
 /// Both laws fitted to the same points (those with `t > 0` and `S > 0`, so the two compare on
 /// one set) and the verdict (module docs).
 pub fn compare(t: &[f64], s: &[f64]) -> LawComparison {
-    let (t, s): (Vec<f64>, Vec<f64>) = t
-        .iter()
-        .zip(s)
-        .filter(|(t, s)| **t > 0.0 && **s > 0.0)
-        .map(|(t, s)| (*t, *s))
-        .unzip();
+    let (t, s) = positive_points(t, s);
     let power = fit_power(&t, &s);
     let logarithmic = fit_log(&t, &s);
     let mut levels: Vec<f64> = s.clone();
