@@ -17,6 +17,7 @@
 
 use particles::saved::SavedState;
 use particles::sim::{Ledger, Simulation};
+use particles::Vec3;
 
 use crate::bytes::{Reader, Writer};
 
@@ -52,32 +53,47 @@ pub fn encode(sim: &Simulation, fingerprint: u64, extra: u64) -> Vec<u8> {
             w.vec3(v);
         }
     }
-    w.u64(s.pair_histories.len() as u64);
-    for (i, j, h) in &s.pair_histories {
-        w.u32(*i as u32);
-        w.u32(*j as u32);
-        w.vec3(h);
-    }
-    w.u64(s.wall_histories.len() as u64);
-    for h in &s.wall_histories {
-        w.vec3(h);
-    }
-    w.u64(s.pair_rolls.len() as u64);
-    for (i, j, h) in &s.pair_rolls {
-        w.u32(*i as u32);
-        w.u32(*j as u32);
-        w.vec3(h);
-    }
-    w.u64(s.wall_rolls.len() as u64);
-    for h in &s.wall_rolls {
-        w.vec3(h);
-    }
+    write_springs(&mut w, &s.pair_histories, &s.wall_histories);
+    write_springs(&mut w, &s.pair_rolls, &s.wall_rolls);
     w.u64(s.order.len() as u64);
     for &g in &s.order {
         w.u32(g);
     }
     w.u64(extra);
     w.0
+}
+
+/// Per-pair springs: the pair's two places and the spring.
+type PairSprings = Vec<(usize, usize, Vec3)>;
+
+/// One kind of per-contact spring: the pairs' (`u64` count, then `u32 i, u32 j, 3 f64`), then
+/// the walls' (`u64` count, then `3 f64`).
+fn write_springs(w: &mut Writer, pairs: &[(usize, usize, Vec3)], walls: &[Vec3]) {
+    w.u64(pairs.len() as u64);
+    for (i, j, h) in pairs {
+        w.u32(*i as u32);
+        w.u32(*j as u32);
+        w.vec3(h);
+    }
+    w.u64(walls.len() as u64);
+    for h in walls {
+        w.vec3(h);
+    }
+}
+
+/// The springs [`write_springs`] wrote; `what` names them in a cut file's message.
+fn read_springs(r: &mut Reader<'_>, what: &str) -> Result<(PairSprings, Vec<Vec3>), String> {
+    let count = r.count(4 + 4 + 24, &format!("pair {what}"))?;
+    let mut pairs = Vec::with_capacity(count);
+    for _ in 0..count {
+        pairs.push((r.u32()? as usize, r.u32()? as usize, r.vec3()?));
+    }
+    let count = r.count(24, &format!("wall {what}"))?;
+    let mut walls = Vec::with_capacity(count);
+    for _ in 0..count {
+        walls.push(r.vec3()?);
+    }
+    Ok((pairs, walls))
 }
 
 /// Restores a checkpoint written by [`encode`] into `sim`, built from the same scene and
@@ -139,27 +155,9 @@ fn decode(bytes: &[u8], fingerprint: u64, particles: usize) -> Result<(SavedStat
         s.force.push(r.vec3()?);
         s.torque.push(r.vec3()?);
     }
-    let count = r.count(4 + 4 + 24, "pair histories")?;
-    s.pair_histories.reserve_exact(count);
-    for _ in 0..count {
-        s.pair_histories.push((r.u32()? as usize, r.u32()? as usize, r.vec3()?));
-    }
-    let count = r.count(24, "wall histories")?;
-    s.wall_histories.reserve_exact(count);
-    for _ in 0..count {
-        s.wall_histories.push(r.vec3()?);
-    }
+    (s.pair_histories, s.wall_histories) = read_springs(&mut r, "histories")?;
     if rolls {
-        let count = r.count(4 + 4 + 24, "pair rolling springs")?;
-        s.pair_rolls.reserve_exact(count);
-        for _ in 0..count {
-            s.pair_rolls.push((r.u32()? as usize, r.u32()? as usize, r.vec3()?));
-        }
-        let count = r.count(24, "wall rolling springs")?;
-        s.wall_rolls.reserve_exact(count);
-        for _ in 0..count {
-            s.wall_rolls.push(r.vec3()?);
-        }
+        (s.pair_rolls, s.wall_rolls) = read_springs(&mut r, "rolling springs")?;
     }
     if places {
         let count = r.count(4, "places")?;

@@ -209,12 +209,7 @@ pub fn encode(c: &Checkpoint) -> Vec<u8> {
     o.u(b.bins as u64);
     o.u(b.across_bins as u64);
     for profiles in [&b.species, &b.across] {
-        o.u(profiles.len() as u64);
-        for p in profiles {
-            for v in [&p.count, &p.mvx2, &p.mvz2, &p.iw2, &p.vx, &p.vz, &p.m] {
-                o.fs(v);
-            }
-        }
+        write_profiles(&mut o, profiles);
     }
     o.u(b.samples);
     o.f(b.height_sum);
@@ -265,12 +260,7 @@ pub fn encode(c: &Checkpoint) -> Vec<u8> {
     for per_phase in [&b.phase_heights, &b.phase_across] {
         o.u(per_phase.len() as u64);
         for profiles in per_phase {
-            o.u(profiles.len() as u64);
-            for p in profiles {
-                for v in [&p.count, &p.mvx2, &p.mvz2, &p.iw2, &p.vx, &p.vz, &p.m] {
-                    o.fs(v);
-                }
-            }
+            write_profiles(&mut o, profiles);
         }
     }
     let payload = o.0;
@@ -279,6 +269,34 @@ pub fn encode(c: &Checkpoint) -> Vec<u8> {
     bytes.extend_from_slice(&payload);
     bytes.extend_from_slice(&fnv1a(&payload).to_le_bytes());
     bytes
+}
+
+/// A list of profiles: its length, then each profile's seven columns.
+fn write_profiles(o: &mut Out, profiles: &[Profile]) {
+    o.u(profiles.len() as u64);
+    for p in profiles {
+        for v in [&p.count, &p.mvx2, &p.mvz2, &p.iw2, &p.vx, &p.vz, &p.m] {
+            o.fs(v);
+        }
+    }
+}
+
+/// The list [`write_profiles`] wrote.
+fn read_profiles(i: &mut In<'_>) -> Result<Vec<Profile>, String> {
+    let n = i.len(56)?;
+    (0..n)
+        .map(|_| {
+            Ok(Profile {
+                count: i.fs()?,
+                mvx2: i.fs()?,
+                mvz2: i.fs()?,
+                iw2: i.fs()?,
+                vx: i.fs()?,
+                vz: i.fs()?,
+                m: i.fs()?,
+            })
+        })
+        .collect()
 }
 
 /// Reads a checkpoint; the error says what is wrong (not a checkpoint, cut short, altered).
@@ -368,22 +386,7 @@ pub fn decode(bytes: &[u8]) -> Result<Checkpoint, String> {
     let (bin, bins, across_bins) = (i.f()?, i.u()? as usize, i.u()? as usize);
     let mut profiles = Vec::new();
     for _ in 0..2 {
-        let n = i.len(56)?;
-        profiles.push(
-            (0..n)
-                .map(|_| {
-                    Ok(Profile {
-                        count: i.fs()?,
-                        mvx2: i.fs()?,
-                        mvz2: i.fs()?,
-                        iw2: i.fs()?,
-                        vx: i.fs()?,
-                        vz: i.fs()?,
-                        m: i.fs()?,
-                    })
-                })
-                .collect::<Result<Vec<_>, String>>()?,
-        );
+        profiles.push(read_profiles(&mut i)?);
     }
     let across = profiles.pop().expect("two");
     let species = profiles.pop().expect("two");
@@ -460,20 +463,7 @@ pub fn decode(bytes: &[u8]) -> Result<Checkpoint, String> {
         let n = i.len(8)?;
         let mut phase = Vec::with_capacity(n);
         for _ in 0..n {
-            let m = i.len(56)?;
-            let mut profiles = Vec::with_capacity(m);
-            for _ in 0..m {
-                profiles.push(Profile {
-                    count: i.fs()?,
-                    mvx2: i.fs()?,
-                    mvz2: i.fs()?,
-                    iw2: i.fs()?,
-                    vx: i.fs()?,
-                    vz: i.fs()?,
-                    m: i.fs()?,
-                });
-            }
-            phase.push(profiles);
+            phase.push(read_profiles(&mut i)?);
         }
         per_phase.push(phase);
     }
