@@ -24,6 +24,7 @@
 pub mod autocorr;
 pub mod camera;
 pub mod classify;
+pub mod coarse;
 pub mod coarsening_law;
 pub mod density;
 pub mod drive;

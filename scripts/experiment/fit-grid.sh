@@ -5,20 +5,23 @@
 #
 #   scripts/experiment/fit-grid.sh OUT [extra KEY=VALUE ...]
 #   MEANS="0.25 0.3" SPREADS="0.1" scripts/experiment/fit-grid.sh OUT
+#   PAIRS="0.1:0.05 0.1:0.1" scripts/experiment/fit-grid.sh OUT     (mean:spread, instead)
+# A spread wider than its mean is skipped (the scene refuses it).
 set -euo pipefail
 out=$1
 shift
 means=${MEANS:-0.25 0.3 0.36 0.45}
 spreads=${SPREADS:-0.1 0.2 0.3}
 mkdir -p "$out"
-for m in $means; do
-  for s in $spreads; do
+pairs=${PAIRS:-$(for m in $means; do for s in $spreads; do echo "$m:$s"; done; done)}
+for pair in $pairs; do
+    m=${pair%%:*} s=${pair##*:}
+    if python3 -c "import sys; sys.exit(0 if float('$s') > float('$m') else 1)"; then continue; fi
     dir="$out/mu$m-s$s-seed101"
     if [ -f "$dir.analysis.json" ]; then continue; fi
     start=$(date +%s)
     "$(dirname "$0")/fit.sh" "$out" "$m" "$s" 101 contact.rolling_damping=5e-3 "$@" || echo "$dir failed"
     echo "$dir wall_s $(( $(date +%s) - start ))" >> "$out/wall.txt"
-  done
 done
 python3 - "$out" <<'PY'
 import json, glob, os, sys

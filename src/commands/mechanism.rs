@@ -4,6 +4,9 @@
 //! grains are held by the floor, roll or slide, inside the dense bands of each instant and
 //! outside them, and how fast the bands' grains move relative to the others.
 //!
+//! First it measures, on the run's own frames, what the coarse model needs
+//! ([`crate::pipeline::coarse`]): `automaton.toml` and `coarse.json`.
+//!
 //! Writes `mechanism.csv` (one row per sample), `mechanism.png/svg` (the mean velocity
 //! relative to the tray of each group against the tray's velocity) and `summary.json`.
 //! The run directory itself is left untouched.
@@ -58,6 +61,8 @@ pub fn run(args: Args) -> Result<String, CliError> {
     let out = args.out.clone().unwrap_or_else(|| args.run.join("mechanism"));
     crate::output::claim(&out, args.replace.force)?;
     let mut dir = RunDir::create(&out, &json!({ "args": &args, "scene": scene }))?;
+    // The coarse model's parameters, from the run's own frames (issue 40).
+    let coarse = crate::pipeline::coarse::write(&args.run, !scene.tray.x_walls, &mut dir)?;
 
     let dt = resolved.dt();
     let (state, _) = crate::samples::load_or_prepare(scene, &args.samples.sample_cache, |_| {})?;
@@ -213,6 +218,19 @@ pub fn run(args: Args) -> Result<String, CliError> {
             .map(|r| json!({ "phi_lo": r[0], "phi_hi": if r[1].is_finite() { json!(r[1]) } else { json!(null) }, "grain_instants": r[2], "slope": r[3] }))
             .collect::<Vec<_>>(),
         "relative_slope_hypothesis": 5.0 / 7.0,
+        "coarse": {
+            "file": "automaton.toml",
+            "cell_m": coarse.cell.size_m,
+            "half_periods": coarse.excursion.half_periods,
+            "before_s": coarse.excursion.before_s,
+            "excursion_mean_m": coarse.excursion.all.excursion.mean,
+            "excursion_sd_m": coarse.excursion.all.excursion.sd,
+            "sideways_mean_m": coarse.excursion.all.sideways.mean,
+            "core_packing": coarse.bands.core_packing,
+            "escape_per_half_period": coarse.bands.escape_per_half_period,
+            "edge_escape_per_half_period": coarse.bands.edge_escape_per_half_period,
+            "residence_mean_half_periods": coarse.bands.residence_half_periods.mean,
+        },
     });
     dir.finish(summary)
 }

@@ -12,6 +12,7 @@
 mod analysis_files;
 mod analyze;
 mod automaton;
+pub mod coarse;
 mod dem;
 mod events;
 mod resolve;

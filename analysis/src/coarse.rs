@@ -1,0 +1,709 @@
+//! What the coarse model (the automaton) needs from a DEM run, measured on its frames
+//! (issue 40, step 1): never fitted to patterns.
+//!
+//! A grain's move over a half period of the drive is the change of its position **in the
+//! tray's frame** between two consecutive turning points of the tray (`+A` then `-A`, or the
+//! reverse): the automaton's unit of time. For every such pair of frames and every grain:
+//! - the excursion along the shaking direction `|dx|` and the sideways step `|dy|`;
+//! - the grain's local state at the first frame: its local packing (the projected area of the
+//!   grains whose centres lie within [`LOCAL_RADIUS_DIAMETERS`] mean diameters, over that
+//!   disk's area) and its contact number (grains nearer than `(r_i + r_j)(1 +`
+//!   [`CONTACT_GAP`]`)`).
+//!
+//! On a periodic tray a move is taken as its nearest periodic image: the tray must be longer
+//! than twice the largest excursion (a free sphere rolling without slip swings `(5/7) 2A`).
+//!
+//! Excursions are tabled by packing class ([`PACKING_EDGES`]) and by contact number, with
+//! mean, spread and quantiles, over the half periods before the bands form (before the
+//! camera's stripe onset, or every half period where none forms).
+//!
+//! Bands are the camera's ([`crate::stripes::detect`] on the tray-frame profile of each
+//! turning-point frame). A grain is in a band when its tray-frame x lies in one. Measured:
+//! how long grains stay in bands (runs of consecutive half periods, those cut by the start or
+//! end of the record left out), the rate at which grains leave a band per half period, over
+//! all its grains and over those within one mean diameter of its edges, and the area fraction
+//! of the band cores (the central half of each band).
+
+use serde::Serialize;
+
+use crate::density::{add_area_fraction_cells, mean_area_fraction};
+use crate::drive::TrayDrive;
+use crate::snapshot::{Frame, Header};
+use crate::stripes::{detect, Stripe, StripeParams};
+
+/// Radius of the disk over which a grain's local packing is taken, in mean diameters.
+pub const LOCAL_RADIUS_DIAMETERS: f64 = 2.5;
+
+/// Two grains touch when their centres are nearer than `(r_i + r_j)(1 + CONTACT_GAP)`.
+pub const CONTACT_GAP: f64 = 0.05;
+
+/// Upper edges of the packing classes (the last class is everything above the last edge).
+pub const PACKING_EDGES: [f64; 8] = [0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8];
+
+/// Contact numbers tabled one by one up to this; more are pooled into the last row.
+pub const MAX_CONTACTS: usize = 6;
+
+/// Frames farther than this from a turning point (fraction of a period) are not used.
+pub const MAX_OFFSET: f64 = 0.125;
+
+/// Why the measures cannot be taken; each names the quantity.
+#[derive(Debug, Clone, PartialEq)]
+pub enum CoarseError {
+    /// No drive that moves the tray: there are no half periods.
+    NoDrive,
+    /// Fewer than two turning-point frames one half period apart.
+    TooShort { quantity: &'static str, half_periods: usize },
+}
+
+impl std::fmt::Display for CoarseError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            CoarseError::NoDrive => write!(f, "the run's drive does not move the tray: no half periods to measure"),
+            CoarseError::TooShort { quantity, half_periods } => write!(
+                f,
+                "{quantity}: the run holds {half_periods} pairs of turning-point frames half a period apart, at least 1 is needed \
+                 (write at least 2 snapshots per period, at the turning points, e.g. run.snapshots_per_period = 4)"
+            ),
+        }
+    }
+}
+
+impl std::error::Error for CoarseError {}
+
+/// A frame at a turning point of the tray.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct TurningFrame {
+    /// Index among the run's frames.
+    pub frame: usize,
+    pub time: f64,
+    /// The tray's displacement then (m).
+    pub tray_x: f64,
+    /// `+1` at `+A`, `-1` at `-A`.
+    pub side: i8,
+    /// Stage of the drive and half period within it (consecutive half periods differ by 1).
+    pub stage: usize,
+    pub half: i64,
+}
+
+/// The frames nearest each turning point (`+A` and `-A`) of a moving drive, within
+/// [`MAX_OFFSET`] of a period, in time order.
+pub fn turning_frames(times: &[f64], drive: &TrayDrive) -> Vec<TurningFrame> {
+    let mut out: Vec<(TurningFrame, f64)> = Vec::new();
+    for (frame, &time) in times.iter().enumerate() {
+        let Some(tp) = drive.turning_point(time) else {
+            continue;
+        };
+        // Half periods since the stage's first +A turning point: even at +A, odd at -A.
+        let q = 2.0 * tp.offset;
+        let step = q.round();
+        let residual = (q - step).abs() / 2.0;
+        if residual > MAX_OFFSET + 1e-12 {
+            continue;
+        }
+        let half = 2 * tp.index + step as i64;
+        let here = TurningFrame {
+            frame,
+            time,
+            tray_x: drive.displacement(time),
+            side: if half.rem_euclid(2) == 0 { 1 } else { -1 },
+            stage: tp.stage,
+            half,
+        };
+        match out.last_mut() {
+            Some((prev, r)) if prev.stage == here.stage && prev.half == here.half => {
+                if residual < *r {
+                    *prev = here;
+                    *r = residual;
+                }
+            }
+            _ => out.push((here, residual)),
+        }
+    }
+    out.into_iter().map(|(f, _)| f).collect()
+}
+
+/// Mean, spread and quantiles of a set of lengths (m).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Default)]
+pub struct Spread {
+    pub samples: usize,
+    pub mean: f64,
+    /// Standard deviation.
+    pub sd: f64,
+    pub q10: f64,
+    pub q25: f64,
+    pub median: f64,
+    pub q75: f64,
+    pub q90: f64,
+}
+
+impl Spread {
+    /// The statistics of `values` (consumed: sorted in place); all zero when empty.
+    pub fn of(mut values: Vec<f64>) -> Self {
+        let n = values.len();
+        if n == 0 {
+            return Spread::default();
+        }
+        values.sort_by(f64::total_cmp);
+        let mean = values.iter().sum::<f64>() / n as f64;
+        let var = values.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>() / (n.max(2) - 1) as f64;
+        let q = |p: f64| {
+            let pos = p * (n - 1) as f64;
+            let (lo, hi) = (pos.floor() as usize, pos.ceil() as usize);
+            values[lo] + (values[hi] - values[lo]) * (pos - lo as f64)
+        };
+        Spread {
+            samples: n,
+            mean,
+            sd: if n > 1 { var.sqrt() } else { 0.0 },
+            q10: q(0.1),
+            q25: q(0.25),
+            median: q(0.5),
+            q75: q(0.75),
+            q90: q(0.9),
+        }
+    }
+}
+
+/// Excursions of one class of local state.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ClassMoves {
+    /// The class: packing range `[low, high)`, or contact number `low` (= `high`; the last
+    /// row holds every number from it on).
+    pub low: f64,
+    pub high: f64,
+    /// `|dx|` per half period (m).
+    pub excursion: Spread,
+    /// `|dy|` per half period (m).
+    pub sideways: Spread,
+}
+
+/// The band measures.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Bands {
+    /// Turning-point frames holding at least one band.
+    pub frames_with_bands: usize,
+    /// Mean area fraction of the band cores (the central half of each band), None without
+    /// bands.
+    pub core_packing: Option<f64>,
+    /// Stays still running at the end of the record, or begun before its start.
+    pub residence_censored: usize,
+    /// Per half period, the fraction of a band's grains that are in no band half a period
+    /// later: over all band grains, and over those within one mean diameter of an edge.
+    pub escape_per_half_period: Option<f64>,
+    pub edge_escape_per_half_period: Option<f64>,
+    /// Grain-half-periods behind the two rates.
+    pub band_samples: usize,
+    pub edge_samples: usize,
+    /// Completed stays in a band (half periods; stays cut by the record's start or end left
+    /// out).
+    pub residence_half_periods: Spread,
+}
+
+/// Everything measured.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Coarse {
+    pub turning_frames: usize,
+    /// Half periods measured for the excursions (before `before_s`).
+    pub half_periods: usize,
+    /// End of the window of the excursions (s): the stripe onset given, or the run's end.
+    pub before_s: Option<f64>,
+    pub mean_diameter_m: f64,
+    pub mean_packing: f64,
+    /// Every excursion of the window.
+    pub all: ClassMoves,
+    /// Over two consecutive half periods with moves `dx1`, `dx2` (signed): the swing
+    /// `|dx1 - dx2| / 2` (the back-and-forth; `(5/7) 2A` for a sphere rolling without slip,
+    /// whatever it carries along) and the drift over the period `|dx1 + dx2|` (m).
+    pub swing: Spread,
+    pub drift: Spread,
+    pub by_packing: Vec<ClassMoves>,
+    pub by_contacts: Vec<ClassMoves>,
+    pub bands: Bands,
+    /// Bands counted at each turning-point frame.
+    pub frames: Vec<FrameBands>,
+}
+
+/// The bands of one turning-point frame.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct FrameBands {
+    pub time: f64,
+    /// `+1` at `+A`, `-1` at `-A`.
+    pub side: i8,
+    pub bands: usize,
+    /// Fraction of the grains in bands.
+    pub in_bands: f64,
+}
+
+/// One grain's move over a half period, with its local state at the start.
+struct Move {
+    packing: f64,
+    contacts: usize,
+    dx: f64,
+    dy: f64,
+}
+
+/// Local packing and contact number of every grain of a frame (positions `x`, `y`, tray of
+/// `length` periodic in x when `periodic`, and `width`).
+pub fn local_state(x: &[f64], y: &[f64], radii: &[f64], length: f64, width: f64, periodic: bool, mean_d: f64) -> (Vec<f64>, Vec<usize>) {
+    let n = x.len();
+    let reach = LOCAL_RADIUS_DIAMETERS * mean_d;
+    let rmax = radii.iter().copied().fold(0.0, f64::max);
+    let cell = reach.max(2.0 * rmax * (1.0 + CONTACT_GAP));
+    let (cx, cy) = (((length / cell).floor() as usize).max(1), ((width / cell).floor() as usize).max(1));
+    let (hx, hy) = (length / cx as f64, width / cy as f64);
+    let key = |xi: f64, yi: f64| {
+        let i = ((xi.rem_euclid(length) / hx) as usize).min(cx - 1);
+        let j = ((yi / hy).floor().clamp(0.0, (cy - 1) as f64)) as usize;
+        (i, j)
+    };
+    let mut cells: Vec<Vec<usize>> = vec![Vec::new(); cx * cy];
+    for k in 0..n {
+        let (i, j) = key(x[k], y[k]);
+        cells[j * cx + i].push(k);
+    }
+    let disk = std::f64::consts::PI * reach * reach;
+    let mut packing = vec![0.0; n];
+    let mut contacts = vec![0; n];
+    for k in 0..n {
+        let (i, j) = key(x[k], y[k]);
+        let mut area = 0.0;
+        for dj in -1i64..=1 {
+            let jj = j as i64 + dj;
+            if jj < 0 || jj >= cy as i64 {
+                continue;
+            }
+            let mut columns: Vec<usize> = Vec::with_capacity(3);
+            for di in -1i64..=1 {
+                let ii = i as i64 + di;
+                if !periodic && (ii < 0 || ii >= cx as i64) {
+                    continue;
+                }
+                // A tray of fewer than three columns must not visit one twice.
+                let ii = ii.rem_euclid(cx as i64) as usize;
+                if !columns.contains(&ii) {
+                    columns.push(ii);
+                }
+            }
+            for &ii in &columns {
+                for &m in &cells[jj as usize * cx + ii] {
+                    let mut dx = x[m] - x[k];
+                    if periodic {
+                        dx -= length * (dx / length).round();
+                    }
+                    let dy = y[m] - y[k];
+                    let d2 = dx * dx + dy * dy;
+                    if d2 <= reach * reach {
+                        area += std::f64::consts::PI * radii[m] * radii[m];
+                    }
+                    let touch = (radii[k] + radii[m]) * (1.0 + CONTACT_GAP);
+                    if m != k && d2 < touch * touch {
+                        contacts[k] += 1;
+                    }
+                }
+            }
+        }
+        packing[k] = area / disk;
+    }
+    (packing, contacts)
+}
+
+/// The measures of a run: `frames` in time order of a tray of `header`, periodic in x when
+/// `periodic`, shaken by `drive`; excursions before `before` (s; None: the whole run); bands
+/// counted with `params` on `cells` cells.
+pub fn measure(
+    header: &Header,
+    frames: &[Frame],
+    drive: &TrayDrive,
+    periodic: bool,
+    before: Option<f64>,
+    params: &StripeParams,
+    cells: usize,
+) -> Result<Coarse, CoarseError> {
+    if drive.shortest_period().is_none() {
+        return Err(CoarseError::NoDrive);
+    }
+    let (l, w) = (header.length, header.width);
+    let radii = &header.radii;
+    let n = radii.len();
+    let mean_d = 2.0 * radii.iter().sum::<f64>() / n.max(1) as f64;
+    let times: Vec<f64> = frames.iter().map(|f| f.time).collect();
+    let turning = turning_frames(&times, drive);
+    let pairs: Vec<(TurningFrame, TurningFrame)> = turning
+        .windows(2)
+        .filter(|p| p[0].stage == p[1].stage && p[1].half == p[0].half + 1)
+        .map(|p| (p[0], p[1]))
+        .collect();
+    let window: Vec<&(TurningFrame, TurningFrame)> = pairs.iter().filter(|(a, _)| before.is_none_or(|t| a.time < t)).collect();
+    if window.is_empty() {
+        return Err(CoarseError::TooShort {
+            quantity: "excursion per half period",
+            half_periods: window.len(),
+        });
+    }
+    let tray = |f: &TurningFrame| -> (Vec<f64>, Vec<f64>) {
+        let p = &frames[f.frame].pos;
+        (p.iter().map(|q| q[0] - f.tray_x).collect(), p.iter().map(|q| q[1]).collect())
+    };
+    // Excursions with the local state at the pair's first frame; the signed moves of each
+    // pair, to split two consecutive half periods into a swing and a drift.
+    let mut moves: Vec<Move> = Vec::new();
+    let mut signed: Vec<Vec<f64>> = Vec::new();
+    for (a, b) in &window {
+        let (xa, ya) = tray(a);
+        let (xb, yb) = tray(b);
+        let (packing, contacts) = local_state(&xa, &ya, radii, l, w, periodic, mean_d);
+        let mut pair = Vec::with_capacity(n);
+        for k in 0..n {
+            let mut dx = xb[k] - xa[k];
+            if periodic {
+                dx -= l * (dx / l).round();
+            }
+            pair.push(dx);
+            moves.push(Move {
+                packing: packing[k],
+                contacts: contacts[k],
+                dx: dx.abs(),
+                dy: (yb[k] - ya[k]).abs(),
+            });
+        }
+        signed.push(pair);
+    }
+    // Two consecutive half periods (the second starts where the first ends): the swing
+    // `|dx1 - dx2| / 2` and the drift over the period `|dx1 + dx2|`.
+    let (mut swing, mut drift) = (Vec::new(), Vec::new());
+    for k in 1..window.len() {
+        if window[k].0.frame != window[k - 1].1.frame {
+            continue;
+        }
+        for (d1, d2) in signed[k - 1].iter().zip(&signed[k]) {
+            swing.push(0.5 * (d1 - d2).abs());
+            drift.push((d1 + d2).abs());
+        }
+    }
+    let class = |low: f64, high: f64, pick: &dyn Fn(&Move) -> bool| ClassMoves {
+        low,
+        high,
+        excursion: Spread::of(moves.iter().filter(|m| pick(m)).map(|m| m.dx).collect()),
+        sideways: Spread::of(moves.iter().filter(|m| pick(m)).map(|m| m.dy).collect()),
+    };
+    let mut by_packing = Vec::new();
+    let mut low = 0.0;
+    for (c, &high) in PACKING_EDGES.iter().chain(std::iter::once(&f64::INFINITY)).enumerate() {
+        let last = c == PACKING_EDGES.len();
+        let row = class(low, high, &|m| m.packing >= low && (last || m.packing < high));
+        if row.excursion.samples > 0 {
+            by_packing.push(row);
+        }
+        low = high;
+    }
+    let by_contacts: Vec<ClassMoves> = (0..=MAX_CONTACTS)
+        .map(|z| {
+            class(z as f64, z as f64, &|m| {
+                if z == MAX_CONTACTS {
+                    m.contacts >= z
+                } else {
+                    m.contacts == z
+                }
+            })
+        })
+        .filter(|r| r.excursion.samples > 0)
+        .collect();
+    let all = class(0.0, f64::INFINITY, &|_| true);
+    let (swing, drift) = (Spread::of(swing), Spread::of(drift));
+    let (bands, per_frame) = band_measures(header, frames, &turning, &pairs, params, cells, mean_d);
+    Ok(Coarse {
+        turning_frames: turning.len(),
+        half_periods: window.len(),
+        before_s: before,
+        mean_diameter_m: mean_d,
+        mean_packing: mean_area_fraction(radii, l, w),
+        all,
+        swing,
+        drift,
+        by_packing,
+        by_contacts,
+        bands,
+        frames: per_frame,
+    })
+}
+
+/// Which band (index) holds tray-frame position `x`, if any.
+fn band_of(x: f64, stripes: &[Stripe], length: f64) -> Option<usize> {
+    stripes.iter().position(|s| s.contains(x, length))
+}
+
+/// Distance (m) from `x` to the nearer edge of stripe `s` (periodic).
+fn edge_distance(x: f64, s: &Stripe, length: f64) -> f64 {
+    let from_start = (x - s.start).rem_euclid(length);
+    from_start.min(s.width - from_start).max(0.0)
+}
+
+fn band_measures(
+    header: &Header,
+    frames: &[Frame],
+    turning: &[TurningFrame],
+    pairs: &[(TurningFrame, TurningFrame)],
+    params: &StripeParams,
+    cells: usize,
+    mean_d: f64,
+) -> (Bands, Vec<FrameBands>) {
+    let (l, w) = (header.length, header.width);
+    let n = header.radii.len();
+    let h = l / cells as f64;
+    let xs = |f: &TurningFrame| -> Vec<f64> { frames[f.frame].pos.iter().map(|q| (q[0] - f.tray_x).rem_euclid(l)).collect() };
+    let mut phi = vec![0.0; cells];
+    let mut stripes_of = Vec::with_capacity(turning.len());
+    let mut core = (0.0, 0usize);
+    for f in turning {
+        let x = xs(f);
+        add_area_fraction_cells(&x, &header.radii, l, w, &mut phi);
+        let s = detect(&phi, l, params);
+        for b in &s {
+            // The central half of the band, cell by cell.
+            let (from, to) = (b.start + 0.25 * b.width, b.start + 0.75 * b.width);
+            let (c0, c1) = ((from / h).ceil() as i64, (to / h).floor() as i64);
+            for c in c0..c1 {
+                core.0 += phi[c.rem_euclid(cells as i64) as usize];
+                core.1 += 1;
+            }
+        }
+        stripes_of.push(s);
+    }
+    // Membership per turning frame, by index in `turning`.
+    let index_of = |f: &TurningFrame| turning.iter().position(|t| t.frame == f.frame).expect("a turning frame");
+    let inside: Vec<Vec<bool>> = turning
+        .iter()
+        .zip(&stripes_of)
+        .map(|(f, s)| xs(f).iter().map(|&x| band_of(x, s, l).is_some()).collect())
+        .collect();
+    let (mut left, mut band_samples, mut edge_left, mut edge_samples) = (0usize, 0usize, 0usize, 0usize);
+    for (a, b) in pairs {
+        let (ia, ib) = (index_of(a), index_of(b));
+        let xa = xs(a);
+        for k in 0..n {
+            let Some(s) = band_of(xa[k], &stripes_of[ia], l) else {
+                continue;
+            };
+            let gone = !inside[ib][k];
+            band_samples += 1;
+            left += usize::from(gone);
+            if edge_distance(xa[k], &stripes_of[ia][s], l) <= mean_d {
+                edge_samples += 1;
+                edge_left += usize::from(gone);
+            }
+        }
+    }
+    // Stays: runs of membership over consecutive turning frames of one stage.
+    let mut stays = Vec::new();
+    let mut censored = 0;
+    for k in 0..n {
+        let mut run: Option<(usize, bool)> = None; // (length, started at the record's start)
+        for (t, (f, members)) in turning.iter().zip(&inside).enumerate() {
+            let consecutive = t > 0 && turning[t - 1].stage == f.stage && f.half == turning[t - 1].half + 1;
+            if !consecutive && run.take().is_some() {
+                censored += 1;
+            }
+            match (members[k], run.as_mut()) {
+                (true, Some((len, _))) => *len += 1,
+                (true, None) => run = Some((1, !consecutive)),
+                (false, Some(&mut (len, cut))) => {
+                    if cut {
+                        censored += 1;
+                    } else {
+                        stays.push(len as f64);
+                    }
+                    run = None;
+                }
+                (false, None) => {}
+            }
+        }
+        if run.is_some() {
+            censored += 1;
+        }
+    }
+    let per_frame = turning
+        .iter()
+        .zip(&stripes_of)
+        .zip(&inside)
+        .map(|((f, s), inside)| FrameBands {
+            time: f.time,
+            side: f.side,
+            bands: s.len(),
+            in_bands: inside.iter().filter(|&&b| b).count() as f64 / n.max(1) as f64,
+        })
+        .collect();
+    let bands = Bands {
+        frames_with_bands: stripes_of.iter().filter(|s| !s.is_empty()).count(),
+        core_packing: (core.1 > 0).then(|| core.0 / core.1 as f64),
+        residence_half_periods: Spread::of(stays),
+        residence_censored: censored,
+        escape_per_half_period: (band_samples > 0).then(|| left as f64 / band_samples as f64),
+        edge_escape_per_half_period: (edge_samples > 0).then(|| edge_left as f64 / edge_samples as f64),
+        band_samples,
+        edge_samples,
+    };
+    (bands, per_frame)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const A: f64 = 0.01;
+    const NU: f64 = 3.0;
+
+    /// `per` frames per period from t = 0 for `periods` periods; grain k at tray-frame
+    /// position `place(k, half)` where `half` counts the half periods since t = T/4 (the
+    /// first +A); frames between turning points copy the previous turning frame's position.
+    fn frames(n: usize, periods: usize, per: usize, place: impl Fn(usize, i64) -> [f64; 2]) -> (TrayDrive, Vec<Frame>) {
+        let drive = TrayDrive::harmonic(A, NU).unwrap();
+        let mut out = Vec::new();
+        for i in 0..periods * per {
+            let t = i as f64 / (per as f64 * NU);
+            let half = ((t * NU - 0.25) * 2.0 + 1e-9).floor() as i64;
+            let tray = drive.displacement(t);
+            out.push(Frame {
+                time: t,
+                pos: (0..n)
+                    .map(|k| {
+                        let p = place(k, half);
+                        [p[0] + tray, p[1], 0.001]
+                    })
+                    .collect(),
+                vel: vec![[0.0; 3]; n],
+            });
+        }
+        (drive, out)
+    }
+
+    fn header(n: usize, l: f64, w: f64, r: f64) -> Header {
+        Header {
+            length: l,
+            width: w,
+            radii: vec![r; n],
+        }
+    }
+
+    #[test]
+    fn turning_frames_alternate_sides_one_per_half_period() {
+        let drive = TrayDrive::harmonic(A, NU).unwrap();
+        let times: Vec<f64> = (0..24).map(|i| i as f64 / (8.0 * NU)).collect();
+        let t = turning_frames(&times, &drive);
+        // 8 frames per period: +A at T/4 (frame 2), -A at 3T/4 (frame 6), ...
+        assert_eq!(t.iter().map(|f| f.frame).collect::<Vec<_>>(), vec![2, 6, 10, 14, 18, 22]);
+        assert!(t.windows(2).all(|p| p[1].half == p[0].half + 1 && p[1].side == -p[0].side));
+        assert_eq!(t[0].side, 1);
+        assert!((t[0].tray_x - A).abs() < 1e-12 && (t[1].tray_x + A).abs() < 1e-12);
+    }
+
+    #[test]
+    fn known_excursions_are_measured_exactly_with_their_spread() {
+        // 40 lone grains far apart; grain k moves k * 0.1 mm along x and 0.05 mm sideways
+        // each half period, alternately forward and back: |dx| is k * 0.1 mm exactly.
+        let n = 40;
+        let (l, w, r) = (0.4, 0.1, 5e-4);
+        let (drive, f) = frames(n, 6, 8, |k, half| {
+            let base = [0.005 + 0.01 * k as f64, 0.05];
+            let on = half.rem_euclid(2) as f64;
+            [base[0] + on * 1e-4 * k as f64, base[1] + on * 5e-5]
+        });
+        let p = StripeParams::default_for(0.01, 2.0 * r);
+        let c = measure(&header(n, l, w, r), &f, &drive, true, None, &p, 400).unwrap();
+        assert_eq!(c.half_periods, 11);
+        let expected: Vec<f64> = (0..n).map(|k| 1e-4 * k as f64).collect();
+        let mean = expected.iter().sum::<f64>() / n as f64;
+        assert!((c.all.excursion.mean - mean).abs() < 1e-12, "{:?}", c.all.excursion);
+        let sd = (expected.iter().map(|e| (e - mean).powi(2)).sum::<f64>() / (n - 1) as f64).sqrt();
+        // Every half period repeats the same n values: the pooled sd is slightly smaller.
+        let pooled = sd * ((n - 1) as f64 * 11.0 / (n as f64 * 11.0 - 1.0)).sqrt();
+        assert!((c.all.excursion.sd - pooled).abs() < 1e-12, "{} vs {pooled}", c.all.excursion.sd);
+        assert!((c.all.sideways.mean - 5e-5).abs() < 1e-12);
+        // Back and forth by the same amount: the swing is the excursion, the drift zero.
+        assert!(
+            (c.swing.mean - mean).abs() < 1e-12 && c.drift.q90 < 1e-12,
+            "{:?} {:?}",
+            c.swing,
+            c.drift
+        );
+        assert_eq!(c.swing.samples, n * 10);
+        assert!((c.all.excursion.median - 1e-4 * 19.5).abs() < 1e-12);
+        // Lone grains: no contacts, packing of one grain in the local disk.
+        assert_eq!(c.by_contacts.len(), 1);
+        assert_eq!(c.by_contacts[0].low, 0.0);
+        let own = (r / (LOCAL_RADIUS_DIAMETERS * 2.0 * r)).powi(2);
+        assert_eq!(c.by_packing.len(), 1);
+        assert!(c.by_packing[0].low <= own && own < c.by_packing[0].high);
+        assert_eq!(c.bands.frames_with_bands, 0);
+        assert_eq!(c.bands.escape_per_half_period, None);
+    }
+
+    #[test]
+    fn the_window_ends_at_the_onset_given() {
+        let (drive, f) = frames(3, 6, 4, |k, _| [0.01 * (k + 1) as f64, 0.05]);
+        let p = StripeParams::default_for(0.01, 1e-3);
+        let h = header(3, 0.1, 0.1, 5e-4);
+        let all = measure(&h, &f, &drive, true, None, &p, 100).unwrap();
+        let early = measure(&h, &f, &drive, true, Some(1.0 / NU), &p, 100).unwrap();
+        assert_eq!(all.half_periods, 11);
+        // Turning points at T/4 and 3T/4 lie before T: two pairs start there.
+        assert_eq!(early.half_periods, 2);
+        assert!(all.all.excursion.mean < 1e-15, "{}", all.all.excursion.mean);
+        let e = measure(&h, &f, &drive, true, Some(0.0), &p, 100).unwrap_err();
+        assert!(e.to_string().contains("excursion per half period"), "{e}");
+    }
+
+    #[test]
+    fn contacts_and_packing_of_a_touching_chain() {
+        // Five grains in a row along x, touching: the ends have one contact, the others two.
+        let r = 5e-4;
+        let x: Vec<f64> = (0..5).map(|k| 0.05 + 2.0 * r * k as f64).collect();
+        let y = vec![0.05; 5];
+        let (packing, contacts) = local_state(&x, &y, &[r; 5], 0.1, 0.1, true, 2.0 * r);
+        assert_eq!(contacts, vec![1, 2, 2, 2, 1]);
+        // The middle grain sees all five within 2.5 diameters (the farthest at 2).
+        let disk = std::f64::consts::PI * (LOCAL_RADIUS_DIAMETERS * 2.0 * r).powi(2);
+        assert!((packing[2] - 5.0 * std::f64::consts::PI * r * r / disk).abs() < 1e-12);
+        // Across the periodic seam the same.
+        let xs: Vec<f64> = x.iter().map(|v| (v + 0.048_f64).rem_euclid(0.1)).collect();
+        let (_, seam) = local_state(&xs, &y, &[r; 5], 0.1, 0.1, true, 2.0 * r);
+        assert_eq!(seam, contacts);
+    }
+
+    #[test]
+    fn a_band_that_holds_its_grains_and_one_that_loses_its_edge() {
+        // A dense band of grains at rest in the tray frame, on a periodic tray of 0.1 m: no
+        // grain leaves it, and every stay spans the record (censored).
+        let (l, w, r) = (0.1, 0.01, 4.5e-4);
+        let mut place = Vec::new();
+        for i in 0..10 {
+            for j in 0..10 {
+                place.push([0.04 + 1e-3 * i as f64, 5e-4 + 1e-3 * j as f64]);
+            }
+        }
+        let n = place.len();
+        let p = StripeParams::default_for(mean_area_fraction(&vec![r; n], l, w), 2.0 * r);
+        let (drive, f) = frames(n, 5, 4, |k, _| place[k]);
+        let c = measure(&header(n, l, w, r), &f, &drive, true, None, &p, 400).unwrap();
+        assert_eq!(c.bands.frames_with_bands, c.turning_frames);
+        assert_eq!(c.bands.escape_per_half_period, Some(0.0));
+        assert_eq!(c.bands.residence_half_periods.samples, 0);
+        assert_eq!(c.bands.residence_censored, n);
+        let core = c.bands.core_packing.unwrap();
+        assert!(core > 0.5 && core < 0.7, "{core}");
+        // The left column leaves the band for good after the third turning frame: 10 of the
+        // band's edge grains escape once, in one of the half periods.
+        let (drive, f) = frames(n, 5, 4, |k, half| {
+            let mut q = place[k];
+            if k < 10 && half >= 2 {
+                q[0] -= 0.02;
+            }
+            q
+        });
+        let c = measure(&header(n, l, w, r), &f, &drive, true, None, &p, 400).unwrap();
+        let pairs = c.turning_frames - 1;
+        let band = (n * 2 + (n - 10) * (pairs - 2)) as f64;
+        assert_eq!(c.bands.band_samples as f64, band);
+        assert!((c.bands.escape_per_half_period.unwrap() - 10.0 / band).abs() < 1e-12);
+        assert!(c.bands.edge_escape_per_half_period.unwrap() > c.bands.escape_per_half_period.unwrap());
+    }
+}
