@@ -66,6 +66,11 @@ impl PeriodSource {
     }
 }
 
+/// Cells of the density map, per frame and in all (8 bytes each), beyond which `--cell` is
+/// refused before anything is allocated.
+pub const MAX_MAP_CELLS_PER_FRAME: f64 = 1e6;
+pub const MAX_MAP_CELLS: f64 = 2e8;
+
 /// Why an event-driven run of a vertical box gets no phase.
 pub const VERTICAL_BOX_NOTE: &str = "an event-driven run of a vertical box: its frames are the (x, z) plane, so the area fraction is grains per column (not a packing) and the tray's phases do not apply; phase left unclassified. The density map, structure factor and bands still describe the horizontal profile over time";
 
@@ -120,6 +125,7 @@ impl AnalysisSummary {
         m.insert("input".into(), self.input.display().to_string().into());
         m.insert("input_kind".into(), serde_json::to_value(self.input_kind)?);
         m.insert("period_source".into(), self.period_source.describe().into());
+        m.insert("geometry".into(), serde_json::to_value(self.geometry)?);
         if let Some(cols) = &self.velocity_columns {
             m.insert("velocity_columns".into(), serde_json::to_value(cols)?);
         }
@@ -164,6 +170,20 @@ pub fn analyze(input: &Path, opts: &AnalysisOptions) -> Result<AnalysisSummary, 
     } else {
         PeriodSource::Spacing
     };
+    // The density map's size before it is allocated: cells per frame, times frames.
+    let cells = run.header.length / options.cell;
+    let total = cells * run.frames.len() as f64;
+    if !(cells <= MAX_MAP_CELLS_PER_FRAME && total <= MAX_MAP_CELLS) {
+        return Err(format!(
+            "--cell {} m gives {cells:.3e} cells across the {} m box, {total:.3e} over {} frames ({:.1} GB of density map); \
+             at most {MAX_MAP_CELLS_PER_FRAME:e} per frame and {MAX_MAP_CELLS:e} in all: use a wider cell",
+            options.cell,
+            run.header.length,
+            run.frames.len(),
+            total * 8.0 / 1e9
+        )
+        .into());
+    }
     let report = analysis::report::analyze(&run.header, &run.frames, &options).map_err(|e| format!("{}: {e}", run.file.display()))?;
     let out = opts.out.clone().unwrap_or_else(|| {
         if input.is_dir() {
@@ -195,7 +215,7 @@ pub fn analyze(input: &Path, opts: &AnalysisOptions) -> Result<AnalysisSummary, 
     crate::output::claim(&out, opts.force)?;
     let mut dir = RunDir::create(&out, &serde_json::json!({ "input": input, "options": opts }))?;
     write_tables(&mut dir, &report, &run)?;
-    draw(&mut dir, &report)?;
+    draw(&mut dir, &report, run.geometry)?;
     if run.geometry == Geometry::Tray && !run.frames.is_empty() {
         top_view(&mut dir, &run, &opts.top_view)?;
     }
