@@ -61,7 +61,9 @@ pub fn resolve(path: &Path, file: SceneFile) -> Result<Resolved, Error> {
         )
         .into());
     }
-    let warnings = time_step::warnings(scene, setup.dt)?;
+    // Sizes before anything is allocated or written (crate::bounds).
+    let mut warnings = crate::bounds::dem(scene, setup.dt)?;
+    warnings.extend(time_step::warnings(scene, setup.dt)?);
     Ok(Resolved {
         path: path.to_path_buf(),
         sample_key: sample_key(scene),
