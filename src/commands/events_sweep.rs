@@ -37,7 +37,7 @@ pub struct Args {
     /// Output directory (default: out/events-sweep-<scene name>).
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Replace the files of an output directory that already holds some.
+    /// Replace the files of an output directory that already holds some (default: refuse it).
     #[arg(long)]
     pub force: bool,
     /// Draw the plots on a logarithmic x axis, and H and K/R on a logarithmic y axis too
