@@ -51,7 +51,8 @@ pub fn dem(scene: &Scene, dt: f64) -> Result<Vec<String>, SceneError> {
             ),
         ));
     }
-    let frames = 1.0 + (scene.run.duration * scene.drive.frequency * scene.run.snapshots_per_period as f64).floor();
+    // A schedule's fastest stage, as if it lasted the whole run: an upper bound.
+    let frames = 1.0 + (scene.run.duration * scene.drive.highest_frequency() * scene.run.snapshots_per_period as f64).floor();
     let bytes = snapshot_bytes(frames, n as f64);
     if bytes > MAX_SNAPSHOT_BYTES {
         return Err(refuse(
@@ -61,7 +62,7 @@ pub fn dem(scene: &Scene, dt: f64) -> Result<Vec<String>, SceneError> {
                  at most {} are allowed: fewer snapshots per period or a shorter run",
                 scene.run.snapshots_per_period,
                 scene.run.duration,
-                scene.drive.frequency,
+                scene.drive.highest_frequency(),
                 gigabytes(bytes),
                 gigabytes(MAX_SNAPSHOT_BYTES)
             ),

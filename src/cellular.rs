@@ -72,6 +72,14 @@ impl Cells {
 /// automaton models a submonolayer), and not far more cells than grains (the size is
 /// checked before anything is allocated).
 pub fn validate_lattice(file: &SceneFile) -> Result<(), SceneError> {
+    if !file.dem.drive.stages.is_empty() {
+        return Err(SceneError {
+            key: "drive.stages".into(),
+            message: "the automaton runs one drive for the whole run, not a schedule: give drive.frequency and \
+                      drive.amplitude instead (e.g. the last stage's)"
+                .into(),
+        });
+    }
     // Its periods and snapshot bytes first (crate::bounds).
     for w in crate::bounds::automaton(&file.dem)? {
         eprintln!("warning: {w}");

@@ -2,22 +2,29 @@
 //! physics crate as plain data) in a small binary format, so a resumed run continues bit for
 //! bit as if it had never stopped.
 //!
-//! Layout (little endian): magic `STRPCKP2`, `u64` scene fingerprint, `f64` time, `u64` steps,
+//! Layout (little endian): magic `STRPCKP3`, `u64` scene fingerprint, `f64` time, `u64` steps,
 //! ledger (`f64` injected, dissipated), `f64` stored energy, `u64` N, then per particle
 //! position, velocity, spin, half-step velocity, half-step spin, force, torque (7 x 3 `f64`),
 //! then the live pair histories (`u64` count, then `u32 i, u32 j, 3 f64`), then the wall
-//! histories (`u64` count, then `3 f64` each), then the grains' places in the simulation's
+//! histories (`u64` count, then `3 f64` each), then the rolling springs of the
+//! spring-dashpot-slider in the same two layouts (pairs, then walls; counts 0 without them),
+//! then the grains' places in the simulation's
 //! arrays (`u64` count, 0 while every grain is at its own index, then `u32` each: see
-//! `SavedState::order`), then `u64` caller data (e.g. snapshots written). A checkpoint of the
-//! layout before the places (`STRPCKP1`) is read as one whose grains are at their own indices.
+//! `SavedState::order`), then `u64` caller data (e.g. snapshots written). A checkpoint of an
+//! older layout is read as one without rolling springs (`STRPCKP2`: no rolling springs; its
+//! runs had no rolling spring to keep), and `STRPCKP1` also as one whose grains are at their
+//! own indices.
 
 use particles::saved::SavedState;
 use particles::sim::{Ledger, Simulation};
+use particles::Vec3;
 
 use crate::bytes::{Reader, Writer};
 
-const MAGIC: &[u8; 8] = b"STRPCKP2";
-/// The layout without the grains' places.
+const MAGIC: &[u8; 8] = b"STRPCKP3";
+/// The layout without the rolling springs.
+const MAGIC_WITHOUT_ROLLS: &[u8; 8] = b"STRPCKP2";
+/// The layout without the rolling springs and the grains' places.
 const MAGIC_WITHOUT_PLACES: &[u8; 8] = b"STRPCKP1";
 
 /// The checkpoint of `sim`; `fingerprint` identifies the scene (checked on restore) and
@@ -46,22 +53,47 @@ pub fn encode(sim: &Simulation, fingerprint: u64, extra: u64) -> Vec<u8> {
             w.vec3(v);
         }
     }
-    w.u64(s.pair_histories.len() as u64);
-    for (i, j, h) in &s.pair_histories {
-        w.u32(*i as u32);
-        w.u32(*j as u32);
-        w.vec3(h);
-    }
-    w.u64(s.wall_histories.len() as u64);
-    for h in &s.wall_histories {
-        w.vec3(h);
-    }
+    write_springs(&mut w, &s.pair_histories, &s.wall_histories);
+    write_springs(&mut w, &s.pair_rolls, &s.wall_rolls);
     w.u64(s.order.len() as u64);
     for &g in &s.order {
         w.u32(g);
     }
     w.u64(extra);
     w.0
+}
+
+/// Per-pair springs: the pair's two places and the spring.
+type PairSprings = Vec<(usize, usize, Vec3)>;
+
+/// One kind of per-contact spring: the pairs' (`u64` count, then `u32 i, u32 j, 3 f64`), then
+/// the walls' (`u64` count, then `3 f64`).
+fn write_springs(w: &mut Writer, pairs: &[(usize, usize, Vec3)], walls: &[Vec3]) {
+    w.u64(pairs.len() as u64);
+    for (i, j, h) in pairs {
+        w.u32(*i as u32);
+        w.u32(*j as u32);
+        w.vec3(h);
+    }
+    w.u64(walls.len() as u64);
+    for h in walls {
+        w.vec3(h);
+    }
+}
+
+/// The springs [`write_springs`] wrote; `what` names them in a cut file's message.
+fn read_springs(r: &mut Reader<'_>, what: &str) -> Result<(PairSprings, Vec<Vec3>), String> {
+    let count = r.count(4 + 4 + 24, &format!("pair {what}"))?;
+    let mut pairs = Vec::with_capacity(count);
+    for _ in 0..count {
+        pairs.push((r.u32()? as usize, r.u32()? as usize, r.vec3()?));
+    }
+    let count = r.count(24, &format!("wall {what}"))?;
+    let mut walls = Vec::with_capacity(count);
+    for _ in 0..count {
+        walls.push(r.vec3()?);
+    }
+    Ok((pairs, walls))
 }
 
 /// Restores a checkpoint written by [`encode`] into `sim`, built from the same scene and
@@ -76,9 +108,10 @@ pub fn restore(sim: &mut Simulation, bytes: &[u8], fingerprint: u64) -> Result<u
 /// hold `particles` particles.
 fn decode(bytes: &[u8], fingerprint: u64, particles: usize) -> Result<(SavedState, u64), String> {
     let mut r = Reader::new(bytes);
-    let places = match r.take(8)? {
-        m if m == MAGIC => true,
-        m if m == MAGIC_WITHOUT_PLACES => false,
+    let (places, rolls) = match r.take(8)? {
+        m if m == MAGIC => (true, true),
+        m if m == MAGIC_WITHOUT_ROLLS => (true, false),
+        m if m == MAGIC_WITHOUT_PLACES => (false, false),
         _ => return Err("not a stripes checkpoint".into()),
     };
     if r.u64()? != fingerprint {
@@ -109,6 +142,8 @@ fn decode(bytes: &[u8], fingerprint: u64, particles: usize) -> Result<(SavedStat
         torque: Vec::with_capacity(n),
         pair_histories: Vec::new(),
         wall_histories: Vec::new(),
+        pair_rolls: Vec::new(),
+        wall_rolls: Vec::new(),
         order: Vec::new(),
     };
     for _ in 0..n {
@@ -120,15 +155,9 @@ fn decode(bytes: &[u8], fingerprint: u64, particles: usize) -> Result<(SavedStat
         s.force.push(r.vec3()?);
         s.torque.push(r.vec3()?);
     }
-    let count = r.count(4 + 4 + 24, "pair histories")?;
-    s.pair_histories.reserve_exact(count);
-    for _ in 0..count {
-        s.pair_histories.push((r.u32()? as usize, r.u32()? as usize, r.vec3()?));
-    }
-    let count = r.count(24, "wall histories")?;
-    s.wall_histories.reserve_exact(count);
-    for _ in 0..count {
-        s.wall_histories.push(r.vec3()?);
+    (s.pair_histories, s.wall_histories) = read_springs(&mut r, "histories")?;
+    if rolls {
+        (s.pair_rolls, s.wall_rolls) = read_springs(&mut r, "rolling springs")?;
     }
     if places {
         let count = r.count(4, "places")?;

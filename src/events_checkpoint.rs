@@ -3,19 +3,19 @@
 //! (`checkpoint.bin`) written atomically. A run continued from it with `--resume` goes on
 //! bit for bit as if it had not stopped.
 //!
-//! Layout (little-endian): the magic `STRIPES-EVENTS-CKPT-5\n`, the scene's fingerprint
+//! Layout (little-endian): the magic `STRIPES-EVENTS-CKPT-6\n`, the scene's fingerprint
 //! (u64), then the payload, then an FNV-1a checksum (u64) of the payload. Vectors are a
 //! u64 length followed by their items. A file cut short or altered fails its checksum and
 //! is refused with the byte count, never half read.
 
-use events::observe::{Observer, Profile};
+use events::observe::{Observer, PhaseSums, Profile};
 use events::phase_field::PhaseField;
 use events::segregation::Mixing;
 use events::sim::{Counts, Ledger};
 use events::thinned::Thinned;
 use events::{Next, State, Vec2};
 
-const MAGIC: &[u8] = b"STRIPES-EVENTS-CKPT-5\n";
+const MAGIC: &[u8] = b"STRIPES-EVENTS-CKPT-6\n";
 
 /// Where a run stands at a checkpoint.
 #[derive(Clone, Debug, PartialEq)]
@@ -209,12 +209,7 @@ pub fn encode(c: &Checkpoint) -> Vec<u8> {
     o.u(b.bins as u64);
     o.u(b.across_bins as u64);
     for profiles in [&b.species, &b.across] {
-        o.u(profiles.len() as u64);
-        for p in profiles {
-            for v in [&p.count, &p.mvx2, &p.mvz2, &p.iw2, &p.vx, &p.vz, &p.m] {
-                o.fs(v);
-            }
-        }
+        write_profiles(&mut o, profiles);
     }
     o.u(b.samples);
     o.f(b.height_sum);
@@ -255,12 +250,53 @@ pub fn encode(c: &Checkpoint) -> Vec<u8> {
             o.u(m.samples);
         }
     }
+    o.u(b.phases.len() as u64);
+    for p in &b.phases {
+        o.u(p.samples);
+        o.f(p.com);
+        o.f(p.k);
+        o.f(p.r);
+    }
+    for per_phase in [&b.phase_heights, &b.phase_across] {
+        o.u(per_phase.len() as u64);
+        for profiles in per_phase {
+            write_profiles(&mut o, profiles);
+        }
+    }
     let payload = o.0;
     let mut bytes = MAGIC.to_vec();
     bytes.extend_from_slice(&c.fingerprint.to_le_bytes());
     bytes.extend_from_slice(&payload);
     bytes.extend_from_slice(&fnv1a(&payload).to_le_bytes());
     bytes
+}
+
+/// A list of profiles: its length, then each profile's seven columns.
+fn write_profiles(o: &mut Out, profiles: &[Profile]) {
+    o.u(profiles.len() as u64);
+    for p in profiles {
+        for v in [&p.count, &p.mvx2, &p.mvz2, &p.iw2, &p.vx, &p.vz, &p.m] {
+            o.fs(v);
+        }
+    }
+}
+
+/// The list [`write_profiles`] wrote.
+fn read_profiles(i: &mut In<'_>) -> Result<Vec<Profile>, String> {
+    let n = i.len(56)?;
+    (0..n)
+        .map(|_| {
+            Ok(Profile {
+                count: i.fs()?,
+                mvx2: i.fs()?,
+                mvz2: i.fs()?,
+                iw2: i.fs()?,
+                vx: i.fs()?,
+                vz: i.fs()?,
+                m: i.fs()?,
+            })
+        })
+        .collect()
 }
 
 /// Reads a checkpoint; the error says what is wrong (not a checkpoint, cut short, altered).
@@ -350,22 +386,7 @@ pub fn decode(bytes: &[u8]) -> Result<Checkpoint, String> {
     let (bin, bins, across_bins) = (i.f()?, i.u()? as usize, i.u()? as usize);
     let mut profiles = Vec::new();
     for _ in 0..2 {
-        let n = i.len(56)?;
-        profiles.push(
-            (0..n)
-                .map(|_| {
-                    Ok(Profile {
-                        count: i.fs()?,
-                        mvx2: i.fs()?,
-                        mvz2: i.fs()?,
-                        iw2: i.fs()?,
-                        vx: i.fs()?,
-                        vz: i.fs()?,
-                        m: i.fs()?,
-                    })
-                })
-                .collect::<Result<Vec<_>, String>>()?,
-        );
+        profiles.push(read_profiles(&mut i)?);
     }
     let across = profiles.pop().expect("two");
     let species = profiles.pop().expect("two");
@@ -427,6 +448,34 @@ pub fn decode(bytes: &[u8]) -> Result<Checkpoint, String> {
         }
         other => return Err(format!("unknown neighbour-record flag {other}")),
     };
+    let n = i.len(32)?;
+    let mut phases = Vec::with_capacity(n);
+    for _ in 0..n {
+        phases.push(PhaseSums {
+            samples: i.u()?,
+            com: i.f()?,
+            k: i.f()?,
+            r: i.f()?,
+        });
+    }
+    let mut per_phase = Vec::new();
+    for _ in 0..2 {
+        let n = i.len(8)?;
+        let mut phase = Vec::with_capacity(n);
+        for _ in 0..n {
+            phase.push(read_profiles(&mut i)?);
+        }
+        per_phase.push(phase);
+    }
+    let phase_across = per_phase.pop().expect("two");
+    let phase_heights = per_phase.pop().expect("two");
+    if phases.is_empty()
+        || [&phase_heights, &phase_across]
+            .iter()
+            .any(|p| !p.is_empty() && p.len() != phases.len())
+    {
+        return Err("the phase records do not have the phases they claim".into());
+    }
     if i.at != payload.len() {
         return Err(format!("{} bytes left over after the checkpoint", payload.len() - i.at));
     }
@@ -460,6 +509,9 @@ pub fn decode(bytes: &[u8]) -> Result<Checkpoint, String> {
             mixing,
             // Checkpoints are written by `stripes events`, whose observer keeps everything.
             distributions: true,
+            phases,
+            phase_heights,
+            phase_across,
         },
     })
 }
@@ -474,7 +526,9 @@ mod tests {
         let mut sim = events::Simulation::new(scene.config().unwrap()).unwrap();
         let e0 = sim.energy();
         let base = sim.config.base.expect("the ratchet has a sawtooth base");
-        let mut observer = Observer::new(1, 1e-3, 0.06, sim.config.width).with_phase_field(&base, sim.config.width, 0.02);
+        let mut observer = Observer::new(1, 1e-3, 0.06, sim.config.width)
+            .with_phase_field(&base, sim.config.width, 0.02)
+            .with_phases(4, true);
         for k in 1..=20 {
             sim.run_until(k as f64 * 0.01).unwrap();
             observer.sample(&sim);

@@ -127,6 +127,10 @@ pub struct EventParticles {
     /// "sphere" (q = 2/5) or "disk" (q = 1/2).
     #[serde(default = "sphere")]
     pub shape: String,
+    /// The inertia factor q = I / (m R^2) in (0, 1], in place of the shape's (a hollow
+    /// sphere 2/3, a ring 1, a grain with its mass at its centre near 0).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub q: Option<f64>,
     pub species: Vec<EventSpecies>,
     /// Initial velocities uniform in [-v, v] per component (m/s).
     #[serde(default = "initial_speed")]
@@ -270,6 +274,10 @@ pub struct EventGuard {
     pub min_rebound_speed: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tc: Option<f64>,
+    /// The approach speed below which a collision counts towards an inelastic collapse
+    /// (m/s); absent: 1e-3 sqrt(g d_max). `inf` counts every collision.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub collapse_speed: Option<f64>,
 }
 
 /// `[run]`.
@@ -289,6 +297,19 @@ pub struct EventRun {
     /// Height bins of the profiles (m).
     #[serde(default = "bin")]
     pub bin: f64,
+    /// The drive's phase (a fraction of a period, in [0, 1), a multiple of
+    /// 1 / samples_per_period) at which the reduced height and K/R of the summary are
+    /// taken; 0: the floor at its mean position moving up at its peak speed.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub phase: f64,
+    /// Also keep every profile per phase of the drive (`profiles_phase.csv`,
+    /// `profiles_across_phase.csv`).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub phase_resolved: bool,
+}
+
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
 }
 
 fn seed() -> u64 {
@@ -395,10 +416,20 @@ impl EventScene {
                 ))
             }
         };
-        let q = match self.particles.shape.as_str() {
+        let shape_q = match self.particles.shape.as_str() {
             "sphere" => 0.4,
             "disk" => 0.5,
             v => return Err(bad("particles.shape", format!("must be \"sphere\" or \"disk\", got {v:?}"))),
+        };
+        let q = match self.particles.q {
+            Some(q) if !(q > 0.0 && q <= 1.0) => {
+                return Err(bad(
+                    "particles.q",
+                    format!("the inertia factor I/(m R^2) must lie in (0, 1], got {q}"),
+                ))
+            }
+            Some(q) => q,
+            None => shape_q,
         };
         let n = self.particles.species.len();
         if n == 0 || n > 2 {
@@ -426,6 +457,23 @@ impl EventScene {
         }
         if self.run.samples_per_period == 0 {
             return Err(bad("run.samples_per_period", "must be at least 1"));
+        }
+        let phase = self.run.phase;
+        if !(0.0..1.0).contains(&phase) {
+            return Err(bad(
+                "run.phase",
+                format!("must lie in [0, 1) (a fraction of the drive's period), got {phase}"),
+            ));
+        }
+        let at = phase * f64::from(self.run.samples_per_period);
+        if (at - at.round()).abs() > 1e-9 {
+            return Err(bad(
+                "run.phase",
+                format!(
+                    "must be a phase that is sampled, a multiple of 1 / run.samples_per_period = 1/{}, got {phase}",
+                    self.run.samples_per_period
+                ),
+            ));
         }
         if !(self.run.bin.is_finite() && self.run.bin > 0.0) {
             return Err(bad("run.bin", format!("must be a positive height (m), got {}", self.run.bin)));
@@ -499,6 +547,7 @@ impl EventScene {
             guard: Guard {
                 min_rebound_speed: self.guard.min_rebound_speed,
                 tc: self.guard.tc,
+                collapse_speed: self.guard.collapse_speed,
                 ..Guard::default()
             },
             initial_speed: self.particles.initial_speed,
@@ -583,7 +632,18 @@ mod tests {
         let mut all = Vec::new();
         let vibrated_box = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/vibrated-box.toml")).unwrap();
         for text in [mixture(), ratchet(), vibrated_box] {
-            let scene = parse(&text, &["guard.min_rebound_speed=1e-4", "guard.tc=1e-6"]).unwrap();
+            let scene = parse(
+                &text,
+                &[
+                    "guard.min_rebound_speed=1e-4",
+                    "guard.tc=1e-6",
+                    "guard.collapse_speed=1e-3",
+                    "particles.q=0.5",
+                    "run.phase=0.5",
+                    "run.phase_resolved=true",
+                ],
+            )
+            .unwrap();
             keys("", &toml::Value::try_from(&scene).unwrap(), &mut all);
         }
         all.sort();
@@ -626,6 +686,15 @@ mod tests {
         // 1e9 Hz sampled 4 times a period for 10 s: 4e10 samples, a run that would never end.
         assert_eq!(key(&["drive.frequency=1e9"]), "run.samples_per_period");
         assert_eq!(key(&["run.duration=6e4"]), "run.samples_per_period");
+        // The papers' observables and the inertia factor.
+        for phase in ["1.0", "-0.25", "1.5"] {
+            assert_eq!(key(&[&format!("run.phase={phase}")]), "run.phase");
+        }
+        assert_eq!(key(&["run.samples_per_period=4", "run.phase=0.3"]), "run.phase");
+        for q in ["0.0", "-0.4", "1.01"] {
+            assert_eq!(key(&[&format!("particles.q={q}")]), "particles.q");
+        }
+        assert_eq!(key(&["guard.collapse_speed=0.0"]), "guard.collapse_speed");
         assert_eq!(key(&["run.duration=4e4"]), "accepted");
         assert_eq!(key(&["run.transient=20"]), "run.transient");
         assert_eq!(key(&["rules.floor.e=[1.0, 1.0]", "rules.floor.table=x.csv"]), "rules.floor.table");

@@ -91,6 +91,9 @@ enum Command {
     /// The event-driven model over a grid of scene values and seeds, in parallel: tables of
     /// the current, height, K/R and temperatures, with plots.
     EventsSweep(commands::events_sweep::Args),
+    /// Single impacts of the event-driven rule on a wall or a grain, from a given state, and
+    /// sweeps over the impact angle beside the rule's closed form.
+    EventsCollide(commands::events_collide::Args),
     /// Speed against error of every accuracy-for-speed choice (time step, Young's modulus,
     /// integrator, 2D/3D, normal law, neighbour skin): Markdown table and Pareto plot.
     Bench(commands::bench::Args),
@@ -114,6 +117,7 @@ fn main() -> ExitCode {
         Command::Bench(a) => commands::bench::run(a),
         Command::Events(a) => commands::events::run(a),
         Command::EventsSweep(a) => commands::events_sweep::run(a),
+        Command::EventsCollide(a) => commands::events_collide::run(a),
         Command::Mechanism(a) => commands::mechanism::run(a),
     };
     match result {

@@ -174,6 +174,13 @@ seed = 1
             let key = if prefix.is_empty() { k.clone() } else { format!("{prefix}.{k}") };
             match v {
                 toml::Value::Table(t) => keys(&key, t, out),
+                // An array of tables (`[[drive.stages]]`): the array and each table's keys.
+                toml::Value::Array(a) if a.iter().all(toml::Value::is_table) && !a.is_empty() => {
+                    out.push(key.clone());
+                    for t in a.iter().filter_map(toml::Value::as_table) {
+                        keys(&key, t, out);
+                    }
+                }
                 _ => out.push(key),
             }
         }
@@ -188,6 +195,10 @@ seed = 1
             "contact.kn=1e3",
             "contact.gamma_n=0.1",
             "contact.tangential_stiffness=300",
+            "contact.rolling_resistance=0.1",
+            "contact.rolling_resistance_spread=0.05",
+            "contact.rolling_stiffness=100",
+            "contact.rolling_damping=0.01",
             "run.restitution_tolerance=1e-3",
             "run.integrator=thesis",
             "automaton.cell=1e-3",
@@ -197,6 +208,15 @@ seed = 1
         let doc: toml::Table = toml::from_str(&file.to_toml().unwrap()).unwrap();
         let mut all = Vec::new();
         keys("", &doc, &mut all);
+        // A drive schedule's keys (arrays of tables cannot be set with --set).
+        let staged = SCENE.replace(
+            "frequency = 20.0\namplitude = 0.025\n",
+            "[[drive.stages]]\nfrequency = 5.0\namplitude = 0.02\nduration = 2.0\n",
+        );
+        let file = parse(&staged, &[], "staged").unwrap();
+        let doc: toml::Table = toml::from_str(&file.to_toml().unwrap()).unwrap();
+        keys("", &doc, &mut all);
+        assert!(all.iter().any(|k| k == "drive.stages.duration"), "{all:?}");
         assert!(all.len() > 40, "{all:?}");
         let docs = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/scenes.md")).unwrap();
         let missing: Vec<&String> = all.iter().filter(|k| !docs.contains(&format!("`{k}`"))).collect();

@@ -148,19 +148,11 @@ impl Thermo {
         Some((last[7], if scale > 0.0 { last[7].abs() / scale } else { 0.0 }))
     }
 
-    /// A warning when the ledger misses more than [`BALANCE_BOUND`] of the work at the end;
-    /// `resolving` is a step (s) that resolves the viscous friction without overshoot
-    /// (`gamma_t dt / m_t <= 1`), when the run's step does not.
-    pub fn balance_warning(&self, dt: f64, resolving: Option<f64>) -> Option<String> {
+    /// A warning when the ledger misses more than [`BALANCE_BOUND`] of the work at the end,
+    /// for a run at step `dt` (s).
+    pub fn balance_warning(&self, dt: f64) -> Option<String> {
         let (miss, relative) = self.balance()?;
-        let advice = match resolving {
-            Some(step) => format!(
-                "the step {dt:e} s leaves the Haff-Werner viscous branch overshooting for the smallest grains \
-                 (gamma_t dt / m_t > 1); set `run.dt` to at most {step:.2e} s (in scenes/stripes.toml that cut the miss \
-                 over 2 s from 2.4e-3 to 5e-5)"
-            ),
-            None => format!("set a smaller `run.dt` than {dt:e} s (the miss shrinks with the step)"),
-        };
+        let advice = format!("set a smaller `run.dt` than {dt:e} s (the miss shrinks with the step)");
         (relative > BALANCE_BOUND).then(|| {
             format!(
                 "the energy ledger misses {relative:.2e} of the work ({miss:.3e} J), more than {BALANCE_BOUND:e}: {advice}; \
@@ -242,15 +234,14 @@ mod tests {
     #[test]
     fn a_ledger_missing_more_than_the_bound_is_warned_with_the_step_to_use() {
         let mut t = Thermo::new(0.01, 1e-5, PathBuf::from("unused.csv"), 1, 1).unwrap();
-        assert_eq!(t.balance_warning(6e-6, None), None, "no rows, no warning");
+        assert_eq!(t.balance_warning(6e-6), None, "no rows, no warning");
         t.rows.push(row(1e-4, 0.9e-4, -5e-8));
         let (miss, relative) = t.balance().unwrap();
         assert!(miss == -5e-8 && (relative - 5e-4).abs() < 1e-15, "{miss} {relative}");
-        assert_eq!(t.balance_warning(6e-6, Some(3.3e-6)), None, "5e-4 is within the bound");
+        assert_eq!(t.balance_warning(6e-6), None, "5e-4 is within the bound");
         t.rows.push(row(2e-4, 1.9e-4, -1.5e-6));
-        let w = t.balance_warning(5.96e-6, Some(3.33e-6)).expect("a warning past 1e-3");
-        assert!(w.contains("misses 7.50e-3 of the work") && w.contains("at most 3.33e-6 s"), "{w}");
-        let w = t.balance_warning(5.96e-6, None).unwrap();
+        let w = t.balance_warning(5.96e-6).expect("a warning past 1e-3");
+        assert!(w.contains("misses 7.50e-3 of the work"), "{w}");
         assert!(w.contains("smaller `run.dt` than 5.96e-6 s"), "{w}");
     }
 }

@@ -360,6 +360,7 @@ fn events_scene(scene: &Scene, (pair, wall): (EventRule, EventRule), seed: u64, 
         base: None,
         particles: EventParticles {
             shape: "sphere".into(),
+            q: None,
             species: vec![EventSpecies {
                 count: scene.particles.count,
                 radius_min: scene.particles.radius_min,
@@ -378,6 +379,7 @@ fn events_scene(scene: &Scene, (pair, wall): (EventRule, EventRule), seed: u64, 
         guard: EventGuard {
             min_rebound_speed: None,
             tc: Some(TC),
+            collapse_speed: None,
         },
         run: EventRun {
             duration: scene.run.duration,
@@ -385,6 +387,8 @@ fn events_scene(scene: &Scene, (pair, wall): (EventRule, EventRule), seed: u64, 
             seed,
             samples_per_period: scene.run.snapshots_per_period,
             bin: BIN,
+            phase: 0.0,
+            phase_resolved: false,
         },
     }
 }
@@ -431,6 +435,9 @@ fn stage(opts: &Options, what: &str) {
 /// `opts.out`; returns the summary as one line of JSON.
 pub fn compare(file: &SceneFile, opts: &Options) -> Result<String, CliError> {
     let scene = &file.dem;
+    if !scene.drive.stages.is_empty() {
+        return Err("scene `drive.stages`: the vibrated box's comparison runs one drive, not a schedule".into());
+    }
     if opts.seeds == 0 {
         return Err("--seeds must be at least 1".into());
     }

@@ -431,3 +431,89 @@ fn a_density_map_too_large_is_refused_by_its_option() {
     assert!(!run.join("analysis").exists(), "a refused analysis wrote files");
     std::fs::remove_dir_all(run).unwrap();
 }
+
+/// Issue 39, step 4: a run of 4 frames per period whose bands ride the tray (lab-frame
+/// positions `x + A sin(2 pi t / T)`) is measured at the turning points in the tray's frame:
+/// the camera's stripes sit where the bands are on the tray, the summary states the count
+/// rule and the frames' phase, and `--map-frame` chooses the density map's frame.
+#[test]
+fn the_camera_measures_bands_in_the_tray_frame_at_the_turning_points() {
+    let dir = temp_dir("camera");
+    let (r, base) = layer();
+    let amplitude = 0.01;
+    let mut w = SnapshotWriter::create(
+        &dir.join("snapshots.bin"),
+        Header {
+            length: L,
+            width: W,
+            radii: r.clone(),
+        },
+    )
+    .unwrap();
+    for f in 0..48u64 {
+        let t = f as f64 * T / 4.0;
+        let x_tray = amplitude * (std::f64::consts::TAU * t / T).sin();
+        let pos: Vec<[f64; 3]> = frame(&base, f)
+            .into_iter()
+            .map(|p| [(p[0] + x_tray).rem_euclid(L), p[1], p[2]])
+            .collect();
+        w.push(t, pos.into_iter(), std::iter::repeat_n([0.0; 3], r.len())).unwrap();
+    }
+    w.sync().unwrap();
+    drop(w);
+    std::fs::write(
+        dir.join("config.json"),
+        format!(
+            "{{\"scene\": {{\"drive\": {{\"frequency\": {}, \"amplitude\": {amplitude}}}}}}}",
+            1.0 / T
+        ),
+    )
+    .unwrap();
+    let (ok, stdout, stderr) = stripes(&["analyze", dir.to_str().unwrap(), "--top-view", "0.1,0.5"]);
+    assert!(ok, "{stderr}");
+    let out = dir.join("analysis");
+    let s = summary_of(&stdout, &out);
+    let c = &s["camera"];
+    assert_eq!(c["strobe_frames"], 12, "{c}");
+    assert!(c["strobe_offset_max_periods"].as_f64().unwrap() < 1e-9, "{c}");
+    assert_eq!(c["stripe_count_last"], 3, "{c}");
+    assert_eq!(c["stripe_onset_s"], 0.25 * T, "{c}");
+    assert!(c["label_note"].is_null(), "{c}");
+    assert!((c["rule"]["threshold"].as_f64().unwrap() - s["stripe_params"]["threshold"].as_f64().unwrap()).abs() < 1e-15);
+    assert_eq!(c["coarsening_law"]["better"], "undetermined", "a constant count: {c}");
+    assert_eq!(c["lifetimes"]["censored"], 3, "{c}");
+    // The bands' centres on the tray: 0, 0.13 and 0.27 m.
+    let table = std::fs::read_to_string(out.join("camera_stripes.csv")).unwrap();
+    let rows: Vec<Vec<f64>> = table
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    let t_last = rows.iter().map(|r| r[0]).fold(0.0, f64::max);
+    assert!((t_last - 11.25 * T).abs() < 1e-9, "{t_last}");
+    let last: Vec<f64> = rows.iter().filter(|r| r[0] == t_last).map(|r| r[2]).collect();
+    assert_eq!(last.len(), 3, "{table}");
+    for want in [0.0, 0.13, 0.27] {
+        let near = |got: &f64| {
+            let d = (got - want).rem_euclid(L);
+            d.min(L - d) < 1.5e-3
+        };
+        assert!(last.iter().any(near), "no stripe at {want} m on the tray: {last:?}");
+    }
+    for f in [
+        "camera_count.csv",
+        "camera_profiles.csv",
+        "stripe_tracks.csv",
+        "profile_correlation.csv",
+        "stripe_count_log.png",
+        "camera_profile_last.png",
+        "top_view.png",
+    ] {
+        assert!(std::fs::metadata(out.join(f)).map(|m| m.len() > 0).unwrap_or(false), "{f} missing");
+    }
+    let (ok, _, stderr) = stripes(&["analyze", dir.to_str().unwrap(), "--force", "--map-frame", "lab"]);
+    assert!(ok, "{stderr}");
+    let (ok, _, stderr) = stripes(&["analyze", dir.to_str().unwrap(), "--force", "--map-frame", "side"]);
+    assert!(!ok && stderr.contains("--map-frame"), "{stderr}");
+    std::fs::remove_dir_all(dir).unwrap();
+}

@@ -20,6 +20,7 @@
 use std::io::Read;
 use std::path::{Path, PathBuf};
 
+use crate::drive::{Stage, TrayDrive};
 use crate::snapshot::{read_snapshots_counting, Frame, Header};
 
 /// The kind of input found at a path.
@@ -44,6 +45,10 @@ pub struct Run {
     pub period: Option<f64>,
     /// What the frames show, from the run's metadata (a tray seen from above without it).
     pub geometry: Geometry,
+    /// The tray's horizontal motion `x_tray(t)` from the run's metadata (`scene.drive`:
+    /// `amplitude sin(2 pi frequency t)` along x); None without metadata, for a vertical
+    /// drive, or without shaking.
+    pub drive: Option<TrayDrive>,
     /// LAMMPS dumps: the velocity columns used (the others read as zero).
     pub velocity_columns: Option<Vec<String>>,
     /// Problems that did not stop the reading (a cut-off file).
@@ -124,6 +129,14 @@ pub enum MetadataError {
     NoScene { path: PathBuf },
     /// The file's scene does not describe the snapshots beside it (`what` says how).
     Mismatch { path: PathBuf, what: String },
+    /// `scene.drive.amplitude` is there but not a number, or the drive it gives is refused.
+    Amplitude { path: PathBuf, value: serde_json::Value },
+    /// A stage of `scene.drive.stages` lacks a number, or the stages give no drive.
+    Stage {
+        path: PathBuf,
+        key: String,
+        value: serde_json::Value,
+    },
 }
 
 impl std::fmt::Display for MetadataError {
@@ -145,6 +158,12 @@ impl std::fmt::Display for MetadataError {
                 "{}: {what}; it is not the description of these snapshots (restore the run's own config.json, or remove it)",
                 path.display()
             ),
+            MetadataError::Amplitude { path, value } => {
+                write!(f, "{}: scene.drive.amplitude is {value}, not a number >= 0", path.display())
+            }
+            MetadataError::Stage { path, key, value } => {
+                write!(f, "{}: {key} is {value}, not a drive stage's number", path.display())
+            }
         }
     }
 }
@@ -154,7 +173,11 @@ impl std::error::Error for MetadataError {
         match self {
             MetadataError::Unreadable { source, .. } => Some(source),
             MetadataError::NotJson { source, .. } => Some(source),
-            MetadataError::FrequencyNotANumber { .. } | MetadataError::NoScene { .. } | MetadataError::Mismatch { .. } => None,
+            MetadataError::FrequencyNotANumber { .. }
+            | MetadataError::NoScene { .. }
+            | MetadataError::Mismatch { .. }
+            | MetadataError::Amplitude { .. }
+            | MetadataError::Stage { .. } => None,
         }
     }
 }
@@ -173,7 +196,7 @@ pub enum Geometry {
 }
 
 /// What a run's `config.json` says about it.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct Metadata {
     /// The drive period `1 / scene.drive.frequency` (s).
     pub period: Option<f64>,
@@ -182,6 +205,10 @@ pub struct Metadata {
     /// Whether a `config.json` was there; without one, the geometry is assumed ([`load`]
     /// infers it from the snapshot header and says so in a warning).
     pub found: bool,
+    /// `x_tray(t) = scene.drive.amplitude sin(2 pi scene.drive.frequency t)`, when the drive
+    /// is horizontal (`scene.drive.direction` absent or `"x"`) and moves the tray; the stages of
+    /// `scene.drive.stages` when the run has a drive schedule.
+    pub drive: Option<TrayDrive>,
 }
 
 /// The metadata in the `config.json` beside `file`. No period when the run has none to
@@ -210,21 +237,78 @@ pub fn metadata(file: &Path) -> Result<Metadata, MetadataError> {
     } else {
         Geometry::Tray
     };
-    let Some(value) = scene.get("drive").and_then(|d| d.get("frequency")) else {
+    let drive_table = scene.get("drive");
+    let Some(value) = drive_table.and_then(|d| d.get("frequency")) else {
         return Ok(Metadata {
-            period: None,
             geometry,
             found: true,
+            ..Metadata::default()
         });
     };
     let f = value.as_f64().ok_or_else(|| MetadataError::FrequencyNotANumber {
-        path,
+        path: path.clone(),
         value: value.clone(),
     })?;
+    let period = (f.is_finite() && f > 0.0).then(|| 1.0 / f);
+    let horizontal = drive_table
+        .and_then(|d| d.get("direction"))
+        .and_then(|v| v.as_str())
+        .is_none_or(|d| d == "x");
+    let mut drive = None;
+    if let (Some(_), true) = (period, horizontal) {
+        if let Some(a) = drive_table.and_then(|d| d.get("amplitude")) {
+            let bad = || MetadataError::Amplitude {
+                path: path.clone(),
+                value: a.clone(),
+            };
+            let amplitude = a.as_f64().ok_or_else(bad)?;
+            let d = TrayDrive::harmonic(amplitude, f).map_err(|_| bad())?;
+            drive = (amplitude > 0.0).then_some(d);
+        }
+    }
+    if let (Some(stages), true) = (drive_table.and_then(|d| d.get("stages")), horizontal) {
+        drive = schedule(stages, &path)?;
+    }
     Ok(Metadata {
-        period: (f.is_finite() && f > 0.0).then(|| 1.0 / f),
+        period,
         geometry,
         found: true,
+        drive,
+    })
+}
+
+/// The tray's motion of a drive schedule, `scene.drive.stages` as the DEM writes it: a list of
+/// `{frequency, amplitude, duration}`, stage `k` starting at the sum of the durations before it
+/// with `x_tray = A_k sin(2 pi nu_k (t - t_k))` (a zero crossing, `particles::drive`). An
+/// empty list is the single drive above; a stage whose field is not a number is an error
+/// naming it.
+fn schedule(stages: &serde_json::Value, path: &Path) -> Result<Option<TrayDrive>, MetadataError> {
+    let Some(list) = stages.as_array().filter(|l| !l.is_empty()) else {
+        return Ok(None);
+    };
+    let mut start = 0.0;
+    let mut out = Vec::with_capacity(list.len());
+    for (k, stage) in list.iter().enumerate() {
+        let field = |name: &str| {
+            stage.get(name).and_then(|v| v.as_f64()).ok_or_else(|| MetadataError::Stage {
+                path: path.to_path_buf(),
+                key: format!("scene.drive.stages[{k}].{name}"),
+                value: stage.get(name).cloned().unwrap_or(serde_json::Value::Null),
+            })
+        };
+        let (frequency, amplitude, duration) = (field("frequency")?, field("amplitude")?, field("duration")?);
+        out.push(Stage {
+            start,
+            frequency,
+            amplitude,
+            phase: 0.0,
+        });
+        start += duration;
+    }
+    TrayDrive::from_stages(out).map(Some).map_err(|e| MetadataError::Stage {
+        path: path.to_path_buf(),
+        key: "scene.drive.stages".into(),
+        value: serde_json::Value::String(e.to_string()),
     })
 }
 
@@ -373,6 +457,7 @@ pub fn load(path: &Path, dt: f64) -> Result<Run, LoadError> {
         frames,
         period: meta.period,
         geometry: meta.geometry,
+        drive: meta.drive,
         velocity_columns,
         warnings,
     })
@@ -408,8 +493,40 @@ mod tests {
                 period: Some(0.05),
                 geometry: Geometry::VerticalBox,
                 found: true,
+                ..Metadata::default()
             }
         );
+        std::fs::write(&config, r#"{"scene": {"drive": {"frequency": 3.0, "amplitude": 0.01}}}"#).unwrap();
+        let d = metadata(&file).unwrap().drive.unwrap();
+        assert!((d.displacement(0.25 / 3.0) - 0.01).abs() < 1e-15);
+        std::fs::write(
+            &config,
+            r#"{"scene": {"drive": {"frequency": 3.0, "amplitude": 0.01, "direction": "z"}}}"#,
+        )
+        .unwrap();
+        assert!(metadata(&file).unwrap().drive.is_none(), "a vertical drive leaves x alone");
+        std::fs::write(&config, r#"{"scene": {"drive": {"frequency": 3.0, "amplitude": "big"}}}"#).unwrap();
+        let e = metadata(&file).unwrap_err();
+        assert!(e.to_string().contains("scene.drive.amplitude"), "{e}");
+        std::fs::write(
+            &config,
+            r#"{"scene": {"drive": {"frequency": 3.0, "amplitude": 0.01, "stages": [{}, {}]}}}"#,
+        )
+        .unwrap();
+        let e = metadata(&file).unwrap_err();
+        assert!(e.to_string().contains("scene.drive.stages[0].frequency"), "{e}");
+        // The experiment's protocol: 2 s at 5 Hz / 20 mm, then 3 Hz / 10 mm from a zero crossing.
+        std::fs::write(
+            &config,
+            r#"{"scene": {"drive": {"frequency": 3.0, "amplitude": 0.01, "stages": [
+                {"frequency": 5.0, "amplitude": 0.02, "duration": 2.0},
+                {"frequency": 3.0, "amplitude": 0.01, "duration": 3600.0}]}}}"#,
+        )
+        .unwrap();
+        let d = metadata(&file).unwrap().drive.unwrap();
+        assert!((d.displacement(0.05) - 0.02).abs() < 1e-15, "the first stage's turning point");
+        assert!((d.displacement(2.0 + 0.25 / 3.0) - 0.01).abs() < 1e-15, "the second stage's");
+        assert_eq!(d.turning_point(2.0 + 1.25 / 3.0).unwrap().stage, 1);
         std::fs::write(&config, r#"{"scene": {"drive": {"frequency": 0.0}}}"#).unwrap();
         assert!(metadata_period(&file).unwrap().is_none(), "no shaking");
         std::fs::write(&config, "{ cut off").unwrap();

@@ -6,6 +6,9 @@
 //!
 //! - [`density`]: the binning-free count density and exact area fraction (Appendix A);
 //! - [`stripes`]: stripe detection, onset and coarsening;
+//! - [`camera`]: the run as the experiment's camera saw it: stroboscopic tray-frame profiles
+//!   at the drive's turning points ([`drive`]), the stripe count, onsets, the coarsening law
+//!   ([`coarsening_law`]) and the stripes' lifetimes ([`lifetime`]);
 //! - [`msd`]: mean square displacement per period (eq 3.30-3.31) and plateau fits;
 //! - [`autocorr`]: autocorrelation (eq 3.32);
 //! - [`tracer`]: tracer trajectory and phase space;
@@ -19,13 +22,17 @@
 //! - [`vtk`]: legacy VTK frames for ParaView.
 
 pub mod autocorr;
+pub mod camera;
 pub mod classify;
+pub mod coarsening_law;
 pub mod density;
+pub mod drive;
 pub mod histogram;
 pub mod input;
 pub mod io;
 pub mod lammps;
 pub mod lammps_data;
+pub mod lifetime;
 pub mod mechanism;
 pub mod msd;
 pub mod plot;

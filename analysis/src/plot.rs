@@ -822,7 +822,8 @@ impl TopView {
                     .draw()
                     .map_err(perr)?;
                 let px_per_m = f64::from(chart.plotting_area().dim_in_pixel().0) / segment;
-                let style = RGBColor(40, 70, 140).filled();
+                // Dark grains on white, as the thesis' pictures with inverted colours.
+                let style = RGBColor(30, 30, 30).filled();
                 chart
                     .draw_series(
                         grains

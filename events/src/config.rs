@@ -89,14 +89,27 @@ impl Rules {
 ///   ago collides elastically (it keeps the gas from collapsing; dense clusters are too
 ///   elastic below the time scale `tc`).
 ///
-/// Without a guard, a run that collapses stops: more than `collapse_events` collisions of
-/// one particle within `collapse_window` seconds is an error naming the particles.
+/// Without a guard, a run that collapses stops: more than `collapse_events` slow collisions
+/// of one particle within `collapse_window` seconds is an error naming the particles. A
+/// collision is slow when its normal approach speed is below `collapse_speed`: an inelastic
+/// collapse drives the approach speeds of its collisions to zero, while fast, dense dynamics
+/// (a grain rattling between a neighbour and a wall that moves at metres per second, at
+/// Gamma in the hundreds) can collide as often at finite speeds, and is not a collapse.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Guard {
     pub min_rebound_speed: Option<f64>,
     pub tc: Option<f64>,
     pub collapse_window: f64,
     pub collapse_events: u32,
+    /// The approach speed below which a collision counts towards a collapse (m/s); `None`:
+    /// [`Guard::DEFAULT_COLLAPSE_FRACTION`] of `sqrt(g d_max)`, or of `initial_speed`
+    /// without gravity (every collision counts when both are zero).
+    pub collapse_speed: Option<f64>,
+}
+
+impl Guard {
+    /// The default slow collision, as a fraction of the speed scale `sqrt(g d_max)`.
+    pub const DEFAULT_COLLAPSE_FRACTION: f64 = 1e-3;
 }
 
 impl Default for Guard {
@@ -106,6 +119,7 @@ impl Default for Guard {
             tc: None,
             collapse_window: 1e-6,
             collapse_events: 1000,
+            collapse_speed: None,
         }
     }
 }
@@ -142,6 +156,24 @@ impl Config {
     /// The largest radius of all species (m).
     pub fn radius_max(&self) -> f64 {
         self.species.iter().map(|s| s.radius_max).fold(0.0, f64::max)
+    }
+
+    /// The approach speed below which a collision counts towards a collapse (m/s): the
+    /// guard's `collapse_speed`, or its default from the speed scale of the run.
+    pub fn collapse_speed(&self) -> f64 {
+        if let Some(v) = self.guard.collapse_speed {
+            return v;
+        }
+        let scale = if self.gravity > 0.0 {
+            (self.gravity * 2.0 * self.radius_max()).sqrt()
+        } else {
+            self.initial_speed
+        };
+        if scale > 0.0 {
+            Guard::DEFAULT_COLLAPSE_FRACTION * scale
+        } else {
+            f64::INFINITY
+        }
     }
 
     /// Checks every parameter; the error names the first one out of range.
@@ -276,6 +308,14 @@ impl Config {
             positive("guard.tc", tc)?;
         }
         positive("guard.collapse_window", self.guard.collapse_window)?;
+        if let Some(v) = self.guard.collapse_speed {
+            if v.is_nan() || v <= 0.0 {
+                return Err(invalid(
+                    "guard.collapse_speed",
+                    format!("must be a positive speed (or inf: every collision counts), got {v}"),
+                ));
+            }
+        }
         if self.guard.collapse_events < 2 {
             return Err(invalid("guard.collapse_events", "must be at least 2"));
         }

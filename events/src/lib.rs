@@ -12,6 +12,7 @@
 //! Modules, one concept each:
 //! - [`config`]: the validated parameters (typed errors name the field);
 //! - [`collision`]: the collision rules, pure functions of velocities, spins and the normal;
+//! - [`impact`]: single wall and pair impacts from a given state, and the rule's closed forms;
 //! - [`flight`]: parabolic flights and the exact pair contact time;
 //! - [`wall`]: fixed and oscillating walls, and their robust contact times;
 //! - [`sawtooth`]: the sawtooth base with rounded tips, and its contact times;
@@ -30,6 +31,7 @@ pub mod collision;
 pub mod config;
 pub mod error;
 pub mod flight;
+pub mod impact;
 pub mod observe;
 pub mod phase_field;
 pub mod queue;

@@ -1,8 +1,14 @@
-//! What a run measures, sampled at a fixed drive phase: per-species number density and
+//! What a run measures, sampled at fixed drive phases: per-species number density and
 //! granular temperatures (x, z, rotation) against height and across the box (along x), the
-//! mean height `H` of the centres
-//! above the floor's mean position, the mean horizontal velocity `<v_x>`, the velocity
-//! distributions, and the energy ledger.
+//! mean height of the centres above the floor's mean position, the mean horizontal velocity
+//! `<v_x>`, the velocity distributions, and the energy ledger.
+//!
+//! Per phase of the drive (phase 0: the floor at its mean position moving up at its peak
+//! speed, `A sin(2 pi f t + phi)` with `2 pi f t + phi` a multiple of `2 pi`), the observer
+//! also keeps the mass-weighted centre-of-mass height and the kinetic energies of
+//! translation and rotation: the rough-sphere paper's `H` is the centre of mass at phase 0
+//! minus its value at rest ([`rest_height`]), and its `K/R` is taken at phase 0 too. With
+//! [`Observer::with_phases`]`(n, true)` every profile is also kept per phase.
 
 use crate::config::SideWalls;
 use crate::phase_field::PhaseField;
@@ -73,6 +79,80 @@ impl Profile {
     }
 }
 
+/// Sums over the samples taken at one phase of the drive.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PhaseSums {
+    pub samples: u64,
+    /// Sum of the mass-weighted centre-of-mass heights above the floor's mean position (m).
+    pub com: f64,
+    /// Sums of `m v^2` (translation) and `I w^2` (rotation) over all grains (J, twice the
+    /// kinetic energies).
+    pub k: f64,
+    pub r: f64,
+}
+
+impl PhaseSums {
+    /// Mean centre-of-mass height (m).
+    pub fn com_height(&self) -> f64 {
+        self.com / self.samples.max(1) as f64
+    }
+
+    /// `K/R` (infinite when nothing spins).
+    pub fn kinetic_ratio(&self) -> f64 {
+        if self.r > 0.0 {
+            self.k / self.r
+        } else {
+            f64::INFINITY
+        }
+    }
+}
+
+/// The centre of mass of the grains at rest, estimated as the rough-sphere paper does from
+/// the number of full layers and of grains per layer: `per_layer = floor(width / d)` grains
+/// of the mean diameter `d` per layer, `full_layers = floor(N / per_layer)` full layers
+/// stacked `d` apart with their centres at `d/2, 3d/2, ...`, and the `top` remaining grains
+/// in the next layer; every grain weighs the same in the estimate (a mixture's species are
+/// taken as mixed).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RestHeight {
+    pub diameter: f64,
+    pub per_layer: usize,
+    pub full_layers: usize,
+    pub top: usize,
+    /// The centre of mass at rest above the floor (m).
+    pub height: f64,
+}
+
+/// [`RestHeight`] of `count` grains of mean diameter `diameter` in a box `width` wide.
+pub fn rest_height(count: usize, diameter: f64, width: f64) -> RestHeight {
+    let per_layer = ((width / diameter).floor() as usize).max(1);
+    let full_layers = count / per_layer;
+    let top = count - full_layers * per_layer;
+    // Sum of the centres' heights: per_layer d (1/2 + 3/2 + ...) + top d (full_layers + 1/2).
+    let full = per_layer as f64 * diameter * (full_layers as f64).powi(2) / 2.0;
+    let partial = top as f64 * diameter * (full_layers as f64 + 0.5);
+    RestHeight {
+        diameter,
+        per_layer,
+        full_layers,
+        top,
+        height: (full + partial) / count.max(1) as f64,
+    }
+}
+
+/// The rest estimate of a run's grains: their mean diameter (the species' mid radii, weighted
+/// by count) in the box's width.
+pub fn rest_height_of(config: &crate::config::Config) -> RestHeight {
+    let count: usize = config.species.iter().map(|s| s.count).sum();
+    let diameter = config
+        .species
+        .iter()
+        .map(|s| s.count as f64 * (s.radius_min + s.radius_max))
+        .sum::<f64>()
+        / count.max(1) as f64;
+    rest_height(count, diameter, config.width)
+}
+
 /// Everything sampled.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Observer {
@@ -115,6 +195,13 @@ pub struct Observer {
     /// Whether the samples also fill the profiles across the box, the velocity lists and
     /// the side imbalance (true unless [`Observer::means_and_heights`] turned them off).
     pub distributions: bool,
+    /// Per phase of the drive, `phases.len()` per period from phase 0: the centre of mass
+    /// and the kinetic energies ([`Observer::with_phases`]; one phase until then).
+    pub phases: Vec<PhaseSums>,
+    /// Per phase, per species, the profiles against height and across the box (empty
+    /// unless [`Observer::with_phases`] asked for them).
+    pub phase_heights: Vec<Vec<Profile>>,
+    pub phase_across: Vec<Vec<Profile>>,
 }
 
 impl Observer {
@@ -143,7 +230,86 @@ impl Observer {
             field: None,
             mixing: None,
             distributions: true,
+            phases: vec![PhaseSums::default()],
+            phase_heights: Vec::new(),
+            phase_across: Vec::new(),
         }
+    }
+
+    /// The same, keeping the centre of mass and the kinetic energies at `count` phases per
+    /// period (samples are assigned to the nearest), and with `profiles`, every profile per
+    /// phase too.
+    pub fn with_phases(mut self, count: usize, profiles: bool) -> Self {
+        let count = count.max(1);
+        self.phases = vec![PhaseSums::default(); count];
+        if profiles {
+            let species = self.species.len();
+            self.phase_heights = vec![vec![Profile::zero(self.bins); species]; count];
+            self.phase_across = vec![vec![Profile::zero(self.across_bins); species]; count];
+        }
+        self
+    }
+
+    /// The phase bin of the simulation's time: the drive's phase `f t + phi / 2 pi` (in
+    /// periods) to the nearest of `phases.len()` per period; 0 without a moving floor.
+    fn phase_bin(&self, sim: &Simulation) -> usize {
+        let n = self.phases.len();
+        match sim.config.floor {
+            Some(m) if m.frequency > 0.0 && n > 1 => {
+                let p = (m.frequency * sim.time + m.phase / std::f64::consts::TAU).rem_euclid(1.0);
+                ((p * n as f64).round() as usize) % n
+            }
+            _ => 0,
+        }
+    }
+
+    /// Adds the sample's centre of mass, energies and (if kept) phase profiles to its phase.
+    fn add_phase(&mut self, sim: &Simulation) {
+        let p = self.phase_bin(sim);
+        let (mut mz, mut m_total, mut k, mut r) = (0.0, 0.0, 0.0, 0.0);
+        let resolved = !self.phase_heights.is_empty();
+        for i in 0..sim.len() {
+            let (pos, v) = sim.state(i);
+            let m = sim.mass[i];
+            let iw2 = sim.config.q * m * sim.radius[i].powi(2) * sim.w[i].powi(2);
+            mz += m * pos.y;
+            m_total += m;
+            k += m * v.norm_squared();
+            r += iw2;
+            if resolved {
+                let s = sim.species[i];
+                let b = ((pos.y / self.bin).max(0.0) as usize).min(self.bins - 1);
+                self.phase_heights[p][s].add(b, m, v.x, v.y, iw2);
+                if self.distributions {
+                    let x = pos.x.rem_euclid(sim.config.width) / sim.config.width;
+                    let c = ((x * self.across_bins as f64) as usize).min(self.across_bins - 1);
+                    self.phase_across[p][s].add(c, m, v.x, v.y, iw2);
+                }
+            }
+        }
+        let ph = &mut self.phases[p];
+        ph.samples += 1;
+        ph.com += mz / m_total;
+        ph.k += k;
+        ph.r += r;
+    }
+
+    /// The sums at phase `k` of `phases.len()` per period.
+    pub fn phase(&self, k: usize) -> PhaseSums {
+        self.phases[k]
+    }
+
+    /// Per phase `k`, the profiles of species `s` against height (as [`Observer::profile`]);
+    /// `None` unless kept.
+    pub fn phase_profile(&self, k: usize, s: usize) -> Option<Vec<[f64; 5]>> {
+        let p = self.phase_heights.get(k)?.get(s)?;
+        Some(p.rows(self.bin, self.phases[k].samples))
+    }
+
+    /// The same across the box, per bin of x.
+    pub fn phase_profile_across(&self, k: usize, s: usize, width: f64) -> Option<Vec<[f64; 5]>> {
+        let p = self.phase_across.get(k)?.get(s)?;
+        Some(p.rows(width / self.across_bins as f64, self.phases[k].samples))
     }
 
     /// The same, sampling only what a sweep or a comparison reads: the means (height,
@@ -209,6 +375,7 @@ impl Observer {
         if keep && self.vx.iter().any(|v| v.len() >= Self::VELOCITY_CAP) {
             self.thin_velocities();
         }
+        self.add_phase(sim);
         self.height_sum += h / n as f64;
         self.vx_sum += vx / n as f64;
         self.samples += 1;
@@ -239,6 +406,7 @@ impl Observer {
         if let Some(f) = &mut self.field {
             f.add(sim);
         }
+        self.add_phase(sim);
         self.height_sum += h / n as f64;
         self.vx_sum += vx / n as f64;
         self.samples += 1;
@@ -344,6 +512,22 @@ mod tests {
     use crate::wall::Motion;
 
     #[test]
+    fn the_rest_estimate_counts_full_layers_and_the_grains_of_the_top_one() {
+        // 50 grains of 1 mm in 10 mm: 5 full layers of 10, centres at 0.5 ... 4.5 mm.
+        let r = rest_height(50, 1e-3, 10e-3);
+        assert_eq!((r.per_layer, r.full_layers, r.top), (10, 5, 0));
+        assert!((r.height - 2.5e-3).abs() < 1e-15);
+        // 55 grains: 5 more at 5.5 mm.
+        let r = rest_height(55, 1e-3, 10.5e-3);
+        assert_eq!((r.per_layer, r.full_layers, r.top), (10, 5, 5));
+        assert!((r.height - (125.0 + 27.5) * 1e-3 / 55.0).abs() < 1e-15);
+        // Fewer grains than a layer: all in the first, at d/2.
+        let r = rest_height(3, 2e-3, 10e-3);
+        assert_eq!((r.per_layer, r.full_layers, r.top), (5, 0, 3));
+        assert!((r.height - 1e-3).abs() < 1e-18);
+    }
+
+    #[test]
     fn the_means_and_heights_observer_keeps_the_same_sums_as_the_full_one() {
         let config = Config {
             width: 5e-3,
@@ -364,7 +548,16 @@ mod tests {
             }),
             base: None,
             lid: None,
-            rules: Rules::uniform(Rule::smooth(0.9), Rule::smooth(1.0), 1),
+            // Rough pairs, so that the grains spin and K/R is finite.
+            rules: Rules::uniform(
+                Rule::Walton {
+                    e: crate::Restitution::Constant(0.9),
+                    mu: 0.5,
+                    beta0: 0.3,
+                },
+                Rule::smooth(1.0),
+                1,
+            ),
             guard: Guard {
                 tc: Some(1e-5),
                 ..Guard::default()
@@ -373,8 +566,8 @@ mod tests {
             seed: 5,
         };
         let mut sim = Simulation::new(config).unwrap();
-        let mut full = Observer::new(1, 5e-4, 0.03, 5e-3);
-        let mut lean = Observer::new(1, 5e-4, 0.03, 5e-3).means_and_heights();
+        let mut full = Observer::new(1, 5e-4, 0.03, 5e-3).with_phases(8, true);
+        let mut lean = Observer::new(1, 5e-4, 0.03, 5e-3).means_and_heights().with_phases(8, false);
         for k in 1..=200 {
             sim.run_until(k as f64 * 1.25e-3).unwrap();
             full.sample(&sim);
@@ -387,6 +580,68 @@ mod tests {
         );
         assert_eq!(lean.kinetic_ratio(), full.kinetic_ratio());
         assert!(lean.vx[0].is_empty() && lean.side == Thinned::new() && lean.across[0].count.iter().all(|&c| c == 0.0));
-        assert!(!full.vx[0].is_empty());
+        assert!(!full.vx[0].is_empty() && full.kinetic_ratio().is_finite());
+        // Samples every 1/8 period of the 100 Hz floor: 25 at each phase, the phase sums
+        // the same in both, and the phase profiles adding up to the profiles over all phases.
+        assert_eq!(lean.phases, full.phases);
+        assert!(full.phases.iter().all(|p| p.samples == 25));
+        let (k, r) = full.phases.iter().fold((0.0, 0.0), |(k, r), p| (k + p.k, r + p.r));
+        assert!(
+            (k / r - full.kinetic_ratio()).abs() <= 1e-12 * full.kinetic_ratio(),
+            "{} {}",
+            k / r,
+            full.kinetic_ratio()
+        );
+        for b in 0..full.bins {
+            let count: f64 = full.phase_heights.iter().map(|p| p[0].count[b]).sum();
+            assert_eq!(count, full.species[0].count[b]);
+        }
+        let across: f64 = full.phase_across.iter().map(|p| p[0].count.iter().sum::<f64>()).sum();
+        assert_eq!(across, full.across[0].count.iter().sum::<f64>());
+        assert!(full.phase_profile(3, 0).is_some() && lean.phase_profile(3, 0).is_none());
+    }
+
+    /// At the sample times, the centre of mass of one grain is its height, and the phase is
+    /// where the drive stands: a grain flying freely above the floor, sampled at phase 0
+    /// and 1/2 of a 10 Hz drive, has its heights at those times in those bins.
+    #[test]
+    fn each_sample_goes_to_the_phase_of_the_drive() {
+        let config = Config {
+            width: 5e-3,
+            height: 1.0,
+            side_walls: SideWalls::Periodic,
+            gravity: 10.0,
+            q: 0.4,
+            species: vec![Species {
+                count: 1,
+                radius_min: 1e-3,
+                radius_max: 1e-3,
+                mass: crate::Mass::Each(1e-6),
+            }],
+            floor: Some(Motion {
+                amplitude: 1e-4,
+                frequency: 10.0,
+                phase: 0.0,
+            }),
+            base: None,
+            lid: None,
+            rules: Rules::uniform(Rule::smooth(0.9), Rule::smooth(1.0), 1),
+            guard: Guard::default(),
+            initial_speed: 0.0,
+            seed: 5,
+        };
+        let mut sim = Simulation::new(config).unwrap();
+        sim.set_state(&[Vec2::new(1e-3, 0.5)], &[Vec2::new(0.0, 2.0)], &[3.0]).unwrap();
+        let mut obs = Observer::new(1, 1e-3, 1.0, 5e-3).with_phases(2, false);
+        sim.run_until(0.1).unwrap();
+        obs.sample(&sim);
+        sim.run_until(0.15).unwrap();
+        obs.sample(&sim);
+        let z = |t: f64| 0.5 + 2.0 * t - 5.0 * t * t;
+        assert!((obs.phase(0).com_height() - z(0.1)).abs() < 1e-12);
+        assert!((obs.phase(1).com_height() - z(0.15)).abs() < 1e-12);
+        // K/R at phase 0: m v^2 / (q m R^2 w^2) with v = 2 - 10 t.
+        let v = 2.0 - 10.0 * 0.1;
+        assert!((obs.phase(0).kinetic_ratio() - v * v / (0.4 * 1e-6 * 9.0)).abs() < 1e-6);
     }
 }

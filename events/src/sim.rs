@@ -590,8 +590,15 @@ impl Simulation {
         (e * gn.abs() < v && gn != 0.0).then(|| (v / gn.abs(), beta))
     }
 
-    fn watch(&mut self, i: usize, partner: usize, t: f64) -> Result<(), EventsError> {
+    /// Counts a collision of particle `i` (with `partner`, `usize::MAX` for a wall) at `t`
+    /// with normal approach speed `gn` towards a collapse: only slow collisions count.
+    fn watch(&mut self, i: usize, partner: usize, t: f64, gn: f64) -> Result<(), EventsError> {
+        self.last_partner[i] = partner;
         let g = self.config.guard;
+        let slow = self.config.collapse_speed();
+        if gn.abs() >= slow {
+            return Ok(());
+        }
         let (start, count) = self.window[i];
         if t - start > g.collapse_window {
             self.window[i] = (t, 1);
@@ -607,14 +614,14 @@ impl Simulation {
                     time: t,
                     events: self.counts.pair + self.counts.wall,
                     message: format!(
-                        "particle {i} collided {} times within {:e} s; choose a collapse guard (guard.min_rebound_speed or guard.tc) or a velocity-dependent restitution",
+                        "particle {i} collided {} times within {:e} s, each at an approach speed below {slow:e} m/s (the last {:e} m/s); choose a collapse guard (guard.min_rebound_speed or guard.tc) or a velocity-dependent restitution",
                         count + 1,
-                        g.collapse_window
+                        g.collapse_window,
+                        gn.abs()
                     ),
                 });
             }
         }
-        self.last_partner[i] = partner;
         Ok(())
     }
 
@@ -655,7 +662,7 @@ impl Simulation {
             }
             self.last_collision[k] = t;
             self.collisions[k] += 1;
-            self.watch(k, partner, t)?;
+            self.watch(k, partner, t, o.gn)?;
         }
         self.counts.pair += 1;
         Ok(())
@@ -691,7 +698,7 @@ impl Simulation {
         self.collisions[i] += 1;
         self.last_collision[i] = t;
         self.counts.wall += 1;
-        self.watch(i, usize::MAX, t)
+        self.watch(i, usize::MAX, t, o.gn)
     }
 
     /// Total energy at the simulation time (J): translation, rotation and height `z` in

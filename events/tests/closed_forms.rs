@@ -363,6 +363,65 @@ fn a_resting_grain_collapses_without_a_guard_and_rests_with_one() {
     }
 }
 
+/// The collapse detector at Gamma 240-320 tells a collapse from fast, dense dynamics. A grain
+/// rattling elastically between a side wall and a much heavier grain, 0.5 nm from each, at
+/// 5 m/s (about the peak speed of the Gamma 320 floor), collides every 0.1-1 ns at metres
+/// per second: the old detector (every collision counted, `collapse_speed = inf`) stopped
+/// such a run; the detector that counts only slow collisions lets it run. A grain that meets the same floor at its lowest point,
+/// where it pushes up at 240-320 g, with e = 0.5, does collapse: its approach speeds fall to
+/// zero, and the run stops with the error naming it.
+#[test]
+fn the_collapse_detector_tells_a_collapse_from_fast_dynamics_at_gamma_240_to_320() {
+    for gamma in [240.0, 320.0] {
+        let r = 1e-3;
+        let mut cfg = ball_on_plate(1.0, gamma, 100.0);
+        cfg.side_walls = SideWalls::Fixed;
+        cfg.species = vec![species(1, r, 1e-5), species(1, r, 1e3)];
+        cfg.rules = Rules::uniform(Rule::smooth(1.0), Rule::smooth(1.0), 2);
+        cfg.guard = Guard::default();
+        let a = cfg.floor.unwrap().amplitude;
+        // Grain 0 between the left wall and a grain 1e8 times heavier, 0.5 nm from each.
+        let rattle = |cfg: &Config| {
+            let mut sim = Simulation::new(cfg.clone()).unwrap();
+            let light = (0..2).position(|i| sim.mass[i] < 1.0).unwrap();
+            let mut r0 = [Vec2::new(r + 0.5e-9, a + 0.01); 2];
+            let mut v0 = [Vec2::zeros(); 2];
+            r0[1 - light].x = 3.0 * r + 1e-9;
+            v0[light].x = 5.0;
+            sim.set_state(&r0, &v0, &[0.0; 2]).unwrap();
+            let run = sim.run_until(5e-6);
+            (run, sim.collisions())
+        };
+        let (run, collisions) = rattle(&cfg);
+        assert!(run.is_ok(), "Gamma {gamma}: {run:?}");
+        assert!(collisions > 2_000, "{collisions}");
+        let mut every = cfg.clone();
+        every.guard.collapse_speed = Some(f64::INFINITY);
+        assert!(
+            matches!(rattle(&every).0, Err(EventsError::Collapse { .. })),
+            "the old detector, every collision counted, stops the rattle"
+        );
+        // The floor at its lowest point (phase 3/4), the grain resting 1 nm above it.
+        let mut push = ball_on_plate(0.5, gamma, 100.0);
+        push.guard = Guard::default();
+        let motion = push.floor.as_mut().unwrap();
+        motion.phase = 1.5 * std::f64::consts::PI;
+        let mut sim = Simulation::new(push.clone()).unwrap();
+        let low = -push.floor.unwrap().amplitude;
+        sim.set_state(&[Vec2::new(0.005, low + r + 1e-9)], &[Vec2::zeros()], &[0.0])
+            .unwrap();
+        match sim.run_until(2e-3) {
+            Err(EventsError::Collapse {
+                particles, time, message, ..
+            }) => {
+                assert_eq!(particles, vec![0]);
+                assert!(time < 2e-3 && message.contains("approach speed"), "{time} {message}");
+            }
+            other => panic!("Gamma {gamma}: expected a collapse, got {other:?}"),
+        }
+    }
+}
+
 /// Bad input is refused, naming the field.
 #[test]
 fn bad_parameters_are_refused_by_name() {

@@ -75,7 +75,7 @@ fn contact_laws(c: &mut Criterion) {
     let mut group = c.benchmark_group("contact");
     for (name, law) in laws {
         group.bench_function(name, |b| {
-            let mut h = Vec3::zeros();
+            let mut h = contact::History::default();
             b.iter(|| contact::evaluate(black_box(&law), black_box(&g), &mut h, 1e-6))
         });
     }

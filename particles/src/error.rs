@@ -151,6 +151,8 @@ pub enum StateMismatch {
     /// The saved places of the grains (`SavedState::order`) are not an order of the
     /// `particles` grains.
     Order { particles: usize },
+    /// The saved state holds rolling springs, and the laws here have none.
+    RollingSprings,
 }
 
 impl fmt::Display for StateMismatch {
@@ -169,6 +171,10 @@ impl fmt::Display for StateMismatch {
             StateMismatch::Order { particles } => {
                 write!(f, "the grains' places in the checkpoint are not an order of {particles} grains")
             }
+            StateMismatch::RollingSprings => write!(
+                f,
+                "the checkpoint holds rolling springs (contact.rolling = \"sds\"), and this scene's rolling law has none"
+            ),
         }
     }
 }

@@ -30,12 +30,16 @@
 //!   ([`contact::evaluate_lanes`], of which [`contact::evaluate`] is the one-lane case), so
 //!   it gives the same bits; runs that record contacts keep the one-contact path;
 //! - gravity uses masses computed once (no division per step);
-//! - per-contact history is only reset when the law has history (Cundall-Strack), and a
-//!   side wall's spring only when its flag says it may be non-zero.
+//! - per-contact history is only read, written and reset where the law has it (the
+//!   Cundall-Strack tangential spring, the spring-dashpot-slider's rolling spring, each
+//!   decided per copy of the law), and a side wall's springs only when its flag says they
+//!   may be non-zero;
+//! - the per-grain rolling coefficients are read only by a law with a rolling spring, and
+//!   only where the scene spreads them (otherwise every contact takes the law's mean).
 
 use crate::contact::geometry::Sphere;
 use crate::contact::lane::F64x4;
-use crate::contact::{self, AxisNormal, ContactGeometry, ContactLaw, Lane, LaneGeometry, Normal, V3};
+use crate::contact::{self, AxisNormal, ContactGeometry, ContactLaw, History, Lane, LaneGeometry, Normal, V3};
 use crate::neighbor::NeighborList;
 use crate::setup::{ContactRecord, Partner, Setup, Vertical, MAX_OVERLAP_FRACTION};
 use crate::Vec3;
@@ -101,11 +105,130 @@ pub(crate) struct Inputs<'a> {
     pub radius: &'a [f64],
     /// Masses (kg), `1 / inv_mass` computed once.
     pub mass: &'a [f64],
+    /// Each grain's tangential mobility at its contact points (1/kg), `1/m + R^2/I` (`1/m`
+    /// when spins are not integrated), computed once: a pair's contact has the sum of its
+    /// grains', a wall contact its grain's ([`ContactGeometry`]'s `mobility`).
+    pub mobility: &'a [f64],
     /// Pinned layer: each grain's floor load `-g_z / inv_mass` (N), computed once (empty
     /// otherwise).
     pub load: &'a [f64],
+    /// Each grain's rolling coefficient `mu_r` (spring-dashpot-slider), empty where every
+    /// contact takes the law's.
+    pub rolling_mu: &'a [f64],
     /// Keep per-contact diagnostics.
     pub record: bool,
+}
+
+impl Inputs<'_> {
+    /// The rolling coefficient of the pair `(i, j)` under `law`: the mean of the grains'
+    /// values, or the law's own.
+    #[inline(always)]
+    fn pair_mu_r(&self, law: &ContactLaw, i: usize, j: usize) -> f64 {
+        if law.rolling.has_history() && !self.rolling_mu.is_empty() {
+            0.5 * (self.rolling_mu[i] + self.rolling_mu[j])
+        } else {
+            law.rolling.mu_r()
+        }
+    }
+
+    /// The rolling coefficient of grain `i` against a wall under `law`: the grain's value, or
+    /// the law's own.
+    #[inline(always)]
+    fn wall_mu_r(&self, law: &ContactLaw, i: usize) -> f64 {
+        if law.rolling.has_history() && !self.rolling_mu.is_empty() {
+            self.rolling_mu[i]
+        } else {
+            law.rolling.mu_r()
+        }
+    }
+}
+
+/// The springs of a run of contacts (neighbour-list slots, or wall slots), aligned: the
+/// tangential springs `slide`, and the rolling springs `roll` (empty unless the law has a
+/// rolling spring). Reads and writes go through a law's [`Kept`], so a law without a spring
+/// never touches its array.
+pub(crate) struct Springs<'a> {
+    pub slide: &'a mut [Vec3],
+    pub roll: &'a mut [Vec3],
+}
+
+/// Which springs a law keeps (decided per copy of the law in [`ContactLaw::unswitched`]).
+#[derive(Clone, Copy)]
+struct Kept {
+    slide: bool,
+    roll: bool,
+}
+
+impl Kept {
+    #[inline(always)]
+    fn of(law: &ContactLaw) -> Self {
+        Self {
+            slide: law.tangential.has_history(),
+            roll: law.rolling.has_history(),
+        }
+    }
+
+    #[inline(always)]
+    fn any(self) -> bool {
+        self.slide | self.roll
+    }
+}
+
+impl Springs<'_> {
+    /// The history of slot `k`.
+    #[inline(always)]
+    fn get(&self, k: usize, kept: Kept) -> History {
+        History {
+            slide: if kept.slide { self.slide[k] } else { Vec3::zeros() },
+            roll: if kept.roll { self.roll[k] } else { Vec3::zeros() },
+        }
+    }
+
+    /// Stores the history of slot `k`.
+    #[inline(always)]
+    fn set(&mut self, k: usize, h: History, kept: Kept) {
+        if kept.slide {
+            self.slide[k] = h.slide;
+        }
+        if kept.roll {
+            self.roll[k] = h.roll;
+        }
+    }
+
+    /// Zeroes the springs of slot `k` (a contact that ended).
+    #[inline(always)]
+    fn clear(&mut self, k: usize, kept: Kept) {
+        self.set(k, History::default(), kept);
+    }
+
+    /// The histories of the slots `k`, on lanes.
+    #[inline(always)]
+    fn gather(&self, k: [usize; 4], kept: Kept) -> History<V3<F64x4>> {
+        History {
+            slide: if kept.slide { V3::gather(self.slide, k) } else { V3::zeros() },
+            roll: if kept.roll { V3::gather(self.roll, k) } else { V3::zeros() },
+        }
+    }
+
+    /// Stores lane `l` of `h` in slot `k`.
+    #[inline(always)]
+    fn set_lane(&mut self, k: usize, h: &History<V3<F64x4>>, l: usize, kept: Kept) {
+        if kept.slide {
+            self.slide[k] = h.slide.lane(l);
+        }
+        if kept.roll {
+            self.roll[k] = h.roll.lane(l);
+        }
+    }
+
+    /// The springs of slots `range`.
+    #[inline(always)]
+    fn part(&mut self, range: std::ops::Range<usize>, kept: Kept) -> Springs<'_> {
+        Springs {
+            slide: if kept.slide { &mut self.slide[range.clone()] } else { &mut [] },
+            roll: if kept.roll { &mut self.roll[range] } else { &mut [] },
+        }
+    }
 }
 
 /// What a pair evaluated from its smaller index `i` leaves for its partner `j`: the force
@@ -164,22 +287,21 @@ impl BlockSums {
 }
 
 /// The first pass ([module docs](self)) on the particles `first..first + force.len()`: their
-/// forces and torques from gravity, their own pairs and the walls. `pair_history` holds the
-/// tangential springs of their neighbour-list slots (from `list.offsets[first]` on), and
-/// `reactions` receives those slots' reactions; `wall_history` holds the springs of their
-/// wall contacts, `walls.len().max(1)` per particle, with a flag per spring that is 1 while
-/// it may be non-zero. The pinned layer's vertical force is dropped by [`add_reactions`].
+/// forces and torques from gravity, their own pairs and the walls. `pair_springs` holds the
+/// springs of their neighbour-list slots (from `list.offsets[first]` on), and `reactions`
+/// receives those slots' reactions; `wall_springs` holds the springs of their wall contacts,
+/// `walls.len().max(1)` per particle, with a flag per slot that is 1 while its springs may be
+/// non-zero. The pinned layer's vertical force is dropped by [`add_reactions`].
 pub(crate) fn gather_block(
     inp: &Inputs,
     first: usize,
     (force, torque): (&mut [Vec3], &mut [Vec3]),
-    (pair_history, reactions): (&mut [Vec3], &mut [Reaction]),
-    (wall_history, wall_touched): (&mut [Vec3], &mut [u8]),
+    (mut pair_springs, reactions): (Springs, &mut [Reaction]),
+    (wall_springs, wall_touched): (Springs, &mut [u8]),
 ) -> BlockSums {
     let setup = inp.setup;
     let (list, pos, vel, omega, radius) = (inp.list, inp.pos, inp.vel, inp.omega, inp.radius);
     let pair_law = &setup.pair_law;
-    let pair_history_on = pair_law.has_history();
     let (dt, gravity) = (setup.dt, setup.gravity);
     let base_slot = list.offsets[first];
     let mut sums = BlockSums::default();
@@ -202,15 +324,16 @@ pub(crate) fn gather_block(
         // which records each contact): the same kernels, the same bits.
         on_lanes(
             #[inline(always)]
-            || pair_pass(inp, (first, slots), (force, torque), (pair_history, reactions), &mut sums),
+            || pair_pass(inp, (first, slots), (force, torque), (&mut pair_springs, reactions), &mut sums),
         );
     } else {
         pair_law.unswitched(|pair_law| {
-            for (((&i, &j), zeta), reaction) in list.owner[slots.clone()]
+            let kept = Kept::of(pair_law);
+            for (k, ((&i, &j), reaction)) in list.owner[slots.clone()]
                 .iter()
                 .zip(&list.partners[slots])
-                .zip(pair_history.iter_mut())
                 .zip(reactions.iter_mut())
+                .enumerate()
             {
                 let (i, j) = (i as usize, j as usize);
                 let xi = pos[i];
@@ -227,14 +350,14 @@ pub(crate) fn gather_block(
                     w: omega[j],
                     r: radius[j],
                 };
-                let Some(g) = ContactGeometry::pair(a, b) else {
-                    if pair_history_on {
-                        *zeta = Vec3::zeros();
-                    }
+                let Some(g) = ContactGeometry::pair(a, b).map(|g| g.with_mobility(inp.mobility[i] + inp.mobility[j])) else {
+                    pair_springs.clear(k, kept);
                     *reaction = Reaction::default();
                     continue;
                 };
-                let c = contact::evaluate(pair_law, &g, zeta, dt);
+                let mut h = pair_springs.get(k, kept);
+                let c = contact::evaluate_with(pair_law, &g, None, &mut h, inp.pair_mu_r(pair_law, i, j), dt);
+                pair_springs.set(k, h, kept);
                 force[i - first] += c.force;
                 torque[i - first] += c.torque_i;
                 *reaction = Reaction {
@@ -263,7 +386,7 @@ pub(crate) fn gather_block(
         first,
         force,
         torque,
-        wall_history,
+        wall_springs,
         wall_touched,
     };
     let mut w = 0;
@@ -353,28 +476,28 @@ pub(crate) fn add_reactions(inp: &Inputs, reactions: &[Reaction], first: usize, 
 }
 
 /// The per-particle outputs of one block: forces and torques of the particles
-/// `first..first + force.len()`, and their wall histories (`walls.len().max(1)` each) with
-/// the flags of those that may be non-zero.
+/// `first..first + force.len()`, and their wall springs (`walls.len().max(1)` slots each)
+/// with the flags of the slots whose springs may be non-zero.
 struct BlockOut<'a> {
     first: usize,
     force: &'a mut [Vec3],
     torque: &'a mut [Vec3],
-    wall_history: &'a mut [Vec3],
+    wall_springs: Springs<'a>,
     wall_touched: &'a mut [u8],
 }
 
-impl BlockOut<'_> {
-    /// `(first, force, torque, wall_history, wall_touched)`.
+impl<'a> BlockOut<'a> {
+    /// `(first, force, torque, wall_springs, wall_touched)`.
     #[inline(always)]
-    fn parts(&mut self) -> (usize, &mut [Vec3], &mut [Vec3], &mut [Vec3], &mut [u8]) {
-        (self.first, self.force, self.torque, self.wall_history, self.wall_touched)
+    fn parts(&mut self) -> (usize, &mut [Vec3], &mut [Vec3], &mut Springs<'a>, &mut [u8]) {
+        (self.first, self.force, self.torque, &mut self.wall_springs, self.wall_touched)
     }
 }
 
-/// Whether wall contacts keep a history, and how many wall histories each particle has.
+/// Which springs wall contacts keep, and how many wall slots each particle has.
 #[inline(always)]
-fn wall_histories(inp: &Inputs) -> (bool, usize) {
-    (inp.setup.wall_law.has_history(), inp.planes.len().max(1))
+fn wall_histories(inp: &Inputs) -> (Kept, usize) {
+    (Kept::of(&inp.setup.wall_law), inp.planes.len().max(1))
 }
 
 /// Contacts of the block's particles with wall `w` (`plane`), whose geometry `geometry(k)`
@@ -391,8 +514,9 @@ fn wall_pass<N: Normal, const SUPPORT: bool>(
     sums: &mut BlockSums,
     geometry: impl Fn(usize) -> Option<ContactGeometry<N>>,
 ) {
-    let (first, force, torque, wall_history, wall_touched) = out.parts();
-    let (history_on, wall_stride) = wall_histories(inp);
+    let (first, force, torque, wall_springs, wall_touched) = out.parts();
+    let (kept, wall_stride) = wall_histories(inp);
+    let history_on = kept.any();
     let n = force.len();
     let torque = &mut torque[..n];
     let mut acc = WallSums::default();
@@ -400,25 +524,21 @@ fn wall_pass<N: Normal, const SUPPORT: bool>(
     // constant of the laws computed from it (such as Cundall-Strack's `1 / dt`).
     let dt = inp.setup.dt;
     inp.setup.wall_law.unswitched(|law| {
-        for ((k, f), (t, h)) in force
-            .iter_mut()
-            .enumerate()
-            .zip(torque.iter_mut().zip(wall_history.chunks_exact_mut(wall_stride)))
-        {
-            let zeta = &mut h[w];
+        for ((k, f), t) in force.iter_mut().enumerate().zip(torque.iter_mut()) {
+            let slot = k * wall_stride + w;
             let Some(g) = geometry(k) else {
                 if history_on {
-                    *zeta = Vec3::zeros();
-                    wall_touched[k * wall_stride + w] = 0;
+                    wall_springs.clear(slot, kept);
+                    wall_touched[slot] = 0;
                 }
                 continue;
             };
             if history_on {
-                wall_touched[k * wall_stride + w] = 1;
+                wall_touched[slot] = 1;
             }
             let grain = Grain {
                 i: first + k,
-                zeta,
+                springs: wall_springs.part(slot..slot + 1, kept),
                 force: f,
                 torque: t,
             };
@@ -434,8 +554,9 @@ fn wall_pass<N: Normal, const SUPPORT: bool>(
 /// walls in order.
 #[inline(never)]
 fn axis_pair_pass<const AXIS: usize>(inp: &Inputs, w: usize, out: &mut BlockOut, sums: &mut BlockSums) {
-    let (first, force, torque, wall_history, wall_touched) = out.parts();
-    let (history_on, wall_stride) = wall_histories(inp);
+    let (first, force, torque, wall_springs, wall_touched) = out.parts();
+    let (kept, wall_stride) = wall_histories(inp);
+    let history_on = kept.any();
     let n = force.len();
     let (p0, p1) = (&inp.planes[w], &inp.planes[w + 1]);
     let (mut acc0, mut acc1) = (WallSums::default(), WallSums::default());
@@ -453,7 +574,7 @@ fn axis_pair_pass<const AXIS: usize>(inp: &Inputs, w: usize, out: &mut BlockOut,
                 for wk in [w, w + 1] {
                     let slot = k * wall_stride + wk;
                     if wall_touched[slot] != 0 {
-                        wall_history[slot] = Vec3::zeros();
+                        wall_springs.clear(slot, kept);
                         wall_touched[slot] = 0;
                     }
                 }
@@ -462,7 +583,7 @@ fn axis_pair_pass<const AXIS: usize>(inp: &Inputs, w: usize, out: &mut BlockOut,
         }
         let i = first + k;
         for (wk, plane, apart, acc) in [(w, p0, apart0, &mut acc0), (w + 1, p1, apart1, &mut acc1)] {
-            let zeta = &mut wall_history[k * wall_stride + wk];
+            let slot = k * wall_stride + wk;
             let g = if apart {
                 None
             } else {
@@ -479,19 +600,19 @@ fn axis_pair_pass<const AXIS: usize>(inp: &Inputs, w: usize, out: &mut BlockOut,
             match g {
                 Some(g) => {
                     if history_on {
-                        wall_touched[k * wall_stride + wk] = 1;
+                        wall_touched[slot] = 1;
                     }
                     let grain = Grain {
                         i,
-                        zeta,
+                        springs: wall_springs.part(slot..slot + 1, kept),
                         force: &mut force[k],
                         torque: &mut torque[k],
                     };
                     add_wall_contact::<_, false>(inp, &inp.setup.wall_law, (wk, dt), &g, grain, acc, sums)
                 }
                 None if history_on => {
-                    *zeta = Vec3::zeros();
-                    wall_touched[k * wall_stride + wk] = 0;
+                    wall_springs.clear(slot, kept);
+                    wall_touched[slot] = 0;
                 }
                 None => {}
             }
@@ -522,16 +643,16 @@ impl WallSums {
     }
 }
 
-/// One particle of a wall contact: its index, its spring history with the wall, and where
-/// its force and torque are summed.
+/// One particle of a wall contact: its index, its springs with the wall (one slot, or none
+/// for a law without them), and where its force and torque are summed.
 struct Grain<'a> {
     i: usize,
-    zeta: &'a mut Vec3,
+    springs: Springs<'a>,
     force: &'a mut Vec3,
     torque: &'a mut Vec3,
 }
 
-/// Adds the contact `g` of particle `i` with wall `w` (history `zeta`, time step `dt`) to
+/// Adds the contact `g` of particle `i` with wall `w` (springs `springs`, time step `dt`) to
 /// the particle's `force` and `torque` and to the pass's sums `acc`; the block's `sums` keep
 /// overlap violations and records. `SUPPORT`: the wall is a pinned layer's floor, whose load is
 /// given ([`WallPlane::support`]).
@@ -545,12 +666,18 @@ fn add_wall_contact<N: Normal, const SUPPORT: bool>(
     acc: &mut WallSums,
     sums: &mut BlockSums,
 ) {
-    let Grain { i, zeta, force, torque } = grain;
-    let c = if SUPPORT {
-        contact::evaluate_with_normal(law, g, inp.load[i], zeta, dt)
-    } else {
-        contact::evaluate(law, g, zeta, dt)
-    };
+    let Grain {
+        i,
+        mut springs,
+        force,
+        torque,
+    } = grain;
+    let g = &g.with_mobility(inp.mobility[i]);
+    let kept = Kept::of(law);
+    let mut h = springs.get(0, kept);
+    let load = if SUPPORT { Some(inp.load[i]) } else { None };
+    let c = contact::evaluate_with(law, g, load, &mut h, inp.wall_mu_r(law, i), dt);
+    springs.set(0, h, kept);
     *force += c.force;
     *torque += c.torque_i;
     acc.contacts += 1;
@@ -573,15 +700,16 @@ fn add_wall_contact<N: Normal, const SUPPORT: bool>(
 /// the results of the touching lanes are added in particle order, as [`wall_pass`] does.
 #[inline(always)]
 fn floor_pass<const AXIS: usize>(inp: &Inputs, (w, plane): (usize, &WallPlane), out: &mut BlockOut, sums: &mut BlockSums) {
-    let (first, force, torque, wall_history, wall_touched) = out.parts();
+    let (first, force, torque, wall_springs, wall_touched) = out.parts();
     let (_, wall_stride) = wall_histories(inp);
     let n = force.len();
     let torque = &mut torque[..n];
-    let (pos, vel, omega, radius) = (
+    let (pos, vel, omega, radius, mobility) = (
         &inp.pos[first..first + n],
         &inp.vel[first..first + n],
         &inp.omega[first..first + n],
         &inp.radius[first..first + n],
+        &inp.mobility[first..first + n],
     );
     let mut acc = WallSums::default();
     let (dt, sign, origin, v_wall) = (inp.setup.dt, plane.sign(), plane.origin[AXIS], plane.velocity);
@@ -590,7 +718,8 @@ fn floor_pass<const AXIS: usize>(inp: &Inputs, (w, plane): (usize, &WallPlane), 
         |law| {
             // From the copy of the law whose variants each instance knows: decided at
             // compile time.
-            let history_on = law.has_history();
+            let kept = Kept::of(law);
+            let history_on = kept.any();
             let mut k = 0;
             while k < n {
                 // Lanes past the block's end repeat its last grain and are dropped.
@@ -604,7 +733,7 @@ fn floor_pass<const AXIS: usize>(inp: &Inputs, (w, plane): (usize, &WallPlane), 
                 if touching == 0 {
                     if history_on {
                         for q in k..k + live {
-                            wall_history[q * wall_stride + w] = Vec3::zeros();
+                            wall_springs.clear(q * wall_stride + w, kept);
                             wall_touched[q * wall_stride + w] = 0;
                         }
                     }
@@ -619,23 +748,28 @@ fn floor_pass<const AXIS: usize>(inp: &Inputs, (w, plane): (usize, &WallPlane), 
                     origin,
                     sign,
                     v_wall,
-                );
+                )
+                .with_mobility(F64x4::new(idx.map(|q| mobility[q])));
                 let slot = |l: usize| idx[l] * wall_stride + w;
                 let slots = [slot(0), slot(1), slot(2), slot(3)];
-                let mut zeta = if history_on { V3::gather(wall_history, slots) } else { V3::zeros() };
-                let c = contact::evaluate_lanes(law, &g, &mut zeta, dt);
+                let mut h = wall_springs.gather(slots, kept);
+                let mu_r = F64x4::new(four(
+                    #[inline(always)]
+                    |l| inp.wall_mu_r(law, first + idx[l]),
+                ));
+                let c = contact::evaluate_lanes(law, &g, &mut h, mu_r, dt);
                 let (stored, dissipated, overlaps) = (c.stored_energy.to_array(), c.dissipation_rate.to_array(), overlap.to_array());
                 for l in 0..live {
                     let q = k + l;
                     if touching & (1 << l) == 0 {
                         if history_on {
-                            wall_history[slots[l]] = Vec3::zeros();
+                            wall_springs.clear(slots[l], kept);
                             wall_touched[slots[l]] = 0;
                         }
                         continue;
                     }
                     if history_on {
-                        wall_history[slots[l]] = zeta.lane(l);
+                        wall_springs.set_lane(slots[l], &h, l, kept);
                         wall_touched[slots[l]] = 1;
                     }
                     let f = c.force.lane(l);
@@ -697,7 +831,7 @@ fn avx2_lanes() -> bool {
 }
 
 /// The particle pairs of a block's neighbour-list slots `slots` (those of the particles
-/// `first..first + force.len()`, whose forces and torques are summed here; `pair_history`
+/// `first..first + force.len()`, whose forces and torques are summed here; `pair_springs`
 /// holds their springs and `reactions` receives their partners' shares), four slots at a
 /// time: the nearest images are taken per slot, the geometry and the laws run on [`F64x4`]
 /// lanes by the kernels that serve one contact, and the results of the lanes in contact are
@@ -708,7 +842,7 @@ fn pair_pass(
     inp: &Inputs,
     (first, slots): (usize, std::ops::Range<usize>),
     (force, torque): (&mut [Vec3], &mut [Vec3]),
-    (pair_history, reactions): (&mut [Vec3], &mut [Reaction]),
+    (pair_springs, reactions): (&mut Springs, &mut [Reaction]),
     sums: &mut BlockSums,
 ) {
     let (list, pos, vel, omega, radius) = (inp.list, inp.pos, inp.vel, inp.omega, inp.radius);
@@ -718,7 +852,7 @@ fn pair_pass(
     inp.setup.pair_law.unswitched(
         #[inline(always)]
         |law| {
-            let history_on = law.has_history();
+            let kept = Kept::of(law);
             let mut s = 0;
             while s < m {
                 // Lanes past the block's last slot repeat it and are dropped.
@@ -768,22 +902,26 @@ fn pair_pass(
                         (V3::gather(vel, i), V3::gather(vel, j)),
                         (V3::gather(omega, i), V3::gather(omega, j)),
                         (ri, rj),
-                    );
-                    let mut zeta = if history_on { V3::gather(pair_history, at) } else { V3::zeros() };
-                    let c = contact::evaluate_lanes(law, &g, &mut zeta, dt);
+                    )
+                    .with_mobility(F64x4::new(four(
+                        #[inline(always)]
+                        |l| inp.mobility[i[l]] + inp.mobility[j[l]],
+                    )));
+                    let mut h = pair_springs.gather(at, kept);
+                    let mu_r = F64x4::new(four(
+                        #[inline(always)]
+                        |l| inp.pair_mu_r(law, i[l], j[l]),
+                    ));
+                    let c = contact::evaluate_lanes(law, &g, &mut h, mu_r, dt);
                     let (stored, dissipated, overlap) = (c.stored_energy.to_array(), c.dissipation_rate.to_array(), g.overlap.to_array());
                     let (ri, rj) = (ri.to_array(), rj.to_array());
                     for l in 0..live {
                         if touching & (1 << l) == 0 {
-                            if history_on {
-                                pair_history[s + l] = Vec3::zeros();
-                            }
+                            pair_springs.clear(s + l, kept);
                             reactions[s + l] = Reaction::default();
                             continue;
                         }
-                        if history_on {
-                            pair_history[s + l] = zeta.lane(l);
-                        }
+                        pair_springs.set_lane(s + l, &h, l, kept);
                         let (i, j) = (i[l], j[l]);
                         let f = c.force.lane(l);
                         force[i - first] += f;
@@ -798,8 +936,11 @@ fn pair_pass(
                         sums.dissipated += dissipated[l];
                     }
                 } else {
-                    if history_on {
-                        pair_history[s..s + live].fill(Vec3::zeros());
+                    if kept.slide {
+                        pair_springs.slide[s..s + live].fill(Vec3::zeros());
+                    }
+                    if kept.roll {
+                        pair_springs.roll[s..s + live].fill(Vec3::zeros());
                     }
                     reactions[s..s + live].fill(Reaction::default());
                 }

@@ -6,6 +6,7 @@
 //! - [`contact`]: contact geometry and the force-law slots (normal, tangential, rolling),
 //!   each a pure function of a precomputed [`contact::ContactGeometry`];
 //! - [`wall`]: flat walls of infinite mass and their prescribed motion (eq 3.17-3.18);
+//! - [`drive`]: a drive schedule, the tray shaken in consecutive harmonic stages;
 //! - [`state`]: the particle state as a struct of arrays;
 //! - [`boundary`]: periodic images;
 //! - [`integrate`]: time integrators (velocity Verlet, and the thesis' scheme);
@@ -27,6 +28,7 @@ pub mod advance;
 pub mod boundary;
 pub mod constants;
 pub mod contact;
+pub mod drive;
 pub mod error;
 pub mod experiment;
 mod forces;
@@ -47,6 +49,7 @@ pub mod tray;
 pub mod wall;
 
 pub use error::SimError;
+pub use parallel::{waits, Waits};
 
 /// Three-vector used throughout (metres, m/s, rad/s, newtons, ...).
 pub type Vec3 = nalgebra::Vector3<f64>;

@@ -6,11 +6,19 @@
 //! does too; on this kind of virtual machine each call then lost 10-15 µs of its 50-60 µs to
 //! the hand-over (both threads' busy time measured inside the call: 40-48 µs each). So the
 //! stages run on a [`Team`]: `T - 1` threads of our own that spin on an atomic counter for
-//! the next job (parking after [`SPIN`] without one), and a caller that takes the first run
-//! of blocks itself and spins until the others are done. Each thread gets one contiguous run
-//! of blocks, as rayon did; which thread evaluates a block changes no result. A step runs
-//! its stages in one [`region`]: every thread takes its own blocks, with a [`Barrier`]
-//! between the stages, so a step costs one hand-over instead of one per stage.
+//! the next job, and a caller that takes the first run of blocks itself. A step runs its
+//! stages in one [`region`]: every thread takes its own run of blocks, with a [`Barrier`]
+//! between the stages, so a step costs one hand-over instead of one per stage; a thread that
+//! has finished its run takes the blocks not yet started of the others' runs
+//! ([`Crew::each`]), so a thread the system has descheduled holds the stage up by one block,
+//! not by its run. Which thread evaluates a block changes no result.
+//!
+//! Every wait (a team thread for its next job, a thread at a barrier, the caller for the
+//! team) spins for [`spin_limit`] and then sleeps on a condition variable, woken by the
+//! thread that ends the wait: a waiting thread never holds a core that another thread of the
+//! run, or another process, needs for longer than that (issue 41). Before, the barrier and
+//! the caller yielded in a loop instead of sleeping: with one other busy process on the two
+//! cores, two threads ran at half the rate of one.
 
 use rayon::prelude::*;
 use std::any::Any;
@@ -59,9 +67,70 @@ fn cores() -> usize {
     *CORES.get_or_init(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
 }
 
-/// How long a team thread spins for its next job before it parks (the gap between the
-/// stages of a step, and between steps, is a few microseconds; writing a snapshot is not).
-const SPIN: Duration = Duration::from_micros(200);
+/// How long a waiting thread spins before it sleeps (µs), unless the environment variable
+/// `STRIPES_SPIN_US` says otherwise (read once; for measurements). The gap between the
+/// stages of a step, and between steps, is a few microseconds on an idle machine; a thread
+/// descheduled by the system keeps the others waiting for milliseconds.
+const SPIN_US: u64 = 50;
+
+/// Where the threads of this process have waited, summed over every thread, counted only
+/// when the environment variable `STRIPES_WAITS` is set (read once): for measurements of
+/// the parallel step (issue 41), which `stripes run` prints at its end.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Waits {
+    /// Team threads waiting for their next job: the serial parts of the caller (s).
+    pub for_job_s: f64,
+    /// Threads waiting at a region's barriers: imbalance between the threads' work (s).
+    pub at_barrier_s: f64,
+    /// The caller waiting for the team at the end of a job (s).
+    pub for_team_s: f64,
+    /// Waits that ended asleep rather than spinning.
+    pub sleeps: u64,
+    /// Blocks a thread took from another thread's run ([`Crew::each`]).
+    pub taken_over: u64,
+}
+
+/// The kinds of wait of [`Waits`].
+#[derive(Clone, Copy)]
+enum WaitKind {
+    Job = 0,
+    Barrier = 1,
+    Team = 2,
+}
+
+/// Nanoseconds per [`WaitKind`], then sleeps and blocks taken over.
+static WAIT_COUNTS: [AtomicU64; 5] = [const { AtomicU64::new(0) }; 5];
+
+fn counting_waits() -> bool {
+    static ON: OnceLock<bool> = OnceLock::new();
+    *ON.get_or_init(|| std::env::var_os("STRIPES_WAITS").is_some())
+}
+
+/// The waits of this process so far ([`Waits`]), `None` unless `STRIPES_WAITS` is set.
+pub fn waits() -> Option<Waits> {
+    counting_waits().then(|| {
+        let c = |k: usize| WAIT_COUNTS[k].load(Ordering::Relaxed);
+        Waits {
+            for_job_s: c(0) as f64 * 1e-9,
+            at_barrier_s: c(1) as f64 * 1e-9,
+            for_team_s: c(2) as f64 * 1e-9,
+            sleeps: c(3),
+            taken_over: c(4),
+        }
+    })
+}
+
+/// How long a waiting thread spins before it sleeps: [`SPIN_US`] or `STRIPES_SPIN_US`.
+fn spin_limit() -> Duration {
+    static SPIN: OnceLock<Duration> = OnceLock::new();
+    *SPIN.get_or_init(|| {
+        let us = std::env::var("STRIPES_SPIN_US")
+            .ok()
+            .and_then(|v| v.parse().ok())
+            .unwrap_or(SPIN_US);
+        Duration::from_micros(us)
+    })
+}
 
 /// A job: `job(t)` evaluates run `t` of the current split on the calling thread.
 type Job<'a> = dyn Fn(usize) + Sync + 'a;
@@ -83,10 +152,10 @@ struct Shared {
     job: UnsafeCell<Option<*const Job<'static>>>,
     /// Team threads (not counting the caller) that have not finished the current job.
     pending: AtomicUsize,
-    /// Threads parked, or about to park, waiting for a job.
-    sleepers: AtomicUsize,
-    park: Mutex<()>,
-    wake: Condvar,
+    /// Where team threads sleep waiting for a job.
+    jobs: Sleep,
+    /// Where the caller sleeps waiting for `pending` to reach 0.
+    done: Sleep,
     /// The first panic of a team thread in the current job.
     panic: Mutex<Option<Box<dyn Any + Send>>>,
 }
@@ -110,9 +179,8 @@ impl Team {
             epoch: AtomicU64::new(0),
             job: UnsafeCell::new(None),
             pending: AtomicUsize::new(0),
-            sleepers: AtomicUsize::new(0),
-            park: Mutex::new(()),
-            wake: Condvar::new(),
+            jobs: Sleep::new(),
+            done: Sleep::new(),
             panic: Mutex::new(None),
         });
         for t in 1..threads {
@@ -149,14 +217,23 @@ impl Team {
             .collect()
     }
 
-    /// Runs `f(t, threads, barrier)` on every thread `t` of the team at once. The caller
-    /// holds the lease.
-    fn region(&self, f: impl Fn(usize, usize, &Barrier) + Sync) {
+    /// Runs `f(crew)` on every thread of the team at once, each with its own [`Crew`] over
+    /// `blocks` blocks and `stages` stages. The caller holds the lease.
+    fn region(&self, blocks: usize, stages: usize, f: impl Fn(&Crew) + Sync) {
         let barrier = Barrier::new(self.threads);
+        let claims = Claims::new(stages * self.threads);
         self.dispatch(&|t: usize| {
+            let crew = Crew {
+                t,
+                threads: self.threads,
+                blocks,
+                barrier: &barrier,
+                claims: &claims,
+            };
             // A panicking thread never reaches the next barrier: release the others.
-            if let Err(p) = catch_unwind(AssertUnwindSafe(|| f(t, self.threads, &barrier))) {
-                barrier.abort.store(true, Ordering::Release);
+            if let Err(p) = catch_unwind(AssertUnwindSafe(|| f(&crew))) {
+                barrier.abort.store(true, Ordering::SeqCst);
+                barrier.sleep.wake_all();
                 resume_unwind(p);
             }
         });
@@ -174,10 +251,7 @@ impl Team {
         s.pending.store(self.threads - 1, Ordering::Relaxed);
         unsafe { *s.job.get() = Some(erased) };
         s.epoch.fetch_add(1, Ordering::SeqCst);
-        if s.sleepers.load(Ordering::SeqCst) > 0 {
-            let _guard = s.park.lock().unwrap_or_else(|e| e.into_inner());
-            s.wake.notify_all();
-        }
+        s.jobs.wake_all();
         let wait = Wait(s);
         job(0);
         drop(wait);
@@ -193,17 +267,26 @@ pub(crate) fn run_of(n: usize, threads: usize, t: usize) -> std::ops::Range<usiz
     (t * per).min(n)..((t + 1) * per).min(n)
 }
 
-/// A parallel region: `f(t, threads, barrier)` on each of `T = rayon::current_num_threads()`
-/// threads at once, where `barrier.wait()` returns once every thread has reached it. Each
-/// thread takes its own blocks ([`run_of`]), so a step's stages run in one hand-over instead
-/// of one per stage, with no block lists built by the caller. Returns false, having run
-/// nothing, when the team is not available (busy with another simulation, or more threads
-/// than cores): the caller then runs its stages through [`on_blocks`]. Work of fewer than
-/// two `blocks` runs on the calling thread alone, as in [`on_blocks`].
-pub(crate) fn region(blocks: usize, f: impl Fn(usize, usize, &Barrier) + Sync) -> bool {
+/// A parallel region: `f(crew)` on each of `T = rayon::current_num_threads()` threads at
+/// once, where `crew.each(stage, op)` runs `op(b)` on the blocks `0..blocks` shared out
+/// among the threads (each block of a stage once, on one thread) and `crew.wait()` returns
+/// once every thread has reached it; `stages` bounds the stage numbers. So a step's stages
+/// run in one hand-over instead of one per stage, with no block lists built by the caller.
+/// Returns false, having run nothing, when the team is not available (busy with another
+/// simulation, or more threads than cores): the caller then runs its stages through
+/// [`on_blocks`]. Work of fewer than two `blocks` runs on the calling thread alone, as in
+/// [`on_blocks`].
+pub(crate) fn region(blocks: usize, stages: usize, f: impl Fn(&Crew) + Sync) -> bool {
     let threads = rayon::current_num_threads();
     if threads == 1 || blocks < 2 {
-        f(0, 1, &Barrier::new(1));
+        let claims = Claims::new(stages);
+        f(&Crew {
+            t: 0,
+            threads: 1,
+            blocks,
+            barrier: &Barrier::new(1),
+            claims: &claims,
+        });
         return true;
     }
     if threads > cores() {
@@ -215,8 +298,133 @@ pub(crate) fn region(blocks: usize, f: impl Fn(usize, usize, &Barrier) + Sync) -
         Err(TryLockError::Poisoned(lease)) => lease.into_inner(),
         Err(TryLockError::WouldBlock) => return false,
     };
-    team.region(f);
+    team.region(blocks, stages, f);
     true
+}
+
+/// One thread's view of a [`region`].
+pub(crate) struct Crew<'a> {
+    /// This thread's number, `0..threads` (0 is the caller).
+    pub t: usize,
+    pub threads: usize,
+    blocks: usize,
+    barrier: &'a Barrier,
+    /// Per stage and run: how many of the run's blocks have been taken.
+    claims: &'a Claims,
+}
+
+impl Crew<'_> {
+    /// Runs `op(b)` for blocks `b` of stage `stage` (`< stages` of the region) until none is
+    /// left: first the blocks of this thread's own run ([`run_of`]), in order from its
+    /// front, then those not yet taken of the runs after it, from their backs. Every block of
+    /// the stage goes to exactly one call on one thread, once every thread has called `each`
+    /// for the stage. On an idle machine each thread takes its own run, as before, and a
+    /// thread that finishes early takes at most the last block or two of another's run; a
+    /// thread left behind (descheduled by the system) gives its remaining blocks to the
+    /// others. Taking from the back leaves the owner's next blocks, and the cache line of
+    /// its run's counter, to the owner until the runs meet.
+    pub(crate) fn each(&self, stage: usize, mut op: impl FnMut(usize)) {
+        for k in 0..self.threads {
+            let r = (self.t + k) % self.threads;
+            let run = run_of(self.blocks, self.threads, r);
+            let taken = &self.claims.0[stage * self.threads + r].0;
+            let len = run.len() as u64;
+            loop {
+                // Blocks taken from the front (low half) and from the back (high half).
+                let cur = taken.load(Ordering::Relaxed);
+                let (front, back) = (cur & 0xffff_ffff, cur >> 32);
+                if front + back >= len {
+                    break;
+                }
+                let next = if k == 0 { cur + 1 } else { cur + (1 << 32) };
+                if taken
+                    .compare_exchange_weak(cur, next, Ordering::Relaxed, Ordering::Relaxed)
+                    .is_err()
+                {
+                    continue;
+                }
+                if k == 0 {
+                    op(run.start + front as usize);
+                } else {
+                    if counting_waits() {
+                        WAIT_COUNTS[4].fetch_add(1, Ordering::Relaxed);
+                    }
+                    op(run.end - 1 - back as usize);
+                }
+            }
+        }
+    }
+
+    /// Waits until every thread of the region has called `wait` as often as this one (see
+    /// [`Barrier::wait`]). Returns false if another thread panicked instead (the caller
+    /// should return).
+    pub(crate) fn wait(&self) -> bool {
+        self.barrier.wait()
+    }
+}
+
+/// Counters of the blocks taken, one per stage and run, each on a cache line of its own: the
+/// blocks taken from the front of the run (by its owner) in the low 32 bits, those taken
+/// from its back (by the other threads) in the high 32 bits.
+struct Claims(Vec<Padded>);
+
+#[repr(align(128))]
+struct Padded(AtomicU64);
+
+impl Claims {
+    fn new(n: usize) -> Claims {
+        Claims((0..n).map(|_| Padded(AtomicU64::new(0))).collect())
+    }
+}
+
+/// Where threads sleep after spinning: a waiter that has spun for [`spin_limit`] registers
+/// in `sleepers` and sleeps until the condition it waits for holds; whoever makes it hold
+/// calls [`Sleep::wake_all`] afterwards. Both sides use sequentially consistent operations
+/// on the condition and on `sleepers`, so either the waiter sees the condition before it
+/// sleeps or the waker sees the sleeper and takes the lock (no lost wake-up).
+struct Sleep {
+    sleepers: AtomicUsize,
+    lock: Mutex<()>,
+    wake: Condvar,
+}
+
+impl Sleep {
+    fn new() -> Sleep {
+        Sleep {
+            sleepers: AtomicUsize::new(0),
+            lock: Mutex::new(()),
+            wake: Condvar::new(),
+        }
+    }
+
+    /// Returns once `done()` holds: spins for [`spin_limit`], then sleeps. `done` must read
+    /// its condition with sequentially consistent loads.
+    fn wait_until(&self, kind: WaitKind, done: impl Fn() -> bool) {
+        let start = counting_waits().then(Instant::now);
+        let slept = !spin_until(&done);
+        if slept {
+            self.sleepers.fetch_add(1, Ordering::SeqCst);
+            let mut guard = self.lock.lock().unwrap_or_else(|e| e.into_inner());
+            while !done() {
+                guard = self.wake.wait(guard).unwrap_or_else(|e| e.into_inner());
+            }
+            drop(guard);
+            self.sleepers.fetch_sub(1, Ordering::SeqCst);
+        }
+        if let Some(start) = start {
+            WAIT_COUNTS[kind as usize].fetch_add(start.elapsed().as_nanos() as u64, Ordering::Relaxed);
+            WAIT_COUNTS[3].fetch_add(slept as u64, Ordering::Relaxed);
+        }
+    }
+
+    /// Wakes the sleepers, if any; called after the condition they wait for was made true
+    /// (with a sequentially consistent store or read-modify-write).
+    fn wake_all(&self) {
+        if self.sleepers.load(Ordering::SeqCst) > 0 {
+            let _guard = self.lock.lock().unwrap_or_else(|e| e.into_inner());
+            self.wake.notify_all();
+        }
+    }
 }
 
 /// A barrier among the threads of one [`region`].
@@ -227,6 +435,7 @@ pub(crate) struct Barrier {
     generation: AtomicUsize,
     /// Set when a thread of the region panicked: the barrier no longer waits.
     abort: AtomicBool,
+    sleep: Sleep,
 }
 
 impl Barrier {
@@ -236,6 +445,7 @@ impl Barrier {
             arrived: AtomicUsize::new(0),
             generation: AtomicUsize::new(0),
             abort: AtomicBool::new(false),
+            sleep: Sleep::new(),
         }
     }
 
@@ -248,12 +458,12 @@ impl Barrier {
         let generation = self.generation.load(Ordering::Acquire);
         if self.arrived.fetch_add(1, Ordering::AcqRel) + 1 == self.threads {
             self.arrived.store(0, Ordering::Relaxed);
-            self.generation.fetch_add(1, Ordering::Release);
+            self.generation.fetch_add(1, Ordering::SeqCst);
+            self.sleep.wake_all();
         } else {
-            let passed = || self.generation.load(Ordering::Acquire) != generation || self.abort.load(Ordering::Acquire);
-            while !spin_until(passed) {
-                std::thread::yield_now();
-            }
+            self.sleep.wait_until(WaitKind::Barrier, || {
+                self.generation.load(Ordering::SeqCst) != generation || self.abort.load(Ordering::SeqCst)
+            });
         }
         !self.abort.load(Ordering::Acquire)
     }
@@ -270,14 +480,15 @@ struct Wait<'a>(&'a Shared);
 
 impl Drop for Wait<'_> {
     fn drop(&mut self) {
-        while !spin_until(|| self.0.pending.load(Ordering::Acquire) == 0) {
-            std::thread::yield_now();
-        }
+        self.0
+            .done
+            .wait_until(WaitKind::Team, || self.0.pending.load(Ordering::SeqCst) == 0);
     }
 }
 
-/// Spins until `done()` holds or [`SPIN`] has passed; returns `done()`.
+/// Spins until `done()` holds or [`spin_limit`] has passed; returns `done()`.
 fn spin_until(done: impl Fn() -> bool) -> bool {
+    let limit = spin_limit();
     let start = Instant::now();
     let mut spins = 0u32;
     loop {
@@ -286,7 +497,7 @@ fn spin_until(done: impl Fn() -> bool) -> bool {
         }
         std::hint::spin_loop();
         spins = spins.wrapping_add(1);
-        if spins.is_multiple_of(1024) && start.elapsed() > SPIN {
+        if spins.is_multiple_of(256) && start.elapsed() > limit {
             return done();
         }
     }
@@ -303,28 +514,17 @@ impl Shared {
             if let Err(p) = catch_unwind(AssertUnwindSafe(|| unsafe { (*job)(t) })) {
                 self.panic.lock().unwrap_or_else(|e| e.into_inner()).get_or_insert(p);
             }
-            self.pending.fetch_sub(1, Ordering::Release);
+            if self.pending.fetch_sub(1, Ordering::SeqCst) == 1 {
+                self.done.wake_all();
+            }
         }
     }
 
-    /// Waits for an epoch other than `seen`: spins for [`SPIN`], then parks.
+    /// Waits for an epoch other than `seen`: spins for [`spin_limit`], then sleeps.
     fn next_epoch(&self, seen: u64) -> u64 {
-        if spin_until(|| self.epoch.load(Ordering::Acquire) != seen) {
-            return self.epoch.load(Ordering::Acquire);
-        }
-        self.sleepers.fetch_add(1, Ordering::SeqCst);
-        let mut guard = self.park.lock().unwrap_or_else(|e| e.into_inner());
-        let e = loop {
-            let e = self.epoch.load(Ordering::SeqCst);
-            if e != seen {
-                break e;
-            }
-            guard = self.wake.wait(guard).unwrap_or_else(|e| e.into_inner());
-        };
-        drop(guard);
-        self.sleepers.fetch_sub(1, Ordering::SeqCst);
-        // The epoch load above is SeqCst; the job's data needs acquire, which it implies.
-        e
+        // SeqCst loads, which imply the acquire the job's data needs.
+        self.jobs.wait_until(WaitKind::Job, || self.epoch.load(Ordering::SeqCst) != seen);
+        self.epoch.load(Ordering::SeqCst)
     }
 }
 
@@ -386,22 +586,26 @@ mod tests {
                 while rounds < 300 && start.elapsed() < Duration::from_secs(60) {
                     // Another test may hold the team: then nothing runs (the caller would use
                     // `on_blocks`), and the round is tried again.
-                    let ran = region(n, |t, runs, barrier| {
-                        assert_eq!(runs, threads);
-                        for b in run_of(n, runs, t) {
+                    let ran = region(n, 2, |crew| {
+                        assert_eq!(crew.threads, threads);
+                        crew.each(0, |b| {
                             counts[b].fetch_add(1, Ordering::Relaxed);
-                        }
-                        assert!(barrier.wait());
-                        let behind = counts.iter().filter(|c| c.load(Ordering::Relaxed) != rounds + 1).count();
+                        });
+                        assert!(crew.wait());
+                        let behind = counts.iter().filter(|c| c.load(Ordering::Relaxed) != 2 * rounds + 1).count();
                         wrong.fetch_add(behind, Ordering::Relaxed);
                         // The second stage must not start before every thread has checked.
-                        assert!(barrier.wait());
+                        assert!(crew.wait());
+                        // Stage 1: every block once more, whichever thread takes it.
+                        crew.each(1, |b| {
+                            counts[b].fetch_add(1, Ordering::Relaxed);
+                        });
                     });
                     rounds += ran as usize;
                 }
                 assert!(rounds > 0, "{threads} threads: the region never ran");
                 assert_eq!(wrong.load(Ordering::Relaxed), 0, "{threads} threads");
-                assert!(counts.iter().all(|c| c.load(Ordering::Relaxed) == rounds));
+                assert!(counts.iter().all(|c| c.load(Ordering::Relaxed) == 2 * rounds));
             });
         }
     }
@@ -411,11 +615,11 @@ mod tests {
         let team = Team::start(2);
         for bad in [0, 1] {
             let r = catch_unwind(AssertUnwindSafe(|| {
-                team.region(|t, _, barrier| {
-                    if t == bad {
-                        panic!("run {t}");
+                team.region(2, 1, |crew| {
+                    if crew.t == bad {
+                        panic!("run {}", crew.t);
                     }
-                    assert!(!barrier.wait(), "the barrier must not wait for a panicked thread");
+                    assert!(!crew.wait(), "the barrier must not wait for a panicked thread");
                 })
             }));
             let msg = r.expect_err("the panic must propagate");
@@ -424,12 +628,63 @@ mod tests {
                 Some(format!("run {bad}").as_str())
             );
             let sum = AtomicUsize::new(0);
-            team.region(|t, _, barrier| {
-                assert!(barrier.wait());
-                sum.fetch_add(t + 1, Ordering::Relaxed);
+            team.region(2, 1, |crew| {
+                assert!(crew.wait());
+                sum.fetch_add(crew.t + 1, Ordering::Relaxed);
             });
             assert_eq!(sum.load(Ordering::Relaxed), 3);
         }
+    }
+
+    #[test]
+    fn a_thread_left_behind_gives_its_blocks_to_the_others() {
+        // A team of its own; thread 1 starts its stage long after thread 0 has finished its
+        // own run: thread 0 takes every block, each once.
+        let team = Team::start(2);
+        let n = 8;
+        let takers: Vec<AtomicUsize> = (0..n).map(|_| AtomicUsize::new(usize::MAX)).collect();
+        let calls = AtomicUsize::new(0);
+        team.region(n, 1, |crew| {
+            if crew.t == 1 {
+                std::thread::sleep(Duration::from_millis(300));
+            }
+            crew.each(0, |b| {
+                calls.fetch_add(1, Ordering::Relaxed);
+                takers[b].store(crew.t, Ordering::Relaxed);
+            });
+        });
+        assert_eq!(calls.load(Ordering::Relaxed), n);
+        let by: Vec<usize> = takers.iter().map(|t| t.load(Ordering::Relaxed)).collect();
+        assert_eq!(by, vec![0; n], "run 1's blocks were not taken over");
+    }
+
+    /// CPU time (ns) of the calling thread so far, from `/proc/thread-self/schedstat`.
+    #[cfg(target_os = "linux")]
+    fn thread_cpu_ns() -> u64 {
+        let stat = std::fs::read_to_string("/proc/thread-self/schedstat").expect("schedstat");
+        stat.split_whitespace().next().and_then(|v| v.parse().ok()).expect("on-cpu time")
+    }
+
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn a_thread_waiting_at_a_barrier_sleeps_instead_of_holding_its_core() {
+        // The caller reaches the barrier 300 ms before thread 1: it spins for `spin_limit`
+        // (50 µs) and then sleeps, so it uses far less CPU than the wait lasts.
+        let team = Team::start(2);
+        let used = AtomicUsize::new(0);
+        team.region(2, 1, |crew| {
+            if crew.t == 1 {
+                std::thread::sleep(Duration::from_millis(300));
+                assert!(crew.wait());
+            } else {
+                let (cpu, start) = (thread_cpu_ns(), Instant::now());
+                assert!(crew.wait());
+                assert!(start.elapsed() >= Duration::from_millis(250), "the barrier did not wait");
+                used.store((thread_cpu_ns() - cpu) as usize, Ordering::Relaxed);
+            }
+        });
+        let used = Duration::from_nanos(used.load(Ordering::Relaxed) as u64);
+        assert!(used < Duration::from_millis(30), "the waiting thread used {used:?} of CPU");
     }
 
     #[test]

@@ -7,7 +7,8 @@ use crate::sim::{Ledger, Simulation};
 use crate::Vec3;
 
 /// Everything of a running simulation that its scene and sample do not give back: time,
-/// step count, ledger, per-particle kinematics and forces, and the tangential springs.
+/// step count, ledger, per-particle kinematics and forces, and the tangential and rolling
+/// springs.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SavedState {
     /// Simulated time (s).
@@ -33,6 +34,12 @@ pub struct SavedState {
     pub pair_histories: Vec<(usize, usize, Vec3)>,
     /// Tangential springs of particle-wall contacts, slot `i * max(walls, 1) + k`.
     pub wall_histories: Vec<Vec3>,
+    /// Non-zero rolling springs (rad) of particle pairs (spring-dashpot-slider), as
+    /// `pair_histories`; empty without a rolling spring.
+    pub pair_rolls: Vec<(usize, usize, Vec3)>,
+    /// Rolling springs of particle-wall contacts, as `wall_histories`; empty without a
+    /// rolling spring (a law with one then starts from zero springs).
+    pub wall_rolls: Vec<Vec3>,
     /// Where the simulation keeps each grain (`run.sort_interval`): `order[k]` is the grain
     /// at place `k` of its arrays; empty while every grain is at its own index. Every other
     /// field is in the grains' own order; a resumed run takes these places back, so that it
@@ -70,6 +77,8 @@ impl Simulation {
             torque: s.torque.clone(),
             pair_histories: self.pair_histories(),
             wall_histories: self.wall_histories(),
+            pair_rolls: self.pair_rolls(),
+            wall_rolls: self.wall_rolls(),
             order: self.order().to_vec(),
         }
     }
@@ -109,7 +118,7 @@ impl Simulation {
         s.omega_half = saved.omega_half;
         s.force = saved.force;
         s.torque = saved.torque;
-        self.set_histories(&saved.pair_histories, saved.wall_histories)?;
+        self.set_histories((&saved.pair_histories, saved.wall_histories), (&saved.pair_rolls, saved.wall_rolls))?;
         if saved.order.is_empty() {
             Ok(())
         } else {

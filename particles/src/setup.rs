@@ -7,7 +7,7 @@ use crate::contact::{self, ContactGeometry, ContactLaw};
 use crate::integrate::Integrator;
 use crate::neighbor::NeighborSearch;
 use crate::scene::SortInterval;
-use crate::wall::Wall;
+use crate::wall::{Motion, Wall};
 use crate::Vec3;
 
 /// Everything that defines the dynamics, independent of the particles' state.
@@ -27,10 +27,32 @@ pub struct Setup {
     pub neighbors: NeighborSearch,
     /// Vertical freedom of the particles.
     pub vertical: Vertical,
-    /// Box `[lo, hi]` (m) on the non-periodic axes: a particle outside it has escaped.
-    pub container: Option<(Vec3, Vec3)>,
+    /// The box a particle must stay in on the non-periodic axes (escaped when outside).
+    pub container: Option<Container>,
     /// Steps between spatial sorts of the grains, or none.
     pub sort: SortInterval,
+    /// Each grain's rolling coefficient `mu_r` (dimensionless) for a spring-dashpot-slider
+    /// law, by the grains' indices; a contact takes the mean of its grains' (a wall contact
+    /// the grain's). Empty: every contact takes the law's `mu_r`.
+    pub rolling_mu: Vec<f64>,
+}
+
+/// The box `[lo, hi]` (m) a particle must stay in, at rest, moving with `motion`: at time t
+/// its corners are `lo + u(t)` and `hi + u(t)` (the tray's displacement), so that end walls
+/// on a horizontally shaken tray carry their escape check with them.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Container {
+    pub lo: Vec3,
+    pub hi: Vec3,
+    pub motion: Motion,
+}
+
+impl Container {
+    /// The corners `(lo, hi)` at time `t` (s).
+    pub fn at(&self, t: f64) -> (Vec3, Vec3) {
+        let u = self.motion.displacement(t);
+        (self.lo + u, self.hi + u)
+    }
 }
 
 /// Vertical freedom of the particles.

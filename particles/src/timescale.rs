@@ -42,12 +42,13 @@ pub fn check_step_resolution(
     }
 }
 
-/// Largest impact speed expected in a scene (m/s): the tray's peak speed `V = 2 pi nu A`, the
+/// Largest impact speed expected in a scene (m/s): the tray's peak speed `V = 2 pi nu A` (of
+/// the fastest stage of a schedule), the
 /// speed at which a side wall or a grain carried by the floor can hit a grain at rest; for a
 /// vertically vibrated floor `2 V`, the speed at which a grain thrown at `V` meets the floor
 /// rising at `V`. At least 0.1 m/s, so that a tray at rest still gets a finite step.
 pub fn max_impact_speed(scene: &Scene) -> f64 {
-    let v = 2.0 * std::f64::consts::PI * scene.drive.frequency * scene.drive.amplitude;
+    let v = scene.drive.peak_speed();
     let v = match scene.drive.direction {
         crate::scene::DriveDirection::X => v,
         crate::scene::DriveDirection::Z => 2.0 * v,

@@ -5,7 +5,7 @@ use crate::boundary::Boundary;
 use crate::constants::GRAVITY;
 use crate::neighbor::NeighborSearch;
 use crate::scene::{DriveDirection, Scene};
-use crate::setup::{Setup, Vertical};
+use crate::setup::{Container, Setup, Vertical};
 use crate::wall::{Motion, Wall};
 use crate::{SimError, Vec3};
 
@@ -22,12 +22,18 @@ pub const DEFAULT_SKIN: f64 = 0.2;
 pub const MAX_SKIN: f64 = 2.0;
 
 /// The motion of the tray: `u(t) = A sin(2 pi nu t)` along `drive.direction` (x: the shaken
-/// tray; z: the vibrated floor).
+/// tray; z: the vibrated floor), or the stages of `[[drive.stages]]` ([`crate::drive`]).
 pub fn drive(scene: &Scene) -> Motion {
-    Motion::Harmonic {
-        amplitude: scene.drive.amplitude,
-        frequency: scene.drive.frequency,
-        direction: scene.drive.direction.unit(),
+    match scene.drive.schedule() {
+        None => Motion::Harmonic {
+            amplitude: scene.drive.amplitude,
+            frequency: scene.drive.frequency,
+            direction: scene.drive.direction.unit(),
+        },
+        Some(schedule) => Motion::Scheduled {
+            schedule: std::sync::Arc::new(schedule),
+            direction: scene.drive.direction.unit(),
+        },
     }
 }
 
@@ -37,22 +43,28 @@ pub fn drive(scene: &Scene) -> Motion {
 /// at x = 0 and x = L (`box.x_walls`). With a horizontal drive every wall moves with the
 /// tray; with a vertical one (`drive.direction = "z"`) only the floor moves, and the floor's
 /// height `A sin(2 pi nu t)` and vertical velocity enter its contacts through the wall's
-/// position and velocity, as any wall's do.
+/// position and velocity, as any wall's do. The escape check's box moves as the side and end
+/// walls do (with the tray, or not at all).
 pub fn setup(scene: &Scene, motion: Motion, dt: f64) -> Result<Setup, SimError> {
     let (pair_law, wall_law) = scene.laws()?;
     let (l, w, h) = (scene.tray.length, scene.tray.width, scene.tray.height.unwrap_or(f64::INFINITY));
     let sides = match scene.drive.direction {
-        DriveDirection::X => motion,
+        DriveDirection::X => motion.clone(),
         DriveDirection::Z => Motion::Fixed,
+    };
+    // A vibrated floor sinks to -A below its mean position.
+    let floor_low = match scene.drive.direction {
+        DriveDirection::X => 0.0,
+        DriveDirection::Z => motion.displacement_bound(),
     };
     let mut walls = vec![Wall::new("floor", Vec3::zeros(), Vec3::z(), motion)];
     if scene.toggles.walls {
-        walls.push(Wall::new("side y=0", Vec3::zeros(), Vec3::y(), sides));
-        walls.push(Wall::new("side y=W", Vec3::new(0.0, w, 0.0), -Vec3::y(), sides));
+        walls.push(Wall::new("side y=0", Vec3::zeros(), Vec3::y(), sides.clone()));
+        walls.push(Wall::new("side y=W", Vec3::new(0.0, w, 0.0), -Vec3::y(), sides.clone()));
     }
     if scene.tray.x_walls {
-        walls.push(Wall::new("end x=0", Vec3::zeros(), Vec3::x(), sides));
-        walls.push(Wall::new("end x=L", Vec3::new(l, 0.0, 0.0), -Vec3::x(), sides));
+        walls.push(Wall::new("end x=0", Vec3::zeros(), Vec3::x(), sides.clone()));
+        walls.push(Wall::new("end x=L", Vec3::new(l, 0.0, 0.0), -Vec3::x(), sides.clone()));
     }
     let boundary = Boundary {
         periodic: [
@@ -60,11 +72,6 @@ pub fn setup(scene: &Scene, motion: Motion, dt: f64) -> Result<Setup, SimError> 
             if scene.toggles.walls { None } else { Some(w) },
             None,
         ],
-    };
-    // A vibrated floor sinks to -A below its mean position.
-    let floor_low = match scene.drive.direction {
-        DriveDirection::X => 0.0,
-        DriveDirection::Z => motion.displacement_bound(),
     };
     Ok(Setup {
         pair_law,
@@ -81,8 +88,16 @@ pub fn setup(scene: &Scene, motion: Motion, dt: f64) -> Result<Setup, SimError> 
         vertical: if scene.toggles.jumping { Vertical::Free } else { Vertical::Pinned },
         // Grains may sink into the floor by their overlap; anything below -R_max (below the
         // vibrated floor's lowest position), outside the side walls, or above the optional
-        // ceiling `box.height` has escaped (open top by default, thesis 3.5.3).
-        container: Some((Vec3::new(0.0, 0.0, -scene.particles.radius_max - floor_low), Vec3::new(l, w, h))),
+        // ceiling `box.height` has escaped (open top by default, thesis 3.5.3). The box moves
+        // with the side and end walls: on a shaken tray the end walls at x = u(t) and
+        // L + u(t) hold the grains, and a grain pressed against the far one at its forward
+        // turning point sits beyond L (the bug of end walls on a shaken tray, 2026-11-28).
+        container: Some(Container {
+            lo: Vec3::new(0.0, 0.0, -scene.particles.radius_max - floor_low),
+            hi: Vec3::new(l, w, h),
+            motion: sides,
+        }),
         sort: scene.run.sort_interval,
+        rolling_mu: scene.rolling_mu(),
     })
 }

@@ -1,16 +1,21 @@
 //! Flat walls of infinite mass (eq 3.17-3.18) and their prescribed motion.
 
+use crate::drive::Schedule;
 use crate::Vec3;
 use std::f64::consts::PI;
+use std::sync::Arc;
 
 /// Prescribed motion of a wall.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub enum Motion {
     /// At rest.
     Fixed,
     /// Harmonic shaking `u(t) = amplitude sin(2 pi frequency t) direction` (thesis 3.5);
     /// `amplitude` in m, `frequency` in Hz, `direction` a unit vector.
     Harmonic { amplitude: f64, frequency: f64, direction: Vec3 },
+    /// Harmonic shaking in stages ([`Schedule`]) along `direction`, a unit vector: the
+    /// experiment's protocol.
+    Scheduled { schedule: Arc<Schedule>, direction: Vec3 },
 }
 
 impl Motion {
@@ -26,6 +31,10 @@ impl Motion {
             } => {
                 let w = 2.0 * PI * frequency;
                 Some((direction, amplitude, w, w * t))
+            }
+            Motion::Scheduled { ref schedule, direction } => {
+                let (amplitude, w, phase) = schedule.phase(t);
+                Some((direction, amplitude, w, phase))
             }
         }
     }
@@ -44,19 +53,22 @@ impl Motion {
         })
     }
 
-    /// Largest displacement from the rest position (m): the amplitude, 0 at rest.
+    /// Largest displacement from the rest position (m): the (largest stage's) amplitude, 0
+    /// at rest.
     pub fn displacement_bound(&self) -> f64 {
         match *self {
             Motion::Fixed => 0.0,
             Motion::Harmonic { amplitude, .. } => amplitude.abs(),
+            Motion::Scheduled { ref schedule, .. } => schedule.largest_amplitude(),
         }
     }
 
-    /// Peak acceleration (m/s^2).
+    /// Peak acceleration (m/s^2; of the strongest stage of a schedule).
     pub fn peak_acceleration(&self) -> f64 {
         match *self {
             Motion::Fixed => 0.0,
             Motion::Harmonic { amplitude, frequency, .. } => amplitude * (2.0 * PI * frequency).powi(2),
+            Motion::Scheduled { ref schedule, .. } => schedule.peak_acceleration(),
         }
     }
 }

@@ -83,7 +83,9 @@ fn frictional() -> impl Strategy<Value = ContactLaw> {
     ];
     let rolling = prop_oneof![
         Just(RollingLaw::None),
-        (1e-6f64..1e-4).prop_map(|mu_r| RollingLaw::BrilliantovPoschel { mu_r })
+        (1e-6f64..1e-4).prop_map(|mu_r| RollingLaw::BrilliantovPoschel { mu_r }),
+        (0.01f64..0.5, prop::option::of(1.0f64..100.0), 0.0f64..1e-3)
+            .prop_map(|(mu_r, k_roll, gamma_roll)| { RollingLaw::SpringDashpotSlider { mu_r, k_roll, gamma_roll } })
     ];
     (tangential, rolling, 0.0f64..2e-5).prop_map(|(tangential, rolling, a)| ContactLaw {
         normal: NormalLaw::hertz(1.1e6, a),

@@ -318,37 +318,36 @@ fn an_offset_stack_topples_without_nan_and_without_gaining_energy() {
 fn the_energy_ledger_of_a_long_shaken_run_closes() {
     // 60 grains (area fraction 0.46), 0.1 s (2 periods) of shaking: kinetic + rotational +
     // potential + stored energy changes by the work of the walls minus the dissipation.
-    // At dt = 4e-6 s it closes to 2.5e-5 of the injected work. At the thesis' 8e-6 s it
-    // misses by 4e-3: the Haff-Werner viscous branch is unstable there for the smallest
-    // grains (gamma_t dt / m_t = 2.4), and the run says so (`time_step::warnings`).
-    let scene = common::tray_scene(0.006, 0.01, 60, TimeStep::Seconds(4e-6), 7, common::unchanged);
-    assert!(time_step::warnings(&scene, 4e-6).unwrap().is_empty());
-    let at_thesis_dt = time_step::warnings(&scene, 8e-6).unwrap();
-    assert!(
-        at_thesis_dt.len() == 1 && at_thesis_dt[0].contains("contact.tangential_damping"),
-        "{at_thesis_dt:?}"
-    );
-    let mut sim = Simulation::new(
-        tray::setup(&scene, tray::drive(&scene), time_step::for_scene(&scene).unwrap()).unwrap(),
-        initial_state(&scene).unwrap(),
-    )
-    .unwrap();
-    let e0 = sim.total_energy();
-    let steps = (0.1 / 4e-6) as u64;
-    for _ in 0..steps {
-        sim.step().unwrap();
+    // At dt = 4e-6 s it closes to about 2.5e-5 of the injected work. At the thesis' 8e-6 s
+    // the Haff-Werner viscous branch has gamma_t dt / m_t = 2.4 for the smallest grains:
+    // integrated explicitly it overshot zero slip, chattered at the Coulomb limit and the
+    // ledger missed by 4e-3; the implicit update (issue 41) stops the slip and the ledger
+    // closes to the issue's bound, 1e-3.
+    for (dt, bound) in [(4e-6, 1e-4), (8e-6, 1e-3)] {
+        let scene = common::tray_scene(0.006, 0.01, 60, TimeStep::Seconds(dt), 7, common::unchanged);
+        assert!(time_step::viscous_friction_ratio(&scene, dt).unwrap().unwrap() > 2.0 * dt / 8e-6);
+        let mut sim = Simulation::new(
+            tray::setup(&scene, tray::drive(&scene), time_step::for_scene(&scene).unwrap()).unwrap(),
+            initial_state(&scene).unwrap(),
+        )
+        .unwrap();
+        let e0 = sim.total_energy();
+        let steps = (0.1 / dt) as u64;
+        for _ in 0..steps {
+            sim.step().unwrap();
+        }
+        let de = sim.total_energy() - e0;
+        let l = sim.ledger;
+        let miss = (de - (l.injected - l.dissipated)).abs();
+        println!(
+            "dt {dt:e} s: dE {de:e} J, injected {:e} J, dissipated {:e} J, miss {:.2e} of injected",
+            l.injected,
+            l.dissipated,
+            miss / l.injected
+        );
+        assert!(l.injected > 0.0 && l.dissipated > 0.0);
+        assert!(miss < bound * l.injected, "dt {dt:e} s: the ledger misses by {miss:e} J");
     }
-    let de = sim.total_energy() - e0;
-    let l = sim.ledger;
-    let miss = (de - (l.injected - l.dissipated)).abs();
-    println!(
-        "ledger: dE {de:e} J, injected {:e} J, dissipated {:e} J, miss {:.2e} of injected",
-        l.injected,
-        l.dissipated,
-        miss / l.injected
-    );
-    assert!(l.injected > 0.0 && l.dissipated > 0.0);
-    assert!(miss < 1e-4 * l.injected, "the ledger misses by {miss:e} J");
 }
 
 #[test]

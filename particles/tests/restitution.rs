@@ -27,6 +27,9 @@ fn collision(tangential: TangentialKind, gamma_n: f64, mu: f64, gamma_t: f64, kt
         gamma_t,
         kt: Some(kt),
         mu_r: 0.0,
+        rolling_resistance: None,
+        k_roll: None,
+        gamma_roll: 0.0,
     })
     .unwrap();
     let mut c = Collision::equal_spheres(law, R, RHO, Impact::Components { vn: 0.1, vt: 0.0 }, 2000.0);

@@ -25,6 +25,7 @@ fn box_scene(frequency: f64, amplitude: f64) -> Scene {
             frequency,
             amplitude,
             direction: DriveDirection::Z,
+            stages: Vec::new(),
         };
         s.particles.radius_min = 0.5e-3;
         s.particles.radius_max = 0.5e-3;
@@ -188,7 +189,7 @@ fn the_vertical_drive_moves_only_the_floor_and_lowers_the_container_by_the_ampli
         assert_eq!(w.origin_at(t), w.origin, "{} moved", w.name);
     }
     assert_eq!(setup.boundary.periodic, [None, None, None]);
-    let (lo, _) = setup.container.unwrap();
+    let lo = setup.container.unwrap().lo;
     assert!((lo.z + 1e-3 + 0.5e-3).abs() < 1e-15, "{lo}");
     // The horizontal tray: every wall moves along x, x is periodic without end walls.
     let mut tray_scene = scene.clone();

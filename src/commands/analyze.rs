@@ -9,7 +9,7 @@ use analysis::report::Options;
 use serde::Serialize;
 
 use crate::output::{json_line, CliError};
-use crate::pipeline::{analyze, AnalysisOptions};
+use crate::pipeline::{analyze, AnalysisOptions, MapFrame};
 
 #[derive(clap::Args, Debug, Serialize)]
 pub struct Args {
@@ -68,10 +68,16 @@ pub struct Args {
     /// profile) to count as a stationary stripe, whatever the contrast.
     #[arg(long, default_value_t = 10.0)]
     pub persistence_periods: f64,
-    /// Times (s) of the top views (x-y) drawn in top_view.png, e.g. 1,5,10; each is the frame
-    /// nearest it (default: the first, middle and last frames).
+    /// Times (s) of the top views (x-y, in the tray's frame) drawn in top_view.png, e.g.
+    /// 1,10,100; each is the stroboscopic frame (at the drive's turning point) nearest it
+    /// (default: the first, middle and last stroboscopic frames).
     #[arg(long, value_delimiter = ',', value_name = "T,...", allow_negative_numbers = true)]
     pub top_view: Vec<f64>,
+    /// The frame of density_map.png: `tray` (one frame per drive period at its turning point,
+    /// positions relative to the tray, as the experiment's camera) or `lab` (every frame,
+    /// positions as stored).
+    #[arg(long, default_value = "tray", value_name = "tray|lab")]
+    pub map_frame: MapFrame,
 }
 
 fn window(s: &Option<String>, name: &str) -> Result<Option<(f64, f64)>, CliError> {
@@ -130,6 +136,7 @@ impl Args {
             dt: self.dt,
             options: self.options()?,
             top_view: self.top_view.clone(),
+            map_frame: self.map_frame,
         })
     }
 }

@@ -40,7 +40,8 @@ pub struct Args {
     /// (eq 4.32-4.34; --kt, --mu).
     #[arg(long, value_parser = kind::<TangentialKind>(TangentialKind::NAMES), default_value = "none")]
     pub tangential: TangentialKind,
-    /// Rolling law: none or brilliantov-poschel (eq 3.15; --mu-r).
+    /// Rolling law: none, brilliantov-poschel (eq 3.15; --mu-r) or sds (spring-dashpot-slider;
+    /// --mu-roll, --k-roll, --gamma-roll).
     #[arg(long, value_parser = kind::<RollingKind>(RollingKind::NAMES), default_value = "none")]
     pub rolling: RollingKind,
     /// Radius of sphere 1 (m).
@@ -85,6 +86,16 @@ pub struct Args {
     /// Rolling friction mu_r (s), Brilliantov-Pöschel only.
     #[arg(long, default_value = "8.5e-6", value_parser = crate::cli_values::not_nan)]
     pub mu_r: f64,
+    /// Rolling resistance mu_r (dimensionless), spring-dashpot-slider only.
+    #[arg(long, value_parser = crate::cli_values::not_nan)]
+    pub mu_roll: Option<f64>,
+    /// Rolling stiffness k_roll (N/m; spring torque k_roll R_eff^2 per radian),
+    /// spring-dashpot-slider only; default 2.25 mu_r^2 k_n.
+    #[arg(long, value_parser = crate::cli_values::not_nan)]
+    pub k_roll: Option<f64>,
+    /// Rolling damping gamma_roll (N s/m), spring-dashpot-slider only.
+    #[arg(long, default_value_t = 0.0, value_parser = crate::cli_values::not_nan)]
+    pub gamma_roll: f64,
     /// Normal approach speed (m/s); with --eccentricity, the relative speed.
     #[arg(long, default_value_t = 0.1, allow_negative_numbers = true, value_parser = crate::cli_values::not_nan)]
     pub v: f64,
@@ -162,6 +173,9 @@ impl Args {
         if self.mu < 0.0 {
             return Err("--mu must be >= 0".into());
         }
+        if self.mu_roll.is_some_and(|m| m < 0.0) || self.k_roll.is_some_and(|k| k <= 0.0) || self.gamma_roll < 0.0 {
+            return Err("--mu-roll must be >= 0, --k-roll > 0 and --gamma-roll >= 0".into());
+        }
         let choice = LawChoice {
             normal: self.normal,
             tangential: self.tangential,
@@ -176,11 +190,15 @@ impl Args {
             gamma_t: self.gamma_t,
             kt: self.kt,
             mu_r: self.mu_r,
+            rolling_resistance: self.mu_roll,
+            k_roll: self.k_roll,
+            gamma_roll: self.gamma_roll,
         };
         choice.build(&parameters).map_err(|missing| {
             match missing {
                 Missing::Kn => "--normal linear needs --kn (N/m)",
                 Missing::Kt => "--tangential cundall-strack needs --kt (N/m)",
+                Missing::RollingResistance => "--rolling sds needs --mu-roll (dimensionless)",
             }
             .into()
         })

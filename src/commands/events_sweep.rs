@@ -94,7 +94,9 @@ fn measures(m: &Measured) -> Vec<(&'static str, f64)> {
     let mut out = vec![
         ("current_x_m_per_s", m.current_x_m_per_s),
         ("mean_height_m", m.mean_height_m),
+        ("reduced_height_m", m.reduced_height_m),
         ("k_over_r", m.k_over_r),
+        ("k_over_r_phase0", m.k_over_r_phase0),
         ("collisions", m.collisions as f64),
         ("collisions_per_s", m.collisions_per_s),
         ("energy_ledger_error", m.energy_ledger_error),
@@ -223,10 +225,18 @@ pub fn run(args: Args) -> Result<String, CliError> {
     dir.csv("means.csv", &mean_refs, &means)?;
     // Plots against the first axis, one line per value of the others.
     let first = &axes[0];
-    let mut plots = vec![(0, "current <v_x> (m/s)"), (1, "mean height H (m)"), (2, "K/R")];
-    if let Some(c) = columns.iter().position(|n| *n == "temperature_ratio_bulk") {
-        plots.push((c, "T2/T1 in the bulk"));
-    }
+    let labels = [
+        ("current_x_m_per_s", "current <v_x> (m/s)"),
+        ("mean_height_m", "mean height of the centres (m)"),
+        ("reduced_height_m", "H: centre of mass at phase 0 minus rest (m)"),
+        ("k_over_r", "K/R, all phases"),
+        ("k_over_r_phase0", "K/R at phase 0"),
+        ("temperature_ratio_bulk", "T2/T1 in the bulk"),
+    ];
+    let plots: Vec<(usize, &str)> = labels
+        .iter()
+        .filter_map(|(name, label)| columns.iter().position(|n| n == name).map(|c| (c, *label)))
+        .collect();
     for (c, label) in plots {
         let mut plot = LinePlot::new(&format!("{} against {}", columns[c], first.key), &first.key, label);
         let rest = points.len() / first.values.len();

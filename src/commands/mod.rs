@@ -10,6 +10,7 @@ pub mod compare;
 pub mod contact_time;
 pub mod eccentricity;
 pub mod events;
+pub mod events_collide;
 pub mod events_sweep;
 pub mod mechanism;
 pub mod phase_map;

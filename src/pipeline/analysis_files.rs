@@ -1,6 +1,7 @@
 //! The files of an analysis directory: its CSV tables and its plots, all from one
 //! [`Report`].
 
+use analysis::camera::Camera;
 use analysis::density::CountProfile;
 use analysis::input::Geometry;
 use analysis::plot::{Heatmap, LinePlot, Mark, TopView};
@@ -161,17 +162,27 @@ pub(super) fn labels(geometry: Geometry) -> Labels {
     }
 }
 
-pub(super) fn draw(dir: &mut RunDir, r: &Report, geometry: Geometry) -> Result<(), Error> {
-    let t0 = r.times[0];
-    let t1 = r.times.last().copied().unwrap_or(t0).max(t0 + 1e-9);
+/// The plots of the report, titled for `geometry`; `density_map.png` draws `camera`'s
+/// stroboscopic tray-frame profiles when given, else every frame as stored.
+pub(super) fn draw(dir: &mut RunDir, r: &Report, geometry: Geometry, camera: Option<&Camera>) -> Result<(), Error> {
     let labels = labels(geometry);
+    let (frames, times, values) = match camera.filter(|c| !c.profiles.is_empty()) {
+        Some(c) => (
+            "in the tray frame, at the turning points",
+            c.frames.iter().map(|f| f.time).collect::<Vec<_>>(),
+            c.profiles.clone(),
+        ),
+        None => ("every frame, positions as stored", r.times.clone(), r.density_map.clone()),
+    };
+    let t0 = times[0];
+    let t1 = times.last().copied().unwrap_or(t0).max(t0 + 1e-9);
     let heat = Heatmap {
-        title: labels.map_title.into(),
+        title: format!("{}, {frames}", labels.map_title),
         x_label: "x (m)".into(),
         y_label: "t (s)".into(),
         x_range: (0.0, r.length),
         y_range: (t0, t1),
-        values: r.density_map.clone(),
+        values,
         colorbar_label: labels.map_scale.into(),
         scale: None,
         cell_names: None,
@@ -276,19 +287,23 @@ pub(super) fn draw(dir: &mut RunDir, r: &Report, geometry: Geometry) -> Result<(
     dir.plot("autocorrelation", &ac)
 }
 
-/// Top views (x-y) of a tray at `times` (each the frame nearest it), or at the first,
-/// middle and last frames: `top_view.png`, to show whether bands span the tray's width.
-pub(super) fn top_view(dir: &mut RunDir, run: &analysis::input::Run, times: &[f64]) -> Result<(), Error> {
-    let frames = &run.frames;
+/// Top views (x-y) of a tray in the tray's frame at `times` (each the stroboscopic frame
+/// nearest it), or at the first, middle and last stroboscopic frames: `top_view.png`, grains
+/// drawn dark on white as the thesis' inverted camera pictures (Figs 2.11-2.12).
+pub(super) fn top_view(dir: &mut RunDir, run: &analysis::input::Run, camera: &Camera, times: &[f64]) -> Result<(), Error> {
+    let strobe = &camera.frames;
+    if strobe.is_empty() {
+        return Ok(());
+    }
     let mut picked: Vec<usize> = if times.is_empty() {
-        vec![0, frames.len() / 2, frames.len() - 1]
+        vec![0, strobe.len() / 2, strobe.len() - 1]
     } else {
         times
             .iter()
             .map(|&t| {
-                (0..frames.len())
-                    .min_by(|&a, &b| (frames[a].time - t).abs().total_cmp(&(frames[b].time - t).abs()))
-                    .expect("frames are not empty")
+                (0..strobe.len())
+                    .min_by(|&a, &b| (strobe[a].time - t).abs().total_cmp(&(strobe[b].time - t).abs()))
+                    .expect("strobe frames are not empty")
             })
             .collect()
     };
@@ -297,18 +312,20 @@ pub(super) fn top_view(dir: &mut RunDir, run: &analysis::input::Run, times: &[f6
     let panels = picked
         .iter()
         .map(|&k| {
-            let f = &frames[k];
+            let s = strobe[k];
+            let f = &run.frames[s.frame];
             let grains = f
                 .pos
                 .iter()
                 .zip(&h.radii)
-                .map(|(p, r)| (p[0].rem_euclid(h.length), p[1], *r))
+                .map(|(p, r)| ((p[0] - s.tray_x).rem_euclid(h.length), p[1], *r))
                 .collect();
-            (format!("t = {:.3} s", f.time), grains)
+            let n = camera.stripes[k].len();
+            (format!("t = {:.3} s, tray frame: {n} stripe(s) counted", f.time), grains)
         })
         .collect();
     let view = TopView {
-        title: format!("Top view of the tray ({} grains)", h.radii.len()),
+        title: format!("Top view of the tray ({} grains), at the turning point", h.radii.len()),
         length: h.length,
         width: h.width,
         panels,
@@ -317,6 +334,147 @@ pub(super) fn top_view(dir: &mut RunDir, run: &analysis::input::Run, times: &[f6
         .save(&dir.path.join("top_view"))
         .map_err(|e| format!("cannot draw top_view: {e}"))?;
     dir.note_files(files);
+    Ok(())
+}
+
+/// The camera's tables: the stroboscopic count, profiles, stripes, tracks and the profile's
+/// autocorrelation.
+pub(super) fn write_camera(dir: &mut RunDir, c: &Camera, r: &Report) -> Result<(), Error> {
+    let nan = f64::NAN;
+    let (power, log) = (c.law.power, c.law.logarithmic);
+    let fitted = |t: f64| c.law_from.is_some_and(|from| t >= from);
+    let rows: Vec<Vec<f64>> = c
+        .frames
+        .iter()
+        .zip(&c.stripes)
+        .zip(&c.contrast)
+        .map(|((f, s), k)| {
+            vec![
+                f.time,
+                f.tray_x,
+                f.offset.unwrap_or(nan),
+                s.len() as f64,
+                *k,
+                power.filter(|_| fitted(f.time)).map_or(nan, |p| p.eval(f.time, true)),
+                log.filter(|_| fitted(f.time)).map_or(nan, |p| p.eval(f.time, false)),
+            ]
+        })
+        .collect();
+    dir.csv(
+        "camera_count.csv",
+        &["t", "tray_x", "offset_periods", "count", "contrast", "power_fit", "log_fit"],
+        &rows,
+    )?;
+    let mut names = vec!["t".to_string(), "tray_x".to_string()];
+    names.extend((0..r.cells).map(|k| format!("x{:.6}", (k as f64 + 0.5) * r.cell)));
+    let names: Vec<&str> = names.iter().map(String::as_str).collect();
+    let rows: Vec<Vec<f64>> = c
+        .frames
+        .iter()
+        .zip(&c.profiles)
+        .map(|(f, p)| [f.time, f.tray_x].into_iter().chain(p.iter().copied()).collect())
+        .collect();
+    dir.csv("camera_profiles.csv", &names, &rows)?;
+    let rows: Vec<Vec<f64>> = c
+        .frames
+        .iter()
+        .zip(&c.stripes)
+        .flat_map(|(f, s)| s.iter().map(move |s| vec![f.time, s.start, s.center, s.width, s.mass]))
+        .collect();
+    dir.csv("camera_stripes.csv", &["t", "start", "center", "width", "mass"], &rows)?;
+    let rows: Vec<Vec<f64>> = c
+        .tracks
+        .iter()
+        .map(|t| {
+            vec![
+                t.born,
+                t.ended.unwrap_or(nan),
+                f64::from(u8::from(t.from_start)),
+                t.center,
+                t.lifetime().unwrap_or(nan),
+            ]
+        })
+        .collect();
+    dir.csv(
+        "stripe_tracks.csv",
+        &["born", "ended", "from_start", "center_last", "lifetime"],
+        &rows,
+    )?;
+    let rows: Vec<Vec<f64>> = c.correlation.iter().map(|p| vec![p.lag as f64, p.lag_s, p.c]).collect();
+    dir.csv("profile_correlation.csv", &["lag", "lag_s", "C"], &rows)
+}
+
+/// The camera's plots: the count over time on a log time axis with both coarsening laws, and
+/// the last stroboscopic profile with the counting threshold.
+pub(super) fn draw_camera(dir: &mut RunDir, c: &Camera, r: &Report) -> Result<(), Error> {
+    let pts: Vec<(f64, f64)> = c
+        .frames
+        .iter()
+        .zip(&c.stripes)
+        .filter(|(f, _)| f.time > 0.0)
+        .map(|(f, s)| (f.time, s.len() as f64))
+        .collect();
+    let mut plot = LinePlot::new("Stripes counted at the turning points (tray frame)", "t (s)", "stripe count S")
+        .integer_y()
+        .include_y(0.0)
+        .log_x()
+        .legend(analysis::plot::LegendCorner::UpperRight)
+        .series("S", pts.clone(), Mark::LinePoints);
+    let fit_times: Vec<f64> = pts
+        .iter()
+        .map(|p| p.0)
+        .filter(|t| c.law_from.is_some_and(|from| *t >= from))
+        .collect();
+    for (name, fit, power) in [("S = a t^-alpha", c.law.power, true), ("S = a - b ln t", c.law.logarithmic, false)] {
+        if let Some(f) = fit {
+            let label = format!(
+                "{name}: a = {:.3}, {} = {:.3} [{:.3}, {:.3}]",
+                f.a,
+                if power { "alpha" } else { "b" },
+                f.rate,
+                f.rate_ci95.0,
+                f.rate_ci95.1
+            );
+            plot = plot.series(&label, fit_times.iter().map(|&t| (t, f.eval(t, power))).collect(), Mark::Dashed);
+        }
+    }
+    for (name, at) in [("clusters", c.cluster_onset), ("stripes", c.stripe_onset)] {
+        if let Some(t) = at.filter(|t| *t > 0.0) {
+            let top = pts.iter().map(|p| p.1).fold(1.0, f64::max);
+            plot = plot.series(&format!("onset of {name} {t:.3} s"), vec![(t, 0.0), (t, top)], Mark::Dashed);
+        }
+    }
+    dir.plot("stripe_count_log", &plot)?;
+    if let (Some(f), Some(p)) = (c.frames.last(), c.profiles.last()) {
+        let xs = |k: usize| (k as f64 + 0.5) * r.cell;
+        let prof = LinePlot::new(
+            &format!(
+                "Tray-frame profile at t = {:.3} s (turning point): {} stripe(s)",
+                f.time,
+                c.stripes.last().map_or(0, Vec::len)
+            ),
+            "x relative to the tray (m)",
+            "area fraction",
+        )
+        .include_y(0.0)
+        .series("phi(x)", p.iter().enumerate().map(|(k, v)| (xs(k), *v)).collect(), Mark::Line)
+        .series(
+            &format!(
+                "threshold {:.3} = {:.2} x mean; min width {:.1} mm",
+                c.rule.threshold,
+                c.rule.threshold_over_mean,
+                c.rule.min_width_m * 1e3
+            ),
+            vec![(0.0, c.rule.threshold), (r.length, c.rule.threshold)],
+            Mark::Dashed,
+        )
+        .series(
+            &format!("mean {:.3}", r.mean_area_fraction),
+            vec![(0.0, r.mean_area_fraction), (r.length, r.mean_area_fraction)],
+            Mark::Dashed,
+        );
+        dir.plot("camera_profile_last", &prof)?;
+    }
     Ok(())
 }
 

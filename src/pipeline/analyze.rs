@@ -10,7 +10,10 @@ use serde::ser::Error as _;
 use serde::{Serialize, Serializer};
 use serde_json::Value;
 
-use super::analysis_files::{draw, top_view, write_tables};
+use analysis::camera::{Camera, CameraSummary};
+use analysis::classify::{Classification, Phase};
+
+use super::analysis_files::{draw, draw_camera, top_view, write_camera, write_tables};
 use crate::output::CliError as Error;
 use crate::output::{RunDir, Written};
 
@@ -27,8 +30,33 @@ pub struct AnalysisOptions {
     /// The analysis' settings; without a period, the run's metadata gives it.
     pub options: Options,
     /// Times (s) of the top views of a tray (`top_view.png`); empty: the first, middle and
-    /// last frames.
+    /// last stroboscopic frames.
     pub top_view: Vec<f64>,
+    /// The frame of `density_map.png`: the camera's (tray frame, one frame per period at the
+    /// turning point) or every frame as stored (lab frame).
+    pub map_frame: MapFrame,
+}
+
+/// Which frames and positions `density_map.png` draws.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum MapFrame {
+    /// The stroboscopic frames at the drive's turning points, positions relative to the tray.
+    #[default]
+    Tray,
+    /// Every frame, positions as stored (the DEM's: the lab frame).
+    Lab,
+}
+
+impl std::str::FromStr for MapFrame {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "tray" => Ok(MapFrame::Tray),
+            "lab" => Ok(MapFrame::Lab),
+            _ => Err(format!("expected `tray` or `lab`, got `{s}`")),
+        }
+    }
 }
 
 impl AnalysisOptions {
@@ -41,6 +69,7 @@ impl AnalysisOptions {
             dt: analysis::lammps::DEFAULT_DT,
             options: Options::default(),
             top_view: Vec::new(),
+            map_frame: MapFrame::Tray,
         }
     }
 }
@@ -89,11 +118,16 @@ pub struct AnalysisSummary {
     /// The reader's, the classifier's and the geometry's warnings.
     pub warnings: Vec<String>,
     pub written: Written,
+    /// The camera's measures (a tray only), with `label_note` when the phase and the last
+    /// stroboscopic frame's count disagree.
+    pub camera: Option<CameraSummary>,
+    pub camera_label_note: Option<String>,
 }
 
 /// The keys of an analysis summary that a model's own summary repeats (`stripes
 /// automaton`, `stripes compare`).
-const SHARED_KEYS: [&str; 20] = [
+const SHARED_KEYS: [&str; 21] = [
+    "camera",
     "stripe_count_final",
     "stripe_onset_s",
     "phase",
@@ -132,6 +166,13 @@ impl AnalysisSummary {
         if self.geometry == Geometry::VerticalBox {
             m.insert("phase".into(), "unclassified".into());
             m.insert("phase_note".into(), VERTICAL_BOX_NOTE.into());
+        }
+        if let Some(c) = &self.camera {
+            let mut v = serde_json::to_value(c)?;
+            if let Value::Object(o) = &mut v {
+                o.insert("label_note".into(), serde_json::to_value(&self.camera_label_note)?);
+            }
+            m.insert("camera".into(), v);
         }
         m.insert("warnings".into(), serde_json::to_value(&self.warnings)?);
         m.insert("out".into(), self.written.out.clone().into());
@@ -215,11 +256,27 @@ pub fn analyze(input: &Path, opts: &AnalysisOptions) -> Result<AnalysisSummary, 
     crate::output::claim(&out, opts.force)?;
     let mut dir = RunDir::create(&out, &serde_json::json!({ "input": input, "options": opts }))?;
     write_tables(&mut dir, &report, &run)?;
-    draw(&mut dir, &report, run.geometry)?;
-    if run.geometry == Geometry::Tray && !run.frames.is_empty() {
-        top_view(&mut dir, &run, &opts.top_view)?;
+    let camera = (run.geometry == Geometry::Tray)
+        .then(|| analysis::camera::measure(&run.header, &run.frames, run.drive.as_ref(), &report.stripe_params, report.cells));
+    draw(
+        &mut dir,
+        &report,
+        run.geometry,
+        camera.as_ref().filter(|_| opts.map_frame == MapFrame::Tray),
+    )?;
+    if let Some(c) = &camera {
+        write_camera(&mut dir, c, &report)?;
+        draw_camera(&mut dir, c, &report)?;
+        top_view(&mut dir, &run, c, &opts.top_view)?;
     }
     let mut warnings = run.warnings.clone();
+    let camera_label_note = camera
+        .as_ref()
+        .and_then(|c| label_note(c, report.phase().ok(), &report.classification));
+    if let Some(n) = &camera_label_note {
+        eprintln!("warning: {n}");
+        warnings.push(n.clone());
+    }
     if let Err(e) = report.phase() {
         eprintln!("warning: {e}");
         warnings.push(e.to_string());
@@ -239,7 +296,31 @@ pub fn analyze(input: &Path, opts: &AnalysisOptions) -> Result<AnalysisSummary, 
         velocity_columns: run.velocity_columns.clone(),
         warnings,
         written: dir.written(),
+        camera: camera.as_ref().map(Camera::summary),
+        camera_label_note,
     };
     dir.finish_typed(&summary)?;
     Ok(summary)
+}
+
+/// Why the phase and the camera's count of the last stroboscopic frame disagree, if they do:
+/// a run labelled `stripes` whose last frame holds none, or a run with stripes in its last
+/// frame that is not labelled `stripes`.
+pub fn label_note(camera: &Camera, phase: Option<Phase>, evidence: &Classification) -> Option<String> {
+    let last = camera.stripes.last().map_or(0, Vec::len);
+    let at = camera.frames.last().map_or(f64::NAN, |f| f.time);
+    match phase {
+        Some(Phase::Stripes) if last == 0 => Some(format!(
+            "labelled `stripes` ({} stationary stripe(s) in the profile averaged over the last {} periods, {} in the median tail frame), but the camera's last frame (t = {at:.3} s) holds no stripe",
+            evidence.stationary_stripe_count, evidence.params.persistence_periods, evidence.tail_stripe_count
+        )),
+        Some(p) if p != Phase::Stripes && last > 0 => Some(format!(
+            "the camera's last frame (t = {at:.3} s) holds {last} stripe(s), but the run is labelled `{}` (mobility {:.3}, contrast {:.2}, {} stationary stripe(s))",
+            p.name(),
+            evidence.mobility,
+            evidence.contrast,
+            evidence.stationary_stripe_count
+        )),
+        _ => None,
+    }
 }

@@ -9,7 +9,6 @@ use analysis::snapshot::Header;
 use particles::advance::{advance, ObserverError};
 use particles::measure;
 use particles::sim::Simulation;
-use particles::time_step;
 use particles::timescale;
 use serde::Serialize;
 use serde_json::json;
@@ -67,6 +66,17 @@ pub struct Contacts {
     pub wall_mean: f64,
 }
 
+/// One stage of the drive as the summary lists it.
+#[derive(Clone, Debug, Serialize)]
+pub struct StageStart {
+    /// s.
+    pub start_s: f64,
+    /// Hz.
+    pub frequency: f64,
+    /// m.
+    pub amplitude: f64,
+}
+
 /// What a DEM run did: `summary.json` of its directory, field for field.
 #[derive(Clone, Debug, Serialize)]
 pub struct DemSummary {
@@ -93,6 +103,8 @@ pub struct DemSummary {
     pub energy: Energy,
     pub contacts: Contacts,
     pub neighbor_builds: u64,
+    /// The drive's stages in order, each with its start (s): one for a single drive.
+    pub drive_stages: Vec<StageStart>,
     pub state_hash: String,
     pub warnings: Vec<String>,
     #[serde(flatten)]
@@ -314,8 +326,11 @@ fn start(resolved: &Resolved, opts: &RunOptions, checkpoint: Option<Vec<u8>>) ->
     };
 
     // Snapshot k >= 1 at the turning point x_tray = +A of each period (sin = 1):
-    // t_k = 1/(4 nu) + (k - 1) / (s nu), taken at the nearest step.
+    // t_k = 1/(4 nu) + (k - 1) / (s nu), taken at the nearest step; with a schedule, at each
+    // stage's own turning points (`particles::drive::Schedule::snapshot_time`).
     let (nu, per) = (scene.drive.frequency, scene.run.snapshots_per_period as f64);
+    let schedule = scene.drive.schedule();
+    let per_u32 = scene.run.snapshots_per_period;
     let mut recorder = Recorder::open(RecorderPlan {
         header: Header {
             length: scene.tray.length,
@@ -324,7 +339,10 @@ fn start(resolved: &Resolved, opts: &RunOptions, checkpoint: Option<Vec<u8>>) ->
         },
         snapshots: out.join("snapshots.bin"),
         frames,
-        snap_time: Box::new(move |k: u64| 0.25 / nu + (k - 1) as f64 / (per * nu)),
+        snap_time: match schedule {
+            None => Box::new(move |k: u64| 0.25 / nu + (k - 1) as f64 / (per * nu)),
+            Some(schedule) => Box::new(move |k: u64| schedule.snapshot_time(k, per_u32)),
+        },
         vtk,
         checkpoint: ckpt_path,
         fingerprint,
@@ -354,7 +372,7 @@ fn start(resolved: &Resolved, opts: &RunOptions, checkpoint: Option<Vec<u8>>) ->
 /// The time loop of a started run, then its summary.
 fn step(resolved: &Resolved, opts: &RunOptions, started: Started, threads_why: String) -> Result<DemSummary, Error> {
     let (scene, out, args) = (resolved.scene(), opts.out.as_path(), opts);
-    let mut warnings = resolved.warnings.clone();
+    let mut warnings = Vec::new();
     let Started {
         mut dir,
         mut sim,
@@ -415,8 +433,7 @@ fn step(resolved: &Resolved, opts: &RunOptions, started: Started, threads_why: S
     recorder.writer.sync()?;
     bar.finish_and_clear();
     thermo.write()?;
-    let resolving = time_step::viscous_friction_ratio(scene, dt)?.filter(|r| *r > 1.0).map(|r| dt / r);
-    if let Some(w) = thermo.balance_warning(dt, resolving) {
+    if let Some(w) = thermo.balance_warning(dt) {
         eprintln!("warning: {w}");
         warnings.push(w);
     }
@@ -442,6 +459,13 @@ fn step(resolved: &Resolved, opts: &RunOptions, started: Started, threads_why: S
         balance_relative,
     };
     dir.json("scene.json", scene)?;
+    if let Some(w) = particles::waits() {
+        // `STRIPES_WAITS` set: where the threads waited (docs/performance.md, issue 41).
+        eprintln!(
+            "waits (all threads, s): team for its next job {:.3}, at barriers {:.3}, caller for the team {:.3}; {} waits ended asleep; {} blocks taken over; stepping {stepping:.3} s",
+            w.for_job_s, w.at_barrier_s, w.for_team_s, w.sleeps, w.taken_over
+        );
+    }
     let summary = DemSummary {
         scene: resolved.path.display().to_string(),
         particles: s.len(),
@@ -463,6 +487,16 @@ fn step(resolved: &Resolved, opts: &RunOptions, started: Started, threads_why: S
         energy,
         contacts: Contacts { pair_mean, wall_mean },
         neighbor_builds: sim.neighbor_builds(),
+        drive_stages: scene
+            .drive
+            .stage_starts()
+            .into_iter()
+            .map(|(start_s, frequency, amplitude)| StageStart {
+                start_s,
+                frequency,
+                amplitude,
+            })
+            .collect(),
         state_hash: format!("{:016x}", measure::state_hash(s)),
         warnings,
         written: dir.written(),

@@ -55,7 +55,11 @@ pub struct EventsSummary {
     pub energy_ledger_error: f64,
     pub wall_work_j: f64,
     pub dissipated_j: f64,
+    /// The unweighted mean height of the centres over every sample (m).
     pub mean_height_m: f64,
+    /// The rough-sphere paper's H and K/R (`reduced_height_m`, `k_over_r_phase`, ...).
+    #[serde(flatten)]
+    pub paper: crate::events_measure::PaperObservables,
     pub current_x_m_per_s: f64,
     pub temperature_ratio_bulk: f64,
     pub temperatures: Vec<Temperatures>,
@@ -162,7 +166,8 @@ fn simulate(
             (c.observer, c.e0, c.sample + 1, c.frames, snapshots)
         }
         None => {
-            let mut obs = Observer::new(species, scene.run.bin, top, sim.config.width);
+            let mut obs = Observer::new(species, scene.run.bin, top, sim.config.width)
+                .with_phases(scene.run.samples_per_period as usize, scene.run.phase_resolved);
             if let Some(base) = &sim.config.base {
                 obs = obs.with_phase_field(base, sim.config.width, sim.config.height);
             }
@@ -247,6 +252,7 @@ fn simulate(
     let across: Vec<Vec<[f64; 5]>> = (0..species).map(|k| obs.profile_across(k, width)).collect();
     profile_files(&mut dir, &across, &ACROSS, width / obs.across_bins as f64, obs.samples)?;
     crate::events_distributions::write(&mut dir, &obs, &sim)?;
+    phase_files(&mut dir, &obs, &sim, width)?;
     let side_cluster = crate::events_side::write(&mut dir, &obs, dt_sample, sim.len())?;
     if let (Some(field), Some(base)) = (&obs.field, &sim.config.base) {
         crate::events_fields::write(&mut dir, field, base)?;
@@ -278,6 +284,7 @@ fn simulate(
         wall_work_j: sim.ledger.wall_work,
         dissipated_j: sim.ledger.dissipated,
         mean_height_m: obs.mean_height(),
+        paper: crate::events_measure::PaperObservables::of(&obs, &sim, scene),
         current_x_m_per_s: obs.mean_vx(),
         temperature_ratio_bulk: crate::events_measure::bulk_ratio(&obs, sim.config.height),
         temperatures,
@@ -289,6 +296,68 @@ fn simulate(
     };
     dir.finish_typed(&summary)?;
     Ok(summary)
+}
+
+/// `phases.csv`: per phase of the drive (a fraction of a period, phase 0 the floor at its
+/// mean position moving up), the samples, the mass-weighted centre of mass, the reduced
+/// height (minus the rest estimate) and K/R; with `run.phase_resolved`, every profile per
+/// phase too (`profiles_phase.csv`, `profiles_across_phase.csv`: a `phase` column, then the
+/// columns of `profiles.csv` and `profiles_across.csv`).
+fn phase_files(dir: &mut RunDir, obs: &Observer, sim: &Simulation, width: f64) -> Result<(), Error> {
+    let n = obs.phases.len();
+    let rest = events::observe::rest_height_of(&sim.config).height;
+    let rows: Vec<Vec<f64>> = (0..n)
+        .map(|k| {
+            let p = obs.phase(k);
+            vec![
+                k as f64 / n as f64,
+                p.samples as f64,
+                p.com_height(),
+                p.com_height() - rest,
+                p.kinetic_ratio(),
+            ]
+        })
+        .collect();
+    dir.csv(
+        "phases.csv",
+        &["phase", "samples", "centre_of_mass_m", "reduced_height_m", "k_over_r"],
+        &rows,
+    )?;
+    if obs.phase_heights.is_empty() {
+        return Ok(());
+    }
+    let species = sim.config.species.len();
+    for (name, column, across) in [("profiles_phase.csv", "z_m", false), ("profiles_across_phase.csv", "x_m", true)] {
+        let mut header = vec!["phase".to_string(), column.to_string()];
+        for s in 1..=species {
+            for c in ["n_per_m", "tx_j", "tz_j", "trot_j"] {
+                header.push(format!("{c}_{s}"));
+            }
+        }
+        let mut rows = Vec::new();
+        for k in 0..n {
+            let profiles: Vec<Vec<[f64; 5]>> = (0..species)
+                .map(|s| {
+                    if across {
+                        obs.phase_profile_across(k, s, width)
+                    } else {
+                        obs.phase_profile(k, s)
+                    }
+                    .unwrap_or_default()
+                })
+                .collect();
+            for b in 0..profiles[0].len() {
+                let mut row = vec![k as f64 / n as f64, profiles[0][b][0]];
+                for p in &profiles {
+                    row.extend_from_slice(&p[b][1..]);
+                }
+                rows.push(row);
+            }
+        }
+        let refs: Vec<&str> = header.iter().map(String::as_str).collect();
+        dir.csv(name, &refs, &rows)?;
+    }
+    Ok(())
 }
 
 /// The files of one axis' profiles.

@@ -16,7 +16,7 @@ mod dem;
 mod events;
 mod resolve;
 
-pub use analyze::{analyze, AnalysisOptions, AnalysisSummary};
+pub use analyze::{analyze, AnalysisOptions, AnalysisSummary, MapFrame};
 pub use automaton::{resolve_lattice, run_automaton, AutomatonOptions};
 pub use dem::{no_checkpoint, run_dem, RunOptions};
 pub use events::{run_events, EventsOptions};

@@ -23,13 +23,13 @@ pub struct Resolved {
     /// Laws, walls, gravity, boundaries and the step (`run.dt`, chosen by the collision lab
     /// for `"auto"`).
     pub setup: Setup,
-    /// What the step leaves unresolved, said before a run starts
-    /// ([`particles::time_step::warnings`]).
-    pub warnings: Vec<String>,
     /// The prepared sample the scene starts from ([`crate::samples::sample_key`]).
     pub sample_key: u64,
     /// What a checkpoint must match to be resumed ([`checkpoint_fingerprint`]).
     pub fingerprint: u64,
+    /// What a run of the scene must say at its start: the disk it will fill, a drive too weak
+    /// to move anything ([`crate::bounds::dem`]).
+    pub warnings: Vec<String>,
 }
 
 impl Resolved {
@@ -51,19 +51,19 @@ pub fn resolve(path: &Path, file: SceneFile) -> Result<Resolved, Error> {
     let scene = &file.dem;
     scene.validate()?;
     let setup = tray::setup(scene, tray::drive(scene), time_step::for_scene(scene)?)?;
-    let gap = 1.0 / (scene.run.snapshots_per_period as f64 * scene.drive.frequency);
+    // The fastest stage of a schedule takes its snapshots closest together.
+    let gap = 1.0 / (scene.run.snapshots_per_period as f64 * scene.drive.highest_frequency());
     if gap < 2.0 * setup.dt {
         return Err(format!(
             "scene `run.snapshots_per_period` = {}: snapshots {gap:e} s apart are closer than two steps of {:e} s; at most {} per period",
             scene.run.snapshots_per_period,
             setup.dt,
-            (1.0 / (2.0 * setup.dt * scene.drive.frequency)).floor()
+            (1.0 / (2.0 * setup.dt * scene.drive.highest_frequency())).floor()
         )
         .into());
     }
     // Sizes before anything is allocated or written (crate::bounds).
-    let mut warnings = crate::bounds::dem(scene, setup.dt)?;
-    warnings.extend(time_step::warnings(scene, setup.dt)?);
+    let warnings = crate::bounds::dem(scene, setup.dt)?;
     Ok(Resolved {
         path: path.to_path_buf(),
         sample_key: sample_key(scene),

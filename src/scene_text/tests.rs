@@ -91,6 +91,49 @@ fn unknown_keys_and_bad_values_name_the_key() {
 }
 
 #[test]
+fn bad_sds_rolling_values_name_their_key() {
+    let invalid = |sets: &[&str]| {
+        let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+        parse_scene(MINIMAL, &sets, "test").unwrap().validate().unwrap_err()
+    };
+    let sds = "contact.rolling=sds";
+    let e = invalid(&[sds]);
+    assert!(e.key == "contact.rolling_resistance" && e.message.contains("needed"), "{e}");
+    let e = invalid(&[sds, "contact.rolling_resistance=-0.1"]);
+    assert_eq!(e.key, "contact.rolling_resistance", "{e}");
+    let e = invalid(&[sds, "contact.rolling_resistance=0.1", "contact.rolling_resistance_spread=0.2"]);
+    assert!(e.key == "contact.rolling_resistance_spread" && e.message.contains("at most"), "{e}");
+    let e = invalid(&[sds, "contact.rolling_resistance=0.1", "contact.rolling_stiffness=0"]);
+    assert_eq!(e.key, "contact.rolling_stiffness", "{e}");
+    let e = invalid(&[sds, "contact.rolling_resistance=0.1", "contact.rolling_damping=-1"]);
+    assert_eq!(e.key, "contact.rolling_damping", "{e}");
+    // A valid one: the law whole, and the per-grain values within the spread.
+    let s = parse_scene(
+        MINIMAL,
+        &[
+            sds.into(),
+            "contact.rolling_resistance=0.1".into(),
+            "contact.rolling_resistance_spread=0.05".into(),
+        ],
+        "test",
+    )
+    .unwrap();
+    s.validate().unwrap();
+    assert_eq!(
+        s.laws().unwrap().0.rolling,
+        RollingLaw::SpringDashpotSlider {
+            mu_r: 0.1,
+            k_roll: None,
+            gamma_roll: 0.0
+        }
+    );
+    let mu = s.rolling_mu();
+    assert_eq!(mu.len(), s.particles.count);
+    assert!(mu.iter().all(|&m| (0.05..=0.15).contains(&m)));
+    assert!(mu.iter().any(|&m| m < 0.09) && mu.iter().any(|&m| m > 0.11), "spread out");
+}
+
+#[test]
 fn friction_accepts_inf_as_the_uncapped_law() {
     let s = parse_scene(MINIMAL, &["contact.wall_friction=inf".into()], "test").unwrap();
     s.validate().unwrap();

@@ -80,8 +80,11 @@ kind!(
     RollingKind {
         /// No rolling resistance.
         None = "none",
-        /// Brilliantov-Pöschel, eq 3.15 (mu_r).
+        /// Brilliantov-Pöschel, eq 3.15 (mu_r in s).
         BrilliantovPoschel = "brilliantov-poschel",
+        /// Spring-dashpot-slider, Ai et al. 2011 model C; LAMMPS `rolling sds` (mu_r
+        /// dimensionless, k_roll, gamma_roll).
+        SpringDashpotSlider = "sds",
     }
 );
 
@@ -113,6 +116,12 @@ pub struct LawParameters {
     pub kt: Option<f64>,
     /// Brilliantov-Pöschel: mu_r (s).
     pub mu_r: f64,
+    /// Spring-dashpot-slider: rolling resistance mu_r (dimensionless).
+    pub rolling_resistance: Option<f64>,
+    /// Spring-dashpot-slider: k_roll (N/m); `None`: `2.25 mu_r^2 k_n`.
+    pub k_roll: Option<f64>,
+    /// Spring-dashpot-slider: gamma_roll (N s/m).
+    pub gamma_roll: f64,
 }
 
 /// A parameter the chosen law needs and was not given.
@@ -122,6 +131,8 @@ pub enum Missing {
     Kn,
     /// k_t, needed by [`TangentialKind::CundallStrack`].
     Kt,
+    /// The dimensionless mu_r, needed by [`RollingKind::SpringDashpotSlider`].
+    RollingResistance,
 }
 
 impl LawChoice {
@@ -148,6 +159,11 @@ impl LawChoice {
         let rolling = match self.rolling {
             RollingKind::None => RollingLaw::None,
             RollingKind::BrilliantovPoschel => RollingLaw::BrilliantovPoschel { mu_r: p.mu_r },
+            RollingKind::SpringDashpotSlider => RollingLaw::SpringDashpotSlider {
+                mu_r: p.rolling_resistance.ok_or(Missing::RollingResistance)?,
+                k_roll: p.k_roll,
+                gamma_roll: p.gamma_roll,
+            },
         };
         Ok(ContactLaw {
             normal,
@@ -171,6 +187,9 @@ mod tests {
             gamma_t: 0.007,
             kt: None,
             mu_r: 8.5e-6,
+            rolling_resistance: None,
+            k_roll: None,
+            gamma_roll: 0.0,
         }
     }
 

@@ -15,7 +15,13 @@ use crate::Vec3;
 ///   point at the middle of the overlap. They differ from the undeformed radii of eq 3.11 by
 ///   `xi/2` (a relative `1e-3` at rest on the floor) and make the torques conserve angular
 ///   momentum exactly. A wall is the limit `R_j -> infinity`, so `arm_i = R_i - xi/2` too.
-/// - `omega_rel = omega_i - omega_j`; `r_eff` is the effective radius (eq 3.8).
+/// - `omega_rel = omega_i - omega_j`; `r_eff` is the effective radius (eq 3.8);
+/// - `mobility` (1/kg) is the tangential contact-point velocity a unit tangential impulse
+///   gives, `1/m_t = sum_k (1/m_k + R_k^2/I_k)` over the grains of the contact (a wall adds
+///   nothing); `7 / (2 m_eff)` for two solid spheres. The constructors leave it 0, the limit
+///   of infinitely heavy grains, in which the implicit viscous friction of
+///   [`super::TangentialLaw::HaffWerner`] is the explicit one; the force pass sets it
+///   ([`ContactGeometry::with_mobility`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ContactGeometry<N = Vec3> {
     pub n: N,
@@ -26,6 +32,7 @@ pub struct ContactGeometry<N = Vec3> {
     pub arm_i: f64,
     pub arm_j: f64,
     pub r_eff: f64,
+    pub mobility: f64,
 }
 
 /// One sphere of a contact: centre `x` (m), velocity `v` (m/s), spin `w` (rad/s), radius
@@ -89,6 +96,7 @@ impl ContactGeometry {
             arm_i,
             arm_j,
             r_eff,
+            mobility: 0.0,
         }
     }
 }
@@ -224,6 +232,7 @@ pub struct LaneGeometry<N, L> {
     pub arm_i: L,
     pub arm_j: L,
     pub r_eff: L,
+    pub mobility: L,
 }
 
 impl<N> ContactGeometry<N> {
@@ -239,7 +248,25 @@ impl<N> ContactGeometry<N> {
             arm_i: g.arm_i,
             arm_j: g.arm_j,
             r_eff: g.r_eff,
+            mobility: g.mobility,
         }
+    }
+}
+
+impl<N> ContactGeometry<N> {
+    /// The same contact with the tangential mobility `mobility` (1/kg, see the fields).
+    #[inline(always)]
+    pub fn with_mobility(self, mobility: f64) -> Self {
+        Self { mobility, ..self }
+    }
+}
+
+impl<N, L> LaneGeometry<N, L> {
+    /// The same contacts with the tangential mobilities `mobility` (1/kg, see
+    /// [`ContactGeometry`]).
+    #[inline(always)]
+    pub fn with_mobility(self, mobility: L) -> Self {
+        Self { mobility, ..self }
     }
 }
 
@@ -256,6 +283,7 @@ impl<N: Normal> ContactGeometry<N> {
             arm_i: self.arm_i,
             arm_j: self.arm_j,
             r_eff: self.r_eff,
+            mobility: self.mobility,
         }
     }
 }
@@ -286,6 +314,7 @@ impl<L: Lane> LaneGeometry<V3<L>, L> {
             arm_i,
             arm_j,
             r_eff: ri * rj / sum,
+            mobility: L::splat(0.0),
         }
     }
 }
@@ -320,6 +349,7 @@ impl<L: Lane, const AXIS: usize> LaneGeometry<AxisNormal<AXIS>, L> {
             arm_i,
             arm_j: L::splat(f64::INFINITY),
             r_eff: ri,
+            mobility: L::splat(0.0),
         }
     }
 }
@@ -358,6 +388,7 @@ impl ContactGeometry<AxisNormal<2>> {
             arm_i: ri,
             arm_j: f64::INFINITY,
             r_eff: ri,
+            mobility: 0.0,
         }
     }
 }
@@ -398,6 +429,7 @@ mod tests {
             arm_i: g.arm_i,
             arm_j: g.arm_j,
             r_eff: g.r_eff,
+            mobility: g.mobility,
         }
     }
 

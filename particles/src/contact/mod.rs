@@ -3,8 +3,9 @@
 //!
 //! Every kernel is a pure function of a precomputed [`ContactGeometry`]; the same code serves
 //! particle pairs and particle-wall contacts (a wall is an infinite-mass, infinite-radius
-//! partner, eq 3.17-3.18). Per-contact history (the Cundall-Strack spring) is passed in
-//! separately from the parameters.
+//! partner, eq 3.17-3.18). Per-contact history (the Cundall-Strack tangential spring and the
+//! spring-dashpot-slider's rolling spring, a [`History`]) is passed in separately from the
+//! parameters.
 
 pub mod choice;
 pub mod geometry;
@@ -16,7 +17,7 @@ pub mod tangential;
 pub use geometry::{AxisNormal, ContactGeometry, LaneGeometry, Normal};
 pub use lane::{Lane, V3};
 pub use normal::NormalLaw;
-pub use rolling::RollingLaw;
+pub use rolling::{RollingLaw, RollingLoad};
 pub use tangential::TangentialLaw;
 
 use crate::Vec3;
@@ -35,9 +36,10 @@ impl ContactLaw {
         !matches!(self.tangential, TangentialLaw::None) || !matches!(self.rolling, RollingLaw::None)
     }
 
-    /// True if the law is history dependent (needs per-contact storage).
+    /// True if the law is history dependent (needs per-contact storage): a tangential or a
+    /// rolling spring.
     pub fn has_history(&self) -> bool {
-        matches!(self.tangential, TangentialLaw::CundallStrack { .. })
+        self.tangential.has_history() || self.rolling.has_history()
     }
 
     /// `f(law)` compiled once per combination of tangential and rolling variants (loop
@@ -50,10 +52,32 @@ impl ContactLaw {
         match (law.tangential, law.rolling) {
             (TangentialLaw::None, RollingLaw::None) => f(&law),
             (TangentialLaw::None, RollingLaw::BrilliantovPoschel { .. }) => f(&law),
+            (TangentialLaw::None, RollingLaw::SpringDashpotSlider { .. }) => f(&law),
             (TangentialLaw::HaffWerner { .. }, RollingLaw::None) => f(&law),
             (TangentialLaw::HaffWerner { .. }, RollingLaw::BrilliantovPoschel { .. }) => f(&law),
+            (TangentialLaw::HaffWerner { .. }, RollingLaw::SpringDashpotSlider { .. }) => f(&law),
             (TangentialLaw::CundallStrack { .. }, RollingLaw::None) => f(&law),
             (TangentialLaw::CundallStrack { .. }, RollingLaw::BrilliantovPoschel { .. }) => f(&law),
+            (TangentialLaw::CundallStrack { .. }, RollingLaw::SpringDashpotSlider { .. }) => f(&law),
+        }
+    }
+}
+
+/// The history of one contact (per lane: `History<V3<L>>`): the Cundall-Strack tangential
+/// spring `slide` (m) and the spring-dashpot-slider's rolling spring `roll` (rad). Each is
+/// zero, and unused, under a law without it.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct History<F = Vec3> {
+    pub slide: F,
+    pub roll: F,
+}
+
+impl History {
+    /// Tangential spring `slide`, no rolling spring.
+    pub fn sliding(slide: Vec3) -> Self {
+        Self {
+            slide,
+            roll: Vec3::zeros(),
         }
     }
 }
@@ -73,7 +97,7 @@ pub struct ContactForce {
     pub normal: f64,
     /// Tangential force on i (N).
     pub tangential: Vec3,
-    /// Energy stored in the contact (elastic normal + tangential spring), J.
+    /// Energy stored in the contact (elastic normal + tangential spring + rolling spring), J.
     pub stored_energy: f64,
     /// Rate at which the contact dissipates mechanical energy (W), `>= 0` up to the
     /// elastic spring's exchange term (see [`evaluate`]).
@@ -82,8 +106,9 @@ pub struct ContactForce {
 
 /// Evaluates the full contact law on a geometry.
 ///
-/// `history` is the Cundall-Strack tangential spring of this contact (unused by the other
-/// tangential laws) and is advanced by `dt`.
+/// `history` holds the springs of this contact (the Cundall-Strack tangential spring, the
+/// spring-dashpot-slider's rolling spring; unused by the other laws) and is advanced by
+/// `dt`. The rolling coefficient is the law's own; [`evaluate_with`] takes the contact's.
 ///
 /// Torques act at the contact point, taken at the middle of the overlap: the lever arms
 /// `a_i = R_i - xi/2` and `a_j = R_j - xi/2` add up to the centre distance, so total angular
@@ -93,42 +118,49 @@ pub struct ContactForce {
 /// `F_n dxi/dt - F_t . v_t - M_roll . omega_rel`, minus the rate of change of the stored
 /// elastic energy `F_el dxi/dt`; for Cundall-Strack the tangential part is the spring's
 /// elastic energy lost to its Coulomb truncation, per step (a stuck spring stores, it does
-/// not dissipate).
+/// not dissipate), and likewise for the spring-dashpot-slider's rolling spring (see
+/// [`rolling::RollingTorque::dissipation_rate`]).
 #[inline(always)]
-pub fn evaluate<N: Normal>(law: &ContactLaw, g: &ContactGeometry<N>, history: &mut Vec3, dt: f64) -> ContactForce {
-    let n = law.normal.evaluate(g.overlap, g.overlap_rate, g.r_eff);
-    evaluate_loaded(law, g, n.raw, n.elastic, n.energy, history, dt)
+pub fn evaluate<N: Normal>(law: &ContactLaw, g: &ContactGeometry<N>, history: &mut History, dt: f64) -> ContactForce {
+    evaluate_with(law, g, None, history, law.rolling.mu_r(), dt)
 }
 
-/// [`evaluate`] with the unclamped normal force `normal_raw` (N) given instead of computed
-/// from the normal law: a grain pinned to the floor (jumping off, eq 3.28) carries its
-/// weight there, and its friction and rolling resistance feel that load.
+/// [`evaluate`] with the contact's own rolling coefficient `mu_r` (the mean of its grains'
+/// per-grain values, see [`RollingLaw::SpringDashpotSlider`]) and, with `load`, the
+/// unclamped normal force `load` (N) given instead of computed from the normal law: a grain
+/// pinned to the floor (jumping off, eq 3.28) carries its weight there, and its friction and
+/// rolling resistance feel that load (a rolling spring's default stiffness is then the
+/// normal law's at the overlap that would carry it, [`NormalLaw::stiffness_under`]).
 #[inline(always)]
-pub fn evaluate_with_normal<N: Normal>(
+pub fn evaluate_with<N: Normal>(
     law: &ContactLaw,
     g: &ContactGeometry<N>,
-    normal_raw: f64,
-    history: &mut Vec3,
+    load: Option<f64>,
+    history: &mut History,
+    mu_r: f64,
     dt: f64,
 ) -> ContactForce {
-    evaluate_loaded(law, g, normal_raw, 0.0, 0.0, history, dt)
-}
-
-/// The shared tail of [`evaluate`] and [`evaluate_with_normal`] for one contact: [`finish`]
-/// with one lane.
-#[inline(always)]
-fn evaluate_loaded<N: Normal>(
-    law: &ContactLaw,
-    g: &ContactGeometry<N>,
-    normal_raw: f64,
-    elastic: f64,
-    stored: f64,
-    history: &mut Vec3,
-    dt: f64,
-) -> ContactForce {
-    let mut zeta = lane::V3::from(*history);
-    let c = finish(law, &g.lanes(), normal_raw, elastic, stored, &mut zeta, dt);
-    *history = zeta.into();
+    let n = match load {
+        Some(f) => normal::NormalForce {
+            raw: f,
+            elastic: 0.0,
+            energy: 0.0,
+        },
+        None => law.normal.evaluate(g.overlap, g.overlap_rate, g.r_eff),
+    };
+    let stiffness = match load {
+        Some(f) if law.rolling.has_history() => (law.normal.stiffness_under(f, g.r_eff), 0.0),
+        _ => (0.0, 0.0),
+    };
+    let mut h = History {
+        slide: lane::V3::from(history.slide),
+        roll: lane::V3::from(history.roll),
+    };
+    let c = finish(law, &g.lanes(), n, load.map(|_| stiffness), &mut h, mu_r, dt);
+    *history = History {
+        slide: h.slide.into(),
+        roll: h.roll.into(),
+    };
     ContactForce {
         force: c.force.into(),
         torque_i: c.torque_i.into(),
@@ -141,11 +173,18 @@ fn evaluate_loaded<N: Normal>(
     }
 }
 
-/// [`evaluate`] over lanes: the full law on `g`, for contacts side by side.
+/// [`evaluate_with`] over lanes (the normal force from the normal law): the full law on `g`,
+/// for contacts side by side, each with its rolling coefficient `mu_r`.
 #[inline(always)]
-pub fn evaluate_lanes<L: Lane, N: Normal<L>>(law: &ContactLaw, g: &LaneGeometry<N, L>, history: &mut V3<L>, dt: f64) -> LaneForce<L> {
+pub fn evaluate_lanes<L: Lane, N: Normal<L>>(
+    law: &ContactLaw,
+    g: &LaneGeometry<N, L>,
+    history: &mut History<V3<L>>,
+    mu_r: L,
+    dt: f64,
+) -> LaneForce<L> {
     let n = law.normal.evaluate(g.overlap, g.overlap_rate, g.r_eff);
-    finish(law, g, n.raw, n.elastic, n.energy, history, dt)
+    finish(law, g, n, None, history, mu_r, dt)
 }
 
 /// [`ContactForce`] over lanes.
@@ -161,30 +200,45 @@ pub struct LaneForce<L> {
     pub dissipation_rate: L,
 }
 
-/// Tangential and rolling laws under the normal force `normal_raw`, whose elastic part is
-/// `elastic` (storing `stored` J), and the sums of a contact: the one code every contact,
-/// pair or wall, one lane or several, goes through.
+/// Tangential and rolling laws under the normal force `n` (unclamped, its elastic part and
+/// energy), and the sums of a contact: the one code every contact, pair or wall, one lane or
+/// several, goes through. `stiffness`: the normal stiffness and its rate for the rolling
+/// spring where the caller knows them (a given load); `None`: from the normal law at the
+/// geometry's overlap (computed only for a law with a rolling spring).
 #[inline(always)]
 fn finish<L: Lane, N: Normal<L>>(
     law: &ContactLaw,
     g: &LaneGeometry<N, L>,
-    normal_raw: L,
-    elastic: L,
-    stored: L,
-    history: &mut V3<L>,
+    n: normal::NormalForce<L>,
+    stiffness: Option<(L, L)>,
+    history: &mut History<V3<L>>,
+    mu_r: L,
     dt: f64,
 ) -> LaneForce<L> {
+    let normal_raw = n.raw;
     let normal = normal_raw.max(L::splat(0.0));
 
-    let tang = law.tangential.force_lanes(g, normal, history, dt);
-    let roll = law.rolling.torque_lanes(g, normal);
+    let tang = law.tangential.force_lanes(g, normal, &mut history.slide, dt);
+    let stiffness = match stiffness {
+        Some(s) => s,
+        None if law.rolling.has_history() => law.normal.stiffness(g.overlap, g.overlap_rate, g.r_eff),
+        None => (L::splat(0.0), L::splat(0.0)),
+    };
+    let load = RollingLoad { normal, stiffness, mu_r };
+    let roll = law.rolling.torque_lanes(g, load, &mut history.roll, dt);
 
     let force = g.n.scaled(normal) + tang.force;
     let lever = g.n.cross(tang.force);
-    let torque_i = lever.scale(-g.arm_i) + roll;
-    let torque_j = lever.scale(-g.arm_j) - roll;
+    let torque_i = lever.scale(-g.arm_i) + roll.torque;
+    let torque_j = lever.scale(-g.arm_j) - roll.torque;
 
-    let dissipation_rate = (normal - elastic) * g.overlap_rate + tang.dissipation_rate - roll.dot(g.omega_rel);
+    let dissipation_rate = (normal - n.elastic) * g.overlap_rate + tang.dissipation_rate + roll.dissipation_rate;
+    // (Decided per copy of the law: no addition of a zero for the laws without a spring.)
+    let stored_energy = if law.rolling.has_history() {
+        n.energy + tang.stored_energy + roll.stored_energy
+    } else {
+        n.energy + tang.stored_energy
+    };
     LaneForce {
         force,
         torque_i,
@@ -192,7 +246,7 @@ fn finish<L: Lane, N: Normal<L>>(
         normal_raw,
         normal,
         tangential: tang.force,
-        stored_energy: stored + tang.stored_energy,
+        stored_energy,
         dissipation_rate,
     }
 }
@@ -232,7 +286,7 @@ mod tests {
     fn action_equals_reaction_and_swap_mirrors() {
         let g = sample_geometry(false);
         let gs = sample_geometry(true);
-        let (mut h, mut hs) = (Vec3::zeros(), Vec3::zeros());
+        let (mut h, mut hs) = (History::default(), History::default());
         let f = evaluate(&law(), &g, &mut h, 1e-6);
         let fs = evaluate(&law(), &gs, &mut hs, 1e-6);
         assert!((f.force + fs.force).norm() < 1e-12 * f.force.norm());
@@ -243,7 +297,7 @@ mod tests {
     #[test]
     fn total_angular_momentum_rate_vanishes() {
         let g = sample_geometry(false);
-        let mut h = Vec3::zeros();
+        let mut h = History::default();
         let f = evaluate(&law(), &g, &mut h, 1e-6);
         let d = g.n * (g.arm_i + g.arm_j); // r_i - r_j
         let total = d.cross(&f.force) + f.torque_i + f.torque_j;
@@ -253,7 +307,7 @@ mod tests {
     #[test]
     fn coulomb_bound_and_no_attraction() {
         let g = sample_geometry(false);
-        let mut h = Vec3::new(0.0, 1.0, 0.0); // huge stored spring
+        let mut h = History::sliding(Vec3::new(0.0, 1.0, 0.0)); // huge stored spring
         let f = evaluate(&law(), &g, &mut h, 1e-6);
         assert!(f.normal >= 0.0);
         assert!(f.tangential.norm() <= 0.7 * f.normal * (1.0 + 1e-12));
@@ -297,7 +351,7 @@ mod tests {
         for (axis, sign) in [(0, 1.0), (0, -1.0), (1, 1.0), (1, -1.0), (2, 1.0), (2, -1.0)] {
             let mut normal = Vec3::zeros();
             normal[axis] = sign;
-            let (mut h_axis, mut h_general) = (Vec3::zeros(), Vec3::zeros());
+            let (mut h_axis, mut h_general) = (History::default(), History::default());
             let (mut stuck, mut sliding) = (0, 0);
             for k in 0..40 {
                 let phase = k as f64 * 0.3;
@@ -333,8 +387,8 @@ mod tests {
                     parts(&f_axis) == parts(&f_general),
                     "axis {axis} sign {sign} step {k}: {f_axis:?} != {f_general:?}"
                 );
-                assert!(h_axis == h_general, "axis {axis} sign {sign} step {k}: {h_axis} != {h_general}");
-                assert_eq!(h_axis[axis], 0.0, "a wall's spring has no normal part");
+                assert!(h_axis == h_general, "axis {axis} sign {sign} step {k}: {h_axis:?} != {h_general:?}");
+                assert_eq!(h_axis.slide[axis], 0.0, "a wall's spring has no normal part");
                 if f_axis.tangential.norm() < 0.7 * f_axis.normal * (1.0 - 1e-9) {
                     stuck += 1;
                 } else {

@@ -66,6 +66,31 @@ impl NormalLaw {
         }
     }
 
+    /// The normal stiffness `k_n` (N/m) a spring-dashpot-slider derives its default rolling
+    /// stiffness from, and its rate of change `dk_n/dt` (N/m/s), at overlap `xi` closing at
+    /// `xi_dot`: the tangent stiffness `dF_el/dxi`. Hertz: `(3/2) k sqrt(xi)`, changing at
+    /// `k_n xi_dot / (2 xi)` (0 at `xi = 0`); linear: `k_n`, constant.
+    #[inline(always)]
+    pub fn stiffness<L: Lane>(&self, xi: L, xi_dot: L, r_eff: L) -> (L, L) {
+        match *self {
+            NormalLaw::Hertz { reduced_modulus, .. } => {
+                let kn = L::splat(reduced_modulus) * (r_eff * xi).sqrt();
+                let zero = L::splat(0.0);
+                let rate = L::select(L::le(xi, zero), zero, L::splat(0.5) * kn * xi_dot / xi);
+                (kn, rate)
+            }
+            NormalLaw::Linear { kn, .. } => (L::splat(kn), L::splat(0.0)),
+        }
+    }
+
+    /// [`Self::stiffness`] of a contact that carries the static load `f` (N) without an
+    /// overlap of its own (a pinned grain on the floor): the tangent stiffness at the overlap
+    /// [`Self::static_overlap`] that would carry it, `(3/2) k^{2/3} f^{1/3}` (Hertz).
+    pub fn stiffness_under(&self, f: f64, r_eff: f64) -> f64 {
+        let xi = self.static_overlap(f.max(0.0), r_eff);
+        self.stiffness(xi, 0.0, r_eff).0
+    }
+
     /// Release margin (m): a quantity with the sign of the unclamped force for `xi > 0` that
     /// stays smooth through the release, so the end of a contact can be interpolated between
     /// steps: `xi + A dxi/dt` (Hertz, since `F = k sqrt(xi) (xi + A dxi/dt)`),

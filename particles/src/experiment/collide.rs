@@ -299,6 +299,7 @@ impl Collision {
             vertical: Vertical::Free,
             container: None,
             sort: crate::scene::SortInterval::NONE,
+            rolling_mu: Vec::new(),
         };
         let mut sim = Simulation::new(setup, state)?;
         sim.record_contacts(true);

@@ -131,6 +131,7 @@ impl SphereOnFloor {
             vertical: Vertical::Free,
             container: None,
             sort: crate::scene::SortInterval::NONE,
+            rolling_mu: Vec::new(),
         };
         Simulation::new(setup, state)
     }
@@ -166,7 +167,7 @@ impl SphereOnFloor {
     }
 
     fn run(&self, motion: Motion, v0: Vec3, duration: f64, every: u64) -> Result<Vec<Sample>, SimError> {
-        let mut sim = self.simulation(motion, v0)?;
+        let mut sim = self.simulation(motion.clone(), v0)?;
         let steps = (duration / self.dt).round() as u64;
         let every = every.max(1);
         let mut out = vec![Self::sample(&sim, &motion)];

@@ -20,6 +20,9 @@ use crate::contact::choice::{LawChoice, LawParameters, Missing, NormalKind, Roll
 use crate::contact::{ContactLaw, RollingLaw, TangentialLaw};
 use crate::material::{mix, Material};
 
+/// The ChaCha stream of the per-grain rolling coefficients ([`Scene::rolling_mu`]).
+const ROLLING_MU_STREAM: u64 = 0x726f_6c6c; // "roll"
+
 /// A scene. Sections mirror the tables of a scene file.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -117,18 +120,172 @@ impl From<DriveDirection> for String {
     }
 }
 
-/// `[drive]`: tray motion `x_tray(t) = amplitude sin(2 pi frequency t)` along `direction`.
+/// `[drive]`: tray motion `x_tray(t) = amplitude sin(2 pi frequency t)` along `direction`,
+/// or a schedule of such stages, `[[drive.stages]]` ([`crate::drive`]).
+///
+/// In a scene file, either `frequency` and `amplitude` (one stage for the whole run) or
+/// `stages`. With stages, `frequency` and `amplitude` are the last stage's (filled in when
+/// left out, and checked against it when given): the drive whose period the analysis uses.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(try_from = "DriveFile", into = "DriveFile")]
 pub struct Drive {
+    /// Hz (with stages: the last stage's).
+    pub frequency: f64,
+    /// m (with stages: the last stage's).
+    pub amplitude: f64,
+    /// `"x"` (default: the horizontally shaken tray) or `"z"` (a vertically vibrated floor).
+    /// Left out of the serialised scene when `"x"`, so that the tray scenes' sample keys hold.
+    pub direction: DriveDirection,
+    /// The schedule, stage after stage from t = 0 (empty: one stage, `frequency` and
+    /// `amplitude`, for the whole run). Left out of the serialised scene when empty.
+    pub stages: Vec<DriveStage>,
+}
+
+/// `[[drive.stages]]`: one stage of a drive schedule. Each starts at a zero crossing of the
+/// tray, where the one before it ended ([`crate::drive`]).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DriveStage {
     /// Hz.
     pub frequency: f64,
     /// m.
     pub amplitude: f64,
-    /// `"x"` (default: the horizontally shaken tray) or `"z"` (a vertically vibrated floor).
-    /// Left out of the serialised scene when `"x"`, so that the tray scenes' sample keys hold.
+    /// s: a whole number of periods, except for the last stage.
+    pub duration: f64,
+}
+
+/// `[drive]` as written in a scene file (see [`Drive`]).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct DriveFile {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    frequency: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    amplitude: Option<f64>,
     #[serde(default, skip_serializing_if = "DriveDirection::is_x")]
-    pub direction: DriveDirection,
+    direction: DriveDirection,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    stages: Vec<DriveStage>,
+}
+
+impl TryFrom<DriveFile> for Drive {
+    type Error = String;
+    fn try_from(f: DriveFile) -> Result<Self, String> {
+        let missing = |key: &str, unit: &str| {
+            format!("missing field `{key}` (drive.{key}, {unit}; or a schedule of [[drive.stages]] with frequency, amplitude and duration)")
+        };
+        let last = f.stages.last();
+        Ok(Drive {
+            frequency: f
+                .frequency
+                .or(last.map(|s| s.frequency))
+                .ok_or_else(|| missing("frequency", "Hz"))?,
+            amplitude: f.amplitude.or(last.map(|s| s.amplitude)).ok_or_else(|| missing("amplitude", "m"))?,
+            direction: f.direction,
+            stages: f.stages,
+        })
+    }
+}
+
+impl From<Drive> for DriveFile {
+    fn from(d: Drive) -> Self {
+        DriveFile {
+            frequency: Some(d.frequency),
+            amplitude: Some(d.amplitude),
+            direction: d.direction,
+            stages: d.stages,
+        }
+    }
+}
+
+impl Drive {
+    /// The schedule of a drive with stages, `None` for the single stage.
+    pub fn schedule(&self) -> Option<crate::drive::Schedule> {
+        let stages: Vec<(f64, f64, f64)> = self.stages.iter().map(|s| (s.frequency, s.amplitude, s.duration)).collect();
+        crate::drive::Schedule::new(&stages)
+    }
+
+    /// The stages as `(start (s), frequency (Hz), amplitude (m))`: one starting at 0 for the
+    /// single drive.
+    pub fn stage_starts(&self) -> Vec<(f64, f64, f64)> {
+        match self.schedule() {
+            Some(s) => s.stages().iter().map(|s| (s.start, s.frequency, s.amplitude)).collect(),
+            None => vec![(0.0, self.frequency, self.amplitude)],
+        }
+    }
+
+    /// Total duration of the schedule (s), `None` for the single drive (which lasts the run).
+    pub fn schedule_duration(&self) -> Option<f64> {
+        (!self.stages.is_empty()).then(|| self.stages.iter().map(|s| s.duration).sum())
+    }
+
+    /// Peak speed of the tray `2 pi nu A` (m/s): the fastest stage's.
+    pub fn peak_speed(&self) -> f64 {
+        if self.stages.is_empty() {
+            return 2.0 * std::f64::consts::PI * self.frequency * self.amplitude;
+        }
+        self.stages
+            .iter()
+            .map(|s| 2.0 * std::f64::consts::PI * s.frequency * s.amplitude)
+            .fold(0.0, f64::max)
+    }
+
+    /// Highest frequency of any stage (Hz): the one whose snapshots come closest together.
+    pub fn highest_frequency(&self) -> f64 {
+        self.stages.iter().map(|s| s.frequency).fold(self.frequency, f64::max)
+    }
+
+    /// Checks the schedule: each stage's frequency, amplitude and duration positive, every
+    /// stage but the last a whole number of its periods (so that it ends at a zero crossing,
+    /// where the next one starts), and `drive.frequency` / `drive.amplitude`, when given, the
+    /// last stage's. Stages carry no start times (each starts where the one before ends), so
+    /// they can neither overlap nor leave gaps.
+    fn validate_stages(&self) -> Result<(), SceneError> {
+        let n = self.stages.len();
+        for (i, s) in self.stages.iter().enumerate() {
+            let key = |k: &str| format!("drive.stages[{i}].{k}");
+            for (k, x, unit) in [
+                ("frequency", s.frequency, "Hz"),
+                ("amplitude", s.amplitude, "m"),
+                ("duration", s.duration, "s"),
+            ] {
+                if !(x.is_finite() && x > 0.0) {
+                    return Err(err(&key(k), format!("must be a positive number ({unit}), got {x}")));
+                }
+            }
+            let periods = s.duration * s.frequency;
+            if i + 1 < n && (periods - periods.round()).abs() > 1e-9 * periods.max(1.0) {
+                return Err(err(
+                    &key("duration"),
+                    format!(
+                        "must be a whole number of the stage's periods ({} s at {} Hz), so that the stage ends at a zero \
+                         crossing of the tray where the next one starts; got {} s = {periods} periods",
+                        1.0 / s.frequency,
+                        s.frequency,
+                        s.duration
+                    ),
+                ));
+            }
+        }
+        if let Some(last) = self.stages.last() {
+            for (k, given, wanted) in [
+                ("frequency", self.frequency, last.frequency),
+                ("amplitude", self.amplitude, last.amplitude),
+            ] {
+                if given != wanted {
+                    return Err(err(
+                        &format!("drive.{k}"),
+                        format!(
+                            "with [[drive.stages]], drive.{k} is the last stage's ({wanted}); got {given}: leave it out, \
+                             or change drive.stages[{}].{k}",
+                            n - 1
+                        ),
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
 }
 
 /// `[particles]`: the population, radii uniform in `[radius_min, radius_max]`.
@@ -165,6 +322,32 @@ pub struct ContactSpec {
     pub tangential_stiffness: Option<f64>,
     /// Brilliantov-Pöschel rolling friction mu_r (s).
     pub rolling_friction: f64,
+    /// Spring-dashpot-slider (`rolling = "sds"`): the rolling resistance mu_r
+    /// (dimensionless), the mean of the grains' values; needed by `rolling = "sds"`. A grain
+    /// at rest holds on an incline up to `tan(theta) = mu_r`. (This key and the three below
+    /// are left out of the serialised scene at their defaults, so that sample keys and
+    /// checkpoint fingerprints of older scenes still hold.)
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rolling_resistance: Option<f64>,
+    /// Spring-dashpot-slider: half-width of the uniform distribution of the per-grain mu_r
+    /// around `rolling_resistance` (dimensionless, at most the mean); 0: every grain the
+    /// mean. Drawn from `run.seed`; a contact takes the mean of its two grains' values.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub rolling_resistance_spread: f64,
+    /// Spring-dashpot-slider: rolling stiffness k_roll (N/m), LAMMPS' `k_roll`; the spring
+    /// torque per rolling angle is `k_roll R_eff^2`. Absent: `2.25 mu_r^2 k_n` (Ai et al.
+    /// 2011), with k_n the normal law's tangent stiffness at the current overlap.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rolling_stiffness: Option<f64>,
+    /// Spring-dashpot-slider: rolling damping gamma_roll (N s/m), LAMMPS' `gamma_roll`: a
+    /// torque `-gamma_roll R_eff^2 omega_roll` while the spring is below its limit.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub rolling_damping: f64,
+}
+
+/// Whether a key is at its default of 0 (left out of the serialised scene).
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
 }
 
 impl Default for ContactSpec {
@@ -180,6 +363,10 @@ impl Default for ContactSpec {
             tangential_damping: 0.007,
             tangential_stiffness: None,
             rolling_friction: 8.5e-6,
+            rolling_resistance: None,
+            rolling_resistance_spread: 0.0,
+            rolling_stiffness: None,
+            rolling_damping: 0.0,
         }
     }
 }
@@ -304,6 +491,7 @@ impl Scene {
         if let Some(h) = self.tray.height {
             positive("box.height", h)?;
         }
+        self.drive.validate_stages()?;
         positive("drive.frequency", self.drive.frequency)?;
         non_negative("drive.amplitude", self.drive.amplitude)?;
         if self.particles.count == 0 {
@@ -352,6 +540,24 @@ impl Scene {
         friction("contact.wall_friction", c.wall_friction)?;
         non_negative("contact.tangential_damping", c.tangential_damping)?;
         non_negative("contact.rolling_friction", c.rolling_friction)?;
+        if let Some(mu_r) = c.rolling_resistance {
+            non_negative("contact.rolling_resistance", mu_r)?;
+        }
+        non_negative("contact.rolling_resistance_spread", c.rolling_resistance_spread)?;
+        let mean = c.rolling_resistance.unwrap_or(0.0);
+        if c.rolling_resistance_spread > mean {
+            return Err(err(
+                "contact.rolling_resistance_spread",
+                format!(
+                    "must be at most contact.rolling_resistance = {mean} (a uniform half-width wider than the mean would draw a negative mu_r), got {}",
+                    c.rolling_resistance_spread
+                ),
+            ));
+        }
+        if let Some(k) = c.rolling_stiffness {
+            positive("contact.rolling_stiffness", k)?;
+        }
+        non_negative("contact.rolling_damping", c.rolling_damping)?;
         non_negative("contact.gamma_n", c.gamma_n.unwrap_or(0.0))?;
         if let Some(kn) = c.kn {
             positive("contact.kn", kn)?;
@@ -363,6 +569,20 @@ impl Scene {
         non_negative("prepare.speed", self.prepare.speed)?;
         non_negative("prepare.duration", self.prepare.duration)?;
         positive("run.duration", self.run.duration)?;
+        if let Some(total) = self.drive.schedule_duration() {
+            // A shorter run stops inside the schedule (a first look at a long protocol); a
+            // longer one would shake past the schedule's end with no stage to say how.
+            if self.run.duration > total * (1.0 + 1e-12) {
+                return Err(err(
+                    "run.duration",
+                    format!(
+                        "{} s is longer than the drive schedule's {total} s (the sum of drive.stages[..].duration): \
+                         lengthen the last stage, or shorten the run",
+                        self.run.duration
+                    ),
+                ));
+            }
+        }
         if let TimeStep::Seconds(dt) = self.run.dt {
             positive("run.dt", dt)?;
         }
@@ -395,6 +615,25 @@ impl Scene {
         self.projected_area() / (self.tray.length * self.tray.width)
     }
 
+    /// Each grain's rolling coefficient for a spring-dashpot-slider (`rolling = "sds"`,
+    /// [`crate::setup::Setup::rolling_mu`]): uniform in `rolling_resistance +-
+    /// rolling_resistance_spread`, drawn from `run.seed` on a stream of its own (the sample's
+    /// draws do not move); empty without a spread or without the law.
+    pub fn rolling_mu(&self) -> Vec<f64> {
+        use rand::{Rng, SeedableRng};
+        let c = &self.contact;
+        let spread = c.rolling_resistance_spread;
+        let mean = c.rolling_resistance.unwrap_or(0.0);
+        if c.rolling != RollingKind::SpringDashpotSlider || !self.toggles.rolling || spread <= 0.0 {
+            return Vec::new();
+        }
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(self.run.seed);
+        rng.set_stream(ROLLING_MU_STREAM);
+        (0..self.particles.count)
+            .map(|_| mean + spread * (2.0 * rng.gen::<f64>() - 1.0))
+            .collect()
+    }
+
     /// Material of grains and walls.
     pub fn material(&self) -> Material {
         self.material
@@ -421,10 +660,14 @@ impl Scene {
                 gamma_t: c.tangential_damping,
                 kt: c.tangential_stiffness,
                 mu_r: c.rolling_friction,
+                rolling_resistance: c.rolling_resistance,
+                k_roll: c.rolling_stiffness,
+                gamma_roll: c.rolling_damping,
             };
             choice.build(&parameters).map_err(|m| match m {
                 Missing::Kn => err("contact.kn", "needed by normal = \"linear\""),
                 Missing::Kt => err("contact.tangential_stiffness", "needed by tangential = \"cundall-strack\""),
+                Missing::RollingResistance => err("contact.rolling_resistance", "needed by rolling = \"sds\" (dimensionless mu_r)"),
             })
         };
         let (mut pair, mut wall) = (build(c.friction)?, build(c.wall_friction)?);

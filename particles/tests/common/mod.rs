@@ -29,6 +29,7 @@ pub fn tray_scene(length: f64, width: f64, count: usize, dt: TimeStep, seed: u64
             frequency: 20.0,
             amplitude: 0.025,
             direction: Default::default(),
+            stages: Vec::new(),
         },
         particles: Particles {
             count,
@@ -111,5 +112,6 @@ pub fn free_setup(law: ContactLaw, boundary: Boundary, dt: f64) -> Setup {
         vertical: Vertical::Free,
         container: None,
         sort: particles::scene::SortInterval::NONE,
+        rolling_mu: Vec::new(),
     }
 }
