@@ -20,6 +20,8 @@ mod events_distributions;
 mod events_fields;
 mod events_measure;
 mod events_scene;
+#[cfg(test)]
+mod events_scene_checks;
 mod events_segregation;
 mod events_side;
 mod output;
@@ -87,6 +89,7 @@ enum Command {
     Mechanism(commands::mechanism::Args),
     /// The event-driven model of a vibrated box (hard disks or spheres in a vertical plane,
     /// Walton's collisions) on an event-driven scene (model = "events").
+    #[command(mut_arg("scene", |a| a.help("Event-driven scene file (TOML, model = \"events\"), e.g. scenes/mixture.toml")))]
     Events(commands::events::Args),
     /// The event-driven model over a grid of scene values and seeds, in parallel: tables of
     /// the current, height, K/R and temperatures, with plots.

@@ -184,6 +184,10 @@ fn simulate(
         eprintln!("warning: {w}");
         warnings.push(w.to_string());
     }
+    for w in scene.warnings() {
+        eprintln!("warning: {w}");
+        warnings.push(w);
+    }
     let said = warnings.len();
     let collisions_before = sim.collisions();
     let bar = progress_bar(samples, opts.quiet, "events");
@@ -237,6 +241,13 @@ fn simulate(
     if ledger > 1e-9 {
         warnings.push(format!(
             "the energy ledger misses by {ledger:e} of the energy moved (expected round-off, below 1e-9)"
+        ));
+    }
+    if sim.ledger.dissipated < 0.0 {
+        warnings.push(format!(
+            "the collisions added {:e} J instead of dissipating it (dissipated_j < 0): a collapse guard \
+             (guard.min_rebound_speed = {:?} m/s) sent grains apart faster than they met",
+            -sim.ledger.dissipated, scene.guard.min_rebound_speed
         ));
     }
     if obs.samples == 0 {
