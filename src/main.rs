@@ -19,6 +19,7 @@ mod events_checkpoint;
 mod events_distributions;
 mod events_fields;
 mod events_measure;
+mod events_resume;
 mod events_scene;
 #[cfg(test)]
 mod events_scene_checks;
