@@ -284,6 +284,15 @@ pub fn run(args: Args) -> Result<String, CliError> {
         .filter_map(|(name, label)| columns.iter().position(|n| n == name).map(|c| (c, *label)))
         .collect();
     let mut warnings = Vec::new();
+    for (_, _, scene) in &jobs {
+        let species = scene.particles.species.len();
+        if let Some(n) = crate::events_measure::bulk_bin_note(scene.run.bin, scene.tray.height, species) {
+            if !warnings.contains(&n) {
+                eprintln!("warning: {n}");
+                warnings.push(n);
+            }
+        }
+    }
     for (c, label) in plots {
         let mut plot = LinePlot::new(&format!("{} against {}", columns[c], first.key), &first.key, label);
         let rest = points.len() / first.values.len();

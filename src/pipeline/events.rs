@@ -237,6 +237,7 @@ fn simulate(
             "the energy ledger misses by {ledger:e} of the energy moved (expected round-off, below 1e-9)"
         ));
     }
+    warnings.extend(crate::events_measure::bulk_bin_note(obs.bin, sim.config.height, species));
     if sim.ledger.dissipated < 0.0 {
         warnings.push(format!(
             "the collisions added {:e} J instead of dissipating it (dissipated_j < 0): a collapse guard \
