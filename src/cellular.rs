@@ -80,6 +80,10 @@ pub fn validate_lattice(file: &SceneFile) -> Result<(), SceneError> {
                 .into(),
         });
     }
+    // Its periods and snapshot bytes first (crate::bounds).
+    for w in crate::bounds::automaton(&file.dem)? {
+        eprintln!("warning: {w}");
+    }
     let c = Cells::of(file);
     let grains = file.dem.particles.count as f64;
     let cells = c.nx as f64 * c.ny as f64;

@@ -36,8 +36,7 @@ pub struct SampleCache {
 /// checkpoint.
 #[derive(clap::Args, Clone, Debug, Serialize)]
 pub struct SceneRun {
-    /// Scene file (TOML), e.g. scenes/stripes.toml (`stripes events` takes an event-driven
-    /// scene, e.g. scenes/mixture.toml).
+    /// Scene file (TOML), e.g. scenes/stripes.toml.
     pub scene: PathBuf,
     #[command(flatten)]
     #[serde(flatten)]

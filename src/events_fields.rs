@@ -10,6 +10,17 @@ use events::Sawtooth;
 
 use crate::output::{CliError, RunDir};
 
+/// The plot's title, true to what it draws: the field is folded onto one tooth and drawn
+/// over `teeth` repeats of it.
+fn title(teeth: usize, samples: u64) -> String {
+    let over = if teeth == 1 {
+        "over one tooth".to_string()
+    } else {
+        format!("folded onto one tooth, drawn over {teeth} teeth (the same tooth repeated)")
+    };
+    format!("Momentum (arrows) and mass (disks) density {over}, by drive phase ({samples} samples)")
+}
+
 /// Writes the field's table and plot (nothing when no frame has samples).
 pub fn write(dir: &mut RunDir, field: &PhaseField, base: &Sawtooth) -> Result<(), CliError> {
     let mut rows = Vec::new();
@@ -71,10 +82,7 @@ pub fn write(dir: &mut RunDir, field: &PhaseField, base: &Sawtooth) -> Result<()
     )?;
     let w = base.width;
     let plot = FieldPlot {
-        title: format!(
-            "Momentum (arrows) and mass (disks) density over one tooth, by drive phase ({} samples)",
-            field.samples.iter().sum::<u64>()
-        ),
+        title: title(teeth, field.samples.iter().sum::<u64>()),
         x_label: "x from a valley (m)".into(),
         y_label: "z above the valleys (m)".into(),
         x: 0.0..teeth as f64 * w,
@@ -94,4 +102,16 @@ pub fn write(dir: &mut RunDir, field: &PhaseField, base: &Sawtooth) -> Result<()
         .map_err(|e| format!("cannot draw phase_fields: {e}"))?;
     dir.note_files(files);
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    /// Issue 43: `phase_fields.png` said "over one tooth" while it drew four; the title says
+    /// how many teeth it draws.
+    #[test]
+    fn the_title_says_how_many_teeth_are_drawn() {
+        assert!(super::title(1, 10).contains("over one tooth, by drive phase (10 samples)"));
+        let four = super::title(4, 10);
+        assert!(four.contains("drawn over 4 teeth") && !four.contains("over one tooth"), "{four}");
+    }
 }

@@ -90,6 +90,34 @@ pub fn bulk_ratio(obs: &Observer, height: f64) -> f64 {
     obs.temperature_ratio(height / 3.0, 2.0 * height / 3.0)
 }
 
+/// Whether [`bulk_ratio`] depends on `run.bin`, said as a warning: it averages the height
+/// bins whose centres lie in the middle third `[h/3, 2h/3)`, so with bins of `bin` it covers
+/// whole bins from one edge to the other. `None` when those bins match the third within a
+/// twentieth of the height (or with one species); else what they cover, or that none does.
+pub fn bulk_bin_note(bin: f64, height: f64, species: usize) -> Option<String> {
+    if species < 2 || !(bin > 0.0 && height > 0.0) {
+        return None;
+    }
+    let (lo, hi) = (height / 3.0, 2.0 * height / 3.0);
+    // Bin b (centre (b + 1/2) bin) counts when lo <= centre < hi.
+    let first = (lo / bin - 0.5).ceil().max(0.0);
+    let last = (hi / bin - 0.5).ceil() - 1.0;
+    if last < first {
+        return Some(format!(
+            "temperature_ratio_bulk is null: no height bin of run.bin = {bin} m has its centre in the middle third \
+             [{lo:.4}, {hi:.4}) m of the box; a run.bin below {:.4} m measures it",
+            height / 3.0
+        ));
+    }
+    let (a, b) = (first * bin, (last + 1.0) * bin);
+    ((a - lo).abs().max((b - hi).abs()) > height / 20.0).then(|| {
+        format!(
+            "temperature_ratio_bulk depends on run.bin: the bins of {bin} m whose centres lie in the middle third \
+             [{lo:.4}, {hi:.4}) m cover [{a:.4}, {b:.4}] m; a smaller run.bin measures the middle third"
+        )
+    })
+}
+
 /// The rough-sphere paper's observables of a run: its `H`, the mass-weighted centre of mass
 /// at one phase of the drive (`run.phase`, 0 by default: the floor at its mean position
 /// moving up at its peak speed) minus the centre of mass at rest estimated from the number
@@ -217,5 +245,26 @@ mod report_checks {
     #[test]
     fn report_checks_ratchet() {
         check("ratchet", "scenes/ratchet.toml", &["run.duration=0.5", "run.transient=0.1"]);
+    }
+}
+
+#[cfg(test)]
+mod bulk_bin_tests {
+    use super::bulk_bin_note;
+
+    /// Issue 43, finding 8: temperature_ratio_bulk moved from 0.65 to 0.62 and 0.77 with
+    /// run.bin and was null at large bins, with no warning. The mixture's bins of one diameter
+    /// cover the middle third of its 32-diameter box within a twentieth of the height (no
+    /// note); bins of 10 mm cover [20, 30] mm of a 51.2 mm box (a note with the range); bins of
+    /// 30 mm leave no centre in the third (null, said).
+    #[test]
+    fn a_bulk_ratio_that_depends_on_the_bin_says_so() {
+        let h = 32.0 * 1.6e-3;
+        assert_eq!(bulk_bin_note(1.6e-3, h, 2), None);
+        assert_eq!(bulk_bin_note(0.01, h, 1), None, "one species has no ratio");
+        let n = bulk_bin_note(0.01, h, 2).unwrap();
+        assert!(n.contains("depends on run.bin") && n.contains("cover [0.0200, 0.0300] m"), "{n}");
+        let n = bulk_bin_note(0.03, h, 2).unwrap();
+        assert!(n.contains("is null") && n.contains("a run.bin below 0.0171 m"), "{n}");
     }
 }

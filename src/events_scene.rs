@@ -15,7 +15,10 @@ use crate::scene_text::overrides;
 
 /// One number for every species (or species pair), or one per species.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(untagged)]
+#[serde(
+    untagged,
+    expecting = "expected a number, or a list of numbers (one per species, or per species pair 1-1, 1-2, 2-2)"
+)]
 pub enum PerSpecies {
     One(f64),
     Each(Vec<f64>),
@@ -155,7 +158,8 @@ pub struct EventRule {
     pub e: Option<PerSpecies>,
     /// A CSV table of `(eps_n, beta)` against `g_n` and `g_t / g_n` (columns `g_n,
     /// g_t_over_g_n, eps_n, beta`, a full grid, as the DEM's collision lab measures it) in
-    /// place of Walton's constants; the path is relative to the working directory.
+    /// place of Walton's constants; a relative path is read from the working directory (and
+    /// recorded absolute in the run's `scene.toml`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub table: Option<std::path::PathBuf>,
     #[serde(default)]
@@ -222,6 +226,27 @@ pub fn read_table(path: &Path) -> Result<Table, String> {
             want.join(", "),
             header.join(", ")
         ));
+    }
+    // Every value a finite number in its range, named by its line, before the grid is built
+    // (a NaN would match no axis value, and a negative g_n is no speed).
+    for (k, r) in rows.iter().enumerate() {
+        let row = k + 1;
+        for (c, name) in want.iter().enumerate() {
+            if !r[c].is_finite() {
+                return Err(format!("{}: row {row}: {name} is {}, not a finite number", path.display(), r[c]));
+            }
+        }
+        let (lo, hi) = ([0.0, 0.0, 0.0, -1.0], [f64::INFINITY, f64::INFINITY, 1.0, 1.0]);
+        for (c, name) in want.iter().enumerate() {
+            if !(lo[c]..=hi[c]).contains(&r[c]) {
+                let range = if hi[c].is_finite() {
+                    format!("in [{}, {}]", lo[c], hi[c])
+                } else {
+                    format!(">= {}", lo[c])
+                };
+                return Err(format!("{}: row {row}: {name} = {} must be {range}", path.display(), r[c]));
+            }
+        }
     }
     let axis = |c: usize| {
         let mut v: Vec<f64> = rows.iter().map(|r| r[c]).collect();
@@ -345,7 +370,35 @@ pub struct EventScene {
 /// Reads an event-driven scene with `--set` overrides; errors name the file or override.
 pub fn load(path: &Path, set: &[String]) -> Result<EventScene, SceneError> {
     let (text, origin) = crate::scene_file::read(path)?;
-    overrides::parse(&text, set, &origin, |doc| {
+    let mut scene = parse_text(&text, set, &origin)?;
+    // A table's path is read from the working directory; made absolute here, the run's
+    // scene.toml (and a rerun or --resume from another directory) names the same file.
+    if let Ok(cwd) = std::env::current_dir() {
+        let r = &mut scene.rules;
+        for rule in [&mut r.pair, &mut r.floor, &mut r.side, &mut r.lid] {
+            if let Some(p) = rule.table.as_mut().filter(|p| p.is_relative()) {
+                *p = cwd.join(&*p);
+            }
+        }
+    }
+    Ok(scene)
+}
+
+/// The scene in `text` (named `origin` in messages) with `--set` overrides.
+fn parse_text(text: &str, set: &[String], origin: &str) -> Result<EventScene, SceneError> {
+    overrides::parse(text, set, origin, |doc| {
+        // A tray scene (no `model`) would only be told of its first unknown table.
+        match doc.get("model").and_then(|m| m.as_str()) {
+            Some("events") => {}
+            None if doc.get("model").is_none() => {
+                return Err(
+                    "this is a tray scene (no model = \"events\"), for `stripes run`, `automaton` or `compare`; \
+                            `stripes events` and `events-sweep` take an event-driven scene such as scenes/mixture.toml"
+                        .into(),
+                )
+            }
+            _ => {}
+        }
         EventScene::deserialize(toml::Value::Table(doc)).map_err(|e| e.to_string())
     })
 }
@@ -497,6 +550,7 @@ impl EventScene {
                 ),
             ));
         }
+        self.check_sizes()?;
         let config = Config {
             width: self.tray.width,
             height: self.tray.height,
@@ -558,6 +612,250 @@ impl EventScene {
             other => bad("scene", other.to_string()),
         })?;
         Ok(config)
+    }
+}
+
+/// The most lattice sites (spacing `2.02 R_max`) a box may hold: the engine places grains on
+/// them and sizes its cell grid alike (about 40 bytes a cell), so 1e7 is 400 MB. The shipped
+/// scenes hold at most a few thousand.
+const MAX_SITES: f64 = 1e7;
+/// The most profile bins (height and across, times the phases kept with `run.phase_resolved`).
+const MAX_BINS: f64 = 1e6;
+/// The widest drive phase (rad): beyond a few turns `sin(2 pi f t + phase)` loses the
+/// precision the wall's collision times need.
+const MAX_PHASE: f64 = 2.0 * std::f64::consts::TAU;
+/// The grain masses (kg) whose products and squares the collision rule computes in range.
+const MASS_RANGE: (f64, f64) = (1e-20, 1e20);
+/// The most collisions a scene's speeds may imply (about a day at 1e6 collisions a second).
+const MAX_COLLISIONS: f64 = 1e11;
+
+impl EventScene {
+    /// The sizes the scene implies, checked before the engine allocates anything (issue 43,
+    /// bounds): the lattice sites and cells of the box, the profile bins, the drive phase and
+    /// the snapshot bytes, each refused naming its key and the size. Values that are not
+    /// finite are left to the checks that name them.
+    fn check_sizes(&self) -> Result<(), SceneError> {
+        let r_max = self.particles.species.iter().map(|s| s.radius_max).fold(0.0, f64::max);
+        let (w, h) = (self.tray.width, self.tray.height);
+        if r_max.is_finite() && r_max > 0.0 && w.is_finite() && h.is_finite() {
+            let spacing = 2.02 * r_max;
+            let (nx, nz) = ((w / spacing).max(1.0), (h / spacing).max(1.0));
+            if nx * nz > MAX_SITES {
+                return Err(bad(
+                    if nx >= nz { "box.width" } else { "box.height" },
+                    format!(
+                        "box.width = {w} m by box.height = {h} m is {nx:.3e} x {nz:.3e} = {:.3e} lattice sites (and cells) of \
+                         2.02 R_max = {spacing:e} m; at most {MAX_SITES:e} are allowed: a smaller box or larger grains",
+                        nx * nz
+                    ),
+                ));
+            }
+        }
+        // Without gravity and without a lid nothing keeps a grain in the box: the escaped
+        // grains piled into the top profile bin and gave H = 0.171 m in a 0.05 m box.
+        if self.tray.gravity == 0.0 && self.drive.lid == "none" {
+            return Err(bad(
+                "drive.lid",
+                "is \"none\" with box.gravity = 0: nothing keeps the grains in the box, they escape through the open top \
+                 and every profile and height is wrong; give a lid (\"fixed\" or \"vibrated\") or gravity",
+            ));
+        }
+        // The walls' extreme positions must leave a row of sites between them (else the
+        // engine's "N x 0 sites" would hide that the drive's swing fills the box).
+        if let Ok(a) = self.drive.amplitude() {
+            let swing = |wall: &str| if wall == "vibrated" { a.abs() } else { 0.0 };
+            let room = h - swing(&self.drive.floor) - swing(&self.drive.lid);
+            if a.is_finite() && h.is_finite() && r_max.is_finite() && room < 2.02 * r_max {
+                let key = if self.drive.peak_speed.is_some() {
+                    "drive.peak_speed"
+                } else {
+                    "drive.amplitude"
+                };
+                return Err(bad(
+                    key,
+                    format!(
+                        "the drive's swing (A = {a:e} m for the floor{}) leaves {room:e} m of the box's {h} m (box.height) \
+                         between the walls' extreme positions, less than a grain diameter: a smaller amplitude or a taller box",
+                        if self.drive.lid == "vibrated" {
+                            " and as much for the lid"
+                        } else {
+                            ""
+                        },
+                    ),
+                ));
+            }
+        }
+        let bin = self.run.bin;
+        let lid = match (self.drive.lid.as_str(), self.drive.amplitude()) {
+            ("vibrated", Ok(a)) => a,
+            _ => 0.0,
+        };
+        if bin.is_finite() && bin > 0.0 && w.is_finite() && h.is_finite() {
+            let phases = if self.run.phase_resolved {
+                1.0 + f64::from(self.run.samples_per_period)
+            } else {
+                1.0
+            };
+            let bins = ((h + lid.abs()) / bin).ceil() + (w / bin).round();
+            if bins * phases > MAX_BINS {
+                return Err(bad(
+                    "run.bin",
+                    format!(
+                        "run.bin = {bin} m over a box {w} m wide and {} m high is {bins:.3e} profile bins{}; \
+                         at most {MAX_BINS:e} are allowed: a larger run.bin",
+                        h + lid.abs(),
+                        if phases > 1.0 {
+                            format!(" for each of {phases} phases (run.phase_resolved)")
+                        } else {
+                            String::new()
+                        }
+                    ),
+                ));
+            }
+        }
+        let phase = self.drive.phase;
+        if phase.is_finite() && phase.abs() > MAX_PHASE {
+            return Err(bad(
+                "drive.phase",
+                format!(
+                    "must lie in [-4 pi, 4 pi] rad, got {phase}: a phase of many turns loses the precision of the wall's \
+                     collision times; give it modulo 2 pi ({})",
+                    phase.rem_euclid(std::f64::consts::TAU)
+                ),
+            ));
+        }
+        // Masses whose products and squares stay finite (a density of 1e300 or 1e-300 made
+        // the collision times NaN and the run endless).
+        for (k, sp) in self.particles.species.iter().enumerate() {
+            let volume = 4.0 / 3.0 * std::f64::consts::PI * sp.radius_max.powi(3);
+            let (key, m) = match (sp.mass, sp.density) {
+                (Some(m), _) => (format!("particles.species.{k}.mass"), m),
+                (None, Some(rho)) => (format!("particles.species.{k}.density"), rho * volume),
+                (None, None) => continue,
+            };
+            if m.is_finite() && volume.is_finite() && !(MASS_RANGE.0..=MASS_RANGE.1).contains(&m) {
+                return Err(bad(
+                    &key,
+                    format!(
+                        "gives grains of {m:e} kg; masses must lie in [{:e}, {:e}] kg for the collision arithmetic to stay finite",
+                        MASS_RANGE.0, MASS_RANGE.1
+                    ),
+                ));
+            }
+        }
+        // The collisions the scene's speeds imply: a grain at speed v meets another about
+        // every d / v, so N v / d_min collisions per second. Past MAX_COLLISIONS the run takes
+        // days; a collapse guard faster than the gas would pump energy in without end.
+        let (speed, speed_key) = self.speed_scale();
+        let d_min = 2.0 * self.particles.species.iter().map(|s| s.radius_min).fold(f64::INFINITY, f64::min);
+        let grains: f64 = self.particles.species.iter().map(|s| s.count as f64).sum();
+        let collisions = grains * speed / d_min * self.run.duration;
+        if collisions.is_finite() && collisions > MAX_COLLISIONS {
+            return Err(bad(
+                speed_key,
+                format!(
+                    "grains at {speed:e} m/s (from {speed_key}) in this box meet about N v / d_min = {:.3e} times a second, \
+                     {collisions:.3e} collisions over run.duration = {} s; at most {MAX_COLLISIONS:e} are allowed (a day of CPU or more)",
+                    grains * speed / d_min,
+                    self.run.duration
+                ),
+            ));
+        }
+        if let Some(v) = self.guard.min_rebound_speed.filter(|v| v.is_finite() && *v > speed) {
+            return Err(bad(
+                "guard.min_rebound_speed",
+                format!(
+                    "{v} m/s is faster than the scene's grains ({speed:e} m/s, from {speed_key}): every collision would leave \
+                     faster than it met, adding energy without end; the guard is a small speed that keeps slow grains hopping"
+                ),
+            ));
+        }
+        let bytes = self.snapshot_bytes();
+        if bytes > crate::bounds::MAX_SNAPSHOT_BYTES {
+            return Err(bad(
+                "run.samples_per_period",
+                format!(
+                    "{} samples per period after run.transient is {:.1} GB of snapshots.bin; at most {:.0} GB are allowed: \
+                     fewer samples per period or a shorter run",
+                    self.run.samples_per_period,
+                    bytes / 1e9,
+                    crate::bounds::MAX_SNAPSHOT_BYTES / 1e9
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// The largest speed the scene gives its grains, and the key that sets it: the initial
+    /// speed (each component up to it), the drive's peak speed `2 pi f A`, or the fall
+    /// `sqrt(2 g height)` through the box.
+    fn speed_scale(&self) -> (f64, &'static str) {
+        let peak = self
+            .drive
+            .amplitude()
+            .map_or(0.0, |a| std::f64::consts::TAU * self.drive.frequency * a.abs());
+        let fall = (2.0 * self.tray.gravity.max(0.0) * self.tray.height.abs()).sqrt();
+        let drive_key = if self.drive.peak_speed.is_some() {
+            "drive.peak_speed"
+        } else {
+            "drive.amplitude"
+        };
+        [
+            (
+                std::f64::consts::SQRT_2 * self.particles.initial_speed.abs(),
+                "particles.initial_speed",
+            ),
+            (peak, drive_key),
+            (fall, "box.gravity"),
+        ]
+        .into_iter()
+        .filter(|(v, _)| v.is_finite())
+        .fold((0.0, "particles.initial_speed"), |a, b| if b.0 > a.0 { b } else { a })
+    }
+
+    /// Bytes of the run's `snapshots.bin`: a frame (time, then position and velocity of every
+    /// grain) per sample after `run.transient`.
+    fn snapshot_bytes(&self) -> f64 {
+        let grains: f64 = self.particles.species.iter().map(|s| s.count as f64).sum();
+        let frames = ((self.run.duration - self.run.transient) * self.drive.frequency * f64::from(self.run.samples_per_period))
+            .max(0.0)
+            .floor();
+        32.0 + 8.0 * grains + frames * (8.0 + 48.0 * grains)
+    }
+
+    /// What a run of this (valid) scene must say at its start: the disk its snapshots will
+    /// fill when that is more than a gigabyte, and a drive too weak to move anything.
+    pub fn warnings(&self) -> Vec<String> {
+        let mut out = Vec::new();
+        let bytes = self.snapshot_bytes();
+        if bytes > crate::bounds::DISK_NOTE_BYTES {
+            out.push(format!(
+                "this run writes about {:.1} GB of snapshots ({} samples per period after run.transient); make sure --out has the room",
+                bytes / 1e9,
+                self.run.samples_per_period
+            ));
+        }
+        let (Ok(a), f) = (self.drive.amplitude(), self.drive.frequency) else {
+            return out;
+        };
+        let moving = |wall: &str| wall == "vibrated";
+        if a > 0.0 && (moving(&self.drive.floor) || moving(&self.drive.lid)) {
+            let g = self.tray.gravity;
+            let r_min = self.particles.species.iter().map(|s| s.radius_min).fold(f64::INFINITY, f64::min);
+            let gamma = a * (std::f64::consts::TAU * f).powi(2) / g;
+            if g > 0.0 && gamma < 1.0 {
+                out.push(format!(
+                    "drive too weak to lift any grain: Gamma = A (2 pi f)^2 / g = {gamma:.3e} < 1 (A = {a:e} m, f = {f} Hz): \
+                     the grains settle on the floor, which an event-driven model approaches through ever more frequent \
+                     collisions, so the run slows down as they settle"
+                ));
+            } else if g <= 0.0 && a < 1e-3 * r_min {
+                out.push(format!(
+                    "drive too weak to move anything: A = {a:e} m is less than a thousandth of the smallest grain radius"
+                ));
+            }
+        }
+        out
     }
 }
 

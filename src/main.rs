@@ -6,6 +6,7 @@
 //! (`config.json`) and `summary.json`, and prints that summary as the last line of stdout.
 
 mod analysis_dir;
+mod bounds;
 mod bytes;
 mod calibrate;
 mod cellular;
@@ -18,11 +19,15 @@ mod events_checkpoint;
 mod events_distributions;
 mod events_fields;
 mod events_measure;
+mod events_resume;
 mod events_scene;
+#[cfg(test)]
+mod events_scene_checks;
 mod events_segregation;
 mod events_side;
 mod output;
 mod pipeline;
+mod resume_check;
 mod run_lock;
 mod run_outputs;
 mod samples;
@@ -85,6 +90,7 @@ enum Command {
     Mechanism(commands::mechanism::Args),
     /// The event-driven model of a vibrated box (hard disks or spheres in a vertical plane,
     /// Walton's collisions) on an event-driven scene (model = "events").
+    #[command(mut_arg("scene", |a| a.help("Event-driven scene file (TOML, model = \"events\"), e.g. scenes/mixture.toml")))]
     Events(commands::events::Args),
     /// The event-driven model over a grid of scene values and seeds, in parallel: tables of
     /// the current, height, K/R and temperatures, with plots.
@@ -167,6 +173,37 @@ mod tests {
         }
         for (name, helps) in shared {
             assert_eq!(helps.len(), 1, "--{name} is described in {} ways: {helps:?}", helps.len());
+        }
+    }
+
+    /// Issue 43: `--quiet`, `--force` and `--out` are alike on every command that writes a
+    /// directory: each has all three (a resumable run has `--resume` beside `--force`), and
+    /// each is described in one way wherever it appears.
+    #[test]
+    fn quiet_force_and_out_are_on_every_command() {
+        let mut missing = Vec::new();
+        let mut helps: std::collections::BTreeMap<&str, std::collections::BTreeSet<String>> = Default::default();
+        for sub in Cli::command().get_subcommands() {
+            // `collect` writes into the sweep directory it is given.
+            if sub.get_name() == "collect" {
+                continue;
+            }
+            for name in ["quiet", "force", "out"] {
+                match sub.get_arguments().find(|a| a.get_long() == Some(name)) {
+                    None => missing.push(format!("{} --{name}", sub.get_name())),
+                    Some(a) if name != "out" => {
+                        helps
+                            .entry(name)
+                            .or_default()
+                            .insert(a.get_help().map(|h| h.to_string()).unwrap_or_default());
+                    }
+                    Some(_) => {}
+                }
+            }
+        }
+        assert!(missing.is_empty(), "commands without the shared options: {missing:?}");
+        for (name, h) in helps {
+            assert_eq!(h.len(), 1, "--{name} is described in {} ways: {h:?}", h.len());
         }
     }
 

@@ -78,6 +78,16 @@ impl RunDir {
         Ok(dir)
     }
 
+    /// An output directory whose `config.json` is left as it is for now (a resume writes it
+    /// only once the run it continues is known to be the one asked for).
+    pub fn open(path: &Path) -> Result<Self, CliError> {
+        std::fs::create_dir_all(path).map_err(|e| format!("cannot create output directory {}: {e}", path.display()))?;
+        Ok(Self {
+            path: path.to_path_buf(),
+            written: Vec::new(),
+        })
+    }
+
     /// Writes a JSON file.
     pub fn json(&mut self, name: &str, value: &impl Serialize) -> Result<(), CliError> {
         let p = self.path.join(name);

@@ -39,7 +39,16 @@ pub struct Recorder {
     fingerprint: u64,
     every: u64,
     last: u64,
+    /// Until a first checkpoint is written: the wall-clock time by which one is written
+    /// whatever `every` says, so that a run stopped early can be resumed.
+    first_by: Option<std::time::Instant>,
+    /// The step of the latest checkpoint written, for the observers whose files must follow
+    /// it ([`crate::thermo::Thermo::follow`]).
+    pub checkpoints: std::rc::Rc<std::cell::Cell<u64>>,
 }
+
+/// Wall time after which a run writes its first checkpoint if none was due before.
+pub const FIRST_CHECKPOINT_WALL: std::time::Duration = std::time::Duration::from_secs(3);
 
 /// Where and when a [`Recorder`] writes.
 pub struct RecorderPlan {
@@ -53,6 +62,8 @@ pub struct RecorderPlan {
     pub fingerprint: u64,
     pub every: u64,
     pub last: u64,
+    /// Wall time after which the first checkpoint is written if none was due before.
+    pub first_by: std::time::Duration,
 }
 
 impl Recorder {
@@ -72,6 +83,8 @@ impl Recorder {
             fingerprint: plan.fingerprint,
             every: plan.every,
             last: plan.last,
+            first_by: Some(std::time::Instant::now() + plan.first_by),
+            checkpoints: Default::default(),
         })
     }
 
@@ -91,6 +104,8 @@ impl Recorder {
     fn checkpoint(&mut self, sim: &Simulation) -> Result<(), ObserverError> {
         self.writer.sync()?;
         analysis::io::write_atomic(&self.checkpoint, &crate::dem_checkpoint::encode(sim, self.fingerprint, self.frames))?;
+        self.first_by = None;
+        self.checkpoints.set(sim.steps);
         Ok(())
     }
 }
@@ -100,7 +115,11 @@ impl Observer for Recorder {
         if sim.time >= (self.snap_time)(self.frames) - 0.5 * sim.setup.dt {
             self.snapshot(sim)?;
         }
-        if sim.steps.is_multiple_of(self.every) || sim.steps == self.last {
+        // The clock is read every 256 steps, and only until a first checkpoint is on disk.
+        let early = self
+            .first_by
+            .is_some_and(|t| sim.steps.is_multiple_of(256) && std::time::Instant::now() >= t);
+        if sim.steps.is_multiple_of(self.every) || sim.steps == self.last || early {
             self.checkpoint(sim)?;
         }
         Ok(())

@@ -76,6 +76,15 @@ impl SceneFile {
 /// The dotted keys whose values differ between two DEM scenes, as `key: a -> b`, leaving out
 /// the keys that do not change a trajectory (`run.threads`, `run.checkpoint_interval`).
 pub fn differences(a: &Scene, b: &Scene) -> Vec<String> {
+    let value = |s: &Scene| toml::Value::try_from(s).unwrap_or(toml::Value::Table(Default::default()));
+    let mut differ = table_differences("", &value(a), &value(b));
+    differ.retain(|d| !(d.starts_with("run.threads:") || d.starts_with("run.checkpoint_interval:")));
+    differ
+}
+
+/// The dotted keys (under `prefix`) whose values differ between two TOML values, as
+/// `key: a -> b`, a key missing on one side shown as `(unset)`.
+pub fn table_differences(prefix: &str, a: &toml::Value, b: &toml::Value) -> Vec<String> {
     fn flat(prefix: &str, v: &toml::Value, out: &mut std::collections::BTreeMap<String, String>) {
         match v {
             toml::Value::Table(t) => {
@@ -89,17 +98,14 @@ pub fn differences(a: &Scene, b: &Scene) -> Vec<String> {
             }
         }
     }
-    let table = |s: &Scene| {
+    let table = |v: &toml::Value| {
         let mut m = std::collections::BTreeMap::new();
-        if let Ok(v) = toml::Value::try_from(s) {
-            flat("", &v, &mut m);
-        }
+        flat(prefix, v, &mut m);
         m
     };
     let (ta, tb) = (table(a), table(b));
     let keys: std::collections::BTreeSet<&String> = ta.keys().chain(tb.keys()).collect();
     keys.into_iter()
-        .filter(|k| !matches!(k.as_str(), "run.threads" | "run.checkpoint_interval"))
         .filter(|k| ta.get(*k) != tb.get(*k))
         .map(|k| {
             let show = |m: &std::collections::BTreeMap<String, String>| m.get(k).cloned().unwrap_or_else(|| "(unset)".into());

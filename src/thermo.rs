@@ -59,9 +59,19 @@ pub struct Thermo {
     pub path: PathBuf,
     save_every: u64,
     last: u64,
+    /// The step of the run's latest checkpoint, shared with the observer that writes them
+    /// ([`crate::run_outputs::Recorder::checkpoints`]): the table is also written at a
+    /// checkpoint that is not one of every `save_every` steps (the first one, written early).
+    checkpoints: Option<std::rc::Rc<std::cell::Cell<u64>>>,
 }
 
 impl Thermo {
+    /// Writes the table at every checkpoint whose step `checkpoints` holds (set by the
+    /// observer before this one).
+    pub fn follow(&mut self, checkpoints: std::rc::Rc<std::cell::Cell<u64>>) {
+        self.checkpoints = Some(checkpoints);
+    }
+
     /// A table in `path` with a row every `interval` s (rounded to whole steps of `dt`, at
     /// least one), written every `save_every` steps and at step `last`.
     pub fn new(interval: f64, dt: f64, path: PathBuf, save_every: u64, last: u64) -> Result<Self, CliError> {
@@ -74,6 +84,7 @@ impl Thermo {
             path,
             save_every: save_every.max(1),
             last,
+            checkpoints: None,
         })
     }
 
@@ -197,7 +208,8 @@ impl Observer for Thermo {
         if sim.steps.is_multiple_of(self.every) || sim.steps == self.last {
             self.push(sim, true);
         }
-        if sim.steps.is_multiple_of(self.save_every) || sim.steps == self.last {
+        let checkpointed = self.checkpoints.as_ref().is_some_and(|c| c.get() == sim.steps);
+        if sim.steps.is_multiple_of(self.save_every) || sim.steps == self.last || checkpointed {
             self.write().map_err(|e| e.to_string())?;
         }
         Ok(())

@@ -110,6 +110,73 @@ fn compare_resume_continues_its_own_directory() {
         v["dem"]["analysis"].clone()
     };
     assert_eq!(dem(&first), dem(&again), "the resumed comparison changed the DEM side");
+    // Issue 43, findings 1 and 2: a resume with another scene, or with a key changed by
+    // --set, is refused naming each differing key, before anything is written (config.json
+    // is the finished comparison's, byte for byte).
+    let config = std::fs::read(d.join("cmp/config.json")).unwrap();
+    let other = d.join("other.toml");
+    let text = std::fs::read_to_string(&scene).unwrap();
+    std::fs::write(
+        &other,
+        text.replace("count = 40", "count = 30")
+            .replace("frequency = 20.0", "frequency = 3.0"),
+    )
+    .unwrap();
+    let other = s(&other);
+    for (args, keys) in [
+        (
+            vec!["compare", &other, "--out", &out, "--sample-cache", &cache, "--quiet", "--resume"],
+            &["particles.count: 40 -> 30", "drive.frequency: 20.0 -> 3.0"][..],
+        ),
+        (
+            vec![
+                "compare",
+                &scene,
+                "--out",
+                &out,
+                "--sample-cache",
+                &cache,
+                "--quiet",
+                "--resume",
+                "--set",
+                "contact.friction=0.5",
+            ],
+            &["contact.friction: 0.7 -> 0.5"][..],
+        ),
+        (
+            vec![
+                "compare",
+                &scene,
+                "--out",
+                &out,
+                "--sample-cache",
+                &cache,
+                "--quiet",
+                "--resume",
+                "--set",
+                "run.duration=0.1",
+            ],
+            &["run.duration: 0.2 -> 0.1"][..],
+        ),
+    ] {
+        let (ok, _, stderr) = stripes(&args);
+        assert!(!ok, "{args:?} resumed another scene");
+        for k in keys {
+            assert!(stderr.contains(k), "{args:?} does not name {k}: {stderr}");
+        }
+        assert_eq!(
+            std::fs::read(d.join("cmp/config.json")).unwrap(),
+            config,
+            "{args:?} rewrote config.json"
+        );
+    }
+    // A longer duration extends the DEM run and the comparison.
+    let mut longer = resume.clone();
+    longer.extend(["--set", "run.duration=0.3"]);
+    let (ok, _, stderr) = stripes(&longer);
+    assert!(ok, "{stderr}");
+    let dem_summary: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(d.join("cmp/dem/summary.json")).unwrap()).unwrap();
+    assert!((dem_summary["simulated_s"].as_f64().unwrap() - 0.3).abs() < 1e-6, "{dem_summary}");
     std::fs::remove_dir_all(d).unwrap();
 }
 

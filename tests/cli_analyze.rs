@@ -329,6 +329,109 @@ fn plots_say_what_happened() {
     std::fs::remove_dir_all(dir).unwrap();
 }
 
+/// Writes an event-driven run's snapshots as `stripes events` does: a vertical box `width`
+/// wide seen from the side, its header a slab one largest grain diameter thick, grains
+/// stacked in z; no config.json.
+fn vertical_box_run(name: &str) -> PathBuf {
+    let dir = temp_dir(name);
+    let (width, r) = (0.05, 1e-3);
+    let n = 200u64;
+    let header = Header {
+        length: width,
+        width: 2.0 * r,
+        radii: vec![r; n as usize],
+    };
+    let mut w = SnapshotWriter::create(&dir.join("snapshots.bin"), header).unwrap();
+    for f in 0..8u64 {
+        let pos: Vec<[f64; 3]> = (0..n)
+            .map(|i| {
+                let x = (r + (i % 24) as f64 * 2.05 * r + 1e-4 * unit(f * 1000 + i)).min(width - r);
+                [x, r, r + (i / 24) as f64 * 2.05 * r]
+            })
+            .collect();
+        w.push(0.01 * f as f64, pos.into_iter(), std::iter::repeat_n([0.0; 3], n as usize))
+            .unwrap();
+    }
+    w.sync().unwrap();
+    dir
+}
+
+/// Issue 43, finding 7: an event-driven run without its config.json is analysed as the
+/// vertical box its header shows, with a warning that says what was assumed; a garbled
+/// config.json (no scene, or a scene of another box) is refused by name; a tray without one
+/// is analysed as a tray with the same kind of warning.
+#[test]
+fn a_run_without_or_with_a_garbled_description_is_named() {
+    let run = vertical_box_run("no-config");
+    let (ok, stdout, stderr) = stripes(&["analyze", run.to_str().unwrap()]);
+    assert!(ok, "{stderr}");
+    assert!(
+        stderr.contains("no config.json") && stderr.contains("assumed an event-driven vertical box"),
+        "{stderr}"
+    );
+    let s = summary_of(&stdout, &run.join("analysis"));
+    assert_eq!(s["geometry"], "vertical-box", "{s}");
+    assert_eq!(s["phase"], "unclassified", "a vertical box is not called stripes: {s}");
+    std::fs::remove_dir_all(run.join("analysis")).unwrap();
+    for (config, want) in [
+        (r#"{"args": {}}"#, "holds no `scene`"),
+        ("{ garbled", "is not JSON"),
+        (
+            r#"{"scene": {"box": {"length": 0.4, "width": 0.02}, "drive": {"frequency": 20.0}}}"#,
+            "0.4 m long",
+        ),
+        (
+            r#"{"scene": {"box": {"width": 0.05, "height": 0.05}, "drive": {"frequency": 20.0}}}"#,
+            "neither a tray nor",
+        ),
+        (
+            r#"{"scene": {"model": "events", "box": {"width": 0.08}, "drive": {"frequency": 20.0}}}"#,
+            "0.08 m wide",
+        ),
+    ] {
+        std::fs::write(run.join("config.json"), config).unwrap();
+        let (ok, _, stderr) = stripes(&["analyze", run.to_str().unwrap()]);
+        assert!(!ok, "{config} was accepted");
+        assert!(stderr.contains("config.json") && stderr.contains(want), "{config}: {stderr}");
+        assert!(!run.join("analysis").exists(), "{config}: a refused analysis wrote files");
+    }
+    std::fs::write(
+        run.join("config.json"),
+        r#"{"scene": {"model": "events", "box": {"width": 0.05}, "drive": {"frequency": 12.5}}}"#,
+    )
+    .unwrap();
+    let (ok, stdout, stderr) = stripes(&["analyze", run.to_str().unwrap()]);
+    assert!(ok, "{stderr}");
+    let s = summary_of(&stdout, &run.join("analysis"));
+    assert_eq!(s["geometry"], "vertical-box", "{s}");
+    assert!((s["period_s"].as_f64().unwrap() - 0.08).abs() < 1e-12, "{s}");
+    std::fs::remove_dir_all(run).unwrap();
+
+    let tray = small_run("tray-no-config", 3);
+    std::fs::remove_file(tray.join("config.json")).unwrap();
+    let (ok, stdout, stderr) = stripes(&["analyze", tray.to_str().unwrap()]);
+    assert!(ok, "{stderr}");
+    assert!(stderr.contains("assumed a tray seen from above"), "{stderr}");
+    assert_eq!(summary_of(&stdout, &tray.join("analysis"))["geometry"], "tray");
+    std::fs::remove_dir_all(tray).unwrap();
+}
+
+/// Issue 43, bounds: a `--cell` that would make a density map of billions of cells is
+/// refused naming the option and the size, before anything is allocated or written.
+#[test]
+fn a_density_map_too_large_is_refused_by_its_option() {
+    let run = small_run("huge-map", 3);
+    let (ok, _, stderr) = stripes(&["analyze", run.to_str().unwrap(), "--cell", "1e-9"]);
+    assert!(!ok, "a 4e8-cell map was accepted");
+    assert!(
+        stderr.contains("--cell 0.000000001 m") || stderr.contains("--cell 1e-9"),
+        "{stderr}"
+    );
+    assert!(stderr.contains("4.000e8 cells"), "{stderr}");
+    assert!(!run.join("analysis").exists(), "a refused analysis wrote files");
+    std::fs::remove_dir_all(run).unwrap();
+}
+
 /// Issue 39, step 4: a run of 4 frames per period whose bands ride the tray (lab-frame
 /// positions `x + A sin(2 pi t / T)`) is measured at the turning points in the tray's frame:
 /// the camera's stripes sit where the bands are on the tray, the summary states the count

@@ -148,3 +148,34 @@ fn the_restitution_table_of_a_scene_feeds_the_event_driven_model() {
     assert!(!ok && stderr.contains("must be positive"), "{stderr}");
     let _ = std::fs::remove_dir_all(&d);
 }
+
+/// Issue 43: `collide` without `--out` is a calculator (it prints its result, writes nothing,
+/// and a second call needs no --force), and a `collide --table` that fails leaves nothing, so
+/// its corrected rerun needs no --force either.
+#[test]
+fn collide_is_a_calculator_and_a_failed_table_leaves_nothing() {
+    let d = std::path::PathBuf::from(temp_out("calculator"));
+    std::fs::create_dir_all(&d).unwrap();
+    for _ in 0..2 {
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_stripes"))
+            .current_dir(&d)
+            .args(["collide", "--v", "0.2"])
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let v: serde_json::Value = serde_json::from_str(String::from_utf8_lossy(&o.stdout).lines().last().unwrap()).unwrap();
+        assert!(v["eps_n"].as_f64().unwrap() > 0.0, "{v}");
+        assert_eq!(std::fs::read_dir(&d).unwrap().count(), 0, "the calculator wrote files");
+    }
+    let out = d.join("table").display().to_string();
+    let table = ["collide", "--table", "--g-n", "0.1", "--ratios", "1", "--quiet", "--out", &out];
+    let mut bad = table.to_vec();
+    bad.extend(["--dt", "1e-3"]);
+    let (ok, _, stderr) = stripes(&bad);
+    assert!(!ok && stderr.contains("dt"), "{stderr}");
+    assert!(!d.join("table").exists(), "a failed table left files");
+    let (ok, _, stderr) = stripes(&table);
+    assert!(ok, "the corrected rerun: {stderr}");
+    assert!(d.join("table/restitution_beta.png").is_file());
+    std::fs::remove_dir_all(d).unwrap();
+}

@@ -238,7 +238,16 @@ fn a_ratchet_run_extended_with_resume_matches_the_whole_run_byte_for_byte() {
     }
     // Another scene, or a checkpoint cut short, is refused with the reason.
     let (ok, _, stderr) = run(&part, "4", &["--resume", "--set", "rules.pair.e=0.7"]);
-    assert!(!ok && stderr.contains("scene differs"), "{stderr}");
+    assert!(!ok && stderr.contains("rules.pair.e: 0.8 -> 0.7"), "{stderr}");
+    // Issue 43, finding 3: a shorter run.duration on a finished run is refused (the summary
+    // said 2 s beside the 3 s run's samples), and nothing changes.
+    let scene_before = std::fs::read(d.join("part").join("scene.toml")).unwrap();
+    let (ok, _, stderr) = run(&part, "2", &["--resume"]);
+    assert!(
+        !ok && stderr.contains("run.duration: 3 -> 2") && stderr.contains("only extend"),
+        "{stderr}"
+    );
+    assert_eq!(std::fs::read(d.join("part").join("scene.toml")).unwrap(), scene_before);
     let ckpt = d.join("part").join("checkpoint.bin");
     let bytes = std::fs::read(&ckpt).unwrap();
     std::fs::write(&ckpt, &bytes[..bytes.len() / 2]).unwrap();
@@ -387,4 +396,65 @@ fn the_ratchet_writes_its_phase_fields() {
     // A periodic box has no sides: no side-cluster record.
     assert!(!d.join("ratchet").join("side_imbalance.csv").exists());
     std::fs::remove_dir_all(&d).unwrap();
+}
+
+/// Runs `stripes` in the working directory `cwd`: `(success, stdout, stderr)`.
+fn stripes_in(cwd: &std::path::Path, args: &[&str]) -> (bool, String, String) {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_stripes"))
+        .current_dir(cwd)
+        .args(args)
+        .output()
+        .expect("run stripes");
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+/// Issue 43, finding 6 and messages: a table edited between a run and its `--resume` is
+/// refused, naming the table (the run's two halves used different tables); and a relative
+/// table path is recorded absolute in the run's scene.toml, so a rerun of that scene from
+/// another directory reads the same table.
+#[test]
+fn a_resume_refuses_an_edited_table_and_a_relative_table_path_travels() {
+    let d = std::env::temp_dir().join(format!("stripes-cli-events-table-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(d.join("elsewhere")).unwrap();
+    let table = "g_n,g_t_over_g_n,eps_n,beta\n0.01,0,0.9,-0.5\n0.01,2,0.9,-1\n1,0,0.8,0.5\n1,2,0.8,0\n";
+    std::fs::write(d.join("t.csv"), table).unwrap();
+    let scene = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/vibrated-box.toml"))
+        .unwrap()
+        .replace(
+            "[rules.pair]\ne = 0.9\nmu = 0.5\nbeta0 = 0.5\n",
+            "[rules.pair]\ntable = \"t.csv\"\n",
+        );
+    assert!(scene.contains("table = \"t.csv\""));
+    std::fs::write(d.join("box.toml"), scene).unwrap();
+    let short = ["--set", "run.transient=0", "--quiet"];
+    let mut args = vec!["events", "box.toml", "--out", "run", "--set", "run.duration=0.2"];
+    args.extend(short);
+    let (ok, _, stderr) = stripes_in(&d, &args);
+    assert!(ok, "{stderr}");
+    let recorded = std::fs::read_to_string(d.join("run").join("scene.toml")).unwrap();
+    assert!(recorded.contains(&d.join("t.csv").display().to_string()), "{recorded}");
+    // The run's own scene reruns from another directory.
+    let own = d.join("run").join("scene.toml").display().to_string();
+    let mut args = vec!["events", &own, "--out", "again", "--set", "run.duration=0.1"];
+    args.extend(short);
+    let (ok, _, stderr) = stripes_in(&d.join("elsewhere"), &args);
+    assert!(ok, "{stderr}");
+    // An edited table is refused on --resume, by name, and nothing changes.
+    std::fs::write(d.join("t.csv"), table.replace("0.8,0.5", "0.7,0.5")).unwrap();
+    let mut args = vec!["events", "box.toml", "--out", "run", "--set", "run.duration=0.4", "--resume"];
+    args.extend(short);
+    let (ok, _, stderr) = stripes_in(&d, &args);
+    assert!(!ok && stderr.contains("the content of rules.pair.table"), "{stderr}");
+    assert_eq!(std::fs::read_to_string(d.join("run").join("scene.toml")).unwrap(), recorded);
+    // The table restored, the same resume extends the run.
+    std::fs::write(d.join("t.csv"), table).unwrap();
+    let (ok, stdout, stderr) = stripes_in(&d, &args);
+    assert!(ok, "{stderr}");
+    assert_eq!(last_json(&stdout)["resumed"], true);
+    let _ = std::fs::remove_dir_all(&d);
 }

@@ -124,6 +124,11 @@ pub enum MetadataError {
     NotJson { path: PathBuf, source: serde_json::Error },
     /// `scene.drive.frequency` is there but not a number.
     FrequencyNotANumber { path: PathBuf, value: serde_json::Value },
+    /// The file holds no `scene` table: it cannot say whether the run is a tray or an
+    /// event-driven box.
+    NoScene { path: PathBuf },
+    /// The file's scene does not describe the snapshots beside it (`what` says how).
+    Mismatch { path: PathBuf, what: String },
     /// `scene.drive.amplitude` is there but not a number, or the drive it gives is refused.
     Amplitude { path: PathBuf, value: serde_json::Value },
     /// A stage of `scene.drive.stages` lacks a number, or the stages give no drive.
@@ -142,6 +147,17 @@ impl std::fmt::Display for MetadataError {
             MetadataError::FrequencyNotANumber { path, value } => {
                 write!(f, "{}: scene.drive.frequency is {value}, not a number", path.display())
             }
+            MetadataError::NoScene { path } => write!(
+                f,
+                "{} holds no `scene`, so it cannot say whether the run is a tray or an event-driven box, nor its drive period; \
+                 restore the run's config.json, or remove it to analyse the snapshots with the assumptions said in a warning",
+                path.display()
+            ),
+            MetadataError::Mismatch { path, what } => write!(
+                f,
+                "{}: {what}; it is not the description of these snapshots (restore the run's own config.json, or remove it)",
+                path.display()
+            ),
             MetadataError::Amplitude { path, value } => {
                 write!(f, "{}: scene.drive.amplitude is {value}, not a number >= 0", path.display())
             }
@@ -157,7 +173,11 @@ impl std::error::Error for MetadataError {
         match self {
             MetadataError::Unreadable { source, .. } => Some(source),
             MetadataError::NotJson { source, .. } => Some(source),
-            MetadataError::FrequencyNotANumber { .. } | MetadataError::Amplitude { .. } | MetadataError::Stage { .. } => None,
+            MetadataError::FrequencyNotANumber { .. }
+            | MetadataError::NoScene { .. }
+            | MetadataError::Mismatch { .. }
+            | MetadataError::Amplitude { .. }
+            | MetadataError::Stage { .. } => None,
         }
     }
 }
@@ -182,6 +202,9 @@ pub struct Metadata {
     pub period: Option<f64>,
     /// `Geometry::VerticalBox` for `scene.model = "events"`.
     pub geometry: Geometry,
+    /// Whether a `config.json` was there; without one, the geometry is assumed ([`load`]
+    /// infers it from the snapshot header and says so in a warning).
+    pub found: bool,
     /// `x_tray(t) = scene.drive.amplitude sin(2 pi scene.drive.frequency t)`, when the drive
     /// is horizontal (`scene.drive.direction` absent or `"x"`) and moves the tray; the stages of
     /// `scene.drive.stages` when the run has a drive schedule.
@@ -190,8 +213,8 @@ pub struct Metadata {
 
 /// The metadata in the `config.json` beside `file`. No period when the run has none to
 /// give: no `config.json`, no `scene.drive.frequency` in it, or a frequency that is not
-/// positive (no shaking). A `config.json` that is there but unreadable, not JSON, or holds
-/// a frequency that is not a number is an error, not missing metadata.
+/// positive (no shaking). A `config.json` that is there but unreadable, not JSON, holds no
+/// `scene`, or holds a frequency that is not a number is an error, not missing metadata.
 pub fn metadata(file: &Path) -> Result<Metadata, MetadataError> {
     let Some(dir) = file.parent() else {
         return Ok(Metadata::default());
@@ -206,16 +229,19 @@ pub fn metadata(file: &Path) -> Result<Metadata, MetadataError> {
         path: path.clone(),
         source,
     })?;
-    let scene = v.get("scene");
-    let geometry = if scene.and_then(|s| s.get("model")).and_then(|m| m.as_str()) == Some("events") {
+    let Some(scene) = v.get("scene").filter(|s| s.is_object()) else {
+        return Err(MetadataError::NoScene { path });
+    };
+    let geometry = if scene.get("model").and_then(|m| m.as_str()) == Some("events") {
         Geometry::VerticalBox
     } else {
         Geometry::Tray
     };
-    let drive_table = scene.and_then(|s| s.get("drive"));
+    let drive_table = scene.get("drive");
     let Some(value) = drive_table.and_then(|d| d.get("frequency")) else {
         return Ok(Metadata {
             geometry,
+            found: true,
             ..Metadata::default()
         });
     };
@@ -243,7 +269,12 @@ pub fn metadata(file: &Path) -> Result<Metadata, MetadataError> {
     if let (Some(stages), true) = (drive_table.and_then(|d| d.get("stages")), horizontal) {
         drive = schedule(stages, &path)?;
     }
-    Ok(Metadata { period, geometry, drive })
+    Ok(Metadata {
+        period,
+        geometry,
+        found: true,
+        drive,
+    })
 }
 
 /// The tray's motion of a drive schedule, `scene.drive.stages` as the DEM writes it: a list of
@@ -279,6 +310,59 @@ fn schedule(stages: &serde_json::Value, path: &Path) -> Result<Option<TrayDrive>
         key: "scene.drive.stages".into(),
         value: serde_json::Value::String(e.to_string()),
     })
+}
+
+/// Whether a snapshot header has the layout `stripes events` writes: a slab one largest
+/// grain diameter thick (`width = 2 r_max`), where a tray is many grains wide.
+pub fn looks_like_vertical_box(header: &Header) -> bool {
+    let r_max = header.radii.iter().copied().fold(0.0, f64::max);
+    r_max > 0.0 && (header.width - 2.0 * r_max).abs() <= 1e-12 * header.width.abs().max(1e-300)
+}
+
+/// The box the config's scene describes, checked against the snapshot header: a tray's
+/// `box.length` and `box.width` are the header's length and width, an event-driven box's
+/// `box.width` is the header's length (its frames are the (x, z) plane). Keys that are not
+/// there are not checked.
+fn check_against_header(path: &Path, meta: &Metadata, header: &Header) -> Result<(), MetadataError> {
+    let Ok(text) = std::fs::read_to_string(path) else { return Ok(()) };
+    let Ok(v) = serde_json::from_str::<serde_json::Value>(&text) else {
+        return Ok(());
+    };
+    let b = |k: &str| v["scene"]["box"][k].as_f64();
+    let near = |a: f64, b: f64| (a - b).abs() <= 1e-9 * a.abs().max(b.abs());
+    let mismatch = |what: String| {
+        Err(MetadataError::Mismatch {
+            path: path.to_path_buf(),
+            what,
+        })
+    };
+    match meta.geometry {
+        Geometry::Tray => {
+            if let Some(l) = b("length").filter(|l| !near(*l, header.length)) {
+                return mismatch(format!("its tray is {l} m long (box.length), the snapshots' {} m", header.length));
+            }
+            if v["scene"]["box"].is_object() && b("length").is_none() {
+                return mismatch(
+                    "its scene has a box without box.length and no model = \"events\": neither a tray nor an event-driven box".into(),
+                );
+            }
+            if looks_like_vertical_box(header) && b("width").is_some_and(|w| !near(w, header.width)) {
+                return mismatch(format!(
+                    "it describes a tray {} m wide, but the snapshots are a slab one grain diameter thick, as an event-driven box writes",
+                    b("width").unwrap_or_default()
+                ));
+            }
+        }
+        Geometry::VerticalBox => {
+            if let Some(w) = b("width").filter(|w| !near(*w, header.length)) {
+                return mismatch(format!(
+                    "its event-driven box is {w} m wide (box.width), the snapshots' {} m",
+                    header.length
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// The drive period of [`metadata`].
@@ -340,7 +424,30 @@ pub fn load(path: &Path, dt: f64) -> Result<Run, LoadError> {
         }
     }
     let meta = match kind {
-        InputKind::Snapshots => metadata(&file).map_err(LoadError::Metadata)?,
+        InputKind::Snapshots => {
+            let mut meta = metadata(&file).map_err(LoadError::Metadata)?;
+            if meta.found {
+                let config = file.parent().unwrap_or(Path::new(".")).join("config.json");
+                check_against_header(&config, &meta, &header).map_err(LoadError::Metadata)?;
+            } else {
+                // No description: the geometry from the header's layout, said as assumed.
+                meta.geometry = if looks_like_vertical_box(&header) {
+                    Geometry::VerticalBox
+                } else {
+                    Geometry::Tray
+                };
+                warnings.push(format!(
+                    "no config.json beside {}: assumed {} and took the drive period from the snapshot spacing",
+                    file.display(),
+                    match meta.geometry {
+                        Geometry::VerticalBox =>
+                            "an event-driven vertical box (its header is a slab one grain diameter thick, as `stripes events` writes)",
+                        Geometry::Tray => "a tray seen from above (its header is many grains wide)",
+                    }
+                ));
+            }
+            meta
+        }
         InputKind::LammpsDump => Metadata::default(),
     };
     Ok(Run {
@@ -370,14 +477,22 @@ mod tests {
         std::fs::write(&config, r#"{"scene": {"drive": {"frequency": 20.0}}}"#).unwrap();
         assert_eq!(metadata_period(&file).unwrap(), Some(0.05));
         assert_eq!(metadata(&file).unwrap().geometry, Geometry::Tray);
-        std::fs::write(&config, r#"{"args": {}}"#).unwrap();
+        std::fs::write(&config, r#"{"scene": {"run": {}}}"#).unwrap();
         assert!(metadata_period(&file).unwrap().is_none(), "no scene.drive.frequency");
+        // Issue 43, finding 7: a config.json without a scene cannot tell a tray from a box.
+        std::fs::write(&config, r#"{"args": {}}"#).unwrap();
+        let e = metadata_period(&file).unwrap_err();
+        assert!(
+            matches!(e, MetadataError::NoScene { .. }) && e.to_string().contains("tray or an event-driven box"),
+            "{e}"
+        );
         std::fs::write(&config, r#"{"scene": {"model": "events", "drive": {"frequency": 20.0}}}"#).unwrap();
         assert_eq!(
             metadata(&file).unwrap(),
             Metadata {
                 period: Some(0.05),
                 geometry: Geometry::VerticalBox,
+                found: true,
                 ..Metadata::default()
             }
         );

@@ -22,6 +22,9 @@ pub struct Args {
     #[command(flatten)]
     #[serde(flatten)]
     pub replace: crate::cli_args::Force,
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub quiet: crate::cli_args::Quiet,
     /// Cell width of the density map (m); the area fraction is averaged exactly per cell.
     #[arg(long, default_value_t = 1e-3, value_parser = crate::cli_values::positive, allow_negative_numbers = true)]
     pub cell: f64,

@@ -30,6 +30,9 @@ pub struct Args {
     #[command(flatten)]
     #[serde(flatten)]
     pub replace: crate::cli_args::Force,
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub quiet: crate::cli_args::Quiet,
     /// Grains in the tray study (default: 200 quick, 400 full); the tray is count/10000 m
     /// long and 2 cm wide (thesis packing 0.23).
     #[arg(long)]

@@ -184,12 +184,24 @@ fn interpret(model: &str, keys: &serde_json::Map<String, Value>) -> String {
         Some("nothing") => format!(
             "The {model} layer stayed in lockstep with the tray (mobility {mobility}, below the `nothing` threshold): no stripes, contrast {contrast}; {plateaus}."
         ),
-        Some("stripes") => format!(
-            "The {model} formed stripes: {} at the end ({} stationary), onset {} s, contrast {contrast}, mobility {mobility}; {plateaus}.",
-            fmt_opt(keys.get("stripe_count_final")),
-            fmt_opt(keys.get("stationary_stripe_count")),
-            fmt_opt(keys.get("stripe_onset_s")),
-        ),
+        Some("stripes") => {
+            let onset = num("stripe_onset_s").map_or("no onset found (no lasting stripe count)".to_string(), |t| format!("onset {t:.3} s"));
+            if num("stripe_count_final").is_some_and(|n| n > 0.0) {
+                format!(
+                    "The {model} formed stripes: {} at the end ({} stationary), {onset}, contrast {contrast}, mobility {mobility}; {plateaus}.",
+                    fmt_opt(keys.get("stripe_count_final")),
+                    fmt_opt(keys.get("stationary_stripe_count")),
+                )
+            } else {
+                // The label comes from bands that held their place over the last periods (or the
+                // contrast); the last frame's count is what the threshold sees in one frame.
+                format!(
+                    "The {model} is labelled `stripes` ({} band(s) held their place over the last periods), but its last frame \
+                     holds no stripe above the threshold; {onset}, contrast {contrast}, mobility {mobility}; {plateaus}.",
+                    fmt_opt(keys.get("stationary_stripe_count")),
+                )
+            }
+        }
         Some("gas") => format!(
             "The {model} layer stayed mobile without lasting stripes (a gas): mobility {mobility}, contrast {contrast}, {} stripes at the end; {plateaus}.",
             fmt_opt(keys.get("stripe_count_final")),
@@ -254,6 +266,24 @@ fn density_map(model: &str, analysis: &Path, length: f64) -> Result<Heatmap, Cli
     })
 }
 
+/// The two models' stripe counts on one time axis: a row at every time either model has a
+/// frame, each model's count that of its latest frame at or before it (NaN before its first
+/// frame and after its last). Frames are paired by time, never by index: the models take
+/// their frames at different rates.
+fn one_time_axis(a: &[(f64, f64)], b: &[(f64, f64)]) -> Vec<Vec<f64>> {
+    let mut times: Vec<f64> = a.iter().chain(b).map(|p| p.0).filter(|t| t.is_finite()).collect();
+    times.sort_by(f64::total_cmp);
+    times.dedup();
+    let at = |series: &[(f64, f64)], t: f64| {
+        let last = series.last().map_or(f64::NEG_INFINITY, |p| p.0);
+        if t > last {
+            return f64::NAN;
+        }
+        series.iter().take_while(|p| p.0 <= t).last().map_or(f64::NAN, |p| p.1)
+    };
+    times.into_iter().map(|t| vec![t, at(a, t), at(b, t)]).collect()
+}
+
 pub fn run(args: Args) -> Result<String, CliError> {
     let file = load_scene(&args.run.scene, &args.run.set.overrides)?;
     let scene = &file.dem;
@@ -287,13 +317,13 @@ pub fn run(args: Args) -> Result<String, CliError> {
         .into());
     }
     if args.run.resume && !out.join("dem").join("checkpoint.bin").is_file() && args.dem_run.is_none() {
-        return Err(format!(
-            "--resume: {} holds no DEM run to continue (dem/checkpoint.bin); start it without --resume",
-            out.display()
-        )
-        .into());
+        return Err(format!("--resume: {}", pipeline::no_checkpoint(&out.join("dem"))).into());
     }
-    // Everything that can be checked is checked before anything is written.
+    // Everything that can be checked is checked before anything is written: a resume
+    // continues only the comparison it finds, both models on the scene given now.
+    if args.run.resume && args.dem_run.is_none() {
+        crate::resume_check::check(&out.join("dem"), &file, &format!("--resume {}", out.display()))?;
+    }
     crate::cellular::validate_lattice(&file)?;
     if let Some(d) = &args.dem_run {
         check_dem_run(d, scene)?;
@@ -338,7 +368,13 @@ fn check_dem_run(d: &Path, scene: &particles::scene::Scene) -> Result<(), CliErr
 fn compare(args: &Args, file: &crate::scene_file::SceneFile, out: &Path) -> Result<String, CliError> {
     let scene = &file.dem;
     let args_json = json!({ "args": args, "scene": file });
-    let mut dir = RunDir::create(out, &args_json)?;
+    // A resume rewrites config.json only once both runs are done: one killed on the way
+    // leaves the directory's description as it was.
+    let mut dir = if args.run.resume {
+        RunDir::open(out)?
+    } else {
+        RunDir::create(out, &args_json)?
+    };
 
     // 1. DEM.
     let mut fresh = None;
@@ -349,7 +385,10 @@ fn compare(args: &Args, file: &crate::scene_file::SceneFile, out: &Path) -> Resu
         }
         None => {
             let d = out.join("dem");
-            let finished = args.run.resume && d.join("summary.json").is_file();
+            // Finished at the duration asked for; a longer one extends the run.
+            let finished = args.run.resume
+                && d.join("summary.json").is_file()
+                && load_scene(&d.join("scene.toml"), &[]).is_ok_and(|f| f.dem.run.duration == scene.run.duration);
             stage(
                 args.run.quiet,
                 1,
@@ -403,6 +442,10 @@ fn compare(args: &Args, file: &crate::scene_file::SceneFile, out: &Path) -> Resu
     )?;
     let auto_summary = serde_json::to_value(&automaton)?;
 
+    if args.run.resume {
+        dir.json("config.json", &args_json)?;
+    }
+
     // 3. The same analysis of both (the automaton's was made by its run).
     stage(args.run.quiet, 3, "analysis");
     let dem_analysis_dir = out.join("dem-analysis");
@@ -446,16 +489,7 @@ fn compare(args: &Args, file: &crate::scene_file::SceneFile, out: &Path) -> Resu
         .series("DEM", dem_counts.clone(), Mark::LinePoints)
         .series("automaton", auto_counts.clone(), Mark::LinePoints);
     dir.plot("stripe_count", &plot)?;
-    let n = dem_counts.len().max(auto_counts.len());
-    let mut rows = Vec::with_capacity(n);
-    for k in 0..n {
-        let t = dem_counts.get(k).or(auto_counts.get(k)).map(|p| p.0).unwrap_or(f64::NAN);
-        rows.push(vec![
-            t,
-            dem_counts.get(k).map_or(f64::NAN, |p| p.1),
-            auto_counts.get(k).map_or(f64::NAN, |p| p.1),
-        ]);
-    }
+    let rows = one_time_axis(&dem_counts, &auto_counts);
     dir.csv("stripe_count.csv", &["t", "count_dem", "count_automaton"], &rows)?;
     // The two density maps on one colour scale, each titled with its model.
     let maps = [
@@ -643,6 +677,15 @@ mod tests {
             s.ends_with("of 27 threshold sets around the default, 21 say stripes, 6 gas and 0 nothing."),
             "{s}"
         );
+        // Issue 43: a run labelled stripes whose last frame holds none says so, and an onset
+        // that was not found is not "none s".
+        let held = keys(json!({"phase": "stripes", "stripe_count_final": 0, "stationary_stripe_count": 1, "stripe_onset_s": null}));
+        let s = interpret("automaton", &held);
+        assert!(!s.contains("formed stripes") && s.contains("last frame holds no stripe"), "{s}");
+        assert!(
+            s.contains("1 band(s) held") && s.contains("no onset found") && !s.contains("none s"),
+            "{s}"
+        );
         let none = keys(json!({"phase": null, "phase_note": "too few frames for a phase"}));
         assert!(interpret("DEM", &none).contains("no phase: too few frames"));
         assert!(THESIS.contains("4 +- 0.875"));
@@ -695,6 +738,31 @@ mod tests {
         assert!(maps[0].title.starts_with("DEM") && maps[1].title.starts_with("automaton"));
         assert_eq!(common_scale(&maps), (0.1, 0.8));
         std::fs::remove_dir_all(d).unwrap();
+    }
+
+    /// Issue 43, finding 4: the count table pairs the models' frames by time, not by index
+    /// (an automaton's frame at 8 s beside the DEM's at 8 s, not beside its 32nd frame).
+    #[test]
+    fn the_count_table_pairs_frames_by_time() {
+        let dem: Vec<(f64, f64)> = (0..=40).map(|k| (0.25 * k as f64, (k / 10) as f64)).collect();
+        let auto: Vec<(f64, f64)> = (0..=10).map(|k| (k as f64, 10.0 + k as f64)).collect();
+        let rows = one_time_axis(&dem, &auto);
+        assert_eq!(rows.len(), 41, "the automaton's times are among the DEM's");
+        for r in &rows {
+            let k = (r[0] / 0.25).round() as usize;
+            assert_eq!(r[1], (k / 10) as f64, "DEM at t = {}", r[0]);
+            assert_eq!(
+                r[2],
+                10.0 + r[0].floor(),
+                "automaton at t = {} holds its frame at {}",
+                r[0],
+                r[0].floor()
+            );
+        }
+        let last = rows.last().unwrap();
+        assert_eq!((last[0], last[1], last[2]), (10.0, 4.0, 20.0));
+        let short = one_time_axis(&dem[..5], &auto);
+        assert!(short.iter().filter(|r| r[0] > 1.0).all(|r| r[1].is_nan() && r[2].is_finite()));
     }
 
     /// The report never calls two structures in agreement without the seed-to-seed scale,

@@ -25,6 +25,9 @@ pub struct Args {
     #[command(flatten)]
     #[serde(flatten)]
     pub replace: crate::cli_args::Force,
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub quiet: crate::cli_args::Quiet,
 }
 
 pub fn run(args: Args) -> Result<String, CliError> {

@@ -28,6 +28,9 @@ pub struct Args {
     #[command(flatten)]
     #[serde(flatten)]
     pub replace: crate::cli_args::Force,
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub quiet: crate::cli_args::Quiet,
 }
 
 /// Eccentricity at which eps_n^HS changes sign (linear interpolation), if it does.

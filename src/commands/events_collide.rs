@@ -58,11 +58,14 @@ pub struct Args {
     /// The largest impact angle of a sweep (degrees, < 90).
     #[arg(long, default_value_t = 89.0, value_parser = crate::cli_values::not_nan)]
     pub max_angle: f64,
-    /// Output directory of a sweep.
+    /// Output directory of a sweep (one impact is printed and nothing is written).
     #[arg(long, default_value = "out/events-collide")]
     pub out: PathBuf,
     #[command(flatten)]
     pub replace: crate::cli_args::Force,
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub quiet: crate::cli_args::Quiet,
 }
 
 /// One impact's outcome, as printed.

@@ -37,7 +37,7 @@ pub struct Args {
     /// Output directory (default: out/events-sweep-<scene name>).
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Replace the files of an output directory that already holds some.
+    /// Replace the files of an output directory that already holds some (default: refuse it).
     #[arg(long)]
     pub force: bool,
     /// Draw the plots on a logarithmic x axis, and H and K/R on a logarithmic y axis too
@@ -57,21 +57,54 @@ struct Axis {
 }
 
 fn axes(vary: &[String]) -> Result<Vec<Axis>, CliError> {
-    vary.iter()
-        .map(|v| {
-            let (key, list) = v
-                .split_once('=')
-                .ok_or_else(|| format!("--vary {v}: must look like KEY=V1,V2,..."))?;
-            let values = list
-                .split(',')
-                .map(|x| x.trim().parse::<f64>().map_err(|_| format!("--vary {v}: `{x}` is not a number")))
-                .collect::<Result<Vec<_>, _>>()?;
-            Ok(Axis {
-                key: key.trim().to_string(),
-                values,
-            })
-        })
-        .collect()
+    let mut axes: Vec<Axis> = Vec::new();
+    for v in vary {
+        let (key, list) = v
+            .split_once('=')
+            .ok_or_else(|| format!("--vary {v}: must look like KEY=V1,V2,..."))?;
+        let values = list
+            .split(',')
+            .map(|x| x.trim().parse::<f64>().map_err(|_| format!("--vary {v}: `{x}` is not a number")))
+            .collect::<Result<Vec<_>, _>>()?;
+        let key = key.trim().to_string();
+        // Two axes of one key would set it twice per run, the last one winning, while the
+        // rows were labelled with both: each axis is named once.
+        if let Some(a) = axes.iter().find(|a| a.key == key) {
+            return Err(format!(
+                "--vary {key} is given twice ({} and {list}): each sweep axis is named once; list all its values in one --vary {key}=V1,V2,...",
+                a.values.iter().map(f64::to_string).collect::<Vec<_>>().join(",")
+            )
+            .into());
+        }
+        axes.push(Axis { key, values });
+    }
+    Ok(axes)
+}
+
+/// The key of a `KEY=VALUE` override.
+fn set_key(set: &str) -> &str {
+    set.split_once('=').map_or(set, |(k, _)| k).trim()
+}
+
+/// Refuses keys set twice: an axis also given by `--set` (the axis would win, and the
+/// summary would show both), and the seed set by `--seeds N > 1` and by `--vary run.seed` or
+/// `--set run.seed` (identical runs under different labels). Returns whether the scene's
+/// own seed is kept (`run.seed` varied or set): then `--seeds` is 1 and no seed is imposed.
+fn check_keys(axes: &[Axis], overrides: &[String], seeds: u64) -> Result<bool, CliError> {
+    for a in axes {
+        if let Some(s) = overrides.iter().find(|s| set_key(s) == a.key) {
+            return Err(format!("--vary {} and --set {s}: the key is set twice; give it with --vary only", a.key).into());
+        }
+    }
+    let seed_given = axes.iter().any(|a| a.key == "run.seed") || overrides.iter().any(|s| set_key(s) == "run.seed");
+    if seed_given && seeds > 1 {
+        return Err(format!(
+            "--seeds {seeds} and run.seed (--vary or --set) both set the seed of every run, so runs would repeat under other labels; \
+             give --seeds N (run.seed = 1..=N) or run.seed, not both"
+        )
+        .into());
+    }
+    Ok(seed_given)
 }
 
 /// Every combination of the axes' values, the first axis varying slowest.
@@ -115,6 +148,17 @@ fn measures(m: &Measured) -> Vec<(&'static str, f64)> {
 
 pub fn run(args: Args) -> Result<String, CliError> {
     let axes = axes(&args.vary)?;
+    let own_seed = check_keys(&axes, &args.overrides, args.seeds)?;
+    if args.log {
+        // A log axis cannot show a value at or below 0: refused before anything runs.
+        if let Some(v) = axes[0].values.iter().find(|v| **v <= 0.0) {
+            return Err(format!(
+                "--log: the x axis is {} and takes {v}, which a logarithmic axis cannot show; leave out --log or the value",
+                axes[0].key
+            )
+            .into());
+        }
+    }
     let points = grid(&axes);
     let name = args
         .scene
@@ -134,9 +178,11 @@ pub fn run(args: Args) -> Result<String, CliError> {
         let point = crate::events_scene::load(&args.scene, &set)?;
         for seed in 1..=args.seeds {
             let mut scene = point.clone();
-            scene.run.seed = seed;
+            if !own_seed {
+                scene.run.seed = seed;
+            }
             scene.config()?;
-            jobs.push((p.clone(), seed, scene));
+            jobs.push((p.clone(), scene.run.seed, scene));
         }
     }
     crate::output::claim(&out, args.force)?;
@@ -237,6 +283,16 @@ pub fn run(args: Args) -> Result<String, CliError> {
         .iter()
         .filter_map(|(name, label)| columns.iter().position(|n| n == name).map(|c| (c, *label)))
         .collect();
+    let mut warnings = Vec::new();
+    for (_, _, scene) in &jobs {
+        let species = scene.particles.species.len();
+        if let Some(n) = crate::events_measure::bulk_bin_note(scene.run.bin, scene.tray.height, species) {
+            if !warnings.contains(&n) {
+                eprintln!("warning: {n}");
+                warnings.push(n);
+            }
+        }
+    }
     for (c, label) in plots {
         let mut plot = LinePlot::new(&format!("{} against {}", columns[c], first.key), &first.key, label);
         let rest = points.len() / first.values.len();
@@ -268,6 +324,16 @@ pub fn run(args: Args) -> Result<String, CliError> {
             plot = plot.log_x();
             if c > 0 {
                 plot = plot.log_y();
+                // The points a log axis cannot show are said, not dropped silently.
+                let hidden = means.iter().filter(|row| row[axes.len() + 1 + 2 * c] <= 0.0).count();
+                if hidden > 0 {
+                    let w = format!(
+                        "--log: {} leaves out {hidden} grid point(s) whose mean {} is 0 or negative (they are in means.csv)",
+                        columns[c], columns[c]
+                    );
+                    eprintln!("warning: {w}");
+                    warnings.push(w);
+                }
             }
         }
         dir.plot(&columns[c].replace("_m_per_s", "").replace("_m", ""), &plot)?;
@@ -286,6 +352,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
         "collisions_per_cpu_s": collisions as f64 / cpu.max(1e-9),
         "worst_energy_ledger_error": measured.iter().flatten().map(|m| m.energy_ledger_error).fold(0.0, f64::max),
         "failed": failures,
+        "warnings": warnings,
     }));
     drop(lock);
     summary
@@ -306,7 +373,53 @@ mod tests {
         let e = axes(&["a=1,x".into()]).unwrap_err();
         assert!(e.to_string().contains("`x` is not a number"), "{e}");
         assert!(axes(&["a".into()]).is_err());
+        // Issue 43, finding 5: an axis named twice ran both rows at the last value under
+        // two labels; it is refused, naming the key.
+        let e = axes(&["base.asymmetry=0,0.5".into(), "base.asymmetry=0.1".into()]).unwrap_err();
+        assert!(
+            e.to_string().contains("--vary base.asymmetry is given twice (0,0.5 and 0.1)"),
+            "{e}"
+        );
         let (m, s) = analysis::stats::mean_stderr(&[1.0, 2.0, 3.0]);
         assert!((m - 2.0).abs() < 1e-15 && (s - (1.0f64 / 3.0).sqrt()).abs() < 1e-15);
+    }
+
+    /// Issue 43, finding 5: `--vary run.seed` with `--seeds N` gave identical runs under two
+    /// labels (the seed loop overwrote the varied seed); both are refused together, and a seed
+    /// given by `--vary` or `--set` is the one each run uses. A key both varied and set is
+    /// refused too.
+    #[test]
+    fn a_seed_is_set_once_and_every_key_once() {
+        let seeds = axes(&["run.seed=1,2".into()]).unwrap();
+        let e = check_keys(&seeds, &[], 2).unwrap_err();
+        assert!(e.to_string().contains("--seeds 2 and run.seed"), "{e}");
+        assert!(check_keys(&seeds, &[], 1).unwrap(), "the varied seed is kept");
+        assert!(check_keys(&[], &["run.seed=7".into()], 1).unwrap(), "a --set seed is kept");
+        assert!(check_keys(&[], &["run.seed=7".into()], 3).is_err());
+        assert!(!check_keys(&axes(&["run.bin=1e-3".into()]).unwrap(), &[], 3).unwrap());
+        let e = check_keys(&axes(&["run.bin=1e-3".into()]).unwrap(), &["run.bin = 2e-3".into()], 1).unwrap_err();
+        assert!(e.to_string().contains("--vary run.bin and --set run.bin = 2e-3"), "{e}");
+    }
+
+    /// Issue 43, finding 10: `--log` dropped the points at or below 0 without a word; an x
+    /// value a log axis cannot show is refused before anything runs (and a y value left out
+    /// is said in a warning).
+    #[test]
+    fn a_log_axis_refuses_values_it_cannot_show() {
+        let out = std::env::temp_dir().join(format!("stripes-sweep-log-{}", std::process::id()));
+        let args = Args {
+            scene: concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/ratchet.toml").into(),
+            vary: vec!["base.asymmetry=0,0.5".into()],
+            overrides: Vec::new(),
+            seeds: 1,
+            threads: Some(1),
+            out: Some(out.clone()),
+            force: false,
+            log: true,
+            progress: crate::cli_args::Quiet { quiet: true },
+        };
+        let e = run(args).unwrap_err().to_string();
+        assert!(e.contains("--log: the x axis is base.asymmetry and takes 0"), "{e}");
+        assert!(!out.exists(), "a refused sweep wrote {}", out.display());
     }
 }

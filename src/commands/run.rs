@@ -43,6 +43,9 @@ pub struct Args {
     /// Die after this many steps as `kill -9` would (a test hook for checkpoints and --resume).
     #[arg(long, hide = true)]
     pub stop_after: Option<u64>,
+    /// Wall seconds by which the first checkpoint is written (default 3; a test hook).
+    #[arg(long, hide = true, value_parser = crate::cli_values::not_nan)]
+    pub first_checkpoint_after: Option<f64>,
 }
 
 impl Args {
@@ -63,6 +66,7 @@ impl Args {
             sample_cache: self.samples.sample_cache.clone(),
             lammps_data: self.lammps_data.clone(),
             stop_after: self.stop_after,
+            first_checkpoint_after: self.first_checkpoint_after,
             quiet: self.run.quiet,
         }
     }

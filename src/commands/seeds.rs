@@ -27,6 +27,9 @@ pub struct Args {
     #[command(flatten)]
     #[serde(flatten)]
     pub replace: crate::cli_args::Force,
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub quiet: crate::cli_args::Quiet,
 }
 
 /// The summary numbers pooled over the runs, with their units for the report.
@@ -42,11 +45,45 @@ const KEYS: [(&str, &str, f64); 9] = [
     ("stripe_onset_s", "onset (s)", 1.0),
 ];
 
-/// Mean, sample standard deviation and standard error of the finite values.
+/// Mean, sample standard deviation and standard error of the finite values; the spread and
+/// the error are undefined (NaN, null in JSON) with fewer than two values, never 0.
 fn spread(v: &[f64]) -> (f64, f64, f64, usize) {
     let f: Vec<f64> = v.iter().copied().filter(|x| x.is_finite()).collect();
     let (mean, stderr) = analysis::stats::mean_stderr(&f);
+    if f.len() < 2 {
+        return (mean, f64::NAN, f64::NAN, f.len());
+    }
     (mean, stderr * (f.len() as f64).sqrt(), stderr, f.len())
+}
+
+/// A number for the report: "undefined" where it is not a number.
+fn shown(x: f64) -> String {
+    if x.is_finite() {
+        format!("{x:.3}")
+    } else {
+        "undefined".into()
+    }
+}
+
+/// Runs `seeds` cannot pool: analyses of an event-driven vertical box, whose band widths and
+/// spacings are those of grains stacked in columns, not of a tray's stripes. Refused, naming
+/// each.
+fn refuse_unpoolable(runs: &[PathBuf], summaries: &[Value]) -> Result<(), CliError> {
+    let vertical: Vec<String> = runs
+        .iter()
+        .zip(summaries)
+        .filter(|(_, s)| s["geometry"].as_str() == Some("vertical-box") || s["phase"].as_str() == Some("unclassified"))
+        .map(|(r, _)| r.display().to_string())
+        .collect();
+    if vertical.is_empty() {
+        return Ok(());
+    }
+    Err(format!(
+        "{} is an analysis of an event-driven vertical box: `seeds` pools trays' stripes (spacing, band widths, phase), which such a box \
+         does not have; pool event-driven runs with `stripes events-sweep --seeds N` instead",
+        vertical.join(", ")
+    )
+    .into())
 }
 
 /// One analysis given twice (the same directory, or a run and its `analysis/`) would count as
@@ -104,6 +141,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
     let dirs = args.runs.iter().map(|r| analysis_dir::resolve(r)).collect::<Result<Vec<_>, _>>()?;
     refuse_repeats(&args.runs, &dirs)?;
     let summaries = dirs.iter().map(|d| analysis_dir::summary(d)).collect::<Result<Vec<_>, _>>()?;
+    refuse_unpoolable(&args.runs, &summaries)?;
     let mut warnings = unlike_runs(&args.runs, &summaries);
     // A run analysed before the late structure was written has no pattern distance; it
     // still counts for everything else.
@@ -143,14 +181,22 @@ pub fn run(args: Args) -> Result<String, CliError> {
     for (k, label, unit) in KEYS {
         let v: Vec<f64> = summaries.iter().map(|s| num(s, k)).collect();
         let (mean, sd, se, n) = spread(&v);
-        pooled.insert(k.into(), json!({ "mean": mean, "sd": sd, "stderr": se, "runs": n }));
-        let each: Vec<String> = v.iter().map(|x| format!("{:.3}", x * unit)).collect();
+        // NaN is written as null: an undefined spread, not a spread of 0.
+        let num = |x: f64| if x.is_finite() { json!(x) } else { Value::Null };
+        let (mean_v, sd_v, se_v) = (num(mean), num(sd), num(se));
+        pooled.insert(k.into(), json!({ "mean": mean_v, "sd": sd_v, "stderr": se_v, "runs": n }));
+        if n == 1 {
+            warnings.push(format!(
+                "{k}: only one run has a value, so its spread and standard error are undefined (null), not 0"
+            ));
+        }
+        let each: Vec<String> = v.iter().map(|x| shown(x * unit)).collect();
         let _ = writeln!(
             table,
-            "| {label} | {:.3} | {:.3} | {:.3} | {n} | {} |",
-            mean * unit,
-            sd * unit,
-            se * unit,
+            "| {label} | {} | {} | {} | {n} | {} |",
+            shown(mean * unit),
+            shown(sd * unit),
+            shown(se * unit),
             each.join(", ")
         );
     }
@@ -202,6 +248,8 @@ pub fn run(args: Args) -> Result<String, CliError> {
     );
     for w in &warnings {
         let _ = writeln!(md, "Warning: {w}.\n");
+        // The summary line counts the warnings; each is said here, where it is seen.
+        eprintln!("warning: {w}");
     }
     md.push_str("![spacing over time](spacing_over_time.png)\n\n![bands over time](count_over_time.png)\n");
     dir.text("report.md", &md)?;
@@ -236,6 +284,24 @@ mod tests {
         assert_eq!(w.len(), 2, "{w:?}");
         assert!(w[0].contains("grain counts") && w[0].contains("seed-3 1000"), "{w:?}");
         assert!(w[1].contains("drive periods") && w[1].contains("seed-3 0.2000"), "{w:?}");
+    }
+
+    /// Issue 43, finding 10: one value has no spread (null, not 0), and analyses of an
+    /// event-driven box are refused by name.
+    #[test]
+    fn one_value_has_no_spread_and_a_vertical_box_is_not_pooled() {
+        let (mean, sd, se, n) = spread(&[0.03, f64::NAN]);
+        assert_eq!((mean, n), (0.03, 1));
+        assert!(sd.is_nan() && se.is_nan(), "one value gave sd {sd}, stderr {se}");
+        assert_eq!(shown(se), "undefined");
+        let (_, sd, se, n) = spread(&[1.0, 3.0]);
+        assert_eq!(n, 2);
+        assert!((sd - 2f64.sqrt()).abs() < 1e-12 && (se - 1.0).abs() < 1e-12);
+        let tray = json!({"phase": "stripes", "geometry": "tray"});
+        let vertical = json!({"phase": "unclassified", "geometry": "vertical-box"});
+        assert!(refuse_unpoolable(&runs(2), &[tray.clone(), tray.clone()]).is_ok());
+        let e = refuse_unpoolable(&runs(2), &[tray, vertical]).unwrap_err().to_string();
+        assert!(e.starts_with("seed-2 is an analysis of an event-driven vertical box"), "{e}");
     }
 
     #[test]

@@ -73,6 +73,9 @@ pub struct Args {
     #[command(flatten)]
     #[serde(flatten)]
     pub replace: crate::cli_args::Force,
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub quiet: crate::cli_args::Quiet,
 }
 
 /// The frequencies of `--frequency`: one value, or `LO:HI:N`.

@@ -3,6 +3,7 @@
 
 use analysis::camera::Camera;
 use analysis::density::CountProfile;
+use analysis::input::Geometry;
 use analysis::plot::{Heatmap, LinePlot, Mark, TopView};
 use analysis::report::Report;
 
@@ -133,31 +134,56 @@ pub(super) fn write_tables(dir: &mut RunDir, r: &Report, run: &analysis::input::
     dir.csv("count_density_final.csv", &["x_from", "x_to", "grains"], &rows)
 }
 
-/// The plots of the report; `density_map.png` draws `camera`'s stroboscopic tray-frame
-/// profiles when given, else every frame as stored.
-pub(super) fn draw(dir: &mut RunDir, r: &Report, camera: Option<&Camera>) -> Result<(), Error> {
-    let (title, times, values) = match camera.filter(|c| !c.profiles.is_empty()) {
+/// The titles and axis labels of the plots that mean something else for each geometry: a
+/// tray seen from above has an area fraction and stripes; an event-driven box seen from the
+/// side has grains stacked in z, so its "area fraction" is a column load (grains' projected
+/// area over the cell's, many layers deep) and its bands are dense columns.
+pub(super) struct Labels {
+    pub map_title: &'static str,
+    pub map_scale: &'static str,
+    pub count_title: &'static str,
+    pub count_axis: &'static str,
+}
+
+pub(super) fn labels(geometry: Geometry) -> Labels {
+    match geometry {
+        Geometry::Tray => Labels {
+            map_title: "Projected area fraction phi(x, t)",
+            map_scale: "area fraction",
+            count_title: "Stripes over time",
+            count_axis: "stripe count",
+        },
+        Geometry::VerticalBox => Labels {
+            map_title: "Vertical box: column load phi(x, t), grains stacked in z (not a packing)",
+            map_scale: "column load (projected grain area / cell area)",
+            count_title: "Dense columns over time (bands of the column load)",
+            count_axis: "dense columns",
+        },
+    }
+}
+
+/// The plots of the report, titled for `geometry`; `density_map.png` draws `camera`'s
+/// stroboscopic tray-frame profiles when given, else every frame as stored.
+pub(super) fn draw(dir: &mut RunDir, r: &Report, geometry: Geometry, camera: Option<&Camera>) -> Result<(), Error> {
+    let labels = labels(geometry);
+    let (frames, times, values) = match camera.filter(|c| !c.profiles.is_empty()) {
         Some(c) => (
-            "phi(x, t) in the tray frame, at the turning points",
+            "in the tray frame, at the turning points",
             c.frames.iter().map(|f| f.time).collect::<Vec<_>>(),
             c.profiles.clone(),
         ),
-        None => (
-            "phi(x, t), every frame, positions as stored",
-            r.times.clone(),
-            r.density_map.clone(),
-        ),
+        None => ("every frame, positions as stored", r.times.clone(), r.density_map.clone()),
     };
     let t0 = times[0];
     let t1 = times.last().copied().unwrap_or(t0).max(t0 + 1e-9);
     let heat = Heatmap {
-        title: title.into(),
+        title: format!("{}, {frames}", labels.map_title),
         x_label: "x (m)".into(),
         y_label: "t (s)".into(),
         x_range: (0.0, r.length),
         y_range: (t0, t1),
         values,
-        colorbar_label: "area fraction".into(),
+        colorbar_label: labels.map_scale.into(),
         scale: None,
         cell_names: None,
     };
@@ -166,8 +192,8 @@ pub(super) fn draw(dir: &mut RunDir, r: &Report, camera: Option<&Camera>) -> Res
         .map_err(|e| format!("cannot draw density_map: {e}"))?;
     dir.note_files(files);
 
-    let mut count = LinePlot::new("Stripes over time", "t (s)", "stripe count").integer_y().series(
-        "stripes",
+    let mut count = LinePlot::new(labels.count_title, "t (s)", labels.count_axis).integer_y().series(
+        if geometry == Geometry::Tray { "stripes" } else { "dense columns" },
         r.coarsening.iter().map(|c| (c.time, c.count as f64)).collect(),
         Mark::Line,
     );
@@ -450,4 +476,22 @@ pub(super) fn draw_camera(dir: &mut RunDir, c: &Camera, r: &Report) -> Result<()
         dir.plot("camera_profile_last", &prof)?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Issue 43: an event-driven box is not titled as a tray's projected area fraction, nor
+    /// its dense columns as stripes; a tray keeps its titles.
+    #[test]
+    fn a_vertical_box_is_titled_as_one() {
+        let tray = labels(Geometry::Tray);
+        assert!(tray.map_title.starts_with("Projected area fraction") && tray.count_axis == "stripe count");
+        let boxed = labels(Geometry::VerticalBox);
+        for text in [boxed.map_title, boxed.map_scale, boxed.count_title, boxed.count_axis] {
+            assert!(!text.contains("area fraction") && !text.to_lowercase().contains("stripe"), "{text}");
+        }
+        assert!(boxed.map_title.contains("Vertical box") && boxed.map_scale.contains("column load"));
+    }
 }

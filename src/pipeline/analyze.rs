@@ -95,6 +95,11 @@ impl PeriodSource {
     }
 }
 
+/// Cells of the density map, per frame and in all (8 bytes each), beyond which `--cell` is
+/// refused before anything is allocated.
+pub const MAX_MAP_CELLS_PER_FRAME: f64 = 1e6;
+pub const MAX_MAP_CELLS: f64 = 2e8;
+
 /// Why an event-driven run of a vertical box gets no phase.
 pub const VERTICAL_BOX_NOTE: &str = "an event-driven run of a vertical box: its frames are the (x, z) plane, so the area fraction is grains per column (not a packing) and the tray's phases do not apply; phase left unclassified. The density map, structure factor and bands still describe the horizontal profile over time";
 
@@ -154,6 +159,7 @@ impl AnalysisSummary {
         m.insert("input".into(), self.input.display().to_string().into());
         m.insert("input_kind".into(), serde_json::to_value(self.input_kind)?);
         m.insert("period_source".into(), self.period_source.describe().into());
+        m.insert("geometry".into(), serde_json::to_value(self.geometry)?);
         if let Some(cols) = &self.velocity_columns {
             m.insert("velocity_columns".into(), serde_json::to_value(cols)?);
         }
@@ -205,6 +211,20 @@ pub fn analyze(input: &Path, opts: &AnalysisOptions) -> Result<AnalysisSummary, 
     } else {
         PeriodSource::Spacing
     };
+    // The density map's size before it is allocated: cells per frame, times frames.
+    let cells = run.header.length / options.cell;
+    let total = cells * run.frames.len() as f64;
+    if !(cells <= MAX_MAP_CELLS_PER_FRAME && total <= MAX_MAP_CELLS) {
+        return Err(format!(
+            "--cell {} m gives {cells:.3e} cells across the {} m box, {total:.3e} over {} frames ({:.1} GB of density map); \
+             at most {MAX_MAP_CELLS_PER_FRAME:e} per frame and {MAX_MAP_CELLS:e} in all: use a wider cell",
+            options.cell,
+            run.header.length,
+            run.frames.len(),
+            total * 8.0 / 1e9
+        )
+        .into());
+    }
     let report = analysis::report::analyze(&run.header, &run.frames, &options).map_err(|e| format!("{}: {e}", run.file.display()))?;
     let out = opts.out.clone().unwrap_or_else(|| {
         if input.is_dir() {
@@ -238,7 +258,12 @@ pub fn analyze(input: &Path, opts: &AnalysisOptions) -> Result<AnalysisSummary, 
     write_tables(&mut dir, &report, &run)?;
     let camera = (run.geometry == Geometry::Tray)
         .then(|| analysis::camera::measure(&run.header, &run.frames, run.drive.as_ref(), &report.stripe_params, report.cells));
-    draw(&mut dir, &report, camera.as_ref().filter(|_| opts.map_frame == MapFrame::Tray))?;
+    draw(
+        &mut dir,
+        &report,
+        run.geometry,
+        camera.as_ref().filter(|_| opts.map_frame == MapFrame::Tray),
+    )?;
     if let Some(c) = &camera {
         write_camera(&mut dir, c, &report)?;
         draw_camera(&mut dir, c, &report)?;

@@ -39,6 +39,9 @@ pub struct RunOptions {
     pub lammps_data: Option<PathBuf>,
     /// Die after this many steps as `kill -9` would (a test hook for `--resume`).
     pub stop_after: Option<u64>,
+    /// Wall seconds by which the first checkpoint is written whatever
+    /// `run.checkpoint_interval` says (default [`crate::run_outputs::FIRST_CHECKPOINT_WALL`]).
+    pub first_checkpoint_after: Option<f64>,
     /// No progress output.
     pub quiet: bool,
 }
@@ -128,11 +131,7 @@ const RUN_FILES: [&str; 10] = [
 fn claim_out_dir(out: &Path, resume: bool, force: bool) -> Result<bool, Error> {
     if resume {
         if !out.join("checkpoint.bin").is_file() {
-            return Err(format!(
-                "--resume: {} holds no checkpoint.bin to continue from (nothing was written)",
-                out.display()
-            )
-            .into());
+            return Err(format!("--resume: {}", no_checkpoint(out)).into());
         }
         return Ok(false);
     }
@@ -162,6 +161,37 @@ fn claim_out_dir(out: &Path, resume: bool, force: bool) -> Result<bool, Error> {
     Ok(false)
 }
 
+/// Why a directory cannot be resumed, in words that are true of what it holds: nothing, or
+/// files written before a first checkpoint was due.
+pub fn no_checkpoint(out: &Path) -> String {
+    let (mut files, mut bytes) = (0u64, 0u64);
+    let mut walk = vec![out.to_path_buf()];
+    while let Some(d) = walk.pop() {
+        for e in std::fs::read_dir(&d).into_iter().flatten().flatten() {
+            let p = e.path();
+            if p.is_dir() {
+                walk.push(p);
+            } else if e.file_name() != ".lock" {
+                files += 1;
+                bytes += e.metadata().map_or(0, |m| m.len());
+            }
+        }
+    }
+    if files == 0 {
+        format!(
+            "{} holds no checkpoint.bin to continue from (nothing was written); start the run without --resume",
+            out.display()
+        )
+    } else {
+        format!(
+            "{} holds no checkpoint.bin to continue from: its {files} file(s) ({:.3} MB) were written before a first checkpoint; \
+             --force starts the run again",
+            out.display(),
+            bytes as f64 / 1e6
+        )
+    }
+}
+
 /// Runs a resolved scene into `opts.out` on its own pool of threads (`run.threads`, or
 /// chosen by [`crate::threads::choose`]). Everything that can be checked is checked before
 /// anything is written, and a start that fails before the first step removes what it
@@ -189,6 +219,13 @@ fn run_in_pool(resolved: &Resolved, opts: &RunOptions, threads_why: String) -> R
             return Err(e);
         }
     };
+    if opts.resume {
+        // A resume continues only the run it finds (crate::resume_check).
+        crate::resume_check::check(out, &resolved.file, &format!("--resume {}", out.display()))?;
+    }
+    for w in &resolved.warnings {
+        eprintln!("warning: {w}");
+    }
     let checkpoint = if opts.resume {
         let path = out.join("checkpoint.bin");
         Some(std::fs::read(&path).map_err(|e| format!("--resume: cannot read {}: {e}", path.display()))?)
@@ -311,7 +348,11 @@ fn start(resolved: &Resolved, opts: &RunOptions, checkpoint: Option<Vec<u8>>) ->
         fingerprint,
         every,
         last: total,
+        first_by: args.first_checkpoint_after.map_or(crate::run_outputs::FIRST_CHECKPOINT_WALL, |s| {
+            std::time::Duration::from_secs_f64(s.clamp(0.0, 1e9))
+        }),
     })?;
+    thermo.follow(recorder.checkpoints.clone());
     if recorder.frames == 0 {
         recorder.snapshot(&sim)?;
     }

@@ -85,14 +85,7 @@ pub fn run_events(path: &Path, scene: &EventScene, opts: &EventsOptions) -> Resu
         let path = out.join("checkpoint.bin");
         let bytes = std::fs::read(&path).map_err(|e| format!("--resume: cannot read {} (nothing was written): {e}", path.display()))?;
         let c = events_checkpoint::decode(&bytes).map_err(|e| format!("--resume: {}: {e}", path.display()))?;
-        if c.fingerprint != fingerprint {
-            return Err(format!(
-                "--resume: the scene differs from the one {} was written with (only run.duration may change; compare with {})",
-                path.display(),
-                out.join("scene.toml").display()
-            )
-            .into());
-        }
+        crate::events_resume::check(&out, scene, c.fingerprint == fingerprint)?;
         Some(c)
     } else {
         crate::output::claim(&out, opts.force)?;
@@ -126,11 +119,12 @@ struct Start {
     resumed: Option<events_checkpoint::Checkpoint>,
 }
 
-/// What a checkpoint must match to be resumed: the scene, except `run.duration`.
+/// What a checkpoint must match to be resumed: the scene, except `run.duration`, and the
+/// content of its restitution tables (none: the scene's alone, as before tables were hashed).
 fn fingerprint(scene: &EventScene) -> Result<u64, Error> {
     let mut s = scene.clone();
     s.run.duration = 0.0;
-    Ok(events_checkpoint::fnv1a(toml::to_string(&s)?.as_bytes()))
+    Ok(events_checkpoint::fnv1a(toml::to_string(&s)?.as_bytes()) ^ crate::events_resume::tables_hash(scene)?)
 }
 
 /// Wall time between checkpoints.
@@ -183,6 +177,10 @@ fn simulate(
                  as they settle";
         eprintln!("warning: {w}");
         warnings.push(w.to_string());
+    }
+    for w in scene.warnings() {
+        eprintln!("warning: {w}");
+        warnings.push(w);
     }
     let said = warnings.len();
     let collisions_before = sim.collisions();
@@ -237,6 +235,14 @@ fn simulate(
     if ledger > 1e-9 {
         warnings.push(format!(
             "the energy ledger misses by {ledger:e} of the energy moved (expected round-off, below 1e-9)"
+        ));
+    }
+    warnings.extend(crate::events_measure::bulk_bin_note(obs.bin, sim.config.height, species));
+    if sim.ledger.dissipated < 0.0 {
+        warnings.push(format!(
+            "the collisions added {:e} J instead of dissipating it (dissipated_j < 0): a collapse guard \
+             (guard.min_rebound_speed = {:?} m/s) sent grains apart faster than they met",
+            -sim.ledger.dissipated, scene.guard.min_rebound_speed
         ));
     }
     if obs.samples == 0 {

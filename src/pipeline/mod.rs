@@ -19,6 +19,6 @@ mod resolve;
 
 pub use analyze::{analyze, AnalysisOptions, AnalysisSummary, MapFrame};
 pub use automaton::{resolve_lattice, run_automaton, AutomatonOptions};
-pub use dem::{run_dem, RunOptions};
+pub use dem::{no_checkpoint, run_dem, RunOptions};
 pub use events::{run_events, EventsOptions};
 pub use resolve::resolve;

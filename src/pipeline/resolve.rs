@@ -27,6 +27,9 @@ pub struct Resolved {
     pub sample_key: u64,
     /// What a checkpoint must match to be resumed ([`checkpoint_fingerprint`]).
     pub fingerprint: u64,
+    /// What a run of the scene must say at its start: the disk it will fill, a drive too weak
+    /// to move anything ([`crate::bounds::dem`]).
+    pub warnings: Vec<String>,
 }
 
 impl Resolved {
@@ -59,12 +62,15 @@ pub fn resolve(path: &Path, file: SceneFile) -> Result<Resolved, Error> {
         )
         .into());
     }
+    // Sizes before anything is allocated or written (crate::bounds).
+    let warnings = crate::bounds::dem(scene, setup.dt)?;
     Ok(Resolved {
         path: path.to_path_buf(),
         sample_key: sample_key(scene),
         fingerprint: checkpoint_fingerprint(scene)?,
         file,
         setup,
+        warnings,
     })
 }
 

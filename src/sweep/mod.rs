@@ -46,6 +46,10 @@ pub struct SweepArgs {
     #[command(flatten)]
     #[serde(flatten)]
     pub progress: crate::cli_args::Quiet,
+    // Without --force, a sweep continues the same sweep in --out (its finished jobs are kept).
+    #[command(flatten)]
+    #[serde(skip)]
+    pub replace: crate::cli_args::Force,
 }
 
 impl SweepArgs {
@@ -60,6 +64,9 @@ impl SweepArgs {
         report: impl Fn(&Path, &Sweep) -> Result<Value, CliError>,
     ) -> Result<String, CliError> {
         check_jobs(sweep)?;
+        if self.replace.force {
+            forget(root)?;
+        }
         // The job's identity covers the resolved scene, not only its path: results of an
         // edited scene file are never reused.
         let mut sweep = sweep.clone();
@@ -260,6 +267,25 @@ fn job_dir(root: &Path, job: &Job) -> PathBuf {
 }
 
 /// Writes `sweep.json`, refusing to mix two different sweeps in one directory.
+/// `--force`: removes the sweep in `root` (its `sweep.json`, its `jobs/` and the summary's
+/// files), so that the sweep starts again; files of the user's are left alone.
+fn forget(root: &Path) -> Result<(), CliError> {
+    crate::output::claim(root, true)?;
+    for p in [root.join("sweep.json"), root.join("report.md")] {
+        if let Err(e) = std::fs::remove_file(&p) {
+            if e.kind() != std::io::ErrorKind::NotFound {
+                return Err(format!("--force: cannot remove {}: {e}", p.display()).into());
+            }
+        }
+    }
+    match std::fs::remove_dir_all(root.join("jobs")) {
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
+            Err(format!("--force: cannot remove {}: {e}", root.join("jobs").display()).into())
+        }
+        _ => Ok(()),
+    }
+}
+
 pub fn store(root: &Path, sweep: &Sweep) -> Result<(), CliError> {
     std::fs::create_dir_all(root).map_err(|e| format!("cannot create {}: {e}", root.display()))?;
     let path = root.join("sweep.json");
