@@ -81,6 +81,18 @@ pub struct EventDrive {
     /// "vibrated", "fixed" or "none" (open top).
     #[serde(default = "no_lid")]
     pub lid: String,
+    /// "sine" (the walls follow `A sin(2 pi f t + phase)`) or "sawtooth" (they stand at their
+    /// mean lines and push every grain that strikes them at the peak speed `2 pi f A`).
+    #[serde(default = "sine", skip_serializing_if = "is_sine")]
+    pub waveform: String,
+}
+
+fn sine() -> String {
+    "sine".into()
+}
+
+fn is_sine(waveform: &str) -> bool {
+    waveform == "sine"
 }
 
 fn vibrated() -> String {
@@ -597,6 +609,11 @@ impl EventScene {
                 }
             },
             lid: wall("drive.lid", &self.drive.lid, true)?,
+            waveform: match self.drive.waveform.as_str() {
+                "sine" => events::Waveform::Sine,
+                "sawtooth" => events::Waveform::Sawtooth,
+                other => return Err(bad("drive.waveform", format!("must be \"sine\" or \"sawtooth\", got {other:?}"))),
+            },
             rules,
             guard: Guard {
                 min_rebound_speed: self.guard.min_rebound_speed,
@@ -864,6 +881,7 @@ fn engine_key(field: &str) -> String {
     match field {
         "width" | "height" | "gravity" => format!("box.{field}"),
         "amplitude" => "drive.amplitude".into(),
+        "waveform" => "drive.waveform".into(),
         "q" => "particles.shape".into(),
         "initial_speed" => "particles.initial_speed".into(),
         f if f.starts_with("species") => format!("particles.{f}"),
@@ -1046,5 +1064,21 @@ mod tests {
         std::fs::write(&p, "g_n,g_t_over_g_n,eps_n,beta\n0.1,0,0.9,-0.5\n1,2,0.6,0\n").unwrap();
         assert!(read_table(&p).unwrap_err().contains("not a full grid"));
         std::fs::remove_dir_all(&d).unwrap();
+    }
+
+    #[test]
+    fn the_drive_waveform_is_a_sine_or_a_sawtooth_and_anything_else_names_its_key() {
+        let key = |set: &[&str]| match parse(&mixture(), set).and_then(|s| s.config()) {
+            Err(e) => e.key,
+            Ok(c) => format!("{:?}", c.waveform),
+        };
+        assert_eq!(key(&[]), "Sine");
+        assert_eq!(key(&["drive.waveform=sawtooth"]), "Sawtooth");
+        assert_eq!(key(&["drive.waveform=square"]), "drive.waveform");
+        // The engine's refusal (sides that move with the floor) names the scene key.
+        assert_eq!(key(&["drive.waveform=sawtooth", "box.side_walls=with-floor"]), "drive.waveform");
+        // The default leaves the scene's fingerprint (and its checkpoints) as they were.
+        let scene = parse(&mixture(), &[]).unwrap();
+        assert!(!serde_json::to_string(&scene.drive).unwrap().contains("waveform"));
     }
 }

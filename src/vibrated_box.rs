@@ -356,6 +356,7 @@ fn events_scene(scene: &Scene, (pair, wall): (EventRule, EventRule), seed: u64, 
             phase: 0.0,
             floor: "vibrated".into(),
             lid: "none".into(),
+            waveform: "sine".into(),
         },
         base: None,
         particles: EventParticles {

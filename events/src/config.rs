@@ -2,13 +2,14 @@
 //!
 //! The box spans `0 <= x <= width` (periodic, or between side walls) and `0 <= z <= height`
 //! above the floor's mean position; the lid, if any, stands at `z = height`. Horizontal walls
-//! oscillate as `A sin(2 pi f t + phi)`. Particles are disks or spheres (the inertia factor
+//! oscillate as `A sin(2 pi f t + phi)`, or stand still and push every grain that strikes them
+//! at `A 2 pi f` (a sawtooth of negligible excursion, [`Waveform::Sawtooth`]). Particles are disks or spheres (the inertia factor
 //! `q`) of up to two species, with radii uniform in a range and a mass per particle.
 
 use crate::collision::Rule;
 use crate::error::{invalid, EventsError};
 use crate::sawtooth::Sawtooth;
-use crate::wall::Motion;
+use crate::wall::{Motion, Waveform};
 
 /// One species.
 #[derive(Clone, Debug, PartialEq)]
@@ -145,6 +146,9 @@ pub struct Config {
     pub base: Option<Sawtooth>,
     /// The lid at `z = height` and its motion (`None`: open top).
     pub lid: Option<Motion>,
+    /// How the vibrated floor and lid move: the sinusoid of their motions, or a sawtooth of
+    /// negligible excursion at the sinusoid's peak speed.
+    pub waveform: Waveform,
     pub rules: Rules,
     pub guard: Guard,
     /// Initial velocities uniform in `[-initial_speed, initial_speed]` per component (m/s).
@@ -274,6 +278,20 @@ impl Config {
         }
         if self.floor.is_none() && self.gravity > 0.0 {
             return Err(invalid("floor", "gravity needs a floor"));
+        }
+        if self.waveform == Waveform::Sawtooth {
+            if self.base.is_some() {
+                return Err(invalid(
+                    "waveform",
+                    "a sawtooth drive stands the floor still, which a sawtooth base cannot follow: use the sine",
+                ));
+            }
+            if self.side_walls == SideWalls::WithFloor {
+                return Err(invalid(
+                    "waveform",
+                    "a sawtooth drive has no wall velocity for side walls that move with the floor: use fixed or periodic sides",
+                ));
+            }
         }
         let n = self.species.len();
         let pairs = if n == 2 { 3 } else { 1 };

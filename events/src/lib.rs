@@ -50,4 +50,4 @@ pub use config::{Config, Guard, Mass, Rules, SideWalls, Species};
 pub use error::EventsError;
 pub use sawtooth::Sawtooth;
 pub use sim::{Next, Simulation, State};
-pub use wall::{Motion, Wall, WallKind};
+pub use wall::{Motion, Wall, WallKind, Waveform};

@@ -548,6 +548,7 @@ mod tests {
             }),
             base: None,
             lid: None,
+            waveform: crate::wall::Waveform::Sine,
             // Rough pairs, so that the grains spin and K/R is finite.
             rules: Rules::uniform(
                 Rule::Walton {
@@ -625,6 +626,7 @@ mod tests {
             }),
             base: None,
             lid: None,
+            waveform: crate::wall::Waveform::Sine,
             rules: Rules::uniform(Rule::smooth(0.9), Rule::smooth(1.0), 1),
             guard: Guard::default(),
             initial_speed: 0.0,

@@ -21,7 +21,7 @@ use crate::flight::{fly, pair_time};
 use crate::queue::Queue;
 use crate::sawtooth::Sawtooth;
 use crate::thinned::Thinned;
-use crate::wall::{Motion, Search, Wall, WallKind};
+use crate::wall::{Motion, Search, Wall, WallKind, Waveform};
 use crate::Vec2;
 
 /// A copy of a neighbourhood (at most nine cells), so that the grid is not borrowed while
@@ -154,18 +154,27 @@ impl Simulation {
         let rmax = config.radius_max();
         let floor_top = config.floor.map_or(0.0, |m| m.amplitude) + config.base.map_or(0.0, |b| b.height);
         let lid_low = config.height - config.lid.map_or(0.0, |m| m.amplitude);
+        // A sawtooth floor or lid stands at its mean line and pushes at the sine's peak speed.
+        let drive = |m: Motion| match config.waveform {
+            Waveform::Sine => (m, 0.0),
+            Waveform::Sawtooth => (Motion::FIXED, m.amplitude * 2.0 * std::f64::consts::PI * m.frequency),
+        };
         if let (Some(m), None) = (config.floor, config.base) {
+            let (motion, push) = drive(m);
             walls.push(Wall {
                 kind: WallKind::Floor,
                 position: 0.0,
-                motion: m,
+                motion,
+                push,
             });
         }
         if let Some(m) = config.lid {
+            let (motion, push) = drive(m);
             walls.push(Wall {
                 kind: WallKind::Lid,
                 position: config.height,
-                motion: m,
+                motion,
+                push,
             });
         }
         if config.side_walls != SideWalls::Periodic {
@@ -177,11 +186,13 @@ impl Simulation {
                 kind: WallKind::Left,
                 position: 0.0,
                 motion,
+                push: 0.0,
             });
             walls.push(Wall {
                 kind: WallKind::Right,
                 position: config.width,
                 motion,
+                push: 0.0,
             });
         }
         // Sites in the box between the walls' extreme positions.
@@ -540,7 +551,7 @@ impl Simulation {
                     WallKind::Lid => Surface::Lid,
                     WallKind::Left | WallKind::Right => Surface::Side,
                 };
-                self.surface_collision(i, wall.normal(), wall.velocity(t), kind, t)?;
+                self.surface_collision(i, wall.normal(), wall.strike_velocity(t), kind, t)?;
                 self.predict(i);
             }
             Next::Tooth { tooth, piece } => {
@@ -838,6 +849,7 @@ mod tests {
             floor: Some(drive),
             base: None,
             lid: lid.then_some(Motion { phase: 1.0, ..drive }),
+            waveform: Waveform::Sine,
             rules: Rules::uniform(
                 Rule::Walton {
                     e: Restitution::Constant(0.9),

@@ -3,7 +3,9 @@
 //!
 //! Every wall moves, if at all, vertically with the drive: `d(t) = A sin(2 pi f t + phi)`.
 //! A horizontal wall (the floor, the lid) moves along its normal; a vertical side wall that
-//! moves with the floor keeps its place and only lends its velocity to friction.
+//! moves with the floor keeps its place and only lends its velocity to friction. A sawtooth
+//! wall ([`Waveform::Sawtooth`]) stands still and lends a fixed speed along its normal to
+//! every grain that strikes it.
 //!
 //! The gap of a particle of radius `R` to a horizontal wall is a parabola minus a sinusoid,
 //! with a curvature bounded by `K = g + A (2 pi f)^2`. From any time with gap `h >= 0` and
@@ -81,13 +83,32 @@ impl Motion {
     }
 }
 
+/// How a vibrated floor or lid moves.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Waveform {
+    /// `A sin(2 pi f t + phi)`: the wall's position and velocity follow the sinusoid, so a
+    /// grain meets it at whatever velocity the phase of its impact gives.
+    #[default]
+    Sine,
+    /// Barrat and Trizac's sawtooth of negligible excursion (the limit of a sawtooth whose
+    /// amplitude goes to zero at fixed speed): the wall stands at its mean line, and every
+    /// grain that strikes it meets it moving into the box at the sinusoid's peak speed
+    /// `V = A 2 pi f`. Every impact sees the same wall velocity.
+    Sawtooth,
+}
+
 /// One wall: its kind, its mean position (z for horizontal walls, x for vertical ones), its
-/// motion, and the index of its collision rule.
+/// motion, and the speed it lends to the grains that strike it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Wall {
     pub kind: WallKind,
     pub position: f64,
     pub motion: Motion,
+    /// Speed (m/s) at which the wall moves into the box, along its normal, whenever a grain
+    /// strikes it, over and above `motion`: a sawtooth wall's `V`, 0 for any other wall. It
+    /// takes part in the collision only; where the wall stands, and so when a grain meets
+    /// it, is `motion`'s.
+    pub push: f64,
 }
 
 impl Wall {
@@ -117,6 +138,12 @@ impl Wall {
     /// The wall's velocity at `t` (m/s): always vertical.
     pub fn velocity(&self, t: f64) -> Vec2 {
         Vec2::new(0.0, self.motion.velocity(t))
+    }
+
+    /// The velocity a grain that strikes the wall at `t` collides with (m/s): the wall's own,
+    /// plus its push along the normal.
+    pub fn strike_velocity(&self, t: f64) -> Vec2 {
+        self.velocity(t) + self.normal() * self.push
     }
 
     /// Gap between the wall and a particle at `r` with radius `radius` at time `t` (m;
@@ -328,6 +355,7 @@ mod tests {
                 frequency: f,
                 phase: 0.0,
             },
+            push: 0.0,
         }
     }
 
@@ -380,6 +408,7 @@ mod tests {
                 frequency: 50.0,
                 phase: 0.0,
             },
+            push: 0.0,
         };
         let up = lid.reach(r, Vec2::new(0.0, 1.0), 5e-4, g);
         let z = r.y + up - 0.5 * g * up * up;
@@ -412,6 +441,7 @@ mod tests {
             kind: WallKind::Left,
             position: 0.0,
             motion: Motion::FIXED,
+            push: 0.0,
         };
         assert_eq!(
             side.contact_time(Vec2::new(0.1 - 1e-16, 0.5), Vec2::new(1.0, 0.0), 0.1, 10.0, 0.0, 10.0),

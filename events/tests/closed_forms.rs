@@ -29,6 +29,7 @@ fn fixed_box(width: f64, height: f64, gravity: f64, sp: Vec<Species>, pair: Rule
         floor: Some(Motion::FIXED),
         base: None,
         lid: Some(Motion::FIXED),
+        waveform: events::Waveform::Sine,
         rules: Rules::uniform(pair, wall, n),
         guard: Guard::default(),
         initial_speed: 1.0,
@@ -229,6 +230,7 @@ fn ball_on_plate(e: f64, gamma: f64, frequency: f64) -> Config {
         }),
         base: None,
         lid: None,
+        waveform: events::Waveform::Sine,
         rules: Rules::uniform(Rule::smooth(1.0), Rule::smooth(e), 1),
         // While the plate pushes harder than gravity the ball sticks to it; the guard lets it
         // hop with 0.1 mm/s instead of colliding without end.
@@ -496,4 +498,103 @@ fn the_kept_velocities_and_free_times_stay_bounded_and_even() {
     let seen = sim.collisions();
     assert!(sim.free_times[0].kept.len() <= events::thinned::Thinned::CAP);
     assert!(sim.free_times[0].kept.len() as u64 <= 2 * seen);
+}
+
+/// A sawtooth floor (Barrat and Trizac's, of negligible excursion) stands at `z = 0` and
+/// meets every grain moving up at `V = A 2 pi f`, whatever the time of the impact: a grain
+/// that strikes it at speed `u` leaves at `w = (1 + e) V + e u`, and the wall's frame loses
+/// `m (1 - e^2) (u + V)^2 / 2`. Dropped from rest at `z0`, the grain's k-th impact comes at
+/// the speed it left the (k-1)-th with, so the impact times and speeds follow in closed form
+/// and converge to the fixed point `(1 + e) V / (1 - e)`.
+#[test]
+fn a_sawtooth_floor_sends_every_grain_off_at_the_same_wall_speed() {
+    let (e, f, gamma, g, z0) = (0.8, 50.0, 56.0, 9.81, 0.05);
+    let mut cfg = ball_on_plate(e, gamma, f);
+    cfg.waveform = events::Waveform::Sawtooth;
+    cfg.guard = Guard::default();
+    let (a, radius, m) = (cfg.floor.unwrap().amplitude, 1e-3, 1e-5);
+    let push = a * 2.0 * std::f64::consts::PI * f;
+    let mut sim = Simulation::new(cfg).unwrap();
+    sim.set_state(&[Vec2::new(0.005, z0)], &[Vec2::zeros()], &[0.0]).unwrap();
+    let e0 = sim.energy();
+    let mut t = (2.0 * (z0 - radius) / g).sqrt();
+    let mut u = g * t;
+    let mut lost = 0.0;
+    for k in 1..=40 {
+        let w = (1.0 + e) * push + e * u;
+        lost += 0.5 * m * (1.0 - e * e) * (u + push).powi(2);
+        // Halfway up the next flight: one more impact, rising at w / 2, at w t - g t^2 / 2.
+        let s = 0.5 * w / g;
+        sim.run_until(t + s).unwrap();
+        assert_eq!(sim.counts.wall, k, "impact {k}");
+        let (r, v) = sim.state(0);
+        assert!(
+            (v.y - 0.5 * w).abs() < 1e-10 * w,
+            "impact {k}: rising at {} against {}",
+            v.y,
+            0.5 * w
+        );
+        let z = radius + w * s - 0.5 * g * s * s;
+        assert!((r.y - z).abs() < 1e-10 * z, "impact {k}: at {} m against {z} m", r.y);
+        assert!((sim.ledger.dissipated - lost).abs() < 1e-10 * lost, "impact {k}: dissipated");
+        (t, u) = (t + 2.0 * w / g, w);
+    }
+    let fixed = (1.0 + e) * push / (1.0 - e);
+    assert!(
+        (u - fixed).abs() < 1e-3 * fixed,
+        "after 40 impacts {u} against the fixed point {fixed}"
+    );
+    assert!(ledger_error(&sim, e0) < 1e-12, "ledger {}", ledger_error(&sim, e0));
+    println!("sawtooth floor: V = {push:.4} m/s, 40 impacts, speed {u:.5} -> fixed point {fixed:.5} m/s");
+
+    // A sawtooth lid pushes down: without gravity an elastic grain between floor and lid
+    // gains 2 V at every impact, and crosses the gap h - 2 R at its current speed.
+    let mut cfg = ball_on_plate(1.0, gamma, f);
+    cfg.waveform = events::Waveform::Sawtooth;
+    cfg.gravity = 0.0;
+    cfg.height = 0.05;
+    cfg.lid = cfg.floor;
+    cfg.guard = Guard::default();
+    let mut sim = Simulation::new(cfg).unwrap();
+    let (u0, gap) = (0.3, 0.05 - 2.0 * radius);
+    sim.set_state(&[Vec2::new(0.005, 0.01)], &[Vec2::new(0.0, u0)], &[0.0]).unwrap();
+    let mut t = (0.05 - radius - 0.01) / u0;
+    for k in 1..=20u64 {
+        let speed = u0 + 2.0 * k as f64 * push;
+        sim.run_until(t + 0.5 * gap / speed).unwrap();
+        assert_eq!(sim.counts.wall, k, "impact {k}");
+        let (_, v) = sim.state(0);
+        let sign = if k % 2 == 1 { -1.0 } else { 1.0 };
+        assert!(
+            (v.y - sign * speed).abs() < 1e-12 * speed,
+            "impact {k}: {} against {}",
+            v.y,
+            sign * speed
+        );
+        t += gap / speed;
+    }
+}
+
+/// A sawtooth drive stands the floor still: a sawtooth base cannot follow it, and side walls
+/// that move with the floor have no velocity to lend; both are errors naming the waveform.
+#[test]
+fn a_sawtooth_drive_refuses_a_base_and_sides_that_move_with_the_floor() {
+    let mut cfg = ball_on_plate(0.8, 56.0, 50.0);
+    cfg.waveform = events::Waveform::Sawtooth;
+    cfg.side_walls = SideWalls::WithFloor;
+    match Simulation::new(cfg.clone()) {
+        Err(EventsError::Invalid { field, .. }) => assert_eq!(field, "waveform"),
+        other => panic!("{:?}", other.map(|_| ())),
+    }
+    cfg.side_walls = SideWalls::Periodic;
+    cfg.base = Some(events::Sawtooth {
+        width: 0.01,
+        height: 1e-3,
+        asymmetry: 0.5,
+        tip_radius: 1e-4,
+    });
+    match Simulation::new(cfg) {
+        Err(EventsError::Invalid { field, .. }) => assert_eq!(field, "waveform"),
+        other => panic!("{:?}", other.map(|_| ())),
+    }
 }

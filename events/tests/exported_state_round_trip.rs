@@ -44,6 +44,7 @@ fn config(sawtooth: bool) -> Config {
             tip_radius: 5e-4,
         }),
         lid: Some(Motion::FIXED),
+        waveform: events::Waveform::Sine,
         rules: Rules {
             pair: vec![rule.clone(); 3],
             floor: vec![rule.clone(); 2],

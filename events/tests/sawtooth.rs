@@ -40,6 +40,7 @@ fn ratchet(height: f64, asymmetry: f64, frequency: f64, count: usize, seed: u64)
             tip_radius: 5e-4,
         }),
         lid: Some(Motion::FIXED),
+        waveform: events::Waveform::Sine,
         rules: Rules::uniform(rule.clone(), rule, 1),
         guard: Guard {
             min_rebound_speed: Some(5e-3),

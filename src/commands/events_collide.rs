@@ -241,3 +241,50 @@ pub fn run(args: Args) -> Result<String, CliError> {
         "switches": switches,
     }))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::Parser;
+
+    #[derive(Parser)]
+    struct Cli {
+        #[command(flatten)]
+        args: Args,
+    }
+
+    fn error(options: &[&str]) -> String {
+        let cli = Cli::try_parse_from(std::iter::once("events-collide").chain(options.iter().copied())).unwrap();
+        match run(cli.args) {
+            Err(e) => e.to_string(),
+            Ok(line) => panic!("{options:?} accepted: {line}"),
+        }
+    }
+
+    /// The bad impacts, each refused with the option it came from: a speed that is
+    /// not positive, grains apart or overlapping (wall and pair), q outside (0, 1].
+    #[test]
+    fn bad_impacts_name_their_option() {
+        for speed in ["--speed=0", "--speed=-1"] {
+            let e = error(&[speed]);
+            assert!(e.starts_with("--speed:"), "{e}");
+        }
+        // R = 1 mm: in contact with the wall at z1 = R, with a grain below at z1 = 2 R.
+        for (target, z1) in [
+            ("wall", "1.001e-3"),
+            ("wall", "0.999e-3"),
+            ("pair", "2.002e-3"),
+            ("pair", "1.998e-3"),
+        ] {
+            let e = error(&["--target", target, "--z1", z1]);
+            assert!(e.starts_with("--z1:"), "{target} at {z1}: {e}");
+        }
+        for q in ["0", "1.2"] {
+            let e = error(&["--q", q]);
+            assert!(e.starts_with("--q:"), "{e}");
+        }
+        // In contact, the default impact is accepted.
+        let cli = Cli::try_parse_from(["events-collide", "--target", "pair", "--z1", "2e-3"]).unwrap();
+        assert!(run(cli.args).unwrap().contains("\"branch\""));
+    }
+}
