@@ -2,7 +2,8 @@
 # Threads against rate on a many-core host (issue 41, point 1): particle-steps per second of
 # the stepping loop (`stripes run`'s summary) on run.threads = 1, 2, 4, 8, 16 (THREADS), for
 # the thesis scene at N = 4000, 16000 and 64000 (box.length scaled with N, from the lattice at
-# dt = 8e-6 s) and the stripe scene at 0.4 m (N = 8000, dt = "auto"), printed side by side
+# dt = 8e-6 s), the stripe scene at 0.4 m (N = 8000, dt = "auto") and the experiment's tray
+# (N = 4848, end walls, its fluidising stage, dt = "auto"), printed side by side
 # with the speed-up over one thread. Made to run in under 5 minutes on a 16-core host with
 # ROUNDS=1 (each row's runs are a few seconds each there).
 #
@@ -21,7 +22,7 @@ if [ "$mode" = pack ]; then
   stage=$(mktemp -d)
   mkdir -p "$stage/bench" "$stage/scenes" "$stage/target/release"
   cp bench/scaling.sh "$stage/bench/"
-  cp scenes/thesis-reference.toml scenes/stripes.toml "$stage/scenes/"
+  cp scenes/thesis-reference.toml scenes/stripes.toml scenes/experiment.toml "$stage/scenes/"
   strip -o "$stage/target/release/stripes" target/release/stripes
   tar -czf "$out" -C "$stage" .
   rm -rf "$stage"
@@ -55,6 +56,7 @@ rows=(
   "thesis N=16000|scenes/thesis-reference.toml|1500|8e-6|--set particles.count=16000 --set box.length=1.6"
   "thesis N=64000|scenes/thesis-reference.toml|400|8e-6|--set particles.count=64000 --set box.length=6.4"
   "stripes 0.4 m N=8000|scenes/stripes.toml|1500|auto|--set particles.count=8000 --set box.length=0.4"
+  "experiment N=4848|scenes/experiment.toml|1500|auto|"
 )
 echo "host: $(nproc) cores, $(uname -m); $(grep -m1 'model name' /proc/cpuinfo 2> /dev/null | cut -d: -f2 | sed 's/^ //')"
 echo "load before: $(uptime | sed 's/.*load/load/')"
