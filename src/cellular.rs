@@ -84,6 +84,14 @@ pub fn validate_lattice(file: &SceneFile) -> Result<(), SceneError> {
     for w in crate::bounds::automaton(&file.dem)? {
         eprintln!("warning: {w}");
     }
+    let periods = (file.dem.run.duration * file.dem.drive.frequency).round().max(1.0);
+    let every = file.automaton.snapshot_every;
+    if every as f64 > periods {
+        return Err(SceneError {
+            key: "automaton.snapshot_every".into(),
+            message: format!("{every} periods between snapshots is more than the run's {periods} periods"),
+        });
+    }
     let c = Cells::of(file);
     let grains = file.dem.particles.count as f64;
     let cells = c.nx as f64 * c.ny as f64;
@@ -284,7 +292,8 @@ pub struct Outcome {
 }
 
 /// Runs the automaton from `lattice` for the scene's duration, writing `snapshots.bin` into
-/// `out` if given; calls `frame` with every state.
+/// `out` if given; calls `frame` with the first state and then with every
+/// `automaton.snapshot_every`-th period's (and the last), the states it writes.
 pub fn evolve(
     file: &SceneFile,
     lattice: automaton::Lattice,
@@ -305,6 +314,8 @@ pub fn evolve(
             scene.run.duration
         ));
     }
+    // Between 1 and the run's periods ([`validate_lattice`]).
+    let every = file.automaton.snapshot_every.clamp(1, periods);
     let m0 = lattice.mass();
     let mut writer = match snapshots {
         Some(p) => Some(StateWriter::create(
@@ -330,10 +341,13 @@ pub fn evolve(
         a.period();
         stepping += t0.elapsed().as_secs_f64();
         let t = 0.25 / nu + (k - 1) as f64 / nu;
-        if let Some(w) = writer.as_mut() {
-            w.push(t, scene.drive.amplitude, a.lattice())?;
+        // Every `automaton.snapshot_every`-th period, and the last.
+        if k % every == 0 || k == periods {
+            if let Some(w) = writer.as_mut() {
+                w.push(t, scene.drive.amplitude, a.lattice())?;
+            }
+            frame(t, a.lattice());
         }
-        frame(t, a.lattice());
         bar.set_message(format!("t = {t:.3} s of {} s", scene.run.duration));
         bar.set_position(k);
     }

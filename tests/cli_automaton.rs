@@ -84,6 +84,49 @@ fn automaton_writes_snapshots_that_analyze_reads_and_prints_the_analyze_keys() {
     ]);
     assert!(!ok);
     assert!(stderr.contains("automaton.activation"), "{stderr}");
+    // A snapshot every 3rd period (and at the last): t = 0, periods 3, 6, 9 and 10, and the
+    // same final state as writing every period.
+    let out = d.join("every3").display().to_string();
+    let (ok, stdout, stderr) = stripes(&[
+        "automaton",
+        &scene,
+        "--set",
+        "automaton.snapshot_every=3",
+        "--out",
+        &out,
+        "--sample-cache",
+        &samples,
+        "--quiet",
+    ]);
+    assert!(ok, "{stderr}");
+    assert_eq!(last_json(&stdout)["periods"], 10);
+    let (ok, stdout, stderr) = stripes(&["analyze", &out, "--out", &format!("{out}/again")]);
+    assert!(ok, "{stderr}");
+    assert_eq!(last_json(&stdout)["frames"], 5, "t = 0, periods 3, 6, 9 and the last");
+    let last = |dir: &str| {
+        let b = std::fs::read(Path::new(dir).join("snapshots.bin")).unwrap();
+        let n = u64::from_le_bytes(b[8..16].try_into().unwrap()) as usize;
+        b[b.len() - 24 * n..].to_vec()
+    };
+    assert_eq!(last(&out), last(&d.join("physical").display().to_string()), "the same last state");
+    // Zero, or more than the run's periods, is refused by key, and leaves nothing.
+    for bad in ["0", "11"] {
+        let dir = d.join(format!("bad{bad}"));
+        let (ok, _, stderr) = stripes(&[
+            "automaton",
+            &scene,
+            "--set",
+            &format!("automaton.snapshot_every={bad}"),
+            "--out",
+            &dir.display().to_string(),
+            "--sample-cache",
+            &samples,
+            "--quiet",
+        ]);
+        assert!(!ok, "snapshot_every = {bad} was accepted");
+        assert!(stderr.contains("automaton.snapshot_every"), "{stderr}");
+        assert!(!dir.exists(), "a failed start left {}", dir.display());
+    }
     std::fs::remove_dir_all(d).unwrap();
 }
 

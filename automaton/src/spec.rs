@@ -82,6 +82,9 @@ pub struct Spec {
     /// Cell length (m); absent: the mean grain diameter.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub cell: Option<f64>,
+    /// Write a snapshot every this many drive periods (and at the last), so that long runs
+    /// fit in memory and on disk; at least 1 and at most the run's periods.
+    pub snapshot_every: u64,
 }
 
 impl Default for Spec {
@@ -107,6 +110,7 @@ impl Default for Spec {
             sideways: true,
             sideways_probability: 0.1,
             cell: None,
+            snapshot_every: 1,
         }
     }
 }
@@ -135,6 +139,12 @@ impl Spec {
     /// Checks the values; errors name the key.
     pub fn validate(&self) -> Result<(), SpecError> {
         let err = |key: &str, message: String| SpecError { key: key.into(), message };
+        if self.snapshot_every == 0 {
+            return Err(err(
+                "automaton.snapshot_every",
+                "must be at least 1 (periods between snapshots), got 0".into(),
+            ));
+        }
         for (key, p) in [
             ("automaton.activation", self.activation),
             ("automaton.sideways_probability", self.sideways_probability),
