@@ -18,11 +18,14 @@
 //! camera's stripe onset, or every half period where none forms).
 //!
 //! Bands are the camera's ([`crate::stripes::detect`] on the tray-frame profile of each
-//! turning-point frame). A grain is in a band when its tray-frame x lies in one. Measured:
-//! how long grains stay in bands (runs of consecutive half periods, those cut by the start or
-//! end of the record left out), the rate at which grains leave a band per half period, over
-//! all its grains and over those within one mean diameter of its edges, and the area fraction
-//! of the band cores (the central half of each band).
+//! turning-point frame). A grain is in a band when its tray-frame x lies in one. Measured, from
+//! each turning point to the same one a period later (between the two turning points a band's
+//! grains swing against the tray by about a band's width: on the stripe scene 0.87-1.0 of them
+//! are outside the bands half a period later, 0.09-0.35 a period later): how long grains stay
+//! in bands (runs of consecutive periods, those cut by the start or end of the record left
+//! out), the rate at which grains leave a band per period, over all its grains and over those
+//! within one mean diameter of its edges, and the area fraction of the band cores (the central
+//! half of each band).
 
 use serde::Serialize;
 
@@ -187,16 +190,17 @@ pub struct Bands {
     pub core_packing: Option<f64>,
     /// Stays still running at the end of the record, or begun before its start.
     pub residence_censored: usize,
-    /// Per half period, the fraction of a band's grains that are in no band half a period
-    /// later: over all band grains, and over those within one mean diameter of an edge.
-    pub escape_per_half_period: Option<f64>,
-    pub edge_escape_per_half_period: Option<f64>,
-    /// Grain-half-periods behind the two rates.
+    /// Per drive period (from a turning point to the same one a period later), the fraction
+    /// of a band's grains that are in no band then: over all band grains, and over those
+    /// within one mean diameter of an edge.
+    pub escape_per_period: Option<f64>,
+    pub edge_escape_per_period: Option<f64>,
+    /// Grain-periods behind the two rates.
     pub band_samples: usize,
     pub edge_samples: usize,
-    /// Completed stays in a band (half periods; stays cut by the record's start or end left
-    /// out).
-    pub residence_half_periods: Spread,
+    /// Completed stays in a band, in periods (seen at one turning point; stays cut by the
+    /// record's start or end left out).
+    pub residence_periods: Spread,
 }
 
 /// Everything measured.
@@ -410,7 +414,7 @@ pub fn measure(
         .collect();
     let all = class(0.0, f64::INFINITY, &|_| true);
     let (swing, drift) = (Spread::of(swing), Spread::of(drift));
-    let (bands, per_frame) = band_measures(header, frames, &turning, &pairs, params, cells, mean_d);
+    let (bands, per_frame) = band_measures(header, frames, &turning, params, cells, mean_d);
     Ok(Coarse {
         turning_frames: turning.len(),
         half_periods: window.len(),
@@ -442,7 +446,6 @@ fn band_measures(
     header: &Header,
     frames: &[Frame],
     turning: &[TurningFrame],
-    pairs: &[(TurningFrame, TurningFrame)],
     params: &StripeParams,
     cells: usize,
     mean_d: f64,
@@ -450,15 +453,34 @@ fn band_measures(
     let (l, w) = (header.length, header.width);
     let n = header.radii.len();
     let h = l / cells as f64;
-    let xs = |f: &TurningFrame| -> Vec<f64> { frames[f.frame].pos.iter().map(|q| (q[0] - f.tray_x).rem_euclid(l)).collect() };
     let mut phi = vec![0.0; cells];
-    let mut stripes_of = Vec::with_capacity(turning.len());
     let mut core = (0.0, 0usize);
+    let (mut left, mut band_samples, mut edge_left, mut edge_samples) = (0usize, 0usize, 0usize, 0usize);
+    // One pass over the turning frames. Membership is compared between frames one period
+    // apart (the same turning point, as the camera sees it): between the two turning points
+    // a band's grains swing by about a band's width against the tray, so frames half a period
+    // apart would count the swing as escape. Per side of the stroke: the last frame's (stage,
+    // half), each grain's (in a band, within a mean diameter of its edge), and its current
+    // stay (length in periods, begun before the record).
+    struct Side {
+        at: Option<(usize, i64)>,
+        was: Vec<(bool, bool)>,
+        stay: Vec<Option<(usize, bool)>>,
+    }
+    let mut sides: [Side; 2] = std::array::from_fn(|_| Side {
+        at: None,
+        was: vec![(false, false); n],
+        stay: vec![None; n],
+    });
+    let (mut stays, mut censored) = (Vec::new(), 0);
+    let mut per_frame = Vec::with_capacity(turning.len());
+    let mut frames_with_bands = 0;
     for f in turning {
-        let x = xs(f);
+        let x: Vec<f64> = frames[f.frame].pos.iter().map(|q| (q[0] - f.tray_x).rem_euclid(l)).collect();
         add_area_fraction_cells(&x, &header.radii, l, w, &mut phi);
-        let s = detect(&phi, l, params);
-        for b in &s {
+        let stripes = detect(&phi, l, params);
+        frames_with_bands += usize::from(!stripes.is_empty());
+        for b in &stripes {
             // The central half of the band, cell by cell.
             let (from, to) = (b.start + 0.25 * b.width, b.start + 0.75 * b.width);
             let (c0, c1) = ((from / h).ceil() as i64, (to / h).floor() as i64);
@@ -467,78 +489,59 @@ fn band_measures(
                 core.1 += 1;
             }
         }
-        stripes_of.push(s);
-    }
-    // Membership per turning frame, by index in `turning`.
-    let index_of = |f: &TurningFrame| turning.iter().position(|t| t.frame == f.frame).expect("a turning frame");
-    let inside: Vec<Vec<bool>> = turning
-        .iter()
-        .zip(&stripes_of)
-        .map(|(f, s)| xs(f).iter().map(|&x| band_of(x, s, l).is_some()).collect())
-        .collect();
-    let (mut left, mut band_samples, mut edge_left, mut edge_samples) = (0usize, 0usize, 0usize, 0usize);
-    for (a, b) in pairs {
-        let (ia, ib) = (index_of(a), index_of(b));
-        let xa = xs(a);
-        for k in 0..n {
-            let Some(s) = band_of(xa[k], &stripes_of[ia], l) else {
-                continue;
+        let side = &mut sides[usize::from(f.side < 0)];
+        // One period after this side's previous frame, in the same stage.
+        let consecutive = side.at == Some((f.stage, f.half - 2));
+        side.at = Some((f.stage, f.half));
+        let mut members = 0;
+        for (k, &xk) in x.iter().enumerate() {
+            let now = match band_of(xk, &stripes, l) {
+                Some(s) => (true, edge_distance(xk, &stripes[s], l) <= mean_d),
+                None => (false, false),
             };
-            let gone = !inside[ib][k];
-            band_samples += 1;
-            left += usize::from(gone);
-            if edge_distance(xa[k], &stripes_of[ia][s], l) <= mean_d {
-                edge_samples += 1;
-                edge_left += usize::from(gone);
+            members += usize::from(now.0);
+            if consecutive && side.was[k].0 {
+                let gone = usize::from(!now.0);
+                band_samples += 1;
+                left += gone;
+                if side.was[k].1 {
+                    edge_samples += 1;
+                    edge_left += gone;
+                }
             }
-        }
-    }
-    // Stays: runs of membership over consecutive turning frames of one stage.
-    let mut stays = Vec::new();
-    let mut censored = 0;
-    for k in 0..n {
-        let mut run: Option<(usize, bool)> = None; // (length, started at the record's start)
-        for (t, (f, members)) in turning.iter().zip(&inside).enumerate() {
-            let consecutive = t > 0 && turning[t - 1].stage == f.stage && f.half == turning[t - 1].half + 1;
-            if !consecutive && run.take().is_some() {
+            if !consecutive && side.stay[k].take().is_some() {
                 censored += 1;
             }
-            match (members[k], run.as_mut()) {
+            match (now.0, side.stay[k].as_mut()) {
                 (true, Some((len, _))) => *len += 1,
-                (true, None) => run = Some((1, !consecutive)),
+                (true, None) => side.stay[k] = Some((1, !consecutive)),
                 (false, Some(&mut (len, cut))) => {
                     if cut {
                         censored += 1;
                     } else {
                         stays.push(len as f64);
                     }
-                    run = None;
+                    side.stay[k] = None;
                 }
                 (false, None) => {}
             }
+            side.was[k] = now;
         }
-        if run.is_some() {
-            censored += 1;
-        }
-    }
-    let per_frame = turning
-        .iter()
-        .zip(&stripes_of)
-        .zip(&inside)
-        .map(|((f, s), inside)| FrameBands {
+        per_frame.push(FrameBands {
             time: f.time,
             side: f.side,
-            bands: s.len(),
-            in_bands: inside.iter().filter(|&&b| b).count() as f64 / n.max(1) as f64,
-        })
-        .collect();
+            bands: stripes.len(),
+            in_bands: members as f64 / n.max(1) as f64,
+        });
+    }
+    censored += sides.iter().flat_map(|s| &s.stay).filter(|s| s.is_some()).count();
     let bands = Bands {
-        frames_with_bands: stripes_of.iter().filter(|s| !s.is_empty()).count(),
+        frames_with_bands,
         core_packing: (core.1 > 0).then(|| core.0 / core.1 as f64),
-        residence_half_periods: Spread::of(stays),
+        residence_periods: Spread::of(stays),
         residence_censored: censored,
-        escape_per_half_period: (band_samples > 0).then(|| left as f64 / band_samples as f64),
-        edge_escape_per_half_period: (edge_samples > 0).then(|| edge_left as f64 / edge_samples as f64),
+        escape_per_period: (band_samples > 0).then(|| left as f64 / band_samples as f64),
+        edge_escape_per_period: (edge_samples > 0).then(|| edge_left as f64 / edge_samples as f64),
         band_samples,
         edge_samples,
     };
@@ -634,7 +637,7 @@ mod tests {
         assert_eq!(c.by_packing.len(), 1);
         assert!(c.by_packing[0].low <= own && own < c.by_packing[0].high);
         assert_eq!(c.bands.frames_with_bands, 0);
-        assert_eq!(c.bands.escape_per_half_period, None);
+        assert_eq!(c.bands.escape_per_period, None);
     }
 
     #[test]
@@ -685,9 +688,9 @@ mod tests {
         let (drive, f) = frames(n, 5, 4, |k, _| place[k]);
         let c = measure(&header(n, l, w, r), &f, &drive, true, None, &p, 400).unwrap();
         assert_eq!(c.bands.frames_with_bands, c.turning_frames);
-        assert_eq!(c.bands.escape_per_half_period, Some(0.0));
-        assert_eq!(c.bands.residence_half_periods.samples, 0);
-        assert_eq!(c.bands.residence_censored, n);
+        assert_eq!(c.bands.escape_per_period, Some(0.0));
+        assert_eq!(c.bands.residence_periods.samples, 0);
+        assert_eq!(c.bands.residence_censored, 2 * n, "one stay per grain on each side");
         let core = c.bands.core_packing.unwrap();
         assert!(core > 0.5 && core < 0.7, "{core}");
         // The left column leaves the band for good after the third turning frame: 10 of the
@@ -700,10 +703,13 @@ mod tests {
             q
         });
         let c = measure(&header(n, l, w, r), &f, &drive, true, None, &p, 400).unwrap();
-        let pairs = c.turning_frames - 1;
-        let band = (n * 2 + (n - 10) * (pairs - 2)) as f64;
+        // Turning frames at halves 0..9: the column is in the band at halves 0 and 1 and
+        // leaves at 2 (+A side) and 3 (-A side). Samples are band grains one period before a
+        // frame: on each side, the first comparison has all n, the later ones n - 10.
+        let per_side = c.turning_frames / 2 - 1;
+        let band = (2 * (n + (n - 10) * (per_side - 1))) as f64;
         assert_eq!(c.bands.band_samples as f64, band);
-        assert!((c.bands.escape_per_half_period.unwrap() - 10.0 / band).abs() < 1e-12);
-        assert!(c.bands.edge_escape_per_half_period.unwrap() > c.bands.escape_per_half_period.unwrap());
+        assert!((c.bands.escape_per_period.unwrap() - 20.0 / band).abs() < 1e-12);
+        assert!(c.bands.edge_escape_per_period.unwrap() > c.bands.escape_per_period.unwrap());
     }
 }

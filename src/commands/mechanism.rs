@@ -227,9 +227,9 @@ pub fn run(args: Args) -> Result<String, CliError> {
             "excursion_sd_m": coarse.excursion.all.excursion.sd,
             "sideways_mean_m": coarse.excursion.all.sideways.mean,
             "core_packing": coarse.bands.core_packing,
-            "escape_per_half_period": coarse.bands.escape_per_half_period,
-            "edge_escape_per_half_period": coarse.bands.edge_escape_per_half_period,
-            "residence_mean_half_periods": coarse.bands.residence_half_periods.mean,
+            "escape_per_period": coarse.bands.escape_per_period,
+            "edge_escape_per_period": coarse.bands.edge_escape_per_period,
+            "residence_mean_periods": coarse.bands.residence_periods.mean,
         },
     });
     dir.finish(summary)
