@@ -2,7 +2,7 @@
 //! from the lattice, 5000 steps), with `dotted.key=value` overrides as arguments:
 //! `cargo run --release --example speed -- toggles.jumping=false`.
 
-#[path = "../src/scene_text/mod.rs"]
+#[path = "../src/scene/text/mod.rs"]
 mod scene_text;
 
 use particles::prepare::initial_state;

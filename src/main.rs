@@ -5,41 +5,15 @@
 //! Every subcommand that computes numbers writes a directory with the resolved configuration
 //! (`config.json`) and `summary.json`, and prints that summary as the last line of stdout.
 
-mod analysis_dir;
-mod bounds;
-mod bytes;
-mod calibrate;
-mod cellular;
-mod cli_args;
-mod cli_values;
-mod clock;
-mod commands;
-mod dem_checkpoint;
-mod events_checkpoint;
-mod events_distributions;
-mod events_fields;
-mod events_measure;
-mod events_resume;
-mod events_scene;
-#[cfg(test)]
-mod events_scene_checks;
-mod events_segregation;
-mod events_side;
-mod output;
-mod pipeline;
-mod resume_check;
-mod run_lock;
-mod run_outputs;
-mod samples;
-mod scene_edit;
-mod scene_file;
-mod scene_text;
-mod sweep;
-mod thermo;
-mod threads;
-mod tradeoff;
-mod vibrated_box;
-mod vtk_series;
+mod analyze;
+mod automaton;
+mod cli;
+mod dem;
+mod events;
+mod host;
+mod rundir;
+mod scene;
+mod studies;
 
 use std::process::ExitCode;
 
@@ -59,75 +33,75 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     /// The shaken tray: DEM run of a scene file (thesis 3.5).
-    Run(commands::run::Args),
+    Run(cli::run::Args),
     /// Density map, stripes, MSD, tracer and phase of a run, automaton run or LAMMPS dump
     /// (thesis 3.5.4, Appendix A).
-    Analyze(commands::analyze::Args),
+    Analyze(cli::analyze::Args),
     /// Two-sphere or sphere-wall collision experiment (thesis 3.2.5, chapter 4).
-    Collide(commands::collide::Args),
+    Collide(cli::collide::Args),
     /// eps_n^HS, eps_n and phi against impact eccentricity (thesis chapter 4, Fig 4.4-4.10).
-    Eccentricity(commands::eccentricity::Args),
+    Eccentricity(cli::eccentricity::Args),
     /// Contact duration against A, R, Y and v next to eq 3.19 (thesis Fig 3.5).
-    ContactTime(commands::contact_time::Args),
+    ContactTime(cli::contact_time::Args),
     /// Ablation study over prepared samples: reference and five toggles (thesis 3.5.4).
-    Ablate(commands::ablate::Args),
+    Ablate(cli::ablate::Args),
     /// (nu, A) phase diagram of one or both models (thesis Figs 3.30-3.31).
-    PhaseMap(commands::phase_map::Args),
+    PhaseMap(cli::phase_map::Args),
     /// Merge the results of a sweep's shards into its tables, plots and report.
-    Collect(commands::collect::Args),
+    Collect(cli::collect::Args),
     /// One sphere on the shaken plate, with and without rolling friction, and the
     /// rolling-friction stopping test (thesis 3.3, 3.5.2).
-    Single(commands::single::Args),
+    Single(cli::single::Args),
     /// The Strassburger cellular automaton on a scene (thesis 3.1); --bench, --calibrate.
-    Automaton(commands::automaton::Args),
+    Automaton(cli::automaton::Args),
     /// DEM and automaton on the same scene and sample, analysed alike: report.md.
-    Compare(commands::compare::Args),
+    Compare(cli::compare::Args),
     /// Several analysed runs of one scene side by side: pooled structure with errors,
     /// pattern distances between runs, spacing and band count over time.
-    Seeds(commands::seeds::Args),
+    Seeds(cli::seeds::Args),
     /// Held, rolling and sliding grains inside and outside the dense bands of a finished run,
     /// continued from its checkpoint (thesis 3.4, 3.5).
-    Mechanism(commands::mechanism::Args),
+    Mechanism(cli::mechanism::Args),
     /// The event-driven model of a vibrated box (hard disks or spheres in a vertical plane,
     /// Walton's collisions) on an event-driven scene (model = "events").
     #[command(mut_arg("scene", |a| a.help("Event-driven scene file (TOML, model = \"events\"), e.g. scenes/mixture.toml")))]
-    Events(commands::events::Args),
+    Events(cli::events::Args),
     /// The event-driven model over a grid of scene values and seeds, in parallel: tables of
     /// the current, height, K/R and temperatures, with plots.
-    EventsSweep(commands::events_sweep::Args),
+    EventsSweep(cli::events_sweep::Args),
     /// Single impacts of the event-driven rule on a wall or a grain, from a given state, and
     /// sweeps over the impact angle beside the rule's closed form.
-    EventsCollide(commands::events_collide::Args),
+    EventsCollide(cli::events_collide::Args),
     /// Speed against error of every accuracy-for-speed choice (time step, Young's modulus,
     /// integrator, 2D/3D, normal law, neighbour skin): Markdown table and Pareto plot.
-    Bench(commands::bench::Args),
+    Bench(cli::bench::Args),
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Run(a) => commands::run::run(a),
-        Command::Analyze(a) => commands::analyze::run(a),
-        Command::Collide(a) => commands::collide::run(a),
-        Command::Eccentricity(a) => commands::eccentricity::run(a),
-        Command::ContactTime(a) => commands::contact_time::run(a),
-        Command::Single(a) => commands::single::run(a),
-        Command::Ablate(a) => commands::ablate::run(a),
-        Command::PhaseMap(a) => commands::phase_map::run(a),
-        Command::Collect(a) => commands::collect::run(a),
-        Command::Automaton(a) => commands::automaton::run(a),
-        Command::Compare(a) => commands::compare::run(a),
-        Command::Seeds(a) => commands::seeds::run(a),
-        Command::Bench(a) => commands::bench::run(a),
-        Command::Events(a) => commands::events::run(a),
-        Command::EventsSweep(a) => commands::events_sweep::run(a),
-        Command::EventsCollide(a) => commands::events_collide::run(a),
-        Command::Mechanism(a) => commands::mechanism::run(a),
+        Command::Run(a) => cli::run::run(a),
+        Command::Analyze(a) => cli::analyze::run(a),
+        Command::Collide(a) => cli::collide::run(a),
+        Command::Eccentricity(a) => cli::eccentricity::run(a),
+        Command::ContactTime(a) => cli::contact_time::run(a),
+        Command::Single(a) => cli::single::run(a),
+        Command::Ablate(a) => cli::ablate::run(a),
+        Command::PhaseMap(a) => cli::phase_map::run(a),
+        Command::Collect(a) => cli::collect::run(a),
+        Command::Automaton(a) => cli::automaton::run(a),
+        Command::Compare(a) => cli::compare::run(a),
+        Command::Seeds(a) => cli::seeds::run(a),
+        Command::Bench(a) => cli::bench::run(a),
+        Command::Events(a) => cli::events::run(a),
+        Command::EventsSweep(a) => cli::events_sweep::run(a),
+        Command::EventsCollide(a) => cli::events_collide::run(a),
+        Command::Mechanism(a) => cli::mechanism::run(a),
     };
     match result {
         Ok(summary) => {
             if let Ok(v) = serde_json::from_str::<serde_json::Value>(&summary) {
-                eprintln!("{}", output::human_summary(&v));
+                eprintln!("{}", rundir::output::human_summary(&v));
             }
             println!("{summary}");
             ExitCode::SUCCESS

@@ -6,12 +6,16 @@
 //! The readers are the command line's own modules, compiled into this test with `#[path]`
 //! (the command line is a binary crate; a global allocator belongs to one test binary).
 
-#[path = "../src/bytes.rs"]
+#[path = "../src/rundir/bytes.rs"]
 #[allow(dead_code)]
-mod bytes;
-#[path = "../src/dem_checkpoint.rs"]
+pub mod bytes;
+/// `bytes` at the path `dem/checkpoint.rs` imports it from.
+mod rundir {
+    pub use super::bytes;
+}
+#[path = "../src/dem/checkpoint.rs"]
 mod dem_checkpoint;
-#[path = "../src/scene_text/overrides.rs"]
+#[path = "../src/scene/text/overrides.rs"]
 #[allow(dead_code)]
 mod overrides;
 

@@ -1,0 +1,84 @@
+//! `stripes contact-time`: Fig 3.5.
+
+use std::path::PathBuf;
+
+use analysis::plot::{LinePlot, Mark};
+use particles::experiment::contact_time::{study, ContactTimeCase};
+use serde::Serialize;
+use serde_json::json;
+
+use crate::rundir::output::{CliError, RunDir};
+
+/// Options of `stripes contact-time`; the base point is Fig 3.5's (R = 0.5 mm, Y = 1e6 Pa,
+/// A = 8.5e-6 s, v = 2 mm/s, rho = 2500 kg/m^3, nu = 0.3).
+#[derive(clap::Args, Debug, Serialize)]
+pub struct Args {
+    /// Values per sweep.
+    #[arg(long, default_value_t = 13, value_parser = crate::cli::values::at_least_two)]
+    pub points: usize,
+    /// Steps per estimated contact time.
+    #[arg(long, default_value_t = 1000.0)]
+    pub steps_per_contact: f64,
+    /// Output directory.
+    #[arg(long, default_value = "out/contact-time")]
+    pub out: PathBuf,
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub replace: crate::cli::args::Force,
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub quiet: crate::cli::args::Quiet,
+}
+
+pub fn run(args: Args) -> Result<String, CliError> {
+    let base = ContactTimeCase::default();
+    let rows = study(base, args.points, args.steps_per_contact)?;
+    crate::rundir::output::claim(&args.out, args.replace.force)?;
+    let mut dir = RunDir::create(&args.out, &json!({ "args": &args, "base": base }))?;
+    let mut summary = serde_json::Map::new();
+    for (param, label, unit, log_x) in [
+        ("dissipation", "dissipation A", "s", false),
+        ("radius", "radius R", "m", true),
+        ("young", "Young's modulus Y", "Pa", true),
+        ("speed", "impact speed v", "m/s", true),
+    ] {
+        let sel: Vec<_> = rows.iter().filter(|r| r.parameter == param).collect();
+        let table: Vec<Vec<f64>> = sel
+            .iter()
+            .map(|r| vec![r.value, r.t_c, r.t_c_eq_3_19, r.t_c / r.t_c_eq_3_19, r.eps_n])
+            .collect();
+        dir.csv(
+            &format!("contact_time_{param}.csv"),
+            &[param, "t_c", "t_c_eq_3_19", "ratio", "eps_n"],
+            &table,
+        )?;
+        let mut plot = LinePlot::new(
+            &format!("Contact time against {label}"),
+            &format!("{label} ({unit})"),
+            "contact time t_c (s)",
+        )
+        .series(
+            "DEM (viscoelastic)",
+            sel.iter().map(|r| (r.value, r.t_c)).collect(),
+            Mark::LinePoints,
+        )
+        .series(
+            "eq 3.19 (undamped)",
+            sel.iter().map(|r| (r.value, r.t_c_eq_3_19)).collect(),
+            Mark::Dashed,
+        );
+        if log_x {
+            plot = plot.log_x().log_y();
+        }
+        dir.plot(&format!("contact_time_{param}"), &plot)?;
+        let ratios: Vec<f64> = sel.iter().map(|r| r.t_c / r.t_c_eq_3_19).collect();
+        summary.insert(
+            param.into(),
+            json!({
+                "min_ratio_to_eq_3_19": ratios.iter().cloned().fold(f64::INFINITY, f64::min),
+                "max_ratio_to_eq_3_19": ratios.iter().cloned().fold(0.0, f64::max),
+            }),
+        );
+    }
+    dir.finish(json!({ "sweeps": summary, "base_t_c": rows[0].t_c_eq_3_19 }))
+}

@@ -1,0 +1,384 @@
+//! Run directories: resolved configuration, `summary.json`, CSV tables and plots, all
+//! written atomically.
+
+use std::path::{Path, PathBuf};
+
+use analysis::plot::LinePlot;
+use std::io::IsTerminal;
+use std::time::{Duration, Instant};
+
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use serde::Serialize;
+
+/// Error type of the CLI: a message for the user.
+pub type CliError = Box<dyn std::error::Error + Send + Sync>;
+
+/// The one rule of every command's output directory: a directory that already holds files
+/// is refused unless `--force` (replace them). `stripes run` and the sweeps add `--resume`.
+///
+/// With `--force` the previous output's `summary.json` and the files it lists are removed
+/// first, so that a new run that fails part-way never leaves the old summary (or old tables)
+/// beside its own files as if they belonged to it. Files the summary does not list, and
+/// anything outside the directory, are left alone.
+pub fn claim(dir: &Path, force: bool) -> Result<(), CliError> {
+    if !non_empty(dir) {
+        return Ok(());
+    }
+    if !force {
+        return Err(format!(
+            "{} already holds files; use --force to replace them, or another --out",
+            dir.display()
+        )
+        .into());
+    }
+    remove_previous_outputs(dir)
+}
+
+/// Removes `dir/summary.json` and the files inside `dir` that it lists under `files`.
+fn remove_previous_outputs(dir: &Path) -> Result<(), CliError> {
+    let summary = dir.join("summary.json");
+    let Ok(text) = std::fs::read_to_string(&summary) else {
+        return Ok(());
+    };
+    let listed: Vec<PathBuf> = serde_json::from_str::<serde_json::Value>(&text)
+        .ok()
+        .and_then(|v| v.get("files").and_then(|f| f.as_array()).cloned())
+        .unwrap_or_default()
+        .iter()
+        .filter_map(|f| f.as_str().map(PathBuf::from))
+        .collect();
+    let inside = |p: &Path| {
+        let parent = p.parent().and_then(|d| d.canonicalize().ok());
+        parent.is_some() && parent == dir.canonicalize().ok()
+    };
+    for p in listed.iter().chain([&summary]) {
+        if !(p.is_file() && inside(p)) {
+            continue;
+        }
+        std::fs::remove_file(p).map_err(|e| format!("--force: cannot remove {}: {e}", p.display()))?;
+    }
+    Ok(())
+}
+
+/// An output directory of one run.
+pub struct RunDir {
+    pub path: PathBuf,
+    written: Vec<PathBuf>,
+}
+
+impl RunDir {
+    /// Creates `path` (and parents) and writes the resolved configuration to `config.json`.
+    pub fn create(path: &Path, config: &impl Serialize) -> Result<Self, CliError> {
+        std::fs::create_dir_all(path).map_err(|e| format!("cannot create output directory {}: {e}", path.display()))?;
+        let mut dir = Self {
+            path: path.to_path_buf(),
+            written: Vec::new(),
+        };
+        dir.json("config.json", config)?;
+        Ok(dir)
+    }
+
+    /// An output directory whose `config.json` is left as it is for now (a resume writes it
+    /// only once the run it continues is known to be the one asked for).
+    pub fn open(path: &Path) -> Result<Self, CliError> {
+        std::fs::create_dir_all(path).map_err(|e| format!("cannot create output directory {}: {e}", path.display()))?;
+        Ok(Self {
+            path: path.to_path_buf(),
+            written: Vec::new(),
+        })
+    }
+
+    /// Writes a JSON file.
+    pub fn json(&mut self, name: &str, value: &impl Serialize) -> Result<(), CliError> {
+        let p = self.path.join(name);
+        analysis::io::write_json_atomic(&p, value).map_err(|e| format!("cannot write {}: {e}", p.display()))?;
+        self.written.push(p);
+        Ok(())
+    }
+
+    /// Writes a numeric CSV table.
+    pub fn csv(&mut self, name: &str, header: &[&str], rows: &[Vec<f64>]) -> Result<(), CliError> {
+        let p = self.path.join(name);
+        analysis::io::write_csv_atomic(&p, header, rows).map_err(|e| format!("cannot write {}: {e}", p.display()))?;
+        self.written.push(p);
+        Ok(())
+    }
+
+    /// Writes a text file (a CSV with label columns, a report).
+    pub fn text(&mut self, name: &str, text: &str) -> Result<(), CliError> {
+        let p = self.path.join(name);
+        analysis::io::write_atomic(&p, text.as_bytes()).map_err(|e| format!("cannot write {}: {e}", p.display()))?;
+        self.written.push(p);
+        Ok(())
+    }
+
+    /// Saves a plot as `<stem>.png` and `<stem>.svg`.
+    pub fn plot(&mut self, stem: &str, plot: &LinePlot) -> Result<(), CliError> {
+        let files = plot.save(&self.path.join(stem)).map_err(|e| format!("cannot draw {stem}: {e}"))?;
+        self.written.extend(files);
+        Ok(())
+    }
+
+    /// Records files written by other means, for the summary's file list.
+    pub fn note_files(&mut self, files: impl IntoIterator<Item = PathBuf>) {
+        self.written.extend(files);
+    }
+
+    /// Records every file under the subdirectory `sub` (written by the commands this one ran,
+    /// e.g. `compare`'s DEM and automaton runs), in path order, so the summary counts them.
+    pub fn note_tree(&mut self, sub: &Path) {
+        fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
+            let Ok(entries) = std::fs::read_dir(dir) else { return };
+            let mut paths: Vec<PathBuf> = entries.flatten().map(|e| e.path()).collect();
+            paths.sort();
+            for p in paths {
+                if p.is_dir() {
+                    walk(&p, out);
+                } else if p.file_name().is_some_and(|n| n != ".lock") {
+                    out.push(p);
+                }
+            }
+        }
+        let mut found = Vec::new();
+        walk(&self.path.join(sub), &mut found);
+        found.retain(|p| !self.written.contains(p));
+        self.written.extend(found);
+    }
+
+    /// Where this directory is and what has been written into it so far, as a typed summary
+    /// ends (see [`RunDir::finish_typed`]).
+    pub fn written(&self) -> Written {
+        Written {
+            out: self.path.display().to_string(),
+            files: self.written.iter().map(|p| p.display().to_string()).collect(),
+        }
+    }
+
+    /// Writes a typed summary, which ends with [`RunDir::written`], as `summary.json`: the
+    /// same file [`RunDir::finish`] writes from a JSON value.
+    pub fn finish_typed(mut self, summary: &impl Serialize) -> Result<(), CliError> {
+        let value = serde_json::to_value(summary)?;
+        self.json("summary.json", &value)
+    }
+
+    /// Writes `summary.json` (with the list of files written) and returns it as one line of
+    /// JSON for stdout.
+    pub fn finish(mut self, summary: serde_json::Value) -> Result<String, CliError> {
+        let mut summary = summary;
+        let files: Vec<String> = self.written.iter().map(|p| p.display().to_string()).collect();
+        if let serde_json::Value::Object(map) = &mut summary {
+            map.insert("out".into(), self.path.display().to_string().into());
+            map.insert("files".into(), files.into());
+        }
+        self.json("summary.json", &summary)?;
+        Ok(serde_json::to_string(&summary)?)
+    }
+}
+
+/// The last fields of every summary: the output directory and the files written into it.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct Written {
+    pub out: String,
+    pub files: Vec<String>,
+}
+
+/// A typed summary as the one line of JSON a command prints (keys in the order of
+/// `summary.json`).
+pub fn json_line(summary: &impl Serialize) -> Result<String, CliError> {
+    Ok(serde_json::to_string(&serde_json::to_value(summary)?)?)
+}
+
+/// Whether `dir` exists and holds anything.
+pub fn non_empty(dir: &Path) -> bool {
+    // A run's own lock (`crate::rundir::lock`) is not content.
+    std::fs::read_dir(dir).is_ok_and(|d| d.flatten().any(|e| e.file_name() != ".lock"))
+}
+
+/// Environment variable that sets the cache of prepared samples (`--sample-cache`).
+pub const SAMPLE_CACHE_ENV: &str = "STRIPES_SAMPLE_CACHE";
+
+/// The default cache of prepared samples: `$STRIPES_SAMPLE_CACHE` (if set and not empty),
+/// else `out/samples` (relative to the current directory).
+pub fn default_sample_cache() -> PathBuf {
+    // An empty variable (`STRIPES_SAMPLE_CACHE= stripes run ...`) counts as unset: an empty
+    // default would otherwise be reported by clap as a missing `--sample-cache`.
+    std::env::var_os(SAMPLE_CACHE_ENV)
+        .filter(|v| !v.is_empty())
+        .map_or_else(|| PathBuf::from("out/samples"), PathBuf::from)
+}
+
+/// Parses "x,y,z" into a vector.
+pub fn parse_vec3(s: &str) -> Result<[f64; 3], String> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    if parts.len() != 3 {
+        return Err(format!("expected three comma-separated numbers like 0,0,10, got `{s}`"));
+    }
+    let mut v = [0.0; 3];
+    for (k, p) in parts.iter().enumerate() {
+        v[k] = p.parse().map_err(|_| format!("`{p}` is not a number"))?;
+    }
+    Ok(v)
+}
+
+/// The progress of every long command (nothing with `--quiet`). On a terminal, a bar on
+/// stderr; off a terminal (CI logs, Slurm, a pipe), one line on stderr every tenth of the work
+/// or every minute, whichever comes first (see [`progress_line`]). The bar's message (e.g.
+/// the simulated time) appears in both.
+pub fn progress_bar(len: u64, quiet: bool, what: &str) -> ProgressBar {
+    if quiet {
+        return ProgressBar::hidden();
+    }
+    if !std::io::stderr().is_terminal() {
+        let bar = ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::hidden());
+        let (watched, what) = (bar.clone(), what.to_string());
+        std::thread::spawn(move || log_progress(&watched, &what));
+        return bar;
+    }
+    let bar = ProgressBar::new(len);
+    bar.set_style(
+        ProgressStyle::with_template("{prefix:>12} [{bar:40}] {percent:>3}% {msg} {elapsed_precise} eta {eta_precise}")
+            .expect("valid template")
+            .progress_chars("=> "),
+    );
+    bar.set_prefix(what.to_string());
+    bar
+}
+
+/// Longest silence of the line progress off a terminal.
+const PROGRESS_EVERY: Duration = Duration::from_secs(60);
+
+/// Prints [`progress_line`]s for `bar` until it is finished.
+fn log_progress(bar: &ProgressBar, what: &str) {
+    let (mut decile, mut printed) = (0, Instant::now());
+    while !bar.is_finished() {
+        std::thread::sleep(Duration::from_millis(200));
+        let (pos, len) = (bar.position(), bar.length().unwrap_or(0).max(1));
+        let now_decile = (pos.min(len) * 10 / len).min(9);
+        if now_decile > decile || printed.elapsed() >= PROGRESS_EVERY {
+            if bar.is_finished() {
+                break;
+            }
+            eprintln!("{}", progress_line(what, pos, len, bar.elapsed(), &bar.message()));
+            (decile, printed) = (now_decile, Instant::now());
+        }
+    }
+}
+
+/// One progress line: `run: 30% (4500/15000 at 2.1e4/s), t = 0.036 s of 0.12 s, elapsed 0:00:05, eta 0:00:12`;
+/// the rate is the counter's (steps, samples), next to it so that no number in the message
+/// reads as its unit.
+pub fn progress_line(what: &str, pos: u64, len: u64, elapsed: Duration, message: &str) -> String {
+    let secs = elapsed.as_secs_f64();
+    let rate = pos as f64 / secs.max(1e-9);
+    let eta = if pos > 0 {
+        hms(secs * (len.saturating_sub(pos)) as f64 / pos as f64)
+    } else {
+        "unknown".into()
+    };
+    let msg = if message.is_empty() {
+        String::new()
+    } else {
+        format!(", {message}")
+    };
+    format!(
+        "{what}: {}% ({pos}/{len} at {rate:.2e}/s){msg}, elapsed {}, eta {eta}",
+        100 * pos.min(len) / len.max(1),
+        hms(secs)
+    )
+}
+
+fn hms(s: f64) -> String {
+    let s = s.round() as u64;
+    format!("{}:{:02}:{:02}", s / 3600, s / 60 % 60, s % 60)
+}
+
+/// A short human-readable account of a command's summary for stderr: what was simulated,
+/// found and written, and how many warnings there were.
+pub fn human_summary(summary: &serde_json::Value) -> String {
+    let num = |k: &str| summary.get(k).and_then(serde_json::Value::as_f64);
+    let mut parts = Vec::new();
+    if let (Some(t), Some(w)) = (num("simulated_s"), num("wall_s")) {
+        parts.push(format!("{t:.3} s simulated in {w:.1} s"));
+    } else if let Some(w) = num("wall_s") {
+        parts.push(format!("{w:.1} s"));
+    }
+    if let Some(n) = num("snapshots") {
+        parts.push(format!("{n} snapshots"));
+    }
+    if let Some(p) = summary.get("phase") {
+        let stripes = num("stripe_count_final").map_or(String::new(), |c| format!(", {c} stripes at the end"));
+        let robust = match summary.get("phase_robust").and_then(serde_json::Value::as_bool) {
+            Some(true) => " (the same under every threshold set tried)".to_string(),
+            Some(false) => {
+                let votes = summary.get("phase_votes");
+                let v = |k: &str| votes.and_then(|v| v.get(k)).and_then(serde_json::Value::as_u64).unwrap_or(0);
+                format!(
+                    " (not robust: of 27 threshold sets, {} say stripes, {} gas, {} nothing; see phase_sensitivity.csv)",
+                    v("stripes"),
+                    v("gas"),
+                    v("nothing")
+                )
+            }
+            None => String::new(),
+        };
+        parts.push(format!("phase {}{robust}{stripes}", p.as_str().unwrap_or("none (too few frames)")));
+    }
+    let warnings = summary.get("warnings").and_then(serde_json::Value::as_array).map_or(0, Vec::len);
+    parts.push(format!("{warnings} warning(s)"));
+    if let Some(failed) = summary.get("failed").and_then(serde_json::Value::as_array) {
+        parts.push(format!("{} failed run(s)", failed.len()));
+    }
+    if let Some(out) = summary.get("out").and_then(serde_json::Value::as_str) {
+        let files = summary.get("files").and_then(serde_json::Value::as_array).map_or(0, Vec::len);
+        parts.push(format!("{files} files in {out}"));
+    }
+    format!("done: {}", parts.join("; "))
+}
+
+#[cfg(test)]
+mod claim_tests {
+    use super::*;
+
+    /// `--force` removes the old summary and the files it lists, and nothing else: not a file
+    /// of the user's in the directory, not a listed file outside it.
+    #[test]
+    fn force_removes_the_previous_outputs_and_only_them() {
+        let root = std::env::temp_dir().join(format!("stripes-claim-{}", std::process::id()));
+        let dir = root.join("out");
+        std::fs::create_dir_all(&dir).unwrap();
+        let outside = root.join("elsewhere.csv");
+        for f in [dir.join("a.csv"), dir.join("notes.txt"), outside.clone()] {
+            std::fs::write(f, "x").unwrap();
+        }
+        let files = [dir.join("a.csv"), outside.clone(), dir.join("summary.json")];
+        let summary = serde_json::json!({ "files": files });
+        std::fs::write(dir.join("summary.json"), summary.to_string()).unwrap();
+        assert!(claim(&dir, false).unwrap_err().to_string().contains("--force"));
+        claim(&dir, true).unwrap();
+        assert!(!dir.join("a.csv").exists() && !dir.join("summary.json").exists());
+        assert!(dir.join("notes.txt").exists() && outside.exists());
+        // Without a summary (a run that failed), --force still lets the new run start.
+        claim(&dir, true).unwrap();
+        std::fs::remove_dir_all(root).unwrap();
+    }
+}
+
+#[cfg(test)]
+mod progress_tests {
+    use super::*;
+
+    #[test]
+    fn a_progress_line_keeps_the_counters_rate_beside_the_counter() {
+        let line = progress_line("events", 5, 10, Duration::from_secs(2), "t = 1 s of 2 s, 400 collisions");
+        assert_eq!(
+            line,
+            "events: 50% (5/10 at 2.50e0/s), t = 1 s of 2 s, 400 collisions, elapsed 0:00:02, eta 0:00:02"
+        );
+    }
+
+    #[test]
+    fn a_sweeps_account_counts_its_failed_runs() {
+        let s = serde_json::json!({"wall_s": 3.0, "warnings": [], "failed": ["a", "b"]});
+        assert_eq!(human_summary(&s), "done: 3.0 s; 0 warning(s); 2 failed run(s)");
+    }
+}

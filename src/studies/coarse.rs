@@ -1,0 +1,143 @@
+//! A DEM run's measures for the coarse model ([`analysis::coarse`]), written as the
+//! automaton's parameter file `automaton.toml` and as `coarse.json` (issue 40, step 1).
+//!
+//! Read from the run's own frames (`snapshots.bin` and the drive in `config.json`); nothing
+//! is fitted to spacing, width, counts or onset. The excursions are taken before the camera's
+//! stripe onset (every half period when no stripes form). The lattice cell is the side of a
+//! square holding one mean grain at the band cores' packing, so that a cell holds about one
+//! grain where grains are densest.
+
+use std::path::Path;
+
+use analysis::coarse::{measure, Bands, ClassMoves, Coarse};
+use analysis::density::mean_area_fraction;
+use analysis::stripes::StripeParams;
+use serde::Serialize;
+
+use crate::rundir::output::{CliError, RunDir};
+
+/// Where the parameters come from: what a scene that names the file must share with it.
+#[derive(Clone, Debug, Serialize)]
+pub struct Source {
+    pub run: String,
+    pub grains: usize,
+    pub mean_diameter_m: f64,
+    pub length_m: f64,
+    pub width_m: f64,
+    /// True when x is periodic (no end walls).
+    pub periodic: bool,
+    /// The drive's stages: (start s, frequency Hz, amplitude m).
+    pub drive: Vec<[f64; 3]>,
+}
+
+/// The lattice cell.
+#[derive(Clone, Debug, Serialize)]
+pub struct Cell {
+    /// `sqrt(pi r^2 / core_packing)` with `r` the mean radius (m); None without bands.
+    pub size_m: Option<f64>,
+    /// What the size rests on, in words.
+    pub rule: &'static str,
+}
+
+/// The excursion tables, in metres.
+#[derive(Clone, Debug, Serialize)]
+pub struct Excursions {
+    /// The window's end (s): the stripe onset, or None for the whole run.
+    pub before_s: Option<f64>,
+    pub half_periods: usize,
+    /// How the local state is taken, in words.
+    pub local_state: String,
+    pub all: ClassMoves,
+    /// Over two consecutive half periods: the back-and-forth and the net move per period.
+    pub swing: analysis::coarse::Spread,
+    pub drift_per_period: analysis::coarse::Spread,
+    pub by_packing: Vec<ClassMoves>,
+    pub by_contacts: Vec<ClassMoves>,
+}
+
+/// Quantities the file cannot give from one run, with the reason.
+#[derive(Clone, Debug, Serialize)]
+pub struct NotMeasured {
+    pub quantity: &'static str,
+    pub why: &'static str,
+}
+
+/// `automaton.toml`.
+#[derive(Clone, Debug, Serialize)]
+pub struct Parameters {
+    pub note: &'static str,
+    pub source: Source,
+    pub cell: Cell,
+    pub excursion: Excursions,
+    pub bands: Bands,
+    pub not_measured: Vec<NotMeasured>,
+}
+
+/// The measures of the run at `run` (a `stripes run` directory), written into `dir` as
+/// `automaton.toml` and `coarse.json`; `periodic` is the scene's x boundary.
+pub fn write(run: &Path, periodic: bool, dir: &mut RunDir) -> Result<Parameters, CliError> {
+    let input = analysis::input::load(run, 0.0).map_err(|e| CliError::from(e.to_string()))?;
+    for w in &input.warnings {
+        eprintln!("warning: {w}");
+    }
+    let drive = input.drive.as_ref().ok_or_else(|| {
+        CliError::from(format!(
+            "{}: its config.json gives no horizontal drive that moves the tray: no half periods to measure",
+            run.display()
+        ))
+    })?;
+    let h = &input.header;
+    let n = h.radii.len();
+    let mean_r = h.radii.iter().sum::<f64>() / n.max(1) as f64;
+    let params = StripeParams::default_for(mean_area_fraction(&h.radii, h.length, h.width), 2.0 * mean_r);
+    let cells = (h.length / 1e-3).round().max(1.0) as usize;
+    let camera = analysis::camera::measure(h, &input.frames, Some(drive), &params, cells);
+    let coarse: Coarse = measure(h, &input.frames, drive, periodic, camera.stripe_onset, &params, cells)
+        .map_err(|e| CliError::from(format!("{}: {e}", run.display())))?;
+    let params = Parameters {
+        note: "measured by `stripes mechanism` on the DEM run named in [source], from its frames at the tray's turning points; \
+               nothing here is fitted to spacing, width, counts or onset",
+        source: Source {
+            run: run.display().to_string(),
+            grains: n,
+            mean_diameter_m: coarse.mean_diameter_m,
+            length_m: h.length,
+            width_m: h.width,
+            periodic,
+            drive: drive.stages().iter().map(|s| [s.start, s.frequency, s.amplitude]).collect(),
+        },
+        cell: Cell {
+            size_m: coarse.bands.core_packing.map(|phi| (std::f64::consts::PI * mean_r * mean_r / phi).sqrt()),
+            rule: "the side of a square holding one mean grain at the band cores' packing",
+        },
+        excursion: Excursions {
+            before_s: coarse.before_s,
+            half_periods: coarse.half_periods,
+            local_state: format!(
+                "packing: projected area of the grains centred within {} mean diameters, over that disk; contacts: centres nearer than (r_i + r_j)(1 + {})",
+                analysis::coarse::LOCAL_RADIUS_DIAMETERS,
+                analysis::coarse::CONTACT_GAP
+            ),
+            all: coarse.all.clone(),
+            swing: coarse.swing,
+            drift_per_period: coarse.drift,
+            by_packing: coarse.by_packing.clone(),
+            by_contacts: coarse.by_contacts.clone(),
+        },
+        bands: coarse.bands.clone(),
+        not_measured: vec![
+            NotMeasured {
+                quantity: "lift-off threshold (the drive from which grains move on the tray)",
+                why: "one run has one drive: measure it over the runs of a phase map",
+            },
+            NotMeasured {
+                quantity: "melting threshold (the drive above which bands dissolve)",
+                why: "one run has one drive: measure it over the runs of a phase map",
+            },
+        ],
+    };
+    let text = toml::to_string(&params).map_err(|e| CliError::from(format!("automaton.toml: {e}")))?;
+    dir.text("automaton.toml", &text)?;
+    dir.json("coarse.json", &coarse)?;
+    Ok(params)
+}

@@ -1,0 +1,8 @@
+//! Studies: what runs many scenes or models and puts them side by side. Sweeps (ablations,
+//! phase maps), the coarse model's measurements of a DEM run ([`coarse`]), the vibrated box's
+//! three-way check ([`vibrated_box`]) and speed against error ([`tradeoff`]).
+
+pub mod coarse;
+pub mod sweep;
+pub mod tradeoff;
+pub mod vibrated_box;
