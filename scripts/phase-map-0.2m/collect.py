@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Per-run structure of the 0.2 m phase map, from a finished sweep directory.
 
-    python3 docs/results/phase-map-0.2m/collect.py SWEEP_DIR > docs/results/phase-map-0.2m/runs.csv
+    python3 scripts/phase-map-0.2m/collect.py SWEEP_DIR > docs/results/phase-map-0.2m/runs.csv
 
 Reads jobs/<id>/result.json and jobs/<id>/analysis/summary.json; one row per run.
 """

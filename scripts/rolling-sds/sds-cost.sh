@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# bench: docs/results/rolling-sds/sds-cost.sh target/release/stripes
+# bench: scripts/rolling-sds/sds-cost.sh target/release/stripes
 # User CPU seconds of one-thread stripe-scene runs, Brilliantov-Poschel (as shipped) against
 # sds (mu_r 0.1, default stiffness), same step 6e-6 s, 20000 steps from the lattice.
 W=$(mktemp -d)

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Markdown tables of the 0.2 m phase map from runs.csv (written by collect.py).
 
-    python3 docs/results/phase-map-0.2m/summarize.py docs/results/phase-map-0.2m/runs.csv
+    python3 scripts/phase-map-0.2m/summarize.py docs/results/phase-map-0.2m/runs.csv
 """
 import csv, math, os, sys
 

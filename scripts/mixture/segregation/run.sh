@@ -10,7 +10,7 @@
 #              rebound speed of 5 mm/s (its cost on the reference scene is under 1.5 %,
 #              docs/scenes.md)
 #   dilute     75 + 75, 2 seeds
-# Usage (from the repository root): bash docs/results/mixture/segregation/run.sh [stripes] [out]
+# Usage (from the repository root): bash scripts/mixture/segregation/run.sh [stripes] [out]
 set -euo pipefail
 B=${1:-target/release/stripes}
 O=${2:-out/segregation}

@@ -2,7 +2,7 @@
 # The three-way check of the vibrated box (issue 27 section 4): the DEM on
 # scenes/vibrated-box-dem.toml, the event-driven model with the DEM's restitution table, and
 # with the constant Walton rule fitted to it. Each block writes one comparison directory here.
-# Usage: bash docs/results/vibrated-box-dem/run.sh [path/to/stripes] (from the repository root).
+# Usage: bash scripts/vibrated-box-dem/run.sh [path/to/stripes] (from the repository root).
 set -euo pipefail
 B=${1:-target/release/stripes}
 D=docs/results/vibrated-box-dem

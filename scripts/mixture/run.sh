@@ -4,7 +4,7 @@
 # the second set of restitutions (Fig 4), two ablations (mu = 0; the heavy species' wall
 # restitution 0.4) and the tall box of section 4 (Fig 11). Each block writes one directory
 # here and is skipped when its summary is already written, so an interrupted script resumes.
-# Usage: bash docs/results/mixture/run.sh [path/to/stripes] (from the repository root).
+# Usage: bash scripts/mixture/run.sh [path/to/stripes] (from the repository root).
 set -euo pipefail
 B=${1:-target/release/stripes}
 D=docs/results/mixture

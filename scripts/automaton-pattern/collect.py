@@ -1,10 +1,15 @@
 #!/usr/bin/env python3
-"""Writes the study's small CSVs into docs/results/automaton-pattern/."""
+"""Writes the study's small CSVs into docs/results/automaton-pattern/.
+
+    RUNS=/work/runs/autopattern python3 scripts/automaton-pattern/collect.py CHOSEN_GAMMA_C
+"""
 import csv, json, math, os, sys
-R = '/work/runs/autopattern'
-OUT = '/work/wt-autopattern/docs/results/automaton-pattern'
-DEM_MAP = '/work/wt-autopattern/docs/results/phase-map-stripes/phase_map_dem.csv'
-OLD_MAP = '/work/wt-autopattern/docs/results/phase-map-stripes/phase_map_automaton_6s.csv'
+# The study's runs (phase maps pm/, fit scan fit/, held-out seeds held/): not committed.
+R = os.environ.get('RUNS', '/work/runs/autopattern')
+ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', '..')
+OUT = os.path.join(ROOT, 'docs', 'results', 'automaton-pattern')
+DEM_MAP = os.path.join(ROOT, 'docs', 'results', 'phase-map-stripes', 'phase_map_dem.csv')
+OLD_MAP = os.path.join(ROOT, 'docs', 'results', 'phase-map-stripes', 'phase_map_automaton_6s.csv')
 chosen = sys.argv[1]
 
 def load(p):

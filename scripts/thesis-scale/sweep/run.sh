@@ -5,7 +5,7 @@
 # The amplitude runs last 6 s (seed 1); the packing and tray runs 4 s (seeds 1 and 2): the
 # machine's budget on 2026-11-27.
 # Then the tables and fits, beside the reference's five 100-period seeds cut at 3, 4 and 6 s:
-#   python3 docs/results/thesis-scale/sweep/collect.py OUT > docs/results/thesis-scale/sweep/tables.md
+#   python3 scripts/thesis-scale/sweep/collect.py OUT > docs/results/thesis-scale/sweep/tables.md
 set -e
 OUT=${OUT:-out/thesis-scale-sweep}
 one() {  # NAME SEED DURATION --set ...

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The Barrat-Trizac / Garzo-Dufty bulk temperature ratio T2/T1 of a homogeneously heated
 binary mixture (Gaussian approximation, rotations neglected), for the mixture paper's
-parameters. See report.md, "The plateau". Usage: python3 bt_prediction.py"""
+parameters. See docs/results/mixture/report.md, "The plateau". Usage: python3 scripts/mixture/bt_prediction.py"""
 
 m = [1.58e-5, 5.21e-6]             # kg, heavy (1) and light (2)
 a = [[0.93, 0.8], [0.8, 0.7]]      # restitutions r11, r12, r22

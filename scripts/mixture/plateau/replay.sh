@@ -4,10 +4,10 @@
 # collision counted) only reports where it would have stopped, with the approach speeds of
 # the burst, and today's detector (slow collisions only) stops the run. Builds in $WORK
 # (default /tmp/stripes-replay); a few minutes to build, about 2 minutes of CPU to run.
-# Usage: bash docs/results/mixture/plateau/replay.sh (from the repository root).
+# Usage: bash scripts/mixture/plateau/replay.sh (from the repository root).
 set -euo pipefail
 W=${WORK:-/tmp/stripes-replay}
-P=$(pwd)/docs/results/mixture/plateau/replay-d8281df.patch
+P=$(pwd)/scripts/mixture/plateau/replay-d8281df.patch
 mkdir -p $W/src
 git archive d8281df | tar -x -C $W/src
 (cd $W/src && patch -p1 < $P && cargo build --release --bin stripes)

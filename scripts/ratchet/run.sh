@@ -1,7 +1,7 @@
 #!/bin/bash
 # The ratchet paper's sweeps (seed 004, Figs 6-12) with the event-driven model, on
 # scenes/ratchet.toml. Each block writes one sweep directory here (runs.csv, means.csv,
-# plots). Usage: bash docs/results/ratchet/run.sh [path/to/stripes] (from the repository root).
+# plots). Usage: bash scripts/ratchet/run.sh [path/to/stripes] (from the repository root).
 set -euo pipefail
 B=${1:-target/release/stripes}
 D=docs/results/ratchet

@@ -2,21 +2,22 @@
 """The thesis-scale sweep (amplitude, packing, tray length) beside the five seeds of the
 reference, all measured at the same time (6 s), and the laws fitted to them.
 
-    python3 docs/results/thesis-scale/sweep/collect.py RUNS_DIR > docs/results/thesis-scale/sweep/tables.md
+    python3 scripts/thesis-scale/sweep/collect.py RUNS_DIR > docs/results/thesis-scale/sweep/tables.md
 
 RUNS_DIR holds one directory per run (NAME-sSEED, with `analysis/`); the reference seeds are
 read from docs/results/thesis-scale/seed-*/structure.csv. Every run is measured on its own
 frames up to 3 s, 4 s and 6 s (runs shorter than that time are left out of its
 tables), so that runs of different lengths compare at one time. Writes runs.csv (at 3 s) and
-the small files of each run beside this script.
+the small files of each run into docs/results/thesis-scale/sweep/.
 """
 import csv, json, math, os, shutil, statistics, sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', '..'))
 from lsq import line_fit as fit  # noqa: E402
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-TS = os.path.dirname(HERE)
+ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', '..', '..')
+TS = os.path.join(ROOT, 'docs', 'results', 'thesis-scale')
+HERE = os.path.join(TS, 'sweep')  # the study's folder: runs.csv and each run's small files
 TIMES = (3.0, 4.0, 6.0)  # s: every run is measured on its frames up to each of these times
 TAIL = 0.1           # the analysis' final tenth of the frames
 PHI_J = 0.82         # the analysis' jammed packing of a band

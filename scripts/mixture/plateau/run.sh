@@ -7,9 +7,9 @@
 # Each candidate run keeps its summary (runs/<name>-G<Gamma>-s<seed>.json) and its free-time
 # densities (runs/<...>.free_times.csv, whose elastic column gives the mean collision rate
 # per species); the run's other files go to $WORK (default /tmp/stripes-plateau), not
-# into the repository. `python3 docs/results/mixture/plateau/table.py` then writes table.csv.
+# into the repository. `python3 scripts/mixture/plateau/table.py` then writes table.csv.
 # A run whose summary exists is skipped, so an interrupted script resumes.
-# Usage: bash docs/results/mixture/plateau/run.sh [path/to/stripes] (from the repository root).
+# Usage: bash scripts/mixture/plateau/run.sh [path/to/stripes] (from the repository root).
 set -euo pipefail
 B=${1:-target/release/stripes}
 D=docs/results/mixture/plateau

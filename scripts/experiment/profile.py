@@ -1,6 +1,6 @@
 """Density profiles of an experiment run in the tray's frame (x - u(t)), from snapshots.bin.
 
-    python3 docs/results/experiment/profile.py RUN_DIR [BIN_MM]
+    python3 scripts/experiment/profile.py RUN_DIR [BIN_MM]
 
 The tray moves: with end walls a grain's lab x is its place in the tray plus the tray's
 displacement u(t), so a profile along the tray subtracts u(t) of the drive schedule

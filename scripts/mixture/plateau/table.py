@@ -4,11 +4,12 @@ candidate and Gamma, the mean over seeds and their spread (half the range). The 
 species is the inverse of its mean free time between collisions with grains, read from the
 elastic column of the run's free_times.csv (an exponential with the run's mean free time tau:
 rate(t) = exp(-t / tau) / tau, so tau follows from any two rows).
-Usage: python3 docs/results/mixture/plateau/table.py (writes docs/results/mixture/plateau/table.csv)."""
+Usage: python3 scripts/mixture/plateau/table.py (writes docs/results/mixture/plateau/table.csv)."""
 import csv, glob, json, math, os, re
 from collections import defaultdict
 
-here = os.path.dirname(os.path.abspath(__file__))
+# The study's folder (its runs and table.csv), from the repository root three folders up.
+here = os.path.join(os.path.dirname(os.path.abspath(__file__)), '..', '..', '..', 'docs', 'results', 'mixture', 'plateau')
 
 def rates(path):
     rows = list(csv.DictReader(open(path)))

@@ -1,7 +1,7 @@
 #!/bin/bash
 # Rough spheres in a 2D vibrating box (issue 27 section 3) with the event-driven model, on
 # scenes/vibrated-box.toml. Each block writes one sweep directory here.
-# Usage: bash docs/results/vibrated-box/run.sh [path/to/stripes] (from the repository root).
+# Usage: bash scripts/vibrated-box/run.sh [path/to/stripes] (from the repository root).
 set -euo pipefail
 B=${1:-target/release/stripes}
 D=docs/results/vibrated-box
