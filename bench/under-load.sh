@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The default thread count under load (issue 20, point 1): starts one busy process per core
 # (`yes > /dev/null`), runs the same short tray with run.threads = 1 and with the default
-# run.threads = 0 (which chooses, src/threads.rs), alternating, and prints the ratio of their
+# run.threads = 0 (which chooses, src/host/threads.rs), alternating, and prints the ratio of their
 # stepping speeds; the busy processes are stopped afterwards (also on Ctrl-C). The goal: the
 # default at most 1.3x slower than one thread, at 200 grains and at 4000.
 #

@@ -9,7 +9,7 @@
 //! another, so it is the safe choice whenever the extra cores are busy or the work is small.
 
 /// Grains per thread below which another thread does not pay for its joins. At 4000 grains
-/// two threads gave 1.12x one thread on an idle machine (docs/performance.md), so the
+/// two threads gave 1.12x one thread on an idle machine (docs/performance-history.md), so the
 /// break-even lies below that; 1500 keeps 200-1000-grain scenes on one thread.
 pub const GRAINS_PER_THREAD: usize = 1500;
 

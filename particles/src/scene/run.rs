@@ -60,7 +60,7 @@ pub enum NoSort {
 /// Default `run.sort_interval`: 1000 steps. In the thesis scene's gas (10 s of shaking) a
 /// third fewer L1 read misses and 9-14 % more steps per second on one thread; from the
 /// lattice no change beyond 0.5 % more instructions; 200 and 5000 steps gave the same
-/// within the spread (docs/performance.md, "Spatial sort").
+/// within the spread (docs/performance-history.md, "Spatial sort").
 pub const DEFAULT_SORT_INTERVAL: SortInterval = SortInterval::Steps(std::num::NonZeroU64::new(1000).unwrap());
 
 /// `[run]`.
