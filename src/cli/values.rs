@@ -37,6 +37,27 @@ fn at_least(s: &str, min: usize) -> Result<usize, String> {
     Ok(n)
 }
 
+/// A parser of one law-slot kind by its scene-file names (the same type the scene uses).
+pub fn kind<K: std::str::FromStr<Err = particles::error::UnknownName> + Clone + Send + Sync + 'static>(
+    names: &'static [&'static str],
+) -> impl clap::builder::TypedValueParser<Value = K> {
+    use clap::builder::TypedValueParser as _;
+    clap::builder::PossibleValuesParser::new(names).map(|s| s.parse::<K>().expect("one of the names"))
+}
+
+/// Parses "x,y,z" into a vector.
+pub fn parse_vec3(s: &str) -> Result<[f64; 3], String> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    if parts.len() != 3 {
+        return Err(format!("expected three comma-separated numbers like 0,0,10, got `{s}`"));
+    }
+    let mut v = [0.0; 3];
+    for (k, p) in parts.iter().enumerate() {
+        v[k] = p.parse().map_err(|_| format!("`{p}` is not a number"))?;
+    }
+    Ok(v)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -6,6 +6,7 @@
 pub mod checkpoint;
 pub mod distributions;
 pub mod fields;
+pub mod impacts;
 pub mod measure;
 pub mod resume;
 pub mod run;

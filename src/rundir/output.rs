@@ -207,19 +207,6 @@ pub fn default_sample_cache() -> PathBuf {
         .map_or_else(|| PathBuf::from("out/samples"), PathBuf::from)
 }
 
-/// Parses "x,y,z" into a vector.
-pub fn parse_vec3(s: &str) -> Result<[f64; 3], String> {
-    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
-    if parts.len() != 3 {
-        return Err(format!("expected three comma-separated numbers like 0,0,10, got `{s}`"));
-    }
-    let mut v = [0.0; 3];
-    for (k, p) in parts.iter().enumerate() {
-        v[k] = p.parse().map_err(|_| format!("`{p}` is not a number"))?;
-    }
-    Ok(v)
-}
-
 /// The progress of every long command (nothing with `--quiet`). On a terminal, a bar on
 /// stderr; off a terminal (CI logs, Slurm, a pipe), one line on stderr every tenth of the work
 /// or every minute, whichever comes first (see [`progress_line`]). The bar's message (e.g.

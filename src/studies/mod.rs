@@ -3,6 +3,12 @@
 //! three-way check ([`vibrated_box`]) and speed against error ([`tradeoff`]).
 
 pub mod coarse;
+pub mod collide;
+pub mod compare;
+pub mod events_sweep;
+pub mod mechanism;
+pub mod seeds;
+pub mod single;
 pub mod sweep;
 pub mod tradeoff;
 pub mod vibrated_box;

@@ -288,9 +288,9 @@ fn tables(scene: &Scene) -> Result<(Vec<Row>, Vec<Row>), CliError> {
 /// The table's coefficients brought within their physical bounds, eps_n in [0, 1] and beta
 /// in [-1, 1], which the event-driven model's table requires: the lab's integration measures
 /// a frictionless contact (mu = 0) at beta = -1.001 to -0.984, some of it a hair below smooth.
-/// The same clamp as `stripes collide --table` ([`crate::cli::collide::clamp_to_rule`]).
+/// The same clamp as `stripes collide --table` ([`crate::studies::collide::clamp_to_rule`]).
 fn within_bounds(mut rows: Vec<Row>) -> Vec<Row> {
-    crate::cli::collide::clamp_to_rule("restitution", &mut rows);
+    crate::studies::collide::clamp_to_rule("restitution", &mut rows);
     rows
 }
 

@@ -33,6 +33,7 @@
 //! 1 nm, compared with the reference itself). Settings that do not change a single bit (the
 //! neighbour skin and rebuild policy) have exactly the reference's error.
 
+pub mod bench;
 mod friction;
 mod lab;
 mod setting;

@@ -1,0 +1,777 @@
+//! The comparison behind `stripes compare SCENE.toml`: both models on the same scene and the same sample, analysed
+//! by the same code (`stripes analyze`), side by side in `report.md`: the two density maps,
+//! stripe count over time of both in one plot and one table, onset times, each model's speed.
+//!
+//! Layout of `--out DIR`: `dem/` (the DEM run, unless `--dem-run` names an existing one),
+//! `automaton/`, their `analysis/` subdirectories, and at the top `report.md`,
+//! `stripe_count.{png,svg}`, `stripe_count.csv`, the two density maps, `summary.json`.
+
+use std::path::{Path, PathBuf};
+
+use analysis::io::read_csv;
+use analysis::plot::{Heatmap, LinePlot, Mark};
+use serde::Serialize;
+use serde_json::{json, Value};
+
+use crate::analyze::read;
+use crate::analyze::{analyze, AnalysisOptions};
+use crate::automaton::lattice::load_scene;
+use crate::automaton::{resolve_lattice, run_automaton, AutomatonOptions};
+use crate::dem::samples::sample_key;
+use crate::dem::{no_checkpoint, resolve, run_dem, RunOptions};
+use crate::rundir::output::{CliError, RunDir};
+
+/// What a comparison is given: the scene file and its overrides, where it writes, and the
+/// runs it may reuse. Serialised as the command's arguments into `config.json`.
+#[derive(Clone, Debug, Serialize)]
+pub struct Options {
+    pub scene: PathBuf,
+    pub overrides: Vec<String>,
+    pub out: Option<PathBuf>,
+    pub force: bool,
+    pub resume: bool,
+    pub quiet: bool,
+    /// Reuse this DEM run directory instead of running the DEM.
+    pub dem_run: Option<PathBuf>,
+    /// A second DEM run of the same scene with another seed: the scale of the pattern distance.
+    pub seed_scale_run: Option<PathBuf>,
+    pub sample_cache: PathBuf,
+    /// Vibrated box only: runs per model.
+    pub seeds: u64,
+    /// Vibrated box only: simulated time discarded before sampling (s).
+    pub transient: f64,
+}
+
+fn stage(quiet: bool, k: usize, what: &str) {
+    if !quiet {
+        eprintln!("compare [{k}/4] {what}");
+    }
+}
+
+fn read_json(path: &Path) -> Result<Value, CliError> {
+    let text = std::fs::read_to_string(path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+    Ok(serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?)
+}
+
+/// The pattern distance between the models in words: scaled by the seed-to-seed distance
+/// where there is one, and never called agreement without it.
+fn structure_line(distance: Option<f64>, scale: Option<f64>) -> String {
+    match (distance, scale) {
+        (None, _) => "Pattern distance: not defined (a run has no structure factor).".into(),
+        (Some(d), Some(s)) if s > 0.0 => {
+            let r = d / s;
+            if r <= 1.0 {
+                format!("Pattern distance {d:.3}, {r:.2} times the distance between two DEM seeds ({s:.3}): the structures agree as closely as two seeds do.")
+            } else {
+                format!("Pattern distance {d:.3}, {r:.2} times the distance between two DEM seeds ({s:.3}): the structures differ, whatever their labels.")
+            }
+        }
+        (Some(d), _) => format!(
+            "Pattern distance {d:.3} (late S(k) and band widths; 0 for one pattern). Without a second DEM seed (`--seed-scale-run`) it has no scale, \
+             so no agreement in structure is claimed."
+        ),
+    }
+}
+
+/// A summary value for the report table: integers as they are, other numbers (times) to the
+/// millisecond, null as "none".
+fn fmt_opt(v: Option<&Value>) -> String {
+    match v {
+        Some(Value::Null) | None => "none".into(),
+        Some(Value::Number(n)) => match (n.as_i64(), n.as_f64()) {
+            (Some(i), _) => i.to_string(),
+            (None, Some(f)) => format!("{f:.3}"),
+            _ => n.to_string(),
+        },
+        Some(Value::String(s)) => s.clone(),
+        Some(x) => x.to_string(),
+    }
+}
+
+/// What the thesis reports for its reference tray (thesis 3.5.4, Table 3.5).
+const THESIS: &str = "stripes after 3-5 s and 4 +- 0.875 stripes after 20 s (N = 4000 on 0.4 m x 0.02 m, 20 Hz, 25 mm); \
+MSD per period plateaus at a1 ~ 1.6e-4 m^2 before and a2 ~ 8.9e-4 m^2 after the onset (frictionless ~ 4e-5 m^2)";
+
+/// What the thesis' experiment shows at its gentle drive (thesis 2.2.6: 3 Hz, 10 mm, Gamma 0.36,
+/// the rolling regime of `scenes/stripes.toml`).
+const EXPERIMENT: &str = "irregular clusters after about 1 s, merging into distinct stripes within 3-5 s \
+(clear at 10 s), static relative to the plate while the grains between them move like a gas (mustard seeds, 3 Hz, 10 mm)";
+
+/// Stripe spacing (m) of a run with stripes: the late frames' S(k) peak (`spacing_m`), the
+/// one measure used for every model; none for a run without stripes.
+fn spacing(keys: &serde_json::Map<String, Value>) -> Option<f64> {
+    let striped = keys.get("phase").and_then(Value::as_str) == Some("stripes")
+        || keys.get("stripe_count_final").and_then(Value::as_f64).is_some_and(|n| n > 0.0);
+    striped.then(|| keys.get("spacing_m").and_then(Value::as_f64)).flatten()
+}
+
+/// Where the two models agree and where they differ, in words, with the likely reason.
+/// `rolling`: a free sphere rolls without slip on the drive (the automaton's frustration and
+/// trains act, [`::automaton::mapping::rolls_without_slip`]).
+fn agreement(dem: &serde_json::Map<String, Value>, auto: &serde_json::Map<String, Value>, rolling: bool) -> Vec<String> {
+    let num = |m: &serde_json::Map<String, Value>, k: &str| m.get(k).and_then(Value::as_f64);
+    let phase = |m: &serde_json::Map<String, Value>| m.get("phase").and_then(Value::as_str).unwrap_or("unknown").to_string();
+    let mut out = Vec::new();
+    let (pd, pa) = (phase(dem), phase(auto));
+    out.push(if pd == pa {
+        format!("Both models give phase `{pd}`.")
+    } else {
+        format!("The phases differ: DEM `{pd}`, automaton `{pa}`.")
+    });
+    if let (Some(cd), Some(ca)) = (num(dem, "stripe_count_final"), num(auto, "stripe_count_final")) {
+        let d = (cd - ca).abs();
+        out.push(if d <= 1.0 {
+            format!("Stripe counts agree within one stripe (DEM {cd}, automaton {ca}).")
+        } else {
+            format!("Stripe counts differ by {d} (DEM {cd}, automaton {ca}).")
+        });
+    }
+    if let (Some(sd), Some(sa)) = (spacing(dem), spacing(auto)) {
+        let r = sa / sd;
+        let within = (0.85..=1.15).contains(&r);
+        out.push(format!(
+            "Spacing: DEM {:.1} mm, automaton {:.1} mm (ratio {r:.2}){}.",
+            sd * 1e3,
+            sa * 1e3,
+            if within { ", within 15 %" } else { "" }
+        ));
+        if rolling && !within {
+            out.last_mut().expect("just pushed").push_str(
+                " The automaton's spacing depends on its cell length, a coarse-graining fitted for the onset \
+                 (docs/results/automaton-rolling/report.md); what sets the DEM's is open (docs/results/spacing/report.md).",
+            );
+        }
+    }
+    match (num(dem, "stripe_onset_s"), num(auto, "stripe_onset_s")) {
+        (Some(od), Some(oa)) => {
+            let r = oa / od;
+            let mut line = format!("Onset: DEM {od:.2} s, automaton {oa:.2} s (ratio {r:.2}).");
+            if r > 1.5 && rolling {
+                line.push_str(
+                    " The automaton's bands grow more slowly: a crowded grain is held at random, with probability \
+                     1 - (1 - h)^n per half period, while in the DEM every grain's rolling amplitude falls with the local packing at once, \
+                     so dense patches follow the floor from the first periods (docs/results/mechanism/report.md, section 3).",
+                );
+            } else if r < 1.0 / 1.5 {
+                line.push_str(" The automaton's bands form sooner than the DEM's.");
+            }
+            out.push(line);
+        }
+        (od, oa) => out.push(format!(
+            "Onset: DEM {}, automaton {}.",
+            od.map_or("none".into(), |v| format!("{v:.2} s")),
+            oa.map_or("none".into(), |v| format!("{v:.2} s"))
+        )),
+    }
+    out
+}
+
+/// One sentence on what a model's layer did, from its analysis summary keys.
+fn interpret(model: &str, keys: &serde_json::Map<String, Value>) -> String {
+    let num = |k: &str| keys.get(k).and_then(Value::as_f64);
+    let mobility = num("mobility").map_or("unknown".into(), |m| format!("{m:.3} mean diameters per period"));
+    let contrast = num("contrast").map_or("unknown".into(), |c| format!("{c:.2} x a random layer"));
+    let plateaus = match (num("msd_plateau_before"), num("msd_plateau_after")) {
+        (None, None) => "no flat MSD plateau".to_string(),
+        (a, b) => format!(
+            "MSD plateaus a1 = {}, a2 = {}",
+            a.map_or("none".into(), |v| format!("{v:.2e} m^2")),
+            b.map_or("none".into(), |v| format!("{v:.2e} m^2"))
+        ),
+    };
+    let sentence = match keys.get("phase").and_then(Value::as_str) {
+        Some("nothing") => format!(
+            "The {model} layer stayed in lockstep with the tray (mobility {mobility}, below the `nothing` threshold): no stripes, contrast {contrast}; {plateaus}."
+        ),
+        Some("stripes") => {
+            let onset = num("stripe_onset_s").map_or("no onset found (no lasting stripe count)".to_string(), |t| format!("onset {t:.3} s"));
+            if num("stripe_count_final").is_some_and(|n| n > 0.0) {
+                format!(
+                    "The {model} formed stripes: {} at the end ({} stationary), {onset}, contrast {contrast}, mobility {mobility}; {plateaus}.",
+                    fmt_opt(keys.get("stripe_count_final")),
+                    fmt_opt(keys.get("stationary_stripe_count")),
+                )
+            } else {
+                // The label comes from bands that held their place over the last periods (or the
+                // contrast); the last frame's count is what the threshold sees in one frame.
+                format!(
+                    "The {model} is labelled `stripes` ({} band(s) held their place over the last periods), but its last frame \
+                     holds no stripe above the threshold; {onset}, contrast {contrast}, mobility {mobility}; {plateaus}.",
+                    fmt_opt(keys.get("stationary_stripe_count")),
+                )
+            }
+        }
+        Some("gas") => format!(
+            "The {model} layer stayed mobile without lasting stripes (a gas): mobility {mobility}, contrast {contrast}, {} stripes at the end; {plateaus}.",
+            fmt_opt(keys.get("stripe_count_final")),
+        ),
+        _ => format!(
+            "The {model} run gives no phase: {}.",
+            keys.get("phase_note").and_then(Value::as_str).unwrap_or("unknown reason")
+        ),
+    };
+    if keys.get("phase_robust").and_then(Value::as_bool) == Some(false) {
+        let votes = keys.get("phase_votes");
+        let v = |k: &str| votes.and_then(|v| v.get(k)).and_then(Value::as_u64).unwrap_or(0);
+        format!(
+            "{sentence} The label rests on the classifier's thresholds: of 27 threshold sets around the default, {} say stripes, {} gas and {} nothing.",
+            v("stripes"),
+            v("gas"),
+            v("nothing")
+        )
+    } else {
+        sentence
+    }
+}
+
+/// Every warning of the runs and analyses, named by where it came from.
+fn run_warnings(sources: &[(&str, &Value)]) -> Vec<String> {
+    sources
+        .iter()
+        .flat_map(|(name, v)| {
+            v.get("warnings")
+                .and_then(Value::as_array)
+                .into_iter()
+                .flatten()
+                .filter_map(Value::as_str)
+                .map(move |w| format!("{name}: {w}"))
+        })
+        .collect()
+}
+
+/// One colour scale for several maps: from the lowest to the highest value of any.
+fn common_scale(maps: &[Heatmap]) -> (f64, f64) {
+    maps.iter()
+        .map(Heatmap::own_range)
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), (l, h)| (a.min(l), b.max(h)))
+}
+
+/// The density map of an analysis directory (its `density_map.csv`), titled with the model.
+fn density_map(model: &str, analysis: &Path, length: f64) -> Result<Heatmap, CliError> {
+    let p = analysis.join("density_map.csv");
+    let (_, rows) = read_csv(&p).map_err(|e| format!("cannot read {}: {e}", p.display()))?;
+    let t0 = rows.first().map_or(0.0, |r| r[0]);
+    let t1 = rows.last().map_or(1.0, |r| r[0]).max(t0 + 1e-9);
+    Ok(Heatmap {
+        title: format!("{model}: area fraction phi(x, t)"),
+        x_label: "x (m)".into(),
+        y_label: "t (s)".into(),
+        x_range: (0.0, length),
+        y_range: (t0, t1),
+        values: rows.into_iter().map(|r| r[1..].to_vec()).collect(),
+        colorbar_label: "area fraction".into(),
+        scale: None,
+        cell_names: None,
+    })
+}
+
+/// The two models' stripe counts on one time axis: a row at every time either model has a
+/// frame, each model's count that of its latest frame at or before it (NaN before its first
+/// frame and after its last). Frames are paired by time, never by index: the models take
+/// their frames at different rates.
+fn one_time_axis(a: &[(f64, f64)], b: &[(f64, f64)]) -> Vec<Vec<f64>> {
+    let mut times: Vec<f64> = a.iter().chain(b).map(|p| p.0).filter(|t| t.is_finite()).collect();
+    times.sort_by(f64::total_cmp);
+    times.dedup();
+    let at = |series: &[(f64, f64)], t: f64| {
+        let last = series.last().map_or(f64::NEG_INFINITY, |p| p.0);
+        if t > last {
+            return f64::NAN;
+        }
+        series.iter().take_while(|p| p.0 <= t).last().map_or(f64::NAN, |p| p.1)
+    };
+    times.into_iter().map(|t| vec![t, at(a, t), at(b, t)]).collect()
+}
+
+/// Both models on the scene and its sample, analysed alike, written to `report.md`; a scene
+/// with `drive.direction = "z"` goes to the vibrated box's three-way check.
+pub fn compare_scene(args: &Options) -> Result<String, CliError> {
+    let file = load_scene(&args.scene, &args.overrides)?;
+    let scene = &file.dem;
+    let name = args
+        .scene
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "scene".into());
+    let out = args.out.clone().unwrap_or_else(|| PathBuf::from(format!("out/compare-{name}")));
+    // A vertically vibrated box is compared with the event-driven model, not the automaton.
+    if crate::studies::vibrated_box::is_vibrated_box(scene) {
+        return crate::studies::vibrated_box::compare(
+            &file,
+            &crate::studies::vibrated_box::Options {
+                scene: args.scene.clone(),
+                out,
+                seeds: args.seeds,
+                transient: args.transient,
+                sample_cache: args.sample_cache.clone(),
+                force: args.force,
+                quiet: args.quiet,
+            },
+        );
+    }
+    if crate::rundir::output::non_empty(&out) && !args.force && !args.resume {
+        return Err(format!(
+            "{} already holds files (an earlier comparison?); use --resume to continue it, --force to replace it, or another --out",
+            out.display()
+        )
+        .into());
+    }
+    if args.resume && !out.join("dem").join("checkpoint.bin").is_file() && args.dem_run.is_none() {
+        return Err(format!("--resume: {}", no_checkpoint(&out.join("dem"))).into());
+    }
+    // Everything that can be checked is checked before anything is written: a resume
+    // continues only the comparison it finds, both models on the scene given now.
+    if args.resume && args.dem_run.is_none() {
+        crate::rundir::resume::check(&out.join("dem"), &file, &format!("--resume {}", out.display()))?;
+    }
+    crate::automaton::lattice::validate_lattice(&file)?;
+    if let Some(d) = &args.dem_run {
+        check_dem_run(d, scene)?;
+    }
+    let fresh = !out.exists();
+    let result = compare(args, &file, &out);
+    if result.is_err() && fresh && !out.join("dem").join("checkpoint.bin").is_file() {
+        // A failed start leaves nothing behind; a DEM run that got going is kept for --resume.
+        let _ = std::fs::remove_dir_all(&out);
+    }
+    result
+}
+
+/// `--dem-run`: its resolved scene must be this scene (every key but the thread count and
+/// the checkpoint interval), and so its sample.
+fn check_dem_run(d: &Path, scene: &particles::scene::Scene) -> Result<(), CliError> {
+    let dem_scene = load_scene(&d.join("scene.toml"), &[])?.dem;
+    // The whole resolved scene must agree, not only the sample: a 20 Hz DEM run compared
+    // with a 10 Hz automaton run is not "the same scene".
+    let differ = crate::scene::file::differences(&dem_scene, scene);
+    if !differ.is_empty() {
+        return Err(format!(
+            "--dem-run {}: its scene.toml differs from this scene in {} key(s) (its value -> this scene's): {}",
+            d.display(),
+            differ.len(),
+            differ.join("; ")
+        )
+        .into());
+    }
+    if sample_key(&dem_scene) != sample_key(scene) {
+        return Err(format!(
+            "--dem-run {}: its sample ({:016x}) is not the scene's ({:016x}); both models must start from the same sample",
+            d.display(),
+            sample_key(&dem_scene),
+            sample_key(scene)
+        )
+        .into());
+    }
+    Ok(())
+}
+
+fn compare(args: &Options, file: &crate::scene::file::SceneFile, out: &Path) -> Result<String, CliError> {
+    let scene = &file.dem;
+    let args_json = json!({ "args": args, "scene": file });
+    // A resume rewrites config.json only once both runs are done: one killed on the way
+    // leaves the directory's description as it was.
+    let mut dir = if args.resume {
+        RunDir::open(out)?
+    } else {
+        RunDir::create(out, &args_json)?
+    };
+
+    // 1. DEM.
+    let mut fresh = None;
+    let dem_dir = match &args.dem_run {
+        Some(d) => {
+            stage(args.quiet, 1, &format!("DEM: reusing {}", d.display()));
+            d.clone()
+        }
+        None => {
+            let d = out.join("dem");
+            // Finished at the duration asked for; a longer one extends the run.
+            let finished = args.resume
+                && d.join("summary.json").is_file()
+                && load_scene(&d.join("scene.toml"), &[]).is_ok_and(|f| f.dem.run.duration == scene.run.duration);
+            stage(
+                args.quiet,
+                1,
+                if finished {
+                    "DEM run (finished before: kept)"
+                } else if args.resume {
+                    "DEM run (resumed from its checkpoint)"
+                } else {
+                    "DEM run"
+                },
+            );
+            if !finished {
+                let resolved = resolve(&args.scene, file.clone())?;
+                let summary = run_dem(
+                    &resolved,
+                    &RunOptions {
+                        out: d.clone(),
+                        resume: args.resume,
+                        force: args.force,
+                        sample_cache: args.sample_cache.clone(),
+                        quiet: args.quiet,
+                        ..RunOptions::default()
+                    },
+                )?;
+                fresh = Some(summary);
+            }
+            d
+        }
+    };
+    // A run reused with --dem-run may have stopped before its end, without summary.json: its
+    // speed is then unknown. A summary that is there but unreadable is an error.
+    let summary = dem_dir.join("summary.json");
+    let dem_summary = match (fresh, &args.dem_run) {
+        (Some(s), _) => serde_json::to_value(s)?,
+        (None, Some(_)) if !summary.exists() => Value::Null,
+        (None, _) => read_json(&summary)?,
+    };
+
+    // 2. Automaton, same scene and sample.
+    stage(args.quiet, 2, "automaton run");
+    let auto_dir = out.join("automaton");
+    let automaton = run_automaton(
+        &resolve_lattice(&args.scene, file.clone())?,
+        &AutomatonOptions {
+            out: auto_dir.clone(),
+            force: true, // inside the comparison's own directory, claimed above
+            rule: None,
+            sample_cache: args.sample_cache.clone(),
+            quiet: args.quiet,
+        },
+    )?;
+    let auto_summary = serde_json::to_value(&automaton)?;
+
+    if args.resume {
+        dir.json("config.json", &args_json)?;
+    }
+
+    // 3. The same analysis of both (the automaton's was made by its run).
+    stage(args.quiet, 3, "analysis");
+    let dem_analysis_dir = out.join("dem-analysis");
+    let dem_keys = analyze(&dem_dir, &AnalysisOptions::into_dir(dem_analysis_dir.clone()))?.shared_keys()?;
+    let auto_keys = automaton.analysed.shared_keys()?;
+
+    // The structures, and their distance; a second DEM seed gives its scale.
+    let dem_structure = read::late_structure(&dem_analysis_dir)?;
+    let auto_structure = read::late_structure(&auto_dir.join("analysis"))?;
+    let pattern_distance = analysis::structure::distance(&dem_structure, &auto_structure);
+    let seed_scale = match &args.seed_scale_run {
+        Some(d) => {
+            // Another seed: only run.seed (and so the sample) may differ from this scene.
+            let other = load_scene(&d.join("scene.toml"), &[])?.dem;
+            let differ = crate::scene::file::differences(&other, scene);
+            if differ.len() != 1 || !differ[0].starts_with("run.seed:") {
+                return Err(format!(
+                    "--seed-scale-run {} must be this scene with another run.seed; it differs in: {}",
+                    d.display(),
+                    if differ.is_empty() {
+                        "nothing (the same seed)".to_string()
+                    } else {
+                        differ.join("; ")
+                    }
+                )
+                .into());
+            }
+            let dir2 = out.join("seed-scale-analysis");
+            analyze(d, &AnalysisOptions::into_dir(dir2.clone()))?;
+            analysis::structure::distance(&dem_structure, &read::late_structure(&dir2)?)
+        }
+        None => None,
+    };
+
+    // 4. Report.
+    stage(args.quiet, 4, "report");
+    let dem_counts = read::counts(&dem_analysis_dir)?;
+    let auto_counts = read::counts(&auto_dir.join("analysis"))?;
+    let plot = LinePlot::new("Stripe count over time, same scene and sample", "t (s)", "stripes")
+        .integer_y()
+        .series("DEM", dem_counts.clone(), Mark::LinePoints)
+        .series("automaton", auto_counts.clone(), Mark::LinePoints);
+    dir.plot("stripe_count", &plot)?;
+    let rows = one_time_axis(&dem_counts, &auto_counts);
+    dir.csv("stripe_count.csv", &["t", "count_dem", "count_automaton"], &rows)?;
+    // The two density maps on one colour scale, each titled with its model.
+    let maps = [
+        density_map("DEM", &dem_analysis_dir, scene.tray.length)?,
+        density_map("automaton", &auto_dir.join("analysis"), scene.tray.length)?,
+    ];
+    let scale = common_scale(&maps);
+    for (map, stem) in maps.into_iter().zip(["density_map_dem", "density_map_automaton"]) {
+        let map = Heatmap { scale: Some(scale), ..map };
+        let files = map.save(&out.join(stem)).map_err(|e| format!("cannot draw {stem}: {e}"))?;
+        dir.note_files(files);
+    }
+
+    let dem_speed = dem_summary.get("particle_steps_per_s").and_then(Value::as_f64);
+    let dem_wall = dem_summary.get("wall_s").and_then(Value::as_f64);
+    let auto_speed = auto_summary.get("cell_updates_per_s").and_then(Value::as_f64);
+    let auto_wall = auto_summary.get("wall_s").and_then(Value::as_f64);
+    let simulated = scene.run.duration;
+    let speed = |wall: Option<f64>| wall.map_or("unknown".to_string(), |w| format!("{:.3}", simulated / w.max(1e-12)));
+    let mut md = String::new();
+    md.push_str(&format!("# DEM and automaton on `{}`\n\n", args.scene.display()));
+    md.push_str(&format!(
+        "Same scene and same prepared sample (key `{:016x}`), same analysis (`stripes analyze`: exact area fraction in 1 mm cells, \
+         stripes above 1.5 x the mean area fraction, capped halfway from the mean to a jammed layer's 0.82, and at least five mean \
+         diameters wide; the phase is `stripes` when a band holds its place over the last 10 drive periods, or when the contrast \
+         is at least 2 with a stripe in the final frames; the analysis defaults). {} grains on a {} m x {} m tray, \
+         {} Hz, {} m, {} s.\n\n",
+        sample_key(scene),
+        scene.particles.count,
+        scene.tray.length,
+        scene.tray.width,
+        scene.drive.frequency,
+        scene.drive.amplitude,
+        scene.run.duration
+    ));
+    md.push_str("## What happened\n\n");
+    md.push_str(&format!("- {}\n", interpret("DEM", &dem_keys)));
+    md.push_str(&format!("- {}\n", interpret("automaton", &auto_keys)));
+    md.push_str(&format!("- The thesis' simulation (reference tray, sec 3.5.4): {THESIS}\n"));
+    md.push_str(&format!("- The thesis' experiment (sec 2.2.6): {EXPERIMENT}\n\n"));
+    let rolling = file.automaton.rolling && ::automaton::mapping::rolls_without_slip(&crate::automaton::lattice::tray_drive(scene));
+    md.push_str("## Where they agree and where they differ\n\n");
+    for line in agreement(&dem_keys, &auto_keys, rolling) {
+        md.push_str(&format!("- {line}\n"));
+    }
+    md.push_str(&format!("- {}\n", structure_line(pattern_distance, seed_scale)));
+    md.push('\n');
+    let mm = |v: Option<f64>| v.map_or("-".to_string(), |x| format!("{:.1}", x * 1e3));
+    md.push_str("## Structure\n\n| model | S(k) peak spacing (mm) | peak height | band width (mm) | gap (mm) | grains in bands |\n|---|---|---|---|---|---|\n");
+    for (name, k) in [("DEM", &dem_keys), ("automaton", &auto_keys)] {
+        md.push_str(&format!(
+            "| {name} | {} | {} | {} | {} | {} |\n",
+            mm(k.get("spacing_m").and_then(Value::as_f64)),
+            fmt_opt(k.get("structure_peak_height")),
+            mm(k.get("band_width_m").and_then(Value::as_f64)),
+            mm(k.get("band_gap_m").and_then(Value::as_f64)),
+            fmt_opt(k.get("in_band_fraction")),
+        ));
+    }
+    md.push_str(
+        "\nSpacing is the peak of the late frames' structure factor S(k) of the grain positions along x (for both models the same \
+         measure); band widths and gaps are those of the bands of the late frames. S(k) of each model: `dem-analysis/structure_factor.png`, \
+         `automaton/analysis/structure_factor.png`.\n\n\
+         Top views (x-y) at the first, middle and last frames, to see whether the bands span the tray's width:\n\n\
+         ![DEM, top view](dem-analysis/top_view.png)\n\n![automaton, top view](automaton/analysis/top_view.png)\n\n",
+    );
+    let warnings = run_warnings(&[
+        ("DEM run", &dem_summary),
+        ("DEM analysis", &Value::Object(dem_keys.clone())),
+        ("automaton run", &auto_summary),
+        ("automaton analysis", &Value::Object(auto_keys.clone())),
+    ]);
+    if !warnings.is_empty() {
+        md.push_str("## Warnings of the runs\n\n");
+        for w in &warnings {
+            md.push_str(&format!("- {w}\n"));
+        }
+        md.push('\n');
+    }
+    md.push_str("| model | stripes at the end | spacing (mm) | mean width (mm) | onset (s) | phase | wall time (s) | simulated s per wall s | speed |\n|---|---|---|---|---|---|---|---|---|\n");
+    md.push_str(&format!(
+        "| DEM | {} | {} | {} | {} | {} | {} | {} | {} particle-steps/s |\n",
+        fmt_opt(dem_keys.get("stripe_count_final")),
+        mm(spacing(&dem_keys)),
+        mm(dem_keys.get("stripe_mean_width_final_m").and_then(Value::as_f64)),
+        fmt_opt(dem_keys.get("stripe_onset_s")),
+        fmt_opt(dem_keys.get("phase")),
+        dem_wall.map_or("unknown".into(), |w| format!("{w:.1}")),
+        speed(dem_wall),
+        dem_speed.map_or("unknown".into(), |s| format!("{s:.3e}")),
+    ));
+    md.push_str(&format!(
+        "| automaton | {} | {} | {} | {} | {} | {} | {} | {} cell updates/s |\n",
+        fmt_opt(auto_keys.get("stripe_count_final")),
+        mm(spacing(&auto_keys)),
+        mm(auto_keys.get("stripe_mean_width_final_m").and_then(Value::as_f64)),
+        fmt_opt(auto_keys.get("stripe_onset_s")),
+        fmt_opt(auto_keys.get("phase")),
+        auto_wall.map_or("unknown".into(), |w| format!("{w:.2}")),
+        speed(auto_wall),
+        auto_speed.map_or("unknown".into(), |s| format!("{s:.3e}")),
+    ));
+    md.push_str("| thesis' simulation (N = 4000, 0.4 m, 20 Hz, 25 mm, 20 s) | 4 +- 0.875 | 100 | | 3 to 5 | stripes | | | |\n");
+    md.push_str("| thesis' experiment (3 Hz, 10 mm) | | | | 1 (clusters) to 3-5 (stripes) | stripes | | | |\n\n");
+    md.push_str(
+        "Wall times cover each model's time loop with its snapshot output; the shared sample preparation and the automaton's \
+         single-sphere mapping run are not included. The DEM speed is particle-steps per second of its stepping; the automaton's \
+         is lattice cells times half steps per second.\n\n",
+    );
+    md.push_str("## Stripe count over time\n\n![stripe count](stripe_count.png)\n\n| t (s) | DEM | automaton |\n|---|---|---|\n");
+    let every = (rows.len() / 25).max(1);
+    for (k, r) in rows.iter().enumerate() {
+        if k % every == 0 || k + 1 == rows.len() {
+            md.push_str(&format!("| {:.3} | {} | {} |\n", r[0], r[1], r[2]));
+        }
+    }
+    md.push_str("\n## Density maps (area fraction over x and t)\n\n| DEM | automaton |\n|---|---|\n");
+    md.push_str("| ![DEM](density_map_dem.png) | ![automaton](density_map_automaton.png) |\n\n");
+    md.push_str(
+        "Bands narrower than the minimum stripe width (five mean grain diameters, `stripes analyze --min-width`) \
+         show in the maps but are not counted as stripes; the automaton's map often has such thin bands, one or \
+         two cells wide.\n\n",
+    );
+    if let Some(m) = auto_summary.get("mapping") {
+        md.push_str(&format!(
+            "## Automaton mapping\n\nFlight cap {} cells (single-sphere DEM slide {} m per half period, Coulomb block {} m); \
+             tray acceleration {} m/s^2 against mu g = {} m/s^2. Parameters: `{}`.\n",
+            fmt_opt(m.get("flight_cap_cells")),
+            fmt_opt(m.get("slide_dem").and_then(|s| s.get("displacement"))),
+            fmt_opt(m.get("slide_coulomb_block").and_then(|s| s.get("displacement"))),
+            fmt_opt(m.get("tray_acceleration")),
+            fmt_opt(m.get("friction_acceleration")),
+            auto_summary.get("params").map(|p| p.to_string()).unwrap_or_default(),
+        ));
+    }
+    let report = out.join("report.md");
+    analysis::io::write_atomic(&report, md.as_bytes())?;
+    dir.note_files([report]);
+    // The two runs and their analyses are part of what this command wrote.
+    for sub in ["dem", "automaton"] {
+        dir.note_tree(Path::new(sub));
+    }
+    dir.finish(json!({
+        "scene": args.scene.display().to_string(),
+        "sample_key": format!("{:016x}", sample_key(scene)),
+        "dem_run": dem_dir.display().to_string(),
+        "warnings": warnings,
+        "dem": { "analysis": dem_keys, "particle_steps_per_s": dem_speed, "wall_s": dem_wall,
+                 "spacing_m": dem_keys.get("spacing_m"), "band_width_m": dem_keys.get("band_width_m"), "in_band_fraction": dem_keys.get("in_band_fraction") },
+        "automaton": { "analysis": auto_keys, "cell_updates_per_s": auto_speed, "wall_s": auto_wall,
+                 "spacing_m": auto_keys.get("spacing_m"), "band_width_m": auto_keys.get("band_width_m"), "in_band_fraction": auto_keys.get("in_band_fraction") },
+        "pattern_distance": pattern_distance,
+        "pattern_distance_seed_scale": seed_scale,
+        "pattern_distance_scaled": pattern_distance.and_then(|d| analysis::structure::scaled(d, seed_scale)),
+    }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn keys(v: Value) -> serde_json::Map<String, Value> {
+        v.as_object().unwrap().clone()
+    }
+
+    /// Issue 19, point 14: the report says in words what each model did, and repeats every
+    /// warning with where it came from.
+    #[test]
+    fn the_report_interprets_and_repeats_warnings() {
+        let dem =
+            keys(json!({"phase": "nothing", "mobility": 0.018, "contrast": 0.53, "msd_plateau_before": null, "msd_plateau_after": null}));
+        let s = interpret("DEM", &dem);
+        assert!(s.contains("stayed in lockstep") && s.contains("mobility 0.018"), "{s}");
+        let auto = keys(
+            json!({"phase": "stripes", "stripe_count_final": 3, "stationary_stripe_count": 2, "stripe_onset_s": 0.7125, "contrast": 2.5, "mobility": 6.0}),
+        );
+        let s = interpret("automaton", &auto);
+        assert!(s.contains("formed stripes: 3 at the end (2 stationary), onset 0.713 s"), "{s}");
+        assert!(!s.contains("thresholds"), "no sweep, no claim about it: {s}");
+        let mut fragile = auto.clone();
+        fragile.insert("phase_robust".into(), false.into());
+        fragile.insert("phase_votes".into(), json!({"nothing": 0, "stripes": 21, "gas": 6}));
+        let s = interpret("DEM", &fragile);
+        assert!(
+            s.ends_with("of 27 threshold sets around the default, 21 say stripes, 6 gas and 0 nothing."),
+            "{s}"
+        );
+        // Issue 43: a run labelled stripes whose last frame holds none says so, and an onset
+        // that was not found is not "none s".
+        let held = keys(json!({"phase": "stripes", "stripe_count_final": 0, "stationary_stripe_count": 1, "stripe_onset_s": null}));
+        let s = interpret("automaton", &held);
+        assert!(!s.contains("formed stripes") && s.contains("last frame holds no stripe"), "{s}");
+        assert!(
+            s.contains("1 band(s) held") && s.contains("no onset found") && !s.contains("none s"),
+            "{s}"
+        );
+        let none = keys(json!({"phase": null, "phase_note": "too few frames for a phase"}));
+        assert!(interpret("DEM", &none).contains("no phase: too few frames"));
+        assert!(THESIS.contains("4 +- 0.875"));
+        let w = run_warnings(&[("DEM run", &json!({"warnings": ["dt coarse"]})), ("automaton run", &json!({}))]);
+        assert_eq!(w, vec!["DEM run: dt coarse".to_string()]);
+    }
+
+    /// Issue 17, point 4: the report says where the models agree and differ, with spacing.
+    #[test]
+    fn agreement_names_phase_count_spacing_and_onset() {
+        let dem = keys(
+            json!({"phase": "stripes", "stripe_count_final": 3, "stripe_onset_s": 1.5, "spacing_m": 0.0333333, "stripe_spacing_m": 0.1}),
+        );
+        let auto = keys(json!({"phase": "stripes", "stripe_count_final": 2, "stripe_onset_s": 4.5, "spacing_m": 0.05}));
+        let lines = agreement(&dem, &auto, true);
+        assert_eq!(lines[0], "Both models give phase `stripes`.");
+        assert!(lines[1].contains("agree within one stripe"), "{lines:?}");
+        assert!(
+            lines[2].contains("Spacing: DEM 33.3 mm, automaton 50.0 mm (ratio 1.50)"),
+            "{lines:?}"
+        );
+        assert!(lines[3].contains("ratio 3.00") && lines[3].contains("more slowly"), "{lines:?}");
+        let gas = keys(json!({"phase": "gas", "stripe_count_final": 0, "stripe_onset_s": null}));
+        let lines = agreement(&dem, &gas, false);
+        assert!(lines[0].contains("differ") && lines[1].contains("differ by 3"), "{lines:?}");
+        assert_eq!(lines.len(), 3, "no spacing without stripes: {lines:?}");
+        assert!(lines[2].contains("automaton none"), "{lines:?}");
+        assert_eq!(spacing(&gas), None);
+        let gas_with_peak = keys(json!({"phase": "gas", "stripe_count_final": 0, "spacing_m": 0.02}));
+        assert_eq!(spacing(&gas_with_peak), None, "a gas's S(k) peak is not a stripe spacing");
+        let sk = keys(json!({"phase": "stripes", "stripe_count_final": 3, "stripe_spacing_m": 0.1, "spacing_m": 0.04}));
+        assert_eq!(spacing(&sk), Some(0.04), "the S(k) peak, not the time-averaged profile's mode");
+    }
+
+    /// Issue 19, point 14: the two density maps carry the model's name and share one scale.
+    #[test]
+    fn density_maps_are_named_and_share_a_scale() {
+        let d = std::env::temp_dir().join(format!("stripes-compare-maps-{}", std::process::id()));
+        let (a, b) = (d.join("a"), d.join("b"));
+        for (dir, hi) in [(&a, 0.5), (&b, 0.8)] {
+            std::fs::create_dir_all(dir).unwrap();
+            analysis::io::write_csv_atomic(
+                &dir.join("density_map.csv"),
+                &["t", "x0", "x1"],
+                &[vec![0.0, 0.1, hi], vec![0.05, 0.2, 0.3]],
+            )
+            .unwrap();
+        }
+        let maps = [density_map("DEM", &a, 0.1).unwrap(), density_map("automaton", &b, 0.1).unwrap()];
+        assert!(maps[0].title.starts_with("DEM") && maps[1].title.starts_with("automaton"));
+        assert_eq!(common_scale(&maps), (0.1, 0.8));
+        std::fs::remove_dir_all(d).unwrap();
+    }
+
+    /// Issue 43, finding 4: the count table pairs the models' frames by time, not by index
+    /// (an automaton's frame at 8 s beside the DEM's at 8 s, not beside its 32nd frame).
+    #[test]
+    fn the_count_table_pairs_frames_by_time() {
+        let dem: Vec<(f64, f64)> = (0..=40).map(|k| (0.25 * k as f64, (k / 10) as f64)).collect();
+        let auto: Vec<(f64, f64)> = (0..=10).map(|k| (k as f64, 10.0 + k as f64)).collect();
+        let rows = one_time_axis(&dem, &auto);
+        assert_eq!(rows.len(), 41, "the automaton's times are among the DEM's");
+        for r in &rows {
+            let k = (r[0] / 0.25).round() as usize;
+            assert_eq!(r[1], (k / 10) as f64, "DEM at t = {}", r[0]);
+            assert_eq!(
+                r[2],
+                10.0 + r[0].floor(),
+                "automaton at t = {} holds its frame at {}",
+                r[0],
+                r[0].floor()
+            );
+        }
+        let last = rows.last().unwrap();
+        assert_eq!((last[0], last[1], last[2]), (10.0, 4.0, 20.0));
+        let short = one_time_axis(&dem[..5], &auto);
+        assert!(short.iter().filter(|r| r[0] > 1.0).all(|r| r[1].is_nan() && r[2].is_finite()));
+    }
+
+    /// The report never calls two structures in agreement without the seed-to-seed scale,
+    /// and calls them different above it.
+    #[test]
+    fn the_pattern_distance_claims_agreement_only_within_the_seed_scale() {
+        assert!(structure_line(Some(0.4), None).contains("no agreement in structure is claimed"));
+        assert!(structure_line(Some(0.4), Some(0.1)).contains("the structures differ"));
+        assert!(structure_line(Some(0.05), Some(0.1)).contains("agree as closely as two seeds do"));
+        assert!(structure_line(None, Some(0.1)).contains("not defined"));
+    }
+}

@@ -1,0 +1,418 @@
+//! `stripes events-sweep SCENE --vary KEY=V1,V2,... [--vary ...] [--seeds N]`: the
+//! event-driven model over a grid of scene values and seeds, run in parallel in memory.
+//! It writes `runs.csv` (one row per run; a failed run, e.g. a collapse, is a row of NaN and
+//! a warning), `means.csv` (per grid point: the runs that finished, and the mean and the
+//! standard error over them of every measure), a plot of the current, the height and K/R
+//! against the first varied key (one line per value of the others), and `summary.json`,
+//! printed last. The reports of the vibrated-layer papers are made with it.
+
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use analysis::plot::{LinePlot, Mark};
+use rayon::prelude::*;
+use serde::Serialize;
+use serde_json::json;
+
+use crate::events::measure::{measure, Measured};
+use crate::rundir::output::{progress_bar, CliError, RunDir};
+
+/// What the study is given (the command's arguments, without the command line); serialised
+/// as the arguments into `config.json`.
+#[derive(Clone, Debug, Serialize)]
+pub struct Options {
+    /// Event-driven scene file (model = "events"), e.g. scenes/ratchet.toml.
+    pub scene: PathBuf,
+    /// A key and the numbers it takes, e.g. --vary base.asymmetry=0,0.25,0.5 (repeatable:
+    /// every combination runs). An array of tables takes an index: particles.species.0.count.
+    pub vary: Vec<String>,
+    /// Override a scene key for every run (repeatable).
+    pub overrides: Vec<String>,
+    /// Seeds per grid point: run.seed = 1..=N.
+    pub seeds: u64,
+    /// Worker threads (default: every core). Results do not depend on it.
+    pub threads: Option<usize>,
+    /// Output directory (default: out/events-sweep-<scene name>).
+    pub out: Option<PathBuf>,
+    /// Replace the files of an output directory that already holds some (default: refuse it).
+    pub force: bool,
+    /// Draw the plots on a logarithmic x axis, and H and K/R on a logarithmic y axis too
+    /// (a power law shows as a line).
+    pub log: bool,
+    pub quiet: bool,
+}
+
+/// One varied key and its values.
+#[derive(Clone, Debug, PartialEq)]
+struct Axis {
+    key: String,
+    values: Vec<f64>,
+}
+
+fn axes(vary: &[String]) -> Result<Vec<Axis>, CliError> {
+    let mut axes: Vec<Axis> = Vec::new();
+    for v in vary {
+        let (key, list) = v
+            .split_once('=')
+            .ok_or_else(|| format!("--vary {v}: must look like KEY=V1,V2,..."))?;
+        let values = list
+            .split(',')
+            .map(|x| x.trim().parse::<f64>().map_err(|_| format!("--vary {v}: `{x}` is not a number")))
+            .collect::<Result<Vec<_>, _>>()?;
+        let key = key.trim().to_string();
+        // Two axes of one key would set it twice per run, the last one winning, while the
+        // rows were labelled with both: each axis is named once.
+        if let Some(a) = axes.iter().find(|a| a.key == key) {
+            return Err(format!(
+                "--vary {key} is given twice ({} and {list}): each sweep axis is named once; list all its values in one --vary {key}=V1,V2,...",
+                a.values.iter().map(f64::to_string).collect::<Vec<_>>().join(",")
+            )
+            .into());
+        }
+        axes.push(Axis { key, values });
+    }
+    Ok(axes)
+}
+
+/// The key of a `KEY=VALUE` override.
+fn set_key(set: &str) -> &str {
+    set.split_once('=').map_or(set, |(k, _)| k).trim()
+}
+
+/// Refuses keys set twice: an axis also given by `--set` (the axis would win, and the
+/// summary would show both), and the seed set by `--seeds N > 1` and by `--vary run.seed` or
+/// `--set run.seed` (identical runs under different labels). Returns whether the scene's
+/// own seed is kept (`run.seed` varied or set): then `--seeds` is 1 and no seed is imposed.
+fn check_keys(axes: &[Axis], overrides: &[String], seeds: u64) -> Result<bool, CliError> {
+    for a in axes {
+        if let Some(s) = overrides.iter().find(|s| set_key(s) == a.key) {
+            return Err(format!("--vary {} and --set {s}: the key is set twice; give it with --vary only", a.key).into());
+        }
+    }
+    let seed_given = axes.iter().any(|a| a.key == "run.seed") || overrides.iter().any(|s| set_key(s) == "run.seed");
+    if seed_given && seeds > 1 {
+        return Err(format!(
+            "--seeds {seeds} and run.seed (--vary or --set) both set the seed of every run, so runs would repeat under other labels; \
+             give --seeds N (run.seed = 1..=N) or run.seed, not both"
+        )
+        .into());
+    }
+    Ok(seed_given)
+}
+
+/// Every combination of the axes' values, the first axis varying slowest.
+fn grid(axes: &[Axis]) -> Vec<Vec<f64>> {
+    axes.iter().fold(vec![Vec::new()], |acc, a| {
+        acc.iter()
+            .flat_map(|p| {
+                a.values.iter().map(move |&v| {
+                    let mut q = p.clone();
+                    q.push(v);
+                    q
+                })
+            })
+            .collect()
+    })
+}
+
+/// The measures written per run, in column order.
+fn measures(m: &Measured) -> Vec<(&'static str, f64)> {
+    let mut out = vec![
+        ("current_x_m_per_s", m.current_x_m_per_s),
+        ("mean_height_m", m.mean_height_m),
+        ("reduced_height_m", m.reduced_height_m),
+        ("k_over_r", m.k_over_r),
+        ("k_over_r_phase0", m.k_over_r_phase0),
+        ("collisions", m.collisions as f64),
+        ("collisions_per_s", m.collisions_per_s),
+        ("energy_ledger_error", m.energy_ledger_error),
+    ];
+    if m.temperatures.len() == 2 {
+        out.push(("temperature_ratio_bulk", m.temperature_ratio_bulk));
+    }
+    let names = [["t_x_j_1", "t_z_j_1", "t_rot_j_1"], ["t_x_j_2", "t_z_j_2", "t_rot_j_2"]];
+    for (k, t) in m.temperatures.iter().enumerate() {
+        for c in 0..3 {
+            out.push((names[k][c], t[c]));
+        }
+    }
+    out
+}
+
+pub fn events_sweep(args: &Options) -> Result<String, CliError> {
+    let axes = axes(&args.vary)?;
+    let own_seed = check_keys(&axes, &args.overrides, args.seeds)?;
+    if args.log {
+        // A log axis cannot show a value at or below 0: refused before anything runs.
+        if let Some(v) = axes[0].values.iter().find(|v| **v <= 0.0) {
+            return Err(format!(
+                "--log: the x axis is {} and takes {v}, which a logarithmic axis cannot show; leave out --log or the value",
+                axes[0].key
+            )
+            .into());
+        }
+    }
+    let points = grid(&axes);
+    let name = args
+        .scene
+        .file_stem()
+        .map_or_else(|| "scene".into(), |s| s.to_string_lossy().into_owned());
+    let out = args
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(format!("out/events-sweep-{name}")));
+    // Every scene of the grid is read and checked before anything runs or is written.
+    // The varied keys are the user's `--vary KEY=...` text, applied as `--set` is; the seed
+    // is set on the scene itself.
+    let mut jobs = Vec::new();
+    for p in &points {
+        let mut set = args.overrides.clone();
+        set.extend(axes.iter().zip(p).map(|(a, v)| format!("{}={v}", a.key)));
+        let point = crate::scene::events::load(&args.scene, &set)?;
+        for seed in 1..=args.seeds {
+            let mut scene = point.clone();
+            if !own_seed {
+                scene.run.seed = seed;
+            }
+            scene.config()?;
+            jobs.push((p.clone(), scene.run.seed, scene));
+        }
+    }
+    crate::rundir::output::claim(&out, args.force)?;
+    let lock = crate::rundir::lock::RunLock::acquire(&out)?;
+    let threads = args
+        .threads
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads.max(1)).build()?;
+    let bar = progress_bar(jobs.len() as u64, args.quiet, "events-sweep");
+    let done = AtomicU64::new(0);
+    let wall = std::time::Instant::now();
+    let results: Vec<Result<Measured, String>> = pool.install(|| {
+        jobs.par_iter()
+            .map(|(_, _, scene)| {
+                let r = measure(scene);
+                bar.set_position(done.fetch_add(1, Ordering::Relaxed) + 1);
+                r
+            })
+            .collect()
+    });
+    bar.finish_and_clear();
+    let wall_s = wall.elapsed().as_secs_f64();
+    // A run that fails (a collapse without a guard, say) is reported and left out of the
+    // means, not allowed to sink the others.
+    let mut measured = Vec::new();
+    let mut failures = Vec::new();
+    for ((p, seed, _), r) in jobs.iter().zip(results) {
+        match r {
+            Ok(m) => measured.push(Some(m)),
+            Err(e) => {
+                let set: Vec<String> = axes.iter().zip(p).map(|(a, v)| format!("{}={v}", a.key)).collect();
+                let line = format!("{} seed {seed}: {e}", set.join(" "));
+                eprintln!("warning: run {line}");
+                failures.push(line);
+                measured.push(None);
+            }
+        }
+    }
+    let Some(example) = measured.iter().flatten().next().cloned() else {
+        return Err(format!("every run failed; the first: {}", failures[0]).into());
+    };
+    let mut dir = RunDir::create(&out, &json!({ "args": args }))?;
+    let columns: Vec<&str> = measures(&example).iter().map(|(n, _)| *n).collect();
+    let mut header: Vec<&str> = axes.iter().map(|a| a.key.as_str()).collect();
+    header.push("seed");
+    header.extend(&columns);
+    let rows: Vec<Vec<f64>> = jobs
+        .iter()
+        .zip(&measured)
+        .map(|((p, seed, _), m)| {
+            let mut row = p.clone();
+            row.push(*seed as f64);
+            match m {
+                Some(m) => row.extend(measures(m).iter().map(|(_, v)| *v)),
+                None => row.extend(std::iter::repeat_n(f64::NAN, columns.len())),
+            }
+            row
+        })
+        .collect();
+    dir.csv("runs.csv", &header, &rows)?;
+    // Means and standard errors over seeds, per grid point.
+    let per = args.seeds as usize;
+    let mut mean_header: Vec<String> = axes.iter().map(|a| a.key.clone()).collect();
+    mean_header.push("runs".into());
+    for c in &columns {
+        mean_header.push(format!("{c}_mean"));
+        mean_header.push(format!("{c}_stderr"));
+    }
+    let means: Vec<Vec<f64>> = points
+        .iter()
+        .enumerate()
+        .map(|(k, p)| {
+            let group: Vec<&Measured> = measured[k * per..(k + 1) * per].iter().flatten().collect();
+            let mut row = p.clone();
+            row.push(group.len() as f64);
+            for c in 0..columns.len() {
+                let xs: Vec<f64> = group.iter().map(|m| measures(m)[c].1).collect();
+                let (mean, err) = analysis::stats::mean_stderr(&xs);
+                row.push(mean);
+                row.push(err);
+            }
+            row
+        })
+        .collect();
+    let mean_refs: Vec<&str> = mean_header.iter().map(String::as_str).collect();
+    dir.csv("means.csv", &mean_refs, &means)?;
+    // Plots against the first axis, one line per value of the others.
+    let first = &axes[0];
+    let labels = [
+        ("current_x_m_per_s", "current <v_x> (m/s)"),
+        ("mean_height_m", "mean height of the centres (m)"),
+        ("reduced_height_m", "H: centre of mass at phase 0 minus rest (m)"),
+        ("k_over_r", "K/R, all phases"),
+        ("k_over_r_phase0", "K/R at phase 0"),
+        ("temperature_ratio_bulk", "T2/T1 in the bulk"),
+    ];
+    let plots: Vec<(usize, &str)> = labels
+        .iter()
+        .filter_map(|(name, label)| columns.iter().position(|n| n == name).map(|c| (c, *label)))
+        .collect();
+    let mut warnings = Vec::new();
+    for (_, _, scene) in &jobs {
+        let species = scene.particles.species.len();
+        if let Some(n) = crate::events::measure::bulk_bin_note(scene.run.bin, scene.tray.height, species) {
+            if !warnings.contains(&n) {
+                eprintln!("warning: {n}");
+                warnings.push(n);
+            }
+        }
+    }
+    for (c, label) in plots {
+        let mut plot = LinePlot::new(&format!("{} against {}", columns[c], first.key), &first.key, label);
+        let rest = points.len() / first.values.len();
+        for r in 0..rest {
+            // Mean and standard error over seeds at each value of the first axis.
+            let (line, errors): (Vec<(f64, f64)>, Vec<f64>) = (0..first.values.len())
+                .map(|i| {
+                    let row = &means[i * rest + r];
+                    ((row[0], row[axes.len() + 1 + 2 * c]), row[axes.len() + 2 + 2 * c])
+                })
+                .filter(|((_, y), _)| y.is_finite())
+                .unzip();
+            let name: Vec<String> = axes[1..]
+                .iter()
+                .enumerate()
+                .map(|(j, a)| format!("{}={}", a.key, means[r][j + 1]))
+                .collect();
+            let name = if name.is_empty() {
+                "mean over seeds".to_string()
+            } else {
+                name.join(", ")
+            };
+            plot = plot.series_with_errors(&name, line, errors, Mark::LinePoints);
+        }
+        if c == 0 {
+            plot = plot.include_y(0.0);
+        }
+        if args.log {
+            plot = plot.log_x();
+            if c > 0 {
+                plot = plot.log_y();
+                // The points a log axis cannot show are said, not dropped silently.
+                let hidden = means.iter().filter(|row| row[axes.len() + 1 + 2 * c] <= 0.0).count();
+                if hidden > 0 {
+                    let w = format!(
+                        "--log: {} leaves out {hidden} grid point(s) whose mean {} is 0 or negative (they are in means.csv)",
+                        columns[c], columns[c]
+                    );
+                    eprintln!("warning: {w}");
+                    warnings.push(w);
+                }
+            }
+        }
+        dir.plot(&columns[c].replace("_m_per_s", "").replace("_m", ""), &plot)?;
+    }
+    let cpu: f64 = measured.iter().flatten().map(|m| m.cpu_s).sum();
+    let collisions: u64 = measured.iter().flatten().map(|m| m.collisions).sum();
+    let summary = dir.finish(json!({
+        "scene": args.scene.display().to_string(),
+        "runs": measured.len(),
+        "grid_points": points.len(),
+        "seeds": args.seeds,
+        "threads": threads,
+        "wall_s": wall_s,
+        "cpu_s": cpu,
+        "collisions": collisions,
+        "collisions_per_cpu_s": collisions as f64 / cpu.max(1e-9),
+        "worst_energy_ledger_error": measured.iter().flatten().map(|m| m.energy_ledger_error).fold(0.0, f64::max),
+        "failed": failures,
+        "warnings": warnings,
+    }));
+    drop(lock);
+    summary
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_grid_is_every_combination_first_axis_slowest_and_bad_values_are_named() {
+        let a = axes(&["a=1,2".into(), "b=10,20,30".into()]).unwrap();
+        let g = grid(&a);
+        assert_eq!(g.len(), 6);
+        assert_eq!(g[0], vec![1.0, 10.0]);
+        assert_eq!(g[2], vec![1.0, 30.0]);
+        assert_eq!(g[3], vec![2.0, 10.0]);
+        let e = axes(&["a=1,x".into()]).unwrap_err();
+        assert!(e.to_string().contains("`x` is not a number"), "{e}");
+        assert!(axes(&["a".into()]).is_err());
+        // Issue 43, finding 5: an axis named twice ran both rows at the last value under
+        // two labels; it is refused, naming the key.
+        let e = axes(&["base.asymmetry=0,0.5".into(), "base.asymmetry=0.1".into()]).unwrap_err();
+        assert!(
+            e.to_string().contains("--vary base.asymmetry is given twice (0,0.5 and 0.1)"),
+            "{e}"
+        );
+        let (m, s) = analysis::stats::mean_stderr(&[1.0, 2.0, 3.0]);
+        assert!((m - 2.0).abs() < 1e-15 && (s - (1.0f64 / 3.0).sqrt()).abs() < 1e-15);
+    }
+
+    /// Issue 43, finding 5: `--vary run.seed` with `--seeds N` gave identical runs under two
+    /// labels (the seed loop overwrote the varied seed); both are refused together, and a seed
+    /// given by `--vary` or `--set` is the one each run uses. A key both varied and set is
+    /// refused too.
+    #[test]
+    fn a_seed_is_set_once_and_every_key_once() {
+        let seeds = axes(&["run.seed=1,2".into()]).unwrap();
+        let e = check_keys(&seeds, &[], 2).unwrap_err();
+        assert!(e.to_string().contains("--seeds 2 and run.seed"), "{e}");
+        assert!(check_keys(&seeds, &[], 1).unwrap(), "the varied seed is kept");
+        assert!(check_keys(&[], &["run.seed=7".into()], 1).unwrap(), "a --set seed is kept");
+        assert!(check_keys(&[], &["run.seed=7".into()], 3).is_err());
+        assert!(!check_keys(&axes(&["run.bin=1e-3".into()]).unwrap(), &[], 3).unwrap());
+        let e = check_keys(&axes(&["run.bin=1e-3".into()]).unwrap(), &["run.bin = 2e-3".into()], 1).unwrap_err();
+        assert!(e.to_string().contains("--vary run.bin and --set run.bin = 2e-3"), "{e}");
+    }
+
+    /// Issue 43, finding 10: `--log` dropped the points at or below 0 without a word; an x
+    /// value a log axis cannot show is refused before anything runs (and a y value left out
+    /// is said in a warning).
+    #[test]
+    fn a_log_axis_refuses_values_it_cannot_show() {
+        let out = std::env::temp_dir().join(format!("stripes-sweep-log-{}", std::process::id()));
+        let args = Options {
+            scene: concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/ratchet.toml").into(),
+            vary: vec!["base.asymmetry=0,0.5".into()],
+            overrides: Vec::new(),
+            seeds: 1,
+            threads: Some(1),
+            out: Some(out.clone()),
+            force: false,
+            log: true,
+            quiet: true,
+        };
+        let e = events_sweep(&args).unwrap_err().to_string();
+        assert!(e.contains("--log: the x axis is base.asymmetry and takes 0"), "{e}");
+        assert!(!out.exists(), "a refused sweep wrote {}", out.display());
+    }
+}
