@@ -2,7 +2,7 @@
 //! physics crate as plain data) in a small binary format, so a resumed run continues bit for
 //! bit as if it had never stopped.
 //!
-//! Layout (little endian): magic `STRPCKP3`, `u64` scene fingerprint, `f64` time, `u64` steps,
+//! Layout (little endian): magic `STRPCKP4`, `u64` scene fingerprint, `f64` time, `u64` steps,
 //! ledger (`f64` injected, dissipated), `f64` stored energy, `u64` N, then per particle
 //! position, velocity, spin, half-step velocity, half-step spin, force, torque (7 x 3 `f64`),
 //! then the live pair histories (`u64` count, then `u32 i, u32 j, 3 f64`), then the wall
@@ -10,8 +10,10 @@
 //! spring-dashpot-slider in the same two layouts (pairs, then walls; counts 0 without them),
 //! then the grains' places in the simulation's
 //! arrays (`u64` count, 0 while every grain is at its own index, then `u32` each: see
-//! `SavedState::order`), then `u64` caller data (e.g. snapshots written). A checkpoint of an
-//! older layout is read as one without rolling springs (`STRPCKP2`: no rolling springs; its
+//! `SavedState::order`), then `u64` caller data (e.g. snapshots written), then the FNV-1a of
+//! every byte after the magic ([`crate::rundir::bytes::seal`]): a file cut short or altered
+//! is refused before it is read. `STRPCKP3` is the same layout without the checksum. A
+//! checkpoint of an older layout is read as one without rolling springs (`STRPCKP2`: no rolling springs; its
 //! runs had no rolling spring to keep), and `STRPCKP1` also as one whose grains are at their
 //! own indices.
 
@@ -19,9 +21,11 @@ use particles::saved::SavedState;
 use particles::sim::{Ledger, Simulation};
 use particles::Vec3;
 
-use crate::rundir::bytes::{Reader, Writer};
+use crate::rundir::bytes::{seal, unseal, Reader, Writer};
 
-const MAGIC: &[u8; 8] = b"STRPCKP3";
+const MAGIC: &[u8; 8] = b"STRPCKP4";
+/// The same layout without the checksum.
+const MAGIC_UNSEALED: &[u8; 8] = b"STRPCKP3";
 /// The layout without the rolling springs.
 const MAGIC_WITHOUT_ROLLS: &[u8; 8] = b"STRPCKP2";
 /// The layout without the rolling springs and the grains' places.
@@ -60,6 +64,7 @@ pub fn encode(sim: &Simulation, fingerprint: u64, extra: u64) -> Vec<u8> {
         w.u32(g);
     }
     w.u64(extra);
+    seal(&mut w.0, MAGIC.len());
     w.0
 }
 
@@ -107,9 +112,14 @@ pub fn restore(sim: &mut Simulation, bytes: &[u8], fingerprint: u64) -> Result<u
 /// The state and caller data in `bytes`, which must belong to the scene `fingerprint` and
 /// hold `particles` particles.
 fn decode(bytes: &[u8], fingerprint: u64, particles: usize) -> Result<(SavedState, u64), String> {
+    let bytes = if bytes.starts_with(MAGIC) {
+        unseal(bytes, MAGIC.len())?
+    } else {
+        bytes
+    };
     let mut r = Reader::new(bytes);
     let (places, rolls) = match r.take(8)? {
-        m if m == MAGIC => (true, true),
+        m if m == MAGIC || m == MAGIC_UNSEALED => (true, true),
         m if m == MAGIC_WITHOUT_ROLLS => (true, false),
         m if m == MAGIC_WITHOUT_PLACES => (false, false),
         _ => return Err("not a stripes checkpoint".into()),

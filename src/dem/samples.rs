@@ -7,7 +7,7 @@ use particles::scene::Scene;
 use particles::state::State;
 use particles::Vec3;
 
-use crate::rundir::bytes::{Reader, Writer};
+use crate::rundir::bytes::{seal, unseal, Reader, Writer};
 
 /// A stable 64-bit name of the sample a scene starts from: FNV-1a of
 /// [`SAMPLE_REVISION`] and the canonical TOML of the scene's
@@ -122,9 +122,12 @@ impl Drop for FileLock {
     }
 }
 
-const SAMPLE_MAGIC: &[u8; 8] = b"STRPSMP1";
+const SAMPLE_MAGIC: &[u8; 8] = b"STRPSMP2";
+/// The same layout without the checksum.
+const SAMPLE_MAGIC_UNSEALED: &[u8; 8] = b"STRPSMP1";
 
-/// Binary sample: magic, `u64` N, then per grain position (3 `f64`), radius, mass.
+/// Binary sample: magic, `u64` N, then per grain position (3 `f64`), radius, mass, then the
+/// FNV-1a of every byte after the magic ([`crate::rundir::bytes::seal`]).
 fn encode_sample(s: &State) -> Vec<u8> {
     let mut w = Writer::default();
     w.0.extend_from_slice(SAMPLE_MAGIC);
@@ -134,11 +137,17 @@ fn encode_sample(s: &State) -> Vec<u8> {
         w.f64(s.radius[i]);
         w.f64(s.mass(i));
     }
+    seal(&mut w.0, SAMPLE_MAGIC.len());
     w.0
 }
 
 fn decode_sample(bytes: &[u8]) -> Result<State, String> {
-    if bytes.len() < 16 || &bytes[..8] != SAMPLE_MAGIC {
+    let bytes = match bytes.get(..8) {
+        Some(m) if m == SAMPLE_MAGIC => unseal(bytes, SAMPLE_MAGIC.len())?,
+        Some(m) if m == SAMPLE_MAGIC_UNSEALED => bytes,
+        _ => return Err("not a stripes sample file".into()),
+    };
+    if bytes.len() < 16 {
         return Err("not a stripes sample file".into());
     }
     let mut r = Reader::new(&bytes[8..]);

@@ -15,7 +15,11 @@ use events::sim::{Counts, Ledger};
 use events::thinned::Thinned;
 use events::{Next, State, Vec2};
 
+use crate::rundir::bytes::{seal, unseal, Reader, Writer};
+
 const MAGIC: &[u8] = b"STRIPES-EVENTS-CKPT-6\n";
+/// The header read apart from the sealed payload: the magic and the scene's fingerprint.
+const HEAD: usize = MAGIC.len() + 8;
 
 /// Where a run stands at a checkpoint.
 #[derive(Clone, Debug, PartialEq)]
@@ -32,268 +36,205 @@ pub struct Checkpoint {
     pub observer: Observer,
 }
 
-/// FNV-1a over bytes.
-pub fn fnv1a(bytes: &[u8]) -> u64 {
-    bytes
-        .iter()
-        .fold(0xcbf2_9ce4_8422_2325u64, |h, &b| (h ^ b as u64).wrapping_mul(0x0100_0000_01b3))
-}
-
-#[derive(Default)]
-struct Out(Vec<u8>);
-
-impl Out {
-    fn u(&mut self, x: u64) {
-        self.0.extend_from_slice(&x.to_le_bytes());
-    }
-    fn f(&mut self, x: f64) {
-        self.0.extend_from_slice(&x.to_le_bytes());
-    }
-    fn fs(&mut self, v: &[f64]) {
-        self.u(v.len() as u64);
-        v.iter().for_each(|&x| self.f(x));
-    }
-    fn us(&mut self, v: &[usize]) {
-        self.u(v.len() as u64);
-        v.iter().for_each(|&x| self.u(x as u64));
-    }
-    fn vecs(&mut self, v: &[Vec2]) {
-        self.u(v.len() as u64);
-        for p in v {
-            self.f(p.x);
-            self.f(p.y);
-        }
-    }
-    fn next(&mut self, n: &Next) {
-        // A tag and three slots.
-        let (tag, a, b, c) = match *n {
-            Next::Pair { j, count } => (0, j as u64, count, 0),
-            Next::Wall { w } => (1, w as u64, 0, 0),
-            Next::Tooth { tooth, piece } => (2, tooth as u64, piece as u64, 0),
-            Next::Cell { to, wrap } => (3, to.0 as u64, to.1 as u64, wrap.to_bits()),
-            Next::Look => (4, 0, 0, 0),
-            Next::Nothing => (5, 0, 0, 0),
-        };
-        self.u(tag);
-        self.u(a);
-        self.u(b);
-        self.u(c);
+/// A list of vectors: its length, then each vector's two components.
+fn write_vecs(o: &mut Writer, v: &[Vec2]) {
+    o.u64(v.len() as u64);
+    for p in v {
+        o.f64(p.x);
+        o.f64(p.y);
     }
 }
 
-struct In<'a> {
-    bytes: &'a [u8],
-    at: usize,
+/// An event prediction: a tag and three slots.
+fn write_next(o: &mut Writer, n: &Next) {
+    let (tag, a, b, c) = match *n {
+        Next::Pair { j, count } => (0, j as u64, count, 0),
+        Next::Wall { w } => (1, w as u64, 0, 0),
+        Next::Tooth { tooth, piece } => (2, tooth as u64, piece as u64, 0),
+        Next::Cell { to, wrap } => (3, to.0 as u64, to.1 as u64, wrap.to_bits()),
+        Next::Look => (4, 0, 0, 0),
+        Next::Nothing => (5, 0, 0, 0),
+    };
+    for x in [tag, a, b, c] {
+        o.u64(x);
+    }
 }
 
-impl In<'_> {
-    fn take(&mut self, n: usize) -> Result<&[u8], String> {
-        let end = self
-            .at
-            .checked_add(n)
-            .filter(|&e| e <= self.bytes.len())
-            .ok_or_else(|| format!("ends at byte {} where {n} more were expected", self.bytes.len()))?;
-        let s = &self.bytes[self.at..end];
-        self.at = end;
-        Ok(s)
-    }
-    fn u(&mut self) -> Result<u64, String> {
-        Ok(u64::from_le_bytes(self.take(8)?.try_into().expect("8 bytes")))
-    }
-    fn f(&mut self) -> Result<f64, String> {
-        Ok(f64::from_bits(self.u()?))
-    }
-    /// A length, refused if the rest of the file cannot hold that many items of `size` bytes.
-    fn len(&mut self, size: usize) -> Result<usize, String> {
-        let n = self.u()?;
-        let room = (self.bytes.len() - self.at) / size.max(1);
-        if n > room as u64 {
-            return Err(format!("claims {n} items at byte {} where at most {room} fit", self.at));
-        }
-        Ok(n as usize)
-    }
-    fn fs(&mut self) -> Result<Vec<f64>, String> {
-        let n = self.len(8)?;
-        (0..n).map(|_| self.f()).collect()
-    }
-    fn us(&mut self) -> Result<Vec<usize>, String> {
-        let n = self.len(8)?;
-        (0..n).map(|_| self.u().map(|x| x as usize)).collect()
-    }
-    fn vecs(&mut self) -> Result<Vec<Vec2>, String> {
-        let n = self.len(16)?;
-        (0..n).map(|_| Ok(Vec2::new(self.f()?, self.f()?))).collect()
-    }
-    fn next(&mut self) -> Result<Next, String> {
-        let (tag, a, b, c) = (self.u()?, self.u()?, self.u()?, self.u()?);
-        Ok(match tag {
-            0 => Next::Pair { j: a as usize, count: b },
-            1 => Next::Wall { w: a as usize },
-            2 => Next::Tooth {
-                tooth: a as i64,
-                piece: b as u8,
-            },
-            3 => Next::Cell {
-                to: (a as usize, b as usize),
-                wrap: f64::from_bits(c),
-            },
-            4 => Next::Look,
-            5 => Next::Nothing,
-            t => return Err(format!("unknown event tag {t} at byte {}", self.at - 32)),
-        })
-    }
+/// The list [`write_vecs`] wrote.
+fn read_vecs(i: &mut Reader<'_>) -> Result<Vec<Vec2>, String> {
+    let n = i.count(16, "vectors")?;
+    (0..n).map(|_| Ok(Vec2::new(i.f64()?, i.f64()?))).collect()
+}
+
+/// The prediction [`write_next`] wrote.
+fn read_next(i: &mut Reader<'_>) -> Result<Next, String> {
+    let (tag, a, b, c) = (i.u64()?, i.u64()?, i.u64()?, i.u64()?);
+    Ok(match tag {
+        0 => Next::Pair { j: a as usize, count: b },
+        1 => Next::Wall { w: a as usize },
+        2 => Next::Tooth {
+            tooth: a as i64,
+            piece: b as u8,
+        },
+        3 => Next::Cell {
+            to: (a as usize, b as usize),
+            wrap: f64::from_bits(c),
+        },
+        4 => Next::Look,
+        5 => Next::Nothing,
+        t => return Err(format!("unknown event tag {t} at byte {}", i.at() - 32)),
+    })
 }
 
 /// The checkpoint's bytes.
 pub fn encode(c: &Checkpoint) -> Vec<u8> {
-    let mut o = Out::default();
-    o.u(c.sample);
-    o.u(c.frames);
-    o.f(c.e0);
+    let mut o = Writer::default();
+    o.u64(c.sample);
+    o.u64(c.frames);
+    o.f64(c.e0);
     let s = &c.state;
-    o.f(s.time);
-    o.vecs(&s.r);
-    o.vecs(&s.v);
-    o.fs(&s.w);
-    o.fs(&s.t);
-    o.fs(&s.radius);
-    o.us(&s.species);
-    o.u(s.cell.len() as u64);
+    o.f64(s.time);
+    write_vecs(&mut o, &s.r);
+    write_vecs(&mut o, &s.v);
+    o.f64s(&s.w);
+    o.f64s(&s.t);
+    o.f64s(&s.radius);
+    o.usizes(&s.species);
+    o.u64(s.cell.len() as u64);
     for &(x, z) in &s.cell {
-        o.u(x as u64);
-        o.u(z as u64);
+        o.u64(x as u64);
+        o.u64(z as u64);
     }
-    o.u(s.collisions.len() as u64);
-    s.collisions.iter().for_each(|&x| o.u(x));
-    o.fs(&s.last_collision);
-    o.u(s.next.len() as u64);
-    s.next.iter().for_each(|n| o.next(n));
-    o.u(s.beyond_cell.len() as u64);
+    o.u64(s.collisions.len() as u64);
+    s.collisions.iter().for_each(|&x| o.u64(x));
+    o.f64s(&s.last_collision);
+    o.u64(s.next.len() as u64);
+    s.next.iter().for_each(|n| write_next(&mut o, n));
+    o.u64(s.beyond_cell.len() as u64);
     for (t, n) in &s.beyond_cell {
-        o.f(*t);
-        o.next(n);
+        o.f64(*t);
+        write_next(&mut o, n);
     }
-    o.u(s.window.len() as u64);
+    o.u64(s.window.len() as u64);
     for &(t, k) in &s.window {
-        o.f(t);
-        o.u(k as u64);
+        o.f64(t);
+        o.u64(k as u64);
     }
-    o.us(&s.last_partner);
-    o.u(s.members.len() as u64);
-    s.members.iter().for_each(|m| o.us(m));
-    o.u(s.scheduled.len() as u64);
+    o.usizes(&s.last_partner);
+    o.u64(s.members.len() as u64);
+    s.members.iter().for_each(|m| o.usizes(m));
+    o.u64(s.scheduled.len() as u64);
     for t in &s.scheduled {
         match t {
             Some(t) => {
-                o.u(1);
-                o.f(*t);
+                o.u64(1);
+                o.f64(*t);
             }
             None => {
-                o.u(0);
-                o.f(0.0);
+                o.u64(0);
+                o.f64(0.0);
             }
         }
     }
     for x in [s.counts.pair, s.counts.wall, s.counts.cell, s.counts.stale] {
-        o.u(x);
+        o.u64(x);
     }
-    o.f(s.ledger.wall_work);
-    o.f(s.ledger.dissipated);
+    o.f64(s.ledger.wall_work);
+    o.f64(s.ledger.dissipated);
     for t in &s.free_times {
-        o.fs(&t.kept);
-        o.u(t.stride);
-        o.u(t.skipped);
+        o.f64s(&t.kept);
+        o.u64(t.stride);
+        o.u64(t.skipped);
     }
     let b = &c.observer;
-    o.f(b.bin);
-    o.u(b.bins as u64);
-    o.u(b.across_bins as u64);
+    o.f64(b.bin);
+    o.u64(b.bins as u64);
+    o.u64(b.across_bins as u64);
     for profiles in [&b.species, &b.across] {
         write_profiles(&mut o, profiles);
     }
-    o.u(b.samples);
-    o.f(b.height_sum);
-    o.f(b.vx_sum);
+    o.u64(b.samples);
+    o.f64(b.height_sum);
+    o.f64(b.vx_sum);
     for lists in [&b.vx, &b.vz, &b.w, &b.z] {
-        o.u(lists.len() as u64);
-        lists.iter().for_each(|v| o.fs(v));
+        o.u64(lists.len() as u64);
+        lists.iter().for_each(|v| o.f64s(v));
     }
     for x in [b.velocity_stride, b.velocity_skipped, b.velocity_samples] {
-        o.u(x);
+        o.u64(x);
     }
-    o.fs(&b.side.kept);
-    o.u(b.side.stride);
-    o.u(b.side.skipped);
+    o.f64s(&b.side.kept);
+    o.u64(b.side.stride);
+    o.u64(b.side.skipped);
     match &b.field {
-        None => o.u(0),
+        None => o.u64(0),
         Some(f) => {
-            o.u(1);
-            o.u(f.frames as u64);
-            o.f(f.tooth);
-            o.u(f.across as u64);
-            o.u(f.up as u64);
-            o.f(f.teeth);
+            o.u64(1);
+            o.u64(f.frames as u64);
+            o.f64(f.tooth);
+            o.u64(f.across as u64);
+            o.u64(f.up as u64);
+            o.f64(f.teeth);
             for v in [&f.mass, &f.px, &f.pz] {
-                o.fs(v);
+                o.f64s(v);
             }
-            o.us(&f.samples.iter().map(|&n| n as usize).collect::<Vec<_>>());
+            o.usizes(&f.samples.iter().map(|&n| n as usize).collect::<Vec<_>>());
         }
     }
     match &b.mixing {
-        None => o.u(0),
+        None => o.u64(0),
         Some(m) => {
-            o.u(1);
+            o.u64(1);
             for v in [&m.neighbours, &m.same] {
-                o.us(&v.iter().map(|&n| n as usize).collect::<Vec<_>>());
+                o.usizes(&v.iter().map(|&n| n as usize).collect::<Vec<_>>());
             }
-            o.us(&m.count);
-            o.u(m.samples);
+            o.usizes(&m.count);
+            o.u64(m.samples);
         }
     }
-    o.u(b.phases.len() as u64);
+    o.u64(b.phases.len() as u64);
     for p in &b.phases {
-        o.u(p.samples);
-        o.f(p.com);
-        o.f(p.k);
-        o.f(p.r);
+        o.u64(p.samples);
+        o.f64(p.com);
+        o.f64(p.k);
+        o.f64(p.r);
     }
     for per_phase in [&b.phase_heights, &b.phase_across] {
-        o.u(per_phase.len() as u64);
+        o.u64(per_phase.len() as u64);
         for profiles in per_phase {
             write_profiles(&mut o, profiles);
         }
     }
-    let payload = o.0;
     let mut bytes = MAGIC.to_vec();
     bytes.extend_from_slice(&c.fingerprint.to_le_bytes());
-    bytes.extend_from_slice(&payload);
-    bytes.extend_from_slice(&fnv1a(&payload).to_le_bytes());
+    bytes.extend_from_slice(&o.0);
+    seal(&mut bytes, HEAD);
     bytes
 }
 
 /// A list of profiles: its length, then each profile's seven columns.
-fn write_profiles(o: &mut Out, profiles: &[Profile]) {
-    o.u(profiles.len() as u64);
+fn write_profiles(o: &mut Writer, profiles: &[Profile]) {
+    o.u64(profiles.len() as u64);
     for p in profiles {
         for v in [&p.count, &p.mvx2, &p.mvz2, &p.iw2, &p.vx, &p.vz, &p.m] {
-            o.fs(v);
+            o.f64s(v);
         }
     }
 }
 
 /// The list [`write_profiles`] wrote.
-fn read_profiles(i: &mut In<'_>) -> Result<Vec<Profile>, String> {
-    let n = i.len(56)?;
+fn read_profiles(i: &mut Reader<'_>) -> Result<Vec<Profile>, String> {
+    let n = i.count(56, "records")?;
     (0..n)
         .map(|_| {
             Ok(Profile {
-                count: i.fs()?,
-                mvx2: i.fs()?,
-                mvz2: i.fs()?,
-                iw2: i.fs()?,
-                vx: i.fs()?,
-                vz: i.fs()?,
-                m: i.fs()?,
+                count: i.f64s()?,
+                mvx2: i.f64s()?,
+                mvz2: i.f64s()?,
+                iw2: i.f64s()?,
+                vx: i.f64s()?,
+                vz: i.f64s()?,
+                m: i.f64s()?,
             })
         })
         .collect()
@@ -304,61 +245,51 @@ pub fn decode(bytes: &[u8]) -> Result<Checkpoint, String> {
     if !bytes.starts_with(MAGIC) {
         return Err("not a checkpoint of `stripes events`".into());
     }
-    let head = MAGIC.len() + 8;
-    if bytes.len() < head + 8 {
-        return Err(format!("cut short: {} bytes", bytes.len()));
-    }
-    let fingerprint = u64::from_le_bytes(bytes[MAGIC.len()..head].try_into().expect("8 bytes"));
-    let (payload, sum) = bytes[head..].split_at(bytes.len() - head - 8);
-    if fnv1a(payload).to_le_bytes() != sum {
-        return Err(format!(
-            "its checksum does not match ({} bytes): the file was cut short or altered",
-            bytes.len()
-        ));
-    }
-    let mut i = In { bytes: payload, at: 0 };
-    let (sample, frames, e0) = (i.u()?, i.u()?, i.f()?);
-    let time = i.f()?;
-    let (r, v, w, t, radius) = (i.vecs()?, i.vecs()?, i.fs()?, i.fs()?, i.fs()?);
-    let species = i.us()?;
-    let n = i.len(16)?;
+    let body = unseal(bytes, HEAD)?;
+    let fingerprint = u64::from_le_bytes(body[MAGIC.len()..HEAD].try_into().expect("8 bytes"));
+    let mut i = Reader::new(&body[HEAD..]);
+    let (sample, frames, e0) = (i.u64()?, i.u64()?, i.f64()?);
+    let time = i.f64()?;
+    let (r, v, w, t, radius) = (read_vecs(&mut i)?, read_vecs(&mut i)?, i.f64s()?, i.f64s()?, i.f64s()?);
+    let species = i.usizes()?;
+    let n = i.count(16, "records")?;
     let cell = (0..n)
-        .map(|_| Ok((i.u()? as usize, i.u()? as usize)))
+        .map(|_| Ok((i.u64()? as usize, i.u64()? as usize)))
         .collect::<Result<_, String>>()?;
-    let n = i.len(8)?;
-    let collisions = (0..n).map(|_| i.u()).collect::<Result<_, _>>()?;
-    let last_collision = i.fs()?;
-    let n = i.len(32)?;
-    let next = (0..n).map(|_| i.next()).collect::<Result<_, _>>()?;
-    let n = i.len(40)?;
-    let beyond_cell = (0..n).map(|_| Ok((i.f()?, i.next()?))).collect::<Result<_, String>>()?;
-    let n = i.len(16)?;
-    let window = (0..n).map(|_| Ok((i.f()?, i.u()? as u32))).collect::<Result<_, String>>()?;
-    let last_partner = i.us()?;
-    let n = i.len(8)?;
-    let members = (0..n).map(|_| i.us()).collect::<Result<_, _>>()?;
-    let n = i.len(16)?;
+    let n = i.count(8, "records")?;
+    let collisions = (0..n).map(|_| i.u64()).collect::<Result<_, _>>()?;
+    let last_collision = i.f64s()?;
+    let n = i.count(32, "records")?;
+    let next = (0..n).map(|_| read_next(&mut i)).collect::<Result<_, _>>()?;
+    let n = i.count(40, "records")?;
+    let beyond_cell = (0..n).map(|_| Ok((i.f64()?, read_next(&mut i)?))).collect::<Result<_, String>>()?;
+    let n = i.count(16, "records")?;
+    let window = (0..n).map(|_| Ok((i.f64()?, i.u64()? as u32))).collect::<Result<_, String>>()?;
+    let last_partner = i.usizes()?;
+    let n = i.count(8, "records")?;
+    let members = (0..n).map(|_| i.usizes()).collect::<Result<_, _>>()?;
+    let n = i.count(16, "records")?;
     let scheduled = (0..n)
         .map(|_| {
-            let (flag, t) = (i.u()?, i.f()?);
+            let (flag, t) = (i.u64()?, i.f64()?);
             Ok((flag == 1).then_some(t))
         })
         .collect::<Result<_, String>>()?;
     let counts = Counts {
-        pair: i.u()?,
-        wall: i.u()?,
-        cell: i.u()?,
-        stale: i.u()?,
+        pair: i.u64()?,
+        wall: i.u64()?,
+        cell: i.u64()?,
+        stale: i.u64()?,
     };
     let ledger = Ledger {
-        wall_work: i.f()?,
-        dissipated: i.f()?,
+        wall_work: i.f64()?,
+        dissipated: i.f64()?,
     };
     let mut thinned = || -> Result<Thinned, String> {
         Ok(Thinned {
-            kept: i.fs()?,
-            stride: i.u()?,
-            skipped: i.u()?,
+            kept: i.f64s()?,
+            stride: i.u64()?,
+            skipped: i.u64()?,
         })
     };
     let free_times = [thinned()?, thinned()?];
@@ -383,35 +314,35 @@ pub fn decode(bytes: &[u8]) -> Result<Checkpoint, String> {
         ledger,
         free_times,
     };
-    let (bin, bins, across_bins) = (i.f()?, i.u()? as usize, i.u()? as usize);
+    let (bin, bins, across_bins) = (i.f64()?, i.u64()? as usize, i.u64()? as usize);
     let mut profiles = Vec::new();
     for _ in 0..2 {
         profiles.push(read_profiles(&mut i)?);
     }
     let across = profiles.pop().expect("two");
     let species = profiles.pop().expect("two");
-    let (samples, height_sum, vx_sum) = (i.u()?, i.f()?, i.f()?);
+    let (samples, height_sum, vx_sum) = (i.u64()?, i.f64()?, i.f64()?);
     let mut lists = Vec::new();
     for _ in 0..4 {
-        let n = i.len(8)?;
-        lists.push((0..n).map(|_| i.fs()).collect::<Result<Vec<_>, _>>()?);
+        let n = i.count(8, "records")?;
+        lists.push((0..n).map(|_| i.f64s()).collect::<Result<Vec<_>, _>>()?);
     }
     let z = lists.pop().expect("four");
     let ws = lists.pop().expect("four");
     let vz = lists.pop().expect("four");
     let vx = lists.pop().expect("four");
-    let (velocity_stride, velocity_skipped, velocity_samples) = (i.u()?, i.u()?, i.u()?);
+    let (velocity_stride, velocity_skipped, velocity_samples) = (i.u64()?, i.u64()?, i.u64()?);
     let side = Thinned {
-        kept: i.fs()?,
-        stride: i.u()?,
-        skipped: i.u()?,
+        kept: i.f64s()?,
+        stride: i.u64()?,
+        skipped: i.u64()?,
     };
-    let field = match i.u()? {
+    let field = match i.u64()? {
         0 => None,
         1 => {
-            let (frames, tooth, across, up, teeth) = (i.u()? as usize, i.f()?, i.u()? as usize, i.u()? as usize, i.f()?);
-            let (mass, px, pz) = (i.fs()?, i.fs()?, i.fs()?);
-            let samples: Vec<u64> = i.us()?.into_iter().map(|n| n as u64).collect();
+            let (frames, tooth, across, up, teeth) = (i.u64()? as usize, i.f64()?, i.u64()? as usize, i.u64()? as usize, i.f64()?);
+            let (mass, px, pz) = (i.f64s()?, i.f64s()?, i.f64s()?);
+            let samples: Vec<u64> = i.usizes()?.into_iter().map(|n| n as u64).collect();
             let cells = frames.saturating_mul(across).saturating_mul(up);
             if [mass.len(), px.len(), pz.len()].iter().any(|&n| n != cells) || samples.len() != frames {
                 return Err("the phase field does not have the boxes it claims".into());
@@ -430,12 +361,12 @@ pub fn decode(bytes: &[u8]) -> Result<Checkpoint, String> {
         }
         other => return Err(format!("unknown phase-field flag {other}")),
     };
-    let mixing = match i.u()? {
+    let mixing = match i.u64()? {
         0 => None,
         1 => {
-            let neighbours: Vec<u64> = i.us()?.into_iter().map(|n| n as u64).collect();
-            let same: Vec<u64> = i.us()?.into_iter().map(|n| n as u64).collect();
-            let count = i.us()?;
+            let neighbours: Vec<u64> = i.usizes()?.into_iter().map(|n| n as u64).collect();
+            let same: Vec<u64> = i.usizes()?.into_iter().map(|n| n as u64).collect();
+            let count = i.usizes()?;
             if neighbours.len() != count.len() || same.len() != count.len() {
                 return Err("the neighbour record does not have the species it claims".into());
             }
@@ -443,24 +374,24 @@ pub fn decode(bytes: &[u8]) -> Result<Checkpoint, String> {
                 neighbours,
                 same,
                 count,
-                samples: i.u()?,
+                samples: i.u64()?,
             })
         }
         other => return Err(format!("unknown neighbour-record flag {other}")),
     };
-    let n = i.len(32)?;
+    let n = i.count(32, "records")?;
     let mut phases = Vec::with_capacity(n);
     for _ in 0..n {
         phases.push(PhaseSums {
-            samples: i.u()?,
-            com: i.f()?,
-            k: i.f()?,
-            r: i.f()?,
+            samples: i.u64()?,
+            com: i.f64()?,
+            k: i.f64()?,
+            r: i.f64()?,
         });
     }
     let mut per_phase = Vec::new();
     for _ in 0..2 {
-        let n = i.len(8)?;
+        let n = i.count(8, "records")?;
         let mut phase = Vec::with_capacity(n);
         for _ in 0..n {
             phase.push(read_profiles(&mut i)?);
@@ -476,8 +407,8 @@ pub fn decode(bytes: &[u8]) -> Result<Checkpoint, String> {
     {
         return Err("the phase records do not have the phases they claim".into());
     }
-    if i.at != payload.len() {
-        return Err(format!("{} bytes left over after the checkpoint", payload.len() - i.at));
+    if i.left() != 0 {
+        return Err(format!("{} bytes left over after the checkpoint", i.left()));
     }
     if species.iter().any(|p| p.count.len() != bins) || across.iter().any(|p| p.count.len() != across_bins) {
         return Err("the profiles do not have the bins they claim".into());

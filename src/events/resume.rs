@@ -28,7 +28,7 @@ pub fn tables_hash(scene: &EventScene) -> Result<u64, CliError> {
         let bytes = std::fs::read(&path).map_err(|e| format!("{key}: cannot read {}: {e}", path.display()))?;
         let mut named = key.into_bytes();
         named.extend_from_slice(&bytes);
-        h ^= crate::events::checkpoint::fnv1a(&named).rotate_left(1);
+        h ^= crate::rundir::bytes::fnv1a(&named).rotate_left(1);
     }
     Ok(h)
 }

@@ -124,7 +124,7 @@ struct Start {
 fn fingerprint(scene: &EventScene) -> Result<u64, Error> {
     let mut s = scene.clone();
     s.run.duration = 0.0;
-    Ok(checkpoint::fnv1a(toml::to_string(&s)?.as_bytes()) ^ crate::events::resume::tables_hash(scene)?)
+    Ok(crate::rundir::bytes::fnv1a(toml::to_string(&s)?.as_bytes()) ^ crate::events::resume::tables_hash(scene)?)
 }
 
 /// Wall time between checkpoints.

@@ -1,6 +1,8 @@
-//! Little-endian byte writing and reading for the root crate's binary files (DEM checkpoints,
-//! prepared samples). Every read checks the length, and a record count read from a file is
-//! checked against the bytes left before anything is sized by it.
+//! The one byte codec of the root crate's binary files (DEM and event-driven checkpoints,
+//! prepared samples): little-endian writing and reading, and a checksum trailer. Every read
+//! checks the length, a record count read from a file is checked against the bytes left
+//! before anything is sized by it, and a sealed file whose bytes were cut or altered is
+//! refused before it is parsed.
 
 use particles::Vec3;
 
@@ -23,6 +25,43 @@ impl Writer {
             self.f64(*c);
         }
     }
+    /// A list of numbers: its length, then each.
+    pub fn f64s(&mut self, v: &[f64]) {
+        self.u64(v.len() as u64);
+        v.iter().for_each(|&x| self.f64(x));
+    }
+    /// A list of indices: its length, then each as a `u64`.
+    pub fn usizes(&mut self, v: &[usize]) {
+        self.u64(v.len() as u64);
+        v.iter().for_each(|&x| self.u64(x as u64));
+    }
+}
+
+/// FNV-1a of the bytes: the checksum of sealed files (the one implementation, the state
+/// hash's).
+pub use particles::measure::fnv1a;
+
+/// Seals a file: appends the FNV-1a of `bytes[from..]` (the part after a header that is
+/// read apart) as its last 8 bytes.
+pub fn seal(bytes: &mut Vec<u8>, from: usize) {
+    let sum = fnv1a(&bytes[from..]);
+    bytes.extend_from_slice(&sum.to_le_bytes());
+}
+
+/// The bytes of a sealed file without the trailer, once the checksum of `bytes[from..]`
+/// matches; an error says that the file was cut short or altered.
+pub fn unseal(bytes: &[u8], from: usize) -> Result<&[u8], String> {
+    if bytes.len() < from + 8 {
+        return Err(format!("cut short: {} bytes", bytes.len()));
+    }
+    let (body, sum) = bytes.split_at(bytes.len() - 8);
+    if fnv1a(&body[from..]).to_le_bytes() != sum {
+        return Err(format!(
+            "its checksum does not match ({} bytes): the file was cut short or altered",
+            bytes.len()
+        ));
+    }
+    Ok(body)
 }
 
 /// Little-endian reader; every read checks the length.
@@ -59,6 +98,24 @@ impl<'a> Reader<'a> {
     pub fn vec3(&mut self) -> Result<Vec3, String> {
         Ok(Vec3::new(self.f64()?, self.f64()?, self.f64()?))
     }
+    /// Where the reader stands, in bytes from the start.
+    pub fn at(&self) -> usize {
+        self.at
+    }
+    /// The bytes not read yet.
+    pub fn left(&self) -> usize {
+        self.bytes.len() - self.at
+    }
+    /// A list [`Writer::f64s`] wrote.
+    pub fn f64s(&mut self) -> Result<Vec<f64>, String> {
+        let n = self.count(8, "numbers")?;
+        (0..n).map(|_| self.f64()).collect()
+    }
+    /// A list [`Writer::usizes`] wrote.
+    pub fn usizes(&mut self) -> Result<Vec<usize>, String> {
+        let n = self.count(8, "indices")?;
+        (0..n).map(|_| self.u64().map(|x| x as usize)).collect()
+    }
     /// A record count read from the file, checked against the bytes left: `count` records of
     /// `record` bytes each must fit, so nothing is sized beyond the input.
     pub fn count(&mut self, record: usize, what: &str) -> Result<usize, String> {
@@ -88,5 +145,32 @@ mod tests {
             r.f64(),
             Err("truncated file: it ends at byte 12, inside a field of 8 bytes that starts at byte 8".to_string())
         );
+    }
+
+    /// Every checkpoint and sample is sealed: the bytes read back as written, and a file cut
+    /// anywhere or with any bit flipped after its header is refused before it is parsed.
+    #[test]
+    fn a_sealed_file_reads_back_and_a_cut_or_flipped_one_is_refused() {
+        let mut w = Writer::default();
+        w.0.extend_from_slice(b"HEAD");
+        w.f64s(&[1.0, -2.5, f64::MIN_POSITIVE]);
+        w.usizes(&[3, 0, usize::MAX >> 1]);
+        let mut bytes = w.0.clone();
+        seal(&mut bytes, 4);
+        let body = unseal(&bytes, 4).unwrap();
+        assert_eq!(body, &w.0[..]);
+        let mut r = Reader::new(&body[4..]);
+        assert_eq!(r.f64s().unwrap(), vec![1.0, -2.5, f64::MIN_POSITIVE]);
+        assert_eq!(r.usizes().unwrap(), vec![3, 0, usize::MAX >> 1]);
+        for cut in 0..bytes.len() {
+            assert!(unseal(&bytes[..cut], 4).is_err(), "cut at {cut} accepted");
+        }
+        for byte in 4..bytes.len() {
+            for bit in 0..8 {
+                let mut flipped = bytes.clone();
+                flipped[byte] ^= 1 << bit;
+                assert!(unseal(&flipped, 4).is_err(), "bit {bit} of byte {byte} flipped and accepted");
+            }
+        }
     }
 }
