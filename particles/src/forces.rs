@@ -237,6 +237,8 @@ impl Springs<'_> {
 pub(crate) struct Reaction {
     pub force: Vec3,
     pub torque: Vec3,
+    /// `-drag` of the pair ([`contact::ContactForce::drag`]), for the ledger.
+    pub drag: Vec3,
 }
 
 /// Partial results of one block of particles.
@@ -250,6 +252,9 @@ pub(crate) struct BlockSums {
     pub dissipated: f64,
     /// Power injected by moving walls (W).
     pub injected: f64,
+    /// Energy (J) by which the step's kick leaves the dissipation short of `dissipated`
+    /// booked over the step ([`crate::integrate::verlet_excess`]).
+    pub excess: f64,
     pub records: Vec<ContactRecord>,
     /// First particle of the block found non-finite or outside the container, if checked.
     pub first_bad: Option<usize>,
@@ -295,7 +300,7 @@ impl BlockSums {
 pub(crate) fn gather_block(
     inp: &Inputs,
     first: usize,
-    (force, torque): (&mut [Vec3], &mut [Vec3]),
+    (force, torque, drag): (&mut [Vec3], &mut [Vec3], &mut [Vec3]),
     (mut pair_springs, reactions): (Springs, &mut [Reaction]),
     (wall_springs, wall_touched): (Springs, &mut [u8]),
 ) -> BlockSums {
@@ -314,6 +319,7 @@ pub(crate) fn gather_block(
         *f = gravity * m;
         *t = Vec3::repeat(0.0 * m);
     }
+    drag.fill(Vec3::zeros());
     // Particle pairs, each evaluated once from its smaller index (the whole energies), in
     // one flat loop over the block's neighbour-list slots: in a dilute layer most particles
     // have zero to two candidates, and a loop nested per particle would mispredict its exit
@@ -324,7 +330,15 @@ pub(crate) fn gather_block(
         // which records each contact): the same kernels, the same bits.
         on_lanes(
             #[inline(always)]
-            || pair_pass(inp, (first, slots), (force, torque), (&mut pair_springs, reactions), &mut sums),
+            || {
+                pair_pass(
+                    inp,
+                    (first, slots),
+                    (force, torque, drag),
+                    (&mut pair_springs, reactions),
+                    &mut sums,
+                )
+            },
         );
     } else {
         pair_law.unswitched(|pair_law| {
@@ -360,9 +374,11 @@ pub(crate) fn gather_block(
                 pair_springs.set(k, h, kept);
                 force[i - first] += c.force;
                 torque[i - first] += c.torque_i;
+                drag[i - first] += c.drag;
                 *reaction = Reaction {
                     force: -c.force,
                     torque: c.torque_j,
+                    drag: -c.drag,
                 };
                 sums.pair_contacts += 1;
                 sums.check_overlap(i, Partner::Particle(j), g.overlap, radius[i].min(radius[j]));
@@ -386,6 +402,7 @@ pub(crate) fn gather_block(
         first,
         force,
         torque,
+        drag,
         wall_springs,
         wall_touched,
     };
@@ -455,10 +472,15 @@ pub(crate) fn gather_block(
 /// adds the reactions of the pairs whose partner it is, in increasing order of the other
 /// index, once every block's first pass has ended; a pinned layer then drops the vertical
 /// force (eq 3.28).
-pub(crate) fn add_reactions(inp: &Inputs, reactions: &[Reaction], first: usize, (force, torque): (&mut [Vec3], &mut [Vec3])) {
+pub(crate) fn add_reactions(
+    inp: &Inputs,
+    reactions: &[Reaction],
+    first: usize,
+    (force, torque, drag): (&mut [Vec3], &mut [Vec3], &mut [Vec3]),
+) {
     let list = inp.list;
     let n = force.len();
-    let torque = &mut torque[..n];
+    let (torque, drag) = (&mut torque[..n], &mut drag[..n]);
     // One flat loop over the block's incoming slots, as the pairs' loop over its own.
     let incoming = &list.incoming[list.incoming_offsets[first]..list.incoming_offsets[first + n]];
     for &s in incoming {
@@ -467,6 +489,7 @@ pub(crate) fn add_reactions(inp: &Inputs, reactions: &[Reaction], first: usize, 
         let r = &reactions[s];
         force[k] += r.force;
         torque[k] += r.torque;
+        drag[k] += r.drag;
     }
     if inp.setup.vertical == Vertical::Pinned {
         for f in force.iter_mut() {
@@ -482,15 +505,23 @@ struct BlockOut<'a> {
     first: usize,
     force: &'a mut [Vec3],
     torque: &'a mut [Vec3],
+    /// [`contact::ContactForce::drag`] summed per particle.
+    drag: &'a mut [Vec3],
     wall_springs: Springs<'a>,
     wall_touched: &'a mut [u8],
 }
 
 impl<'a> BlockOut<'a> {
-    /// `(first, force, torque, wall_springs, wall_touched)`.
+    /// `(first, (force, torque, drag), wall_springs, wall_touched)`.
     #[inline(always)]
-    fn parts(&mut self) -> (usize, &mut [Vec3], &mut [Vec3], &mut Springs<'a>, &mut [u8]) {
-        (self.first, self.force, self.torque, &mut self.wall_springs, self.wall_touched)
+    #[allow(clippy::type_complexity)]
+    fn parts(&mut self) -> (usize, (&mut [Vec3], &mut [Vec3], &mut [Vec3]), &mut Springs<'a>, &mut [u8]) {
+        (
+            self.first,
+            (self.force, self.torque, self.drag),
+            &mut self.wall_springs,
+            self.wall_touched,
+        )
     }
 }
 
@@ -514,17 +545,17 @@ fn wall_pass<N: Normal, const SUPPORT: bool>(
     sums: &mut BlockSums,
     geometry: impl Fn(usize) -> Option<ContactGeometry<N>>,
 ) {
-    let (first, force, torque, wall_springs, wall_touched) = out.parts();
+    let (first, (force, torque, drag), wall_springs, wall_touched) = out.parts();
     let (kept, wall_stride) = wall_histories(inp);
     let history_on = kept.any();
     let n = force.len();
-    let torque = &mut torque[..n];
+    let (torque, drag) = (&mut torque[..n], &mut drag[..n]);
     let mut acc = WallSums::default();
     // Read once: through `inp` it would be reloaded per contact, and so would every
     // constant of the laws computed from it (such as Cundall-Strack's `1 / dt`).
     let dt = inp.setup.dt;
     inp.setup.wall_law.unswitched(|law| {
-        for ((k, f), t) in force.iter_mut().enumerate().zip(torque.iter_mut()) {
+        for (((k, f), t), d) in force.iter_mut().enumerate().zip(torque.iter_mut()).zip(drag.iter_mut()) {
             let slot = k * wall_stride + w;
             let Some(g) = geometry(k) else {
                 if history_on {
@@ -541,6 +572,7 @@ fn wall_pass<N: Normal, const SUPPORT: bool>(
                 springs: wall_springs.part(slot..slot + 1, kept),
                 force: f,
                 torque: t,
+                drag: d,
             };
             add_wall_contact::<N, SUPPORT>(inp, law, (w, dt), &g, grain, &mut acc, sums);
         }
@@ -554,7 +586,7 @@ fn wall_pass<N: Normal, const SUPPORT: bool>(
 /// walls in order.
 #[inline(never)]
 fn axis_pair_pass<const AXIS: usize>(inp: &Inputs, w: usize, out: &mut BlockOut, sums: &mut BlockSums) {
-    let (first, force, torque, wall_springs, wall_touched) = out.parts();
+    let (first, (force, torque, drag), wall_springs, wall_touched) = out.parts();
     let (kept, wall_stride) = wall_histories(inp);
     let history_on = kept.any();
     let n = force.len();
@@ -607,6 +639,7 @@ fn axis_pair_pass<const AXIS: usize>(inp: &Inputs, w: usize, out: &mut BlockOut,
                         springs: wall_springs.part(slot..slot + 1, kept),
                         force: &mut force[k],
                         torque: &mut torque[k],
+                        drag: &mut drag[k],
                     };
                     add_wall_contact::<_, false>(inp, &inp.setup.wall_law, (wk, dt), &g, grain, acc, sums)
                 }
@@ -650,6 +683,7 @@ struct Grain<'a> {
     springs: Springs<'a>,
     force: &'a mut Vec3,
     torque: &'a mut Vec3,
+    drag: &'a mut Vec3,
 }
 
 /// Adds the contact `g` of particle `i` with wall `w` (springs `springs`, time step `dt`) to
@@ -671,6 +705,7 @@ fn add_wall_contact<N: Normal, const SUPPORT: bool>(
         mut springs,
         force,
         torque,
+        drag,
     } = grain;
     let g = &g.with_mobility(inp.mobility[i]);
     let kept = Kept::of(law);
@@ -680,6 +715,7 @@ fn add_wall_contact<N: Normal, const SUPPORT: bool>(
     springs.set(0, h, kept);
     *force += c.force;
     *torque += c.torque_i;
+    *drag += c.drag;
     acc.contacts += 1;
     acc.stored += c.stored_energy;
     acc.dissipated += c.dissipation_rate;
@@ -700,10 +736,10 @@ fn add_wall_contact<N: Normal, const SUPPORT: bool>(
 /// the results of the touching lanes are added in particle order, as [`wall_pass`] does.
 #[inline(always)]
 fn floor_pass<const AXIS: usize>(inp: &Inputs, (w, plane): (usize, &WallPlane), out: &mut BlockOut, sums: &mut BlockSums) {
-    let (first, force, torque, wall_springs, wall_touched) = out.parts();
+    let (first, (force, torque, drag), wall_springs, wall_touched) = out.parts();
     let (_, wall_stride) = wall_histories(inp);
     let n = force.len();
-    let torque = &mut torque[..n];
+    let (torque, drag) = (&mut torque[..n], &mut drag[..n]);
     let (pos, vel, omega, radius, mobility) = (
         &inp.pos[first..first + n],
         &inp.vel[first..first + n],
@@ -775,6 +811,7 @@ fn floor_pass<const AXIS: usize>(inp: &Inputs, (w, plane): (usize, &WallPlane), 
                     let f = c.force.lane(l);
                     force[q] += f;
                     torque[q] += c.torque_i.lane(l);
+                    drag[q] += c.drag.lane(l);
                     acc.contacts += 1;
                     acc.stored += stored[l];
                     acc.dissipated += dissipated[l];
@@ -841,7 +878,7 @@ fn avx2_lanes() -> bool {
 fn pair_pass(
     inp: &Inputs,
     (first, slots): (usize, std::ops::Range<usize>),
-    (force, torque): (&mut [Vec3], &mut [Vec3]),
+    (force, torque, drag): (&mut [Vec3], &mut [Vec3], &mut [Vec3]),
     (pair_springs, reactions): (&mut Springs, &mut [Reaction]),
     sums: &mut BlockSums,
 ) {
@@ -926,9 +963,12 @@ fn pair_pass(
                         let f = c.force.lane(l);
                         force[i - first] += f;
                         torque[i - first] += c.torque_i.lane(l);
+                        let d = c.drag.lane(l);
+                        drag[i - first] += d;
                         reactions[s + l] = Reaction {
                             force: -f,
                             torque: c.torque_j.lane(l),
+                            drag: -d,
                         };
                         sums.pair_contacts += 1;
                         sums.check_overlap(i, Partner::Particle(j), overlap[l], ri[l].min(rj[l]));

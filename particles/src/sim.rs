@@ -28,6 +28,7 @@
 use crate::boundary::Boundary;
 use crate::error::StateMismatch;
 use crate::forces;
+use crate::integrate;
 use crate::neighbor::NeighborList;
 use crate::parallel::{on_blocks, region};
 use crate::scene::SortInterval;
@@ -96,6 +97,10 @@ pub struct Simulation {
     /// Each slot's reaction on its partner at the current force evaluation (scratch from
     /// stage 3 to stage 4, aligned with `neighbors.partners`).
     reactions: Vec<forces::Reaction>,
+    /// Each grain's contact forces less their elastic normal parts at the current force
+    /// evaluation (scratch from stage 3 to stage 4, for the ledger, see
+    /// [`crate::integrate::verlet_excess`]).
+    drag: Vec<Vec3>,
     /// Tangential spring of each particle-wall contact, `i * max(walls, 1) + k` (one unused
     /// slot per particle without walls, so the per-block chunks always line up).
     wall_history: Vec<Vec3>,
@@ -179,6 +184,7 @@ impl Simulation {
             neighbors: NeighborList::default(),
             pair_history: Vec::new(),
             reactions: Vec::new(),
+            drag: vec![Vec3::zeros(); n],
             wall_history: vec![Vec3::zeros(); n * n_walls.max(1)],
             wall_touched: vec![0; n * n_walls.max(1)],
             record: false,
@@ -339,7 +345,7 @@ impl Simulation {
                     // and block b's outputs go to this call alone.
                     unsafe {
                         let sums = sums_out.part(b..b + 1)[0].as_mut().expect("stage 3 ran on this block");
-                        sums.first_bad = step.after_forces(b);
+                        (sums.first_bad, sums.excess) = step.after_forces(b);
                     }
                 });
             });
@@ -728,7 +734,7 @@ impl Simulation {
             }
         }
 
-        let (mut stored, mut dissipated, mut injected) = (0.0, 0.0, 0.0);
+        let (mut stored, mut dissipated, mut injected, mut excess) = (0.0, 0.0, 0.0, 0.0);
         let mut first_bad = None;
         let mut violation: Option<(f64, usize, Partner, f64, f64)> = None;
         self.records.clear();
@@ -739,6 +745,7 @@ impl Simulation {
             stored += s.stored;
             dissipated += s.dissipated;
             injected += s.injected;
+            excess += s.excess;
             self.records.extend(s.records);
             first_bad = first_bad.or(s.first_bad);
             if let Some(v) = s.violation {
@@ -762,7 +769,9 @@ impl Simulation {
         self.overlap_violation = violation.map(|(_, i, p, o, r)| (i, p, o, r));
         self.stored_energy = stored;
         self.ledger.injected += injected * ledger_dt;
-        self.ledger.dissipated += dissipated * ledger_dt;
+        // The powers booked at the predicted velocities, less what velocity Verlet's kick
+        // takes back (zero without the kick, see `Step::after_forces`).
+        self.ledger.dissipated += dissipated * ledger_dt - excess;
         first_bad
     }
 
@@ -890,6 +899,9 @@ struct Step<'a> {
     pair_history: RawArray<Vec3>,
     pair_roll: RawArray<Vec3>,
     reactions: RawArray<forces::Reaction>,
+    drag: RawArray<Vec3>,
+    /// Whether stage 4 corrects the ledger for the kick ([`crate::integrate::verlet_excess`]).
+    excess: bool,
     wall_history: RawArray<Vec3>,
     wall_roll: RawArray<Vec3>,
     wall_touched: RawArray<u8>,
@@ -926,6 +938,13 @@ impl<'a> Step<'a> {
             pair_history: RawArray::of(&mut sim.pair_history),
             pair_roll: RawArray::of(&mut sim.pair_roll),
             reactions: RawArray::of(&mut sim.reactions),
+            drag: RawArray::of(&mut sim.drag),
+            // Every contact force less its elastic normal part, and every torque, must be
+            // dissipative: no tangential or rolling spring.
+            excess: finish
+                && sim.setup.integrator.has_after_stage()
+                && !sim.setup.pair_law.has_history()
+                && !sim.setup.wall_law.has_history(),
             wall_history: RawArray::of(&mut sim.wall_history),
             wall_roll: RawArray::of(&mut sim.wall_roll),
             wall_touched: RawArray::of(&mut sim.wall_touched),
@@ -1017,9 +1036,9 @@ impl<'a> Step<'a> {
         // read.
         let mut sums = on_blocks((0..blocks).collect(), |b| unsafe { self.forces(b) });
         // SAFETY: stage 3 has ended on every block; each block goes to one call.
-        let bad = on_blocks((0..blocks).collect(), |b| unsafe { self.after_forces(b) });
-        for (s, bad) in sums.iter_mut().zip(bad) {
-            s.first_bad = bad;
+        let after = on_blocks((0..blocks).collect(), |b| unsafe { self.after_forces(b) });
+        for (s, (bad, excess)) in sums.iter_mut().zip(after) {
+            (s.first_bad, s.excess) = (bad, excess);
         }
         sums
     }
@@ -1065,10 +1084,11 @@ impl<'a> Step<'a> {
                 unsafe { a.part(range) }
             }
         };
-        let (force, torque, pair, reactions, wall, touched) = unsafe {
+        let (force, torque, drag, pair, reactions, wall, touched) = unsafe {
             (
                 self.force.part(r.clone()),
                 self.torque.part(r.clone()),
+                self.drag.part(r.clone()),
                 forces::Springs {
                     slide: self.pair_history.part(slots.clone()),
                     roll: rolls(&self.pair_roll, slots.clone()),
@@ -1081,26 +1101,35 @@ impl<'a> Step<'a> {
                 self.wall_touched.part(walls),
             )
         };
-        forces::gather_block(&inputs, r.start, (force, torque), (pair, reactions), (wall, touched))
+        forces::gather_block(&inputs, r.start, (force, torque, drag), (pair, reactions), (wall, touched))
     }
 
     /// Stage 4 on block `b`: the reactions of the pairs whose partner is in the block
     /// ([`forces::add_reactions`]), then, with `finish`, while the block is still in cache,
     /// the integrator stage after the forces ([`crate::integrate::Integrator::after_kick`],
     /// written into the half-step arrays: other blocks still read the predicted velocities)
-    /// and the checks. Returns the first particle of the block found unsound.
+    /// and the checks. Returns the first particle of the block found unsound, and the energy
+    /// (J) by which the kick leaves the block's dissipation short of the power booked at the
+    /// predicted velocities ([`crate::integrate::verlet_excess`]; 0 unless `excess`).
     ///
     /// SAFETY: stage 3 must have ended on every block; no other reference to block `b`'s
     /// forces, torques, half-step velocities and spins may be alive, nor any mutable one to
     /// the positions, velocities, spins and reactions.
-    unsafe fn after_forces(&self, b: usize) -> Option<usize> {
+    unsafe fn after_forces(&self, b: usize) -> (Option<usize>, f64) {
         let r = self.range(b);
         let setup = self.setup;
         let inputs = unsafe { self.inputs() };
-        let (force, torque, reactions) = unsafe { (self.force.part(r.clone()), self.torque.part(r.clone()), self.reactions.all()) };
-        forces::add_reactions(&inputs, reactions, r.start, (force, torque));
+        let (force, torque, drag, reactions) = unsafe {
+            (
+                self.force.part(r.clone()),
+                self.torque.part(r.clone()),
+                self.drag.part(r.clone()),
+                self.reactions.all(),
+            )
+        };
+        forces::add_reactions(&inputs, reactions, r.start, (force, torque, drag));
         if !self.finish {
-            return None;
+            return (None, 0.0);
         }
         let (dt, integrator) = (setup.dt, setup.integrator);
         let kick = integrator.has_after_stage();
@@ -1117,15 +1146,28 @@ impl<'a> Step<'a> {
         } else {
             &inputs.omega[r.clone()]
         };
+        let excess = if self.excess {
+            let translation = integrate::verlet_excess(drag, &inputs.vel[r.clone()], v, dt);
+            let rotation = if self.rotate {
+                integrate::verlet_excess(torque, &inputs.omega[r.clone()], w, dt)
+            } else {
+                0.0
+            };
+            translation + rotation
+        } else {
+            0.0
+        };
         let x = &inputs.pos[r.clone()];
         if block_is_sound(x, v, w, &self.bounds) {
-            return None;
+            return (None, excess);
         }
-        x.iter()
+        let bad = x
+            .iter()
             .zip(v)
             .zip(w)
             .position(|((x, v), w)| !is_sound(x, v, w, &self.bounds))
-            .map(|k| r.start + k)
+            .map(|k| r.start + k);
+        (bad, excess)
     }
 }
 

@@ -97,6 +97,9 @@ pub struct ContactForce {
     pub normal: f64,
     /// Tangential force on i (N).
     pub tangential: Vec3,
+    /// The force on i less its elastic normal part (N): the normal damping and the
+    /// tangential force, whose work the ledger books as dissipated (see [`LaneForce::drag`]).
+    pub drag: Vec3,
     /// Energy stored in the contact (elastic normal + tangential spring + rolling spring), J.
     pub stored_energy: f64,
     /// Rate at which the contact dissipates mechanical energy (W), `>= 0` up to the
@@ -168,6 +171,7 @@ pub fn evaluate_with<N: Normal>(
         normal_raw: c.normal_raw,
         normal: c.normal,
         tangential: c.tangential.into(),
+        drag: c.drag.into(),
         stored_energy: c.stored_energy,
         dissipation_rate: c.dissipation_rate,
     }
@@ -196,6 +200,10 @@ pub struct LaneForce<L> {
     pub normal_raw: L,
     pub normal: L,
     pub tangential: V3<L>,
+    /// The force on i less its elastic normal part, `n (F_n - F_el) + F_t`: the force whose
+    /// power `dissipation_rate` books (with the rolling torque's). The step's ledger
+    /// corrects that booking with it (`crate::sim`, [`crate::integrate::verlet_excess`]).
+    pub drag: V3<L>,
     pub stored_energy: L,
     pub dissipation_rate: L,
 }
@@ -232,7 +240,9 @@ fn finish<L: Lane, N: Normal<L>>(
     let torque_i = lever.scale(-g.arm_i) + roll.torque;
     let torque_j = lever.scale(-g.arm_j) - roll.torque;
 
-    let dissipation_rate = (normal - n.elastic) * g.overlap_rate + tang.dissipation_rate + roll.dissipation_rate;
+    let damping = normal - n.elastic;
+    let drag = g.n.scaled(damping) + tang.force;
+    let dissipation_rate = damping * g.overlap_rate + tang.dissipation_rate + roll.dissipation_rate;
     // (Decided per copy of the law: no addition of a zero for the laws without a spring.)
     let stored_energy = if law.rolling.has_history() {
         n.energy + tang.stored_energy + roll.stored_energy
@@ -246,6 +256,7 @@ fn finish<L: Lane, N: Normal<L>>(
         normal_raw,
         normal,
         tangential: tang.force,
+        drag,
         stored_energy,
         dissipation_rate,
     }

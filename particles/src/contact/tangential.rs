@@ -309,22 +309,51 @@ mod tests {
     /// The slip of one contact under its own friction alone, integrated as the simulation
     /// does (velocity Verlet with the force evaluated on the predicted velocity
     /// `v(t) + F(t) dt / m_t`), from the force `f0` on it: the slips the force sees, step by
-    /// step, and the slip after the last step.
-    fn relaxation(g: ContactGeometry, dt: f64, steps: usize, f0: f64) -> (Vec<f64>, f64) {
+    /// step, the slip after the last step, and the dissipation booked as the simulation
+    /// books it: the power at the predicted slip times `dt`, less the kick's excess
+    /// ([`crate::integrate::verlet_excess`], the second number alone).
+    fn relaxation(g: ContactGeometry, dt: f64, steps: usize, f0: f64) -> (Vec<f64>, f64, (f64, f64)) {
         let law = haff_werner(f64::INFINITY);
         let (mut v, mut f, mut seen) = (g.v_t.x, f0, Vec::new());
+        let (mut booked, mut excess) = (0.0, 0.0);
         for _ in 0..steps {
             let predicted = v + f * dt * g.mobility;
             let geometry = ContactGeometry {
                 v_t: Vec3::new(predicted, 0.0, 0.0),
                 ..g
             };
-            let f_new = law.force(&geometry, 1.0, &mut Vec3::zeros(), dt).force.x;
+            let t = law.force(&geometry, 1.0, &mut Vec3::zeros(), dt);
+            let f_new = t.force.x;
             v += 0.5 * (f + f_new) * dt * g.mobility;
             f = f_new;
             seen.push(predicted);
+            booked += t.dissipation_rate * dt;
+            excess += crate::integrate::verlet_excess(&[t.force], &[geometry.v_t], &[Vec3::new(v, 0.0, 0.0)], dt);
         }
-        (seen, v)
+        (seen, v, (booked, excess))
+    }
+
+    #[test]
+    fn the_ledger_books_the_energy_a_relaxing_slip_loses() {
+        // A contact starts with a slip and no force, and the viscous branch alone relaxes it
+        // (Verlet with the force predictor, as the simulation). Booked at the predicted slip,
+        // the dissipation exceeds the kinetic energy `m_t v^2 / 2` lost by 0.13 % at
+        // `gamma_t dt / m_t = 0.05`, 2.3 % at 0.2, 11 % at 0.4, half at the cap (2/3 and
+        // beyond); less the kick's excess it is the energy lost, to rounding.
+        let g = slipping_pair(1e-3);
+        let m_t = 1.0 / g.mobility;
+        for (b, old_miss) in [(0.05, 1.2e-3), (0.2, 2.2e-2), (0.4, 0.11), (2.0 / 3.0, 0.49), (1.9, 0.49)] {
+            let dt = b / (GAMMA_T * g.mobility);
+            let (_, v, (booked, excess)) = relaxation(g, dt, 4000, 0.0);
+            let lost = 0.5 * m_t * (g.v_t.x * g.v_t.x - v * v);
+            let (old, new) = ((booked - lost) / lost, (booked - excess - lost) / lost);
+            println!("ratio {b}: booked {booked:e} J, lost {lost:e} J, excess {excess:e} J, miss {old:.2e} -> {new:.2e}");
+            assert!(
+                old > old_miss,
+                "ratio {b}: the booking at the predicted slip missed by {old:e} only"
+            );
+            assert!(new.abs() < 1e-12, "ratio {b}: the ledger misses {new:e} of the energy lost");
+        }
     }
 
     #[test]
@@ -336,7 +365,7 @@ mod tests {
         for dt in [1.7e-6, 6e-6, 8e-6, 2e-5, 1.7e-4] {
             let g = slipping_pair(1e-3);
             let a = ratio(&g, dt);
-            let (slips, _) = relaxation(g, dt, 200, 0.0);
+            let (slips, _, _) = relaxation(g, dt, 200, 0.0);
             assert!(slips.iter().all(|s| s.abs() <= 1e-3 * (1.0 + 1e-12)), "ratio {a}: the slip grew");
             assert!(slips[199].abs() < 1e-9, "ratio {a}: slip {:e} after 200 steps", slips[199]);
             if a > 1.2 {
@@ -357,7 +386,7 @@ mod tests {
         let tau = 1.0 / (GAMMA_T * g.mobility);
         let error = |n: usize| {
             // The friction acts from the start (a contact slipping at v_t already).
-            let (_, v) = relaxation(g, tau / n as f64, n, -GAMMA_T * g.v_t.x);
+            let (_, v, _) = relaxation(g, tau / n as f64, n, -GAMMA_T * g.v_t.x);
             (v / g.v_t.x - (-1.0f64).exp()).abs()
         };
         let (e4, e8, e16) = (error(4), error(8), error(16));
