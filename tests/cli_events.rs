@@ -320,6 +320,85 @@ fn a_sweep_gives_the_same_tables_on_one_thread_and_on_two() {
     let _ = std::fs::remove_dir_all(&d);
 }
 
+/// Issue 43 and issue 42 step 3: the event-driven sweep is a sweep of the one engine. Two
+/// shards collected give the tables of one run; a re-run continues (every finished run kept,
+/// none redone); a different sweep in the same directory is refused.
+#[test]
+fn an_events_sweep_runs_in_shards_continues_and_refuses_another_sweep() {
+    let d = std::env::temp_dir().join(format!("stripes-cli-events-shards-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/ratchet.toml");
+    let sweep = |dir: &std::path::Path, extra: &[&str]| {
+        let out = dir.display().to_string();
+        let mut a = vec![
+            "events-sweep",
+            scene,
+            "--vary",
+            "base.asymmetry=0.1,0.5",
+            "--seeds",
+            "2",
+            "--set",
+            "run.duration=1",
+            "--set",
+            "run.transient=0.25",
+            "--out",
+            &out,
+            "--quiet",
+        ];
+        a.extend_from_slice(extra);
+        stripes(&a)
+    };
+    let (one, sharded) = (d.join("one"), d.join("sharded"));
+    let (ok, stdout, stderr) = sweep(&one, &[]);
+    assert!(ok, "{stderr}");
+    assert_eq!(last_json(&stdout)["progress"]["ran"], 4);
+    for shard in ["0/2", "1/2"] {
+        let (ok, _, stderr) = sweep(&sharded, &["--shard", shard]);
+        assert!(ok, "{stderr}");
+    }
+    let (ok, _, stderr) = stripes(&["collect", &sharded.display().to_string()]);
+    assert!(ok, "{stderr}");
+    let table = |dir: &std::path::Path| -> Vec<Vec<String>> {
+        let text = std::fs::read_to_string(dir.join("runs.csv")).unwrap();
+        let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
+        let speed = header.iter().position(|h| *h == "collisions_per_s").unwrap();
+        text.lines()
+            .map(|l| {
+                l.split(',')
+                    .enumerate()
+                    .filter(|(k, _)| *k != speed)
+                    .map(|(_, v)| v.to_string())
+                    .collect()
+            })
+            .collect()
+    };
+    assert_eq!(table(&one), table(&sharded));
+    assert_eq!(table(&one).len(), 5);
+    // The same sweep again: nothing is rerun, the tables are the same.
+    let (ok, stdout, stderr) = sweep(&one, &[]);
+    assert!(ok, "{stderr}");
+    let again = last_json(&stdout);
+    assert_eq!(
+        (again["progress"]["ran"].as_u64(), again["progress"]["skipped"].as_u64()),
+        (Some(0), Some(4))
+    );
+    // Another sweep in the same directory is refused, and leaves its results alone.
+    let (ok, _, stderr) = sweep(&one, &["--set", "run.bin=0.002"]);
+    assert!(!ok && stderr.contains("holds a sweep of another resolved scene"), "{stderr}");
+    let (ok, _, stderr) = stripes(&[
+        "events-sweep",
+        scene,
+        "--vary",
+        "base.asymmetry=0.2",
+        "--out",
+        &one.display().to_string(),
+        "--quiet",
+    ]);
+    assert!(!ok && stderr.contains("holds a"), "{stderr}");
+    assert_eq!(table(&one).len(), 5);
+    let _ = std::fs::remove_dir_all(&d);
+}
+
 #[test]
 fn a_sweep_of_a_two_species_scene_tabulates_and_plots_the_bulk_temperature_ratio() {
     let d = std::env::temp_dir().join(format!("stripes-cli-events-sweep2-{}", std::process::id()));

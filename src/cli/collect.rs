@@ -8,7 +8,7 @@ use crate::studies::sweep::{self, SweepKind};
 
 #[derive(clap::Args, Debug, serde::Serialize)]
 pub struct Args {
-    /// A sweep directory written by `stripes phase-map` or `stripes ablate`.
+    /// A sweep directory written by `stripes phase-map`, `stripes ablate` or `stripes events-sweep`.
     pub dir: PathBuf,
 }
 
@@ -17,6 +17,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
     let summary = match sweep.kind {
         SweepKind::PhaseMap => sweep::phase_map::report(&args.dir, &sweep)?,
         SweepKind::Ablate => sweep::ablate::report(&args.dir, &sweep)?,
+        SweepKind::EventsSweep => crate::studies::events_sweep::report(&args.dir, &sweep)?,
     };
     Ok(serde_json::to_string(&summary)?)
 }

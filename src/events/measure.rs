@@ -7,27 +7,38 @@ use serde::Serialize;
 
 use crate::scene::events::EventScene;
 
-/// The measured numbers of one run.
-#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+/// The measured numbers of one run. A number that is NaN is written as `null` in JSON and read
+/// back as NaN (a sweep's `result.json`).
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Measured {
     pub collisions: u64,
+    #[serde(deserialize_with = "crate::rundir::output::nan_if_null")]
     pub cpu_s: f64,
+    #[serde(deserialize_with = "crate::rundir::output::nan_if_null")]
     pub collisions_per_s: f64,
+    #[serde(deserialize_with = "crate::rundir::output::nan_if_null")]
     pub energy_ledger_error: f64,
     /// Mean height of the centres above the floor's mean position (m).
+    #[serde(deserialize_with = "crate::rundir::output::nan_if_null")]
     pub mean_height_m: f64,
     /// Mean horizontal velocity (m/s).
+    #[serde(deserialize_with = "crate::rundir::output::nan_if_null")]
     pub current_x_m_per_s: f64,
     /// Translational over rotational kinetic energy, over every sample (every phase).
+    #[serde(deserialize_with = "crate::rundir::output::nan_if_null")]
     pub k_over_r: f64,
     /// The rough-sphere paper's H: the mass-weighted centre of mass at `run.phase` minus
     /// its estimate at rest (m).
+    #[serde(deserialize_with = "crate::rundir::output::nan_if_null")]
     pub reduced_height_m: f64,
     /// K/R over the samples at `run.phase` only.
+    #[serde(deserialize_with = "crate::rundir::output::nan_if_null")]
     pub k_over_r_phase0: f64,
     /// `T_2 / T_1` over the middle third of the box's height (NaN with one species).
+    #[serde(deserialize_with = "crate::rundir::output::nan_if_null")]
     pub temperature_ratio_bulk: f64,
     /// Per species: whole-box `T_x`, `T_z`, `T_rot` (J).
+    #[serde(deserialize_with = "crate::rundir::output::nan_if_null_triples")]
     pub temperatures: Vec<[f64; 3]>,
     pub samples: u64,
 }

@@ -369,3 +369,16 @@ mod progress_tests {
         assert_eq!(human_summary(&s), "done: 3.0 s; 0 warning(s); 2 failed run(s)");
     }
 }
+
+/// A number written by serde_json, where NaN becomes `null`: read back as NaN.
+pub fn nan_if_null<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    use serde::Deserialize;
+    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
+}
+
+/// Rows of three numbers written by serde_json, each `null` read back as NaN.
+pub fn nan_if_null_triples<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Vec<[f64; 3]>, D::Error> {
+    use serde::Deserialize;
+    let rows = Vec::<[Option<f64>; 3]>::deserialize(d)?;
+    Ok(rows.into_iter().map(|r| r.map(|x| x.unwrap_or(f64::NAN))).collect())
+}

@@ -182,20 +182,44 @@ impl AutomatonEdit {
     }
 }
 
-/// One change of a scene file: of its DEM tables or of its `[automaton]` table.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+/// One change of an event-driven scene: a key the user varies (`events-sweep --vary`), read
+/// by the event-driven scene's own loader as `--set` of the same key is, or the seed.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum EventsEdit {
+    Set { key: String, value: f64 },
+    Seed(u64),
+}
+
+impl EventsEdit {
+    /// The `--set` text of the same change.
+    pub fn to_set(&self) -> String {
+        match self {
+            EventsEdit::Set { key, value } => format!("{key}={value}"),
+            EventsEdit::Seed(s) => format!("run.seed={s}"),
+        }
+    }
+}
+
+/// One change of a scene: of a tray scene file's DEM tables or its `[automaton]` table, or of
+/// an event-driven scene.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Edit {
     Dem(DemEdit),
     Automaton(AutomatonEdit),
+    Events(EventsEdit),
 }
 
 impl Edit {
-    /// Applies the edit to its table of the scene file.
-    pub fn apply(self, file: &mut SceneFile) {
+    /// Applies the edit to its table of a tray scene file. An event-driven edit has no place
+    /// in one: a sweep's jobs are checked to be of one scene kind before any runs
+    /// (`studies::sweep::check_jobs`).
+    pub fn apply(&self, file: &mut SceneFile) {
         match self {
             Edit::Dem(e) => e.apply(&mut file.dem),
             Edit::Automaton(e) => e.apply(&mut file.automaton),
+            Edit::Events(e) => unreachable!("an event-driven edit ({}) on a tray scene", e.to_set()),
         }
     }
 }

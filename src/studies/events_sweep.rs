@@ -1,45 +1,39 @@
 //! `stripes events-sweep SCENE --vary KEY=V1,V2,... [--vary ...] [--seeds N]`: the
-//! event-driven model over a grid of scene values and seeds, run in parallel in memory.
-//! It writes `runs.csv` (one row per run; a failed run, e.g. a collapse, is a row of NaN and
-//! a warning), `means.csv` (per grid point: the runs that finished, and the mean and the
-//! standard error over them of every measure), a plot of the current, the height and K/R
-//! against the first varied key (one line per value of the others), and `summary.json`,
-//! printed last. The reports of the vibrated-layer papers are made with it.
+//! event-driven model over a grid of scene values and seeds, as a sweep of the one engine
+//! ([`crate::studies::sweep`]): jobs in parallel, one `result.json` each, `--shard I/N`, a
+//! re-run that continues the same sweep (a different one is refused), and `stripes collect`.
+//! The report writes `runs.csv` (one row per finished run; a run that stopped, e.g. a collapse,
+//! is a row of NaN and a warning), `means.csv` (per grid point: the runs that finished, and
+//! the mean and the standard error over them of every measure), a plot of the current, the
+//! height and K/R against the first varied key (one line per value of the others),
+//! `report.md` and `summary.json`, printed last. The reports of the vibrated-layer papers are
+//! made with it.
 
-use std::path::PathBuf;
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::path::{Path, PathBuf};
 
 use analysis::plot::{LinePlot, Mark};
-use rayon::prelude::*;
 use serde::Serialize;
-use serde_json::json;
+use serde_json::{json, Value};
 
-use crate::events::measure::{measure, Measured};
-use crate::rundir::output::{progress_bar, CliError, RunDir};
+use crate::events::measure::Measured;
+use crate::rundir::output::CliError;
+use crate::scene::edit::{Edit, EventsEdit};
+use crate::studies::sweep::{self, EventsResult, Job, Model, Sweep, SweepArgs, SweepKind};
 
-/// What the study is given (the command's arguments, without the command line); serialised
-/// as the arguments into `config.json`.
+/// What the study is given besides the engine's options (`--set`, `--shard`, `--jobs`,
+/// `--force`, `--quiet`).
 #[derive(Clone, Debug, Serialize)]
 pub struct Options {
-    /// Event-driven scene file (model = "events"), e.g. scenes/ratchet.toml.
+    /// Event-driven scene file (model = "events").
     pub scene: PathBuf,
-    /// A key and the numbers it takes, e.g. --vary base.asymmetry=0,0.25,0.5 (repeatable:
-    /// every combination runs). An array of tables takes an index: particles.species.0.count.
+    /// The varied keys and their numbers (`KEY=V1,V2,...`).
     pub vary: Vec<String>,
-    /// Override a scene key for every run (repeatable).
-    pub overrides: Vec<String>,
     /// Seeds per grid point: run.seed = 1..=N.
     pub seeds: u64,
-    /// Worker threads (default: every core). Results do not depend on it.
-    pub threads: Option<usize>,
-    /// Output directory (default: out/events-sweep-<scene name>).
+    /// Sweep directory (default: out/events-sweep-<scene name>).
     pub out: Option<PathBuf>,
-    /// Replace the files of an output directory that already holds some (default: refuse it).
-    pub force: bool,
-    /// Draw the plots on a logarithmic x axis, and H and K/R on a logarithmic y axis too
-    /// (a power law shows as a line).
+    /// Logarithmic axes in the plots.
     pub log: bool,
-    pub quiet: bool,
 }
 
 /// One varied key and its values.
@@ -139,9 +133,57 @@ fn measures(m: &Measured) -> Vec<(&'static str, f64)> {
     out
 }
 
-pub fn events_sweep(args: &Options) -> Result<String, CliError> {
+/// The sweep's jobs: every grid point (first axis slowest), each with `seeds` seeds (or the
+/// scene's own seed where the seed is varied or set), labelled with the point's index.
+fn jobs(axes: &[Axis], seeds: u64, own_seed: bool) -> Vec<Job> {
+    let mut jobs = Vec::new();
+    for (k, p) in grid(axes).iter().enumerate() {
+        for seed in 1..=if own_seed { 1 } else { seeds } {
+            let mut edits: Vec<Edit> = axes
+                .iter()
+                .zip(p)
+                .map(|(a, &value)| Edit::Events(EventsEdit::Set { key: a.key.clone(), value }))
+                .collect();
+            if !own_seed {
+                edits.push(Edit::Events(EventsEdit::Seed(seed)));
+            }
+            let mut labels = serde_json::Map::new();
+            labels.insert("point".into(), k.into());
+            jobs.push(Job {
+                id: if own_seed { format!("p{k:03}") } else { format!("p{k:03}-s{seed}") },
+                model: Model::Events,
+                edits,
+                labels,
+            });
+        }
+    }
+    jobs
+}
+
+/// The axes of a stored sweep, from its jobs' edits: each varied key in order, with its
+/// values in the order the grid first takes them.
+fn stored_axes(sweep: &Sweep) -> Vec<Axis> {
+    let mut axes: Vec<Axis> = Vec::new();
+    for job in &sweep.jobs {
+        for e in &job.edits {
+            if let Edit::Events(EventsEdit::Set { key, value }) = e {
+                match axes.iter_mut().find(|a| &a.key == key) {
+                    Some(a) if !a.values.contains(value) => a.values.push(*value),
+                    Some(_) => {}
+                    None => axes.push(Axis {
+                        key: key.clone(),
+                        values: vec![*value],
+                    }),
+                }
+            }
+        }
+    }
+    axes
+}
+
+pub fn events_sweep(args: &Options, engine: &SweepArgs) -> Result<String, CliError> {
     let axes = axes(&args.vary)?;
-    let own_seed = check_keys(&axes, &args.overrides, args.seeds)?;
+    let own_seed = check_keys(&axes, &engine.overrides, args.seeds)?;
     if args.log {
         // A log axis cannot show a value at or below 0: refused before anything runs.
         if let Some(v) = axes[0].values.iter().find(|v| **v <= 0.0) {
@@ -152,7 +194,6 @@ pub fn events_sweep(args: &Options) -> Result<String, CliError> {
             .into());
         }
     }
-    let points = grid(&axes);
     let name = args
         .scene
         .file_stem()
@@ -161,83 +202,99 @@ pub fn events_sweep(args: &Options) -> Result<String, CliError> {
         .out
         .clone()
         .unwrap_or_else(|| PathBuf::from(format!("out/events-sweep-{name}")));
-    // Every scene of the grid is read and checked before anything runs or is written.
-    // The varied keys are the user's `--vary KEY=...` text, applied as `--set` is; the seed
-    // is set on the scene itself.
-    let mut jobs = Vec::new();
-    for p in &points {
-        let mut set = args.overrides.clone();
-        set.extend(axes.iter().zip(p).map(|(a, v)| format!("{}={v}", a.key)));
-        let point = crate::scene::events::load(&args.scene, &set)?;
-        for seed in 1..=args.seeds {
-            let mut scene = point.clone();
-            if !own_seed {
-                scene.run.seed = seed;
-            }
-            scene.config()?;
-            jobs.push((p.clone(), scene.run.seed, scene));
-        }
-    }
-    crate::rundir::output::claim(&out, args.force)?;
-    let lock = crate::rundir::lock::RunLock::acquire(&out)?;
-    let threads = args
-        .threads
-        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
-    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads.max(1)).build()?;
-    let bar = progress_bar(jobs.len() as u64, args.quiet, "events-sweep");
-    let done = AtomicU64::new(0);
-    let wall = std::time::Instant::now();
-    let results: Vec<Result<Measured, String>> = pool.install(|| {
-        jobs.par_iter()
-            .map(|(_, _, scene)| {
-                let r = measure(scene);
-                bar.set_position(done.fetch_add(1, Ordering::Relaxed) + 1);
-                r
-            })
-            .collect()
-    });
-    bar.finish_and_clear();
-    let wall_s = wall.elapsed().as_secs_f64();
-    // A run that fails (a collapse without a guard, say) is reported and left out of the
-    // means, not allowed to sink the others.
-    let mut measured = Vec::new();
-    let mut failures = Vec::new();
-    for ((p, seed, _), r) in jobs.iter().zip(results) {
-        match r {
-            Ok(m) => measured.push(Some(m)),
-            Err(e) => {
-                let set: Vec<String> = axes.iter().zip(p).map(|(a, v)| format!("{}={v}", a.key)).collect();
-                let line = format!("{} seed {seed}: {e}", set.join(" "));
-                eprintln!("warning: run {line}");
-                failures.push(line);
-                measured.push(None);
-            }
-        }
-    }
-    let Some(example) = measured.iter().flatten().next().cloned() else {
-        return Err(format!("every run failed; the first: {}", failures[0]).into());
+    let sweep = Sweep {
+        kind: SweepKind::EventsSweep,
+        scene: args.scene.clone(),
+        overrides: engine.overrides.clone(),
+        jobs: jobs(&axes, args.seeds, own_seed),
+        resolved: String::new(),
     };
-    let mut dir = RunDir::create(&out, &json!({ "args": args }))?;
-    let columns: Vec<&str> = measures(&example).iter().map(|(n, _)| *n).collect();
+    // Every job's scene is read and checked before anything runs or is written.
+    sweep::check_jobs(&sweep)?;
+    if !out.join("sweep.json").exists() {
+        // A directory of something else is not taken over without --force.
+        crate::rundir::output::claim(&out, engine.replace.force)?;
+    }
+    let log = args.log;
+    engine.execute(&out, &sweep, move |root, sweep| report_with(root, sweep, log))
+}
+
+/// The report of an events sweep's results present (`stripes collect`): linear axes.
+pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
+    let log = std::fs::read_to_string(root.join("plots.json"))
+        .ok()
+        .and_then(|t| serde_json::from_str::<PlotScale>(&t).ok())
+        .is_some_and(|p| p.log);
+    report_with(root, sweep, log)
+}
+
+/// How the plots were drawn, kept so that `collect` draws them alike.
+#[derive(Serialize, serde::Deserialize)]
+struct PlotScale {
+    log: bool,
+}
+
+fn report_with(root: &Path, sweep: &Sweep, log: bool) -> Result<Value, CliError> {
+    let axes = stored_axes(sweep);
+    let points = grid(&axes);
+    let per = sweep.jobs.len() / points.len().max(1);
+    let (found, mut dir) = sweep::open_report(root, sweep)?;
+    dir.json("plots.json", &serde_json::to_value(PlotScale { log })?)?;
+    let mut results: Vec<Option<(Job, EventsResult)>> = Vec::new();
+    results.resize_with(sweep.jobs.len(), || None);
+    for (job, v) in found {
+        let k = sweep
+            .jobs
+            .iter()
+            .position(|j| j.id == job.id)
+            .expect("a result of the sweep's own job");
+        let r: EventsResult = serde_json::from_value(v).map_err(|e| format!("{}: result of job `{}`: {e}", root.display(), job.id))?;
+        results[k] = Some((job, r));
+    }
+    let mut failures = Vec::new();
+    let mut warnings = Vec::new();
+    for (job, r) in results.iter().flatten() {
+        if let Some(f) = &r.failure {
+            let line = format!("{}: {f}", job.id);
+            eprintln!("warning: run {line}");
+            failures.push(line);
+        }
+        let scene = sweep::events_job_scene(sweep, job)?;
+        if let Some(n) = crate::events::measure::bulk_bin_note(scene.run.bin, scene.tray.height, scene.particles.species.len()) {
+            if !warnings.contains(&n) {
+                eprintln!("warning: {n}");
+                warnings.push(n);
+            }
+        }
+    }
+    let finished = results.iter().flatten().count();
+    let measured: Vec<Option<&Measured>> = results.iter().map(|r| r.as_ref().and_then(|(_, r)| r.measured.as_ref())).collect();
+    let Some(example) = measured.iter().flatten().next().copied() else {
+        if let Some(first) = failures.first() {
+            return Err(format!("every run that finished stopped; the first: {first}").into());
+        }
+        let md = format!("# events-sweep of `{}`\n\nNo run has finished yet.\n\n", sweep.scene.display());
+        sweep::write_report(root, sweep, &mut dir, md)?;
+        let line = dir.finish(json!({ "kind": "events-sweep", "jobs": sweep.jobs.len(), "runs": 0 }))?;
+        return Ok(serde_json::from_str(&line)?);
+    };
+    let columns: Vec<&str> = measures(example).iter().map(|(n, _)| *n).collect();
     let mut header: Vec<&str> = axes.iter().map(|a| a.key.as_str()).collect();
     header.push("seed");
     header.extend(&columns);
-    let rows: Vec<Vec<f64>> = jobs
-        .iter()
-        .zip(&measured)
-        .map(|((p, seed, _), m)| {
-            let mut row = p.clone();
-            row.push(*seed as f64);
-            match m {
-                Some(m) => row.extend(measures(m).iter().map(|(_, v)| *v)),
-                None => row.extend(std::iter::repeat_n(f64::NAN, columns.len())),
-            }
-            row
-        })
-        .collect();
+    let mut rows = Vec::new();
+    for (k, r) in results.iter().enumerate() {
+        let Some((job, r)) = r else { continue };
+        let mut row = points[k / per.max(1)].clone();
+        row.push(sweep::events_job_scene(sweep, job)?.run.seed as f64);
+        match &r.measured {
+            Some(m) => row.extend(measures(m).iter().map(|(_, v)| *v)),
+            None => row.extend(std::iter::repeat_n(f64::NAN, columns.len())),
+        }
+        rows.push(row);
+    }
     dir.csv("runs.csv", &header, &rows)?;
     // Means and standard errors over seeds, per grid point.
-    let per = args.seeds as usize;
     let mut mean_header: Vec<String> = axes.iter().map(|a| a.key.clone()).collect();
     mean_header.push("runs".into());
     for c in &columns {
@@ -248,7 +305,7 @@ pub fn events_sweep(args: &Options) -> Result<String, CliError> {
         .iter()
         .enumerate()
         .map(|(k, p)| {
-            let group: Vec<&Measured> = measured[k * per..(k + 1) * per].iter().flatten().collect();
+            let group: Vec<&Measured> = measured[k * per..(k + 1) * per].iter().flatten().copied().collect();
             let mut row = p.clone();
             row.push(group.len() as f64);
             for c in 0..columns.len() {
@@ -276,16 +333,6 @@ pub fn events_sweep(args: &Options) -> Result<String, CliError> {
         .iter()
         .filter_map(|(name, label)| columns.iter().position(|n| n == name).map(|c| (c, *label)))
         .collect();
-    let mut warnings = Vec::new();
-    for (_, _, scene) in &jobs {
-        let species = scene.particles.species.len();
-        if let Some(n) = crate::events::measure::bulk_bin_note(scene.run.bin, scene.tray.height, species) {
-            if !warnings.contains(&n) {
-                eprintln!("warning: {n}");
-                warnings.push(n);
-            }
-        }
-    }
     for (c, label) in plots {
         let mut plot = LinePlot::new(&format!("{} against {}", columns[c], first.key), &first.key, label);
         let rest = points.len() / first.values.len();
@@ -313,7 +360,7 @@ pub fn events_sweep(args: &Options) -> Result<String, CliError> {
         if c == 0 {
             plot = plot.include_y(0.0);
         }
-        if args.log {
+        if log {
             plot = plot.log_x();
             if c > 0 {
                 plot = plot.log_y();
@@ -333,12 +380,28 @@ pub fn events_sweep(args: &Options) -> Result<String, CliError> {
     }
     let cpu: f64 = measured.iter().flatten().map(|m| m.cpu_s).sum();
     let collisions: u64 = measured.iter().flatten().map(|m| m.collisions).sum();
-    let summary = dir.finish(json!({
-        "scene": args.scene.display().to_string(),
-        "runs": measured.len(),
+    let wall_s: f64 = results.iter().flatten().map(|(_, r)| r.wall_s).sum();
+    let mut md = format!(
+        "# events-sweep of `{}`\n\n{} grid point(s) of {}, {per} run(s) each; {finished} of {} runs finished, {} stopped.\n\n\
+         Tables: `runs.csv` (one row per run), `means.csv` (mean and standard error over seeds per point); plots against `{}`.\n\n",
+        sweep.scene.display(),
+        points.len(),
+        axes.iter().map(|a| format!("`{}`", a.key)).collect::<Vec<_>>().join(" x "),
+        sweep.jobs.len(),
+        failures.len(),
+        axes[0].key,
+    );
+    for w in &warnings {
+        md.push_str(&format!("Warning: {w}\n\n"));
+    }
+    sweep::write_report(root, sweep, &mut dir, std::mem::take(&mut md))?;
+    let line = dir.finish(json!({
+        "kind": "events-sweep",
+        "scene": sweep.scene.display().to_string(),
+        "jobs": sweep.jobs.len(),
+        "runs": finished,
         "grid_points": points.len(),
-        "seeds": args.seeds,
-        "threads": threads,
+        "seeds": per,
         "wall_s": wall_s,
         "cpu_s": cpu,
         "collisions": collisions,
@@ -346,9 +409,8 @@ pub fn events_sweep(args: &Options) -> Result<String, CliError> {
         "worst_energy_ledger_error": measured.iter().flatten().map(|m| m.energy_ledger_error).fold(0.0, f64::max),
         "failed": failures,
         "warnings": warnings,
-    }));
-    drop(lock);
-    summary
+    }))?;
+    Ok(serde_json::from_str(&line)?)
 }
 
 #[cfg(test)]
@@ -403,15 +465,21 @@ mod tests {
         let args = Options {
             scene: concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/ratchet.toml").into(),
             vary: vec!["base.asymmetry=0,0.5".into()],
-            overrides: Vec::new(),
             seeds: 1,
-            threads: Some(1),
             out: Some(out.clone()),
-            force: false,
             log: true,
-            quiet: true,
         };
-        let e = events_sweep(&args).unwrap_err().to_string();
+        let engine = SweepArgs {
+            overrides: Vec::new(),
+            shard: sweep::Shard { index: 0, count: 1 },
+            jobs: Some(1),
+            samples: crate::cli::args::SampleCache {
+                sample_cache: out.join("samples"),
+            },
+            progress: crate::cli::args::Quiet { quiet: true },
+            replace: crate::cli::args::Force { force: false },
+        };
+        let e = events_sweep(&args, &engine).unwrap_err().to_string();
         assert!(e.contains("--log: the x axis is base.asymmetry and takes 0"), "{e}");
         assert!(!out.exists(), "a refused sweep wrote {}", out.display());
     }

@@ -191,6 +191,8 @@ fn configs(model: Model, packing: &[usize]) -> Vec<Config> {
     match model {
         Model::Dem => dem_configs(packing),
         Model::Automaton => automaton_configs(packing),
+        // Ablations are of the tray's models.
+        Model::Events => Vec::new(),
     }
 }
 

@@ -1,4 +1,5 @@
-//! Sweeps as sets of independent jobs (ablations, phase maps, packing sweeps).
+//! Sweeps as sets of independent jobs (ablations, phase maps, packing sweeps, and grids of an
+//! event-driven scene's values): one engine for the three models.
 //!
 //! A sweep directory holds `sweep.json` (what the sweep is: its kind, scene, and every job) and
 //! one directory per job, `jobs/<id>/`, with the model's run, its analysis, and `result.json`.
@@ -7,8 +8,9 @@
 //!   nothing that finished;
 //! - `--shard I/N` runs the jobs whose index is `I mod N` (a deterministic subset), so shards
 //!   can run on different machines or as the tasks of a Slurm job array or GNU parallel;
-//! - `stripes collect` ([`ablate::report`], [`phase_map::report`]) reads whatever results exist, in job order, so two shards collected equal a
-//!   single run.
+//! - `stripes collect` ([`ablate::report`], [`phase_map::report`],
+//!   [`crate::studies::events_sweep::report`]) reads whatever results exist, in job order, so
+//!   two shards collected equal a single run.
 //!
 //! Jobs run in parallel on one machine (`--jobs`, default: all cores), each on one thread;
 //! results do not depend on the thread count (see `stripes run`).
@@ -39,8 +41,8 @@ pub struct SweepArgs {
     /// Run only the jobs with index I mod N (e.g. 0/4); `stripes collect DIR` merges shards.
     #[arg(long, default_value = "0/1")]
     pub shard: Shard,
-    /// Jobs run at once on this machine (default: all cores).
-    #[arg(long)]
+    /// Jobs run at once on this machine (default: all cores); results do not depend on it.
+    #[arg(long, alias = "threads")]
     pub jobs: Option<usize>,
     #[command(flatten)]
     #[serde(flatten)]
@@ -72,7 +74,7 @@ impl SweepArgs {
         // The job's identity covers the resolved scene, not only its path: results of an
         // edited scene file are never reused.
         let mut sweep = sweep.clone();
-        sweep.resolved = crate::scene::file::load(&sweep.scene, &sweep.overrides)?.to_toml()?;
+        sweep.resolved = resolved(&sweep)?;
         let sweep = &sweep;
         store(root, sweep)?;
         let parallel = self
@@ -80,9 +82,11 @@ impl SweepArgs {
             .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
         let progress = run(root, sweep, self.shard, parallel, &self.samples.sample_cache, self.progress.quiet)?;
         let mut summary = report(root, sweep)?;
-        let preparation = preparation(root, sweep)?;
-        append_preparation(&root.join("report.md"), &preparation)?;
-        summary["sample_preparation"] = serde_json::to_value(&preparation)?;
+        if sweep.kind != SweepKind::EventsSweep {
+            let preparation = preparation(root, sweep)?;
+            append_preparation(&root.join("report.md"), &preparation)?;
+            summary["sample_preparation"] = serde_json::to_value(&preparation)?;
+        }
         if !progress.failed.is_empty() {
             return Err(format!(
                 "{} job(s) failed (the report {} lists them): {}",
@@ -103,6 +107,8 @@ impl SweepArgs {
 pub enum Model {
     Dem,
     Automaton,
+    /// The event-driven model, on an event-driven scene.
+    Events,
 }
 
 impl Model {
@@ -110,6 +116,7 @@ impl Model {
         match self {
             Model::Dem => "dem",
             Model::Automaton => "automaton",
+            Model::Events => "events",
         }
     }
 }
@@ -160,6 +167,8 @@ pub enum SweepKind {
     Ablate,
     /// `stripes phase-map`: a grid of drive frequencies and amplitudes.
     PhaseMap,
+    /// `stripes events-sweep`: a grid of an event-driven scene's values, over seeds.
+    EventsSweep,
 }
 
 impl SweepKind {
@@ -168,6 +177,7 @@ impl SweepKind {
         match self {
             SweepKind::Ablate => "ablate",
             SweepKind::PhaseMap => "phase-map",
+            SweepKind::EventsSweep => "events-sweep",
         }
     }
 }
@@ -286,6 +296,15 @@ fn forget(root: &Path) -> Result<(), CliError> {
         }
         _ => Ok(()),
     }
+}
+
+/// The resolved scene of a sweep (TOML, the sweep's overrides applied): a tray scene file, or
+/// the event-driven scene of an `events-sweep`.
+fn resolved(sweep: &Sweep) -> Result<String, CliError> {
+    Ok(match sweep.kind {
+        SweepKind::EventsSweep => toml::to_string(&crate::scene::events::load(&sweep.scene, &sweep.overrides)?)?,
+        _ => crate::scene::file::load(&sweep.scene, &sweep.overrides)?.to_toml()?,
+    })
 }
 
 pub fn store(root: &Path, sweep: &Sweep) -> Result<(), CliError> {
@@ -475,12 +494,66 @@ fn job_scene(sweep: &Sweep, job: &Job) -> Result<SceneFile, CliError> {
     Ok(file)
 }
 
+/// The scene of an event-driven job: the sweep's scene with the sweep's overrides, then the
+/// job's values and seed, read by the event-driven scene's loader as `--set` would be.
+pub fn events_job_scene(sweep: &Sweep, job: &Job) -> Result<crate::scene::events::EventScene, CliError> {
+    let mut set = sweep.overrides.clone();
+    for e in &job.edits {
+        match e {
+            Edit::Events(e) => set.push(e.to_set()),
+            other => return Err(format!("job `{}`: {other:?} is not an edit of an event-driven scene", job.id).into()),
+        }
+    }
+    Ok(crate::scene::events::load(&sweep.scene, &set)?)
+}
+
+/// What an event-driven job stores as `result.json`: its labels beside what it measured, or
+/// why the run stopped (a collapse without a guard, say: an outcome of the physics, kept as
+/// the job's result, not retried).
+#[derive(Debug, Serialize, Deserialize)]
+pub struct EventsResult {
+    pub id: String,
+    pub labels: serde_json::Map<String, Value>,
+    pub measured: Option<crate::events::measure::Measured>,
+    pub failure: Option<String>,
+    pub wall_s: f64,
+}
+
+/// Runs one event-driven job in memory and writes its `result.json`, atomically and last.
+fn run_events_job(root: &Path, sweep: &Sweep, job: &Job) -> Result<(), CliError> {
+    let scene = events_job_scene(sweep, job)?;
+    let wall = std::time::Instant::now();
+    let (measured, failure) = match crate::events::measure::measure(&scene) {
+        Ok(m) => (Some(m), None),
+        Err(e) => (None, Some(e)),
+    };
+    let result = EventsResult {
+        id: job.id.clone(),
+        labels: job.labels.clone(),
+        measured,
+        failure,
+        wall_s: wall.elapsed().as_secs_f64(),
+    };
+    let dir = job_dir(root, job);
+    std::fs::create_dir_all(&dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    analysis::io::write_json_atomic(&dir.join("result.json"), &result)?;
+    Ok(())
+}
+
 /// Checks the scene of every job (the sweep's scene with the job's edits) before any job
 /// starts, so a bad value fails the sweep at once, naming the job and the key, instead of
 /// failing its jobs one by one after others have run.
 pub fn check_jobs(sweep: &Sweep) -> Result<(), CliError> {
     for job in &sweep.jobs {
         let blame = |e: &dyn std::fmt::Display| format!("job `{}` ({} of the sweep): {e}", job.id, sweep.kind);
+        // One kind of scene per sweep: event-driven jobs in an events sweep, tray jobs elsewhere.
+        if (job.model == Model::Events) != (sweep.kind == SweepKind::EventsSweep) {
+            return Err(blame(&format!("a {} job in a sweep of kind {}", job.model.name(), sweep.kind)).into());
+        }
+        if job.model == Model::Events {
+            events_job_scene(sweep, job).and_then(|s| Ok(s.config()?)).map_err(|e| blame(&e))?;
+            continue;
+        }
         let file = job_scene(sweep, job).map_err(|e| blame(&e))?;
         file.validate().map_err(|e| blame(&e))?;
         if let particles::scene::TimeStep::Seconds(_) = file.dem.run.dt {
@@ -519,6 +592,9 @@ struct JobResult<'a> {
 /// Runs one job: the model into `jobs/<id>/run`, the shared analysis into `jobs/<id>/analysis`,
 /// then `result.json` (labels + the analysis summary), atomically and last.
 fn run_job(root: &Path, sweep: &Sweep, job: &Job, samples: &Path) -> Result<(), CliError> {
+    if job.model == Model::Events {
+        return run_events_job(root, sweep, job);
+    }
     let dir = job_dir(root, job);
     let run_dir = dir.join("run");
     let file = job_scene(sweep, job)?;
@@ -546,6 +622,7 @@ fn run_job(root: &Path, sweep: &Sweep, job: &Job, samples: &Path) -> Result<(), 
                 },
             )
         }
+        Model::Events => unreachable!("event-driven jobs run in run_events_job"),
         Model::Automaton => {
             let s = crate::automaton::run_automaton(
                 &crate::automaton::resolve_lattice(&sweep.scene, file)?,
