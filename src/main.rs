@@ -6,6 +6,7 @@
 //! (`config.json`) and `summary.json`, and prints that summary as the last line of stdout.
 
 mod analysis_dir;
+mod automaton_parameters;
 mod bounds;
 mod bytes;
 mod calibrate;
