@@ -102,7 +102,10 @@ impl Spread {
     /// Every length finite and >= 0, the quantiles in order.
     fn validate(&self, key: &str) -> Result<(), MeasuredError> {
         let q = [self.q10, self.q25, self.median, self.q75, self.q90];
-        for (name, v) in [("mean", self.mean)].into_iter().chain(["q10", "q25", "median", "q75", "q90"].into_iter().zip(q)) {
+        for (name, v) in [("mean", self.mean)]
+            .into_iter()
+            .chain(["q10", "q25", "median", "q75", "q90"].into_iter().zip(q))
+        {
             if !(v.is_finite() && v >= 0.0) {
                 return Err(err(format!("{key}.{name}"), format!("must be a finite length >= 0 (m), got {v}")));
             }
@@ -146,10 +149,16 @@ impl MeasuredFile {
             c.excursion.validate(&format!("excursion.by_contacts[{k}].excursion"))?;
             c.sideways.validate(&format!("excursion.by_contacts[{k}].sideways"))?;
             if !(c.low.is_finite() && c.low >= 0.0) {
-                return Err(err(format!("excursion.by_contacts[{k}].low"), format!("must be a contact number >= 0, got {}", c.low)));
+                return Err(err(
+                    format!("excursion.by_contacts[{k}].low"),
+                    format!("must be a contact number >= 0, got {}", c.low),
+                ));
             }
             if k > 0 && c.low <= self.excursion.by_contacts[k - 1].low {
-                return Err(err(format!("excursion.by_contacts[{k}].low"), "classes must increase in contact number"));
+                return Err(err(
+                    format!("excursion.by_contacts[{k}].low"),
+                    "classes must increase in contact number",
+                ));
             }
         }
         Ok(())
@@ -318,14 +327,31 @@ mod tests {
         // The stripe scene's overall excursion (seed 1) and its sideways steps, whose lower
         // quantiles are 0.
         for s in [
-            spread(0.013250126770672077, [0.010130457653176819, 0.01283641483061668, 0.01426233673158028, 0.014290059879498471, 0.014297988725621326]),
-            spread(0.0002507207666312752, [0.0, 0.0, 0.000007845461368560791, 0.000330016206135042, 0.0008673279080539944]),
+            spread(
+                0.013250126770672077,
+                [
+                    0.010130457653176819,
+                    0.01283641483061668,
+                    0.01426233673158028,
+                    0.014290059879498471,
+                    0.014297988725621326,
+                ],
+            ),
+            spread(
+                0.0002507207666312752,
+                [0.0, 0.0, 0.000007845461368560791, 0.000330016206135042, 0.0008673279080539944],
+            ),
         ] {
             let q = Quantiles::of(&s);
             for (u, v) in [(0.1, s.q10), (0.25, s.q25), (0.5, s.median), (0.75, s.q75), (0.9, s.q90)] {
                 assert!((q.at(u) - v).abs() < 1e-15, "{u}: {} against {v}", q.at(u));
             }
-            assert!((q.mean() - s.mean).abs() < 1e-12 * s.mean.max(1e-9), "{} against {}", q.mean(), s.mean);
+            assert!(
+                (q.mean() - s.mean).abs() < 1e-12 * s.mean.max(1e-9),
+                "{} against {}",
+                q.mean(),
+                s.mean
+            );
             assert!(q.at_knots.windows(2).all(|w| w[1] >= w[0]) && q.at_knots[0] >= 0.0, "{q:?}");
         }
     }

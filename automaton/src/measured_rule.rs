@@ -160,7 +160,8 @@ pub(crate) fn flights(
     sc: &mut MeasuredScratch,
 ) {
     sc.counts.clear();
-    sc.counts.extend((0..nx).map(|i| (0..ny).map(|j| lf[j * nx + i] as u32).sum::<u32>()));
+    sc.counts
+        .extend((0..nx).map(|i| (0..ny).map(|j| lf[j * nx + i] as u32).sum::<u32>()));
     bands(&sc.counts, ny, &m.band, &mut sc.band, &mut sc.lead);
     let occupied = |j: usize, i: usize| lf[j * nx + i] > 0;
     sc.movers.clear();
@@ -175,8 +176,7 @@ pub(crate) fn flights(
                 continue;
             }
             sc.cells.push(i);
-            let held = h > 1
-                || (sc.band[i] && !(sc.lead[i] && uniform(rng::word(key, Stream::Escape, i, 0)) < m.edge_escape));
+            let held = h > 1 || (sc.band[i] && !(sc.lead[i] && uniform(rng::word(key, Stream::Escape, i, 0)) < m.edge_escape));
             if held {
                 sc.jumps.push(0);
                 continue;
@@ -245,7 +245,16 @@ mod tests {
     #[test]
     fn draws_reproduce_the_measured_quantiles_and_mean() {
         // The stripe scene's (seed 1) excursions of grains with 2 contacts, in metres.
-        let s = spread(0.012587854193517975, [0.008675179701961877, 0.011122165688349811, 0.014013540446437753, 0.014268529115688836, 0.01429579077890196]);
+        let s = spread(
+            0.012587854193517975,
+            [
+                0.008675179701961877,
+                0.011122165688349811,
+                0.014013540446437753,
+                0.014268529115688836,
+                0.01429579077890196,
+            ],
+        );
         let q = Quantiles::of(&s);
         let cell = 0.0007584766454585922;
         let n = 200_000;

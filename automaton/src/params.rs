@@ -65,7 +65,10 @@ impl std::fmt::Display for ParamsError {
             }
             ParamsError::Probability { field, value } => write!(f, "automaton.{field} must lie in [0, 1], got {value}"),
             ParamsError::NoMeasurements => {
-                write!(f, "rule `measured` needs a parameter file: set automaton.parameters (written by `stripes mechanism RUN`)")
+                write!(
+                    f,
+                    "rule `measured` needs a parameter file: set automaton.parameters (written by `stripes mechanism RUN`)"
+                )
             }
             ParamsError::Positive { field, value } => write!(f, "automaton.{field} must be positive and finite, got {value}"),
             ParamsError::Threshold {

@@ -87,7 +87,7 @@ pub struct Spec {
     pub snapshot_every: u64,
     /// A parameter file written by `stripes mechanism RUN` (`RUN/mechanism/automaton.toml`);
     /// a relative path is read from the working directory. With it the rule is `measured`
-    /// (or `strict`), the cell the file's.
+    /// (or `strict`), and the cell the file's (in place of `cell`, said in the run's warnings).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub parameters: Option<std::path::PathBuf>,
     /// Use a parameter file measured on another scene (other grains, tray or drive); the run's
@@ -182,12 +182,6 @@ impl Spec {
             if !(v.is_finite() && v > 0.0) {
                 return Err(err(key, format!("must be positive and finite, got {v}")));
             }
-        }
-        if self.parameters.is_some() && self.cell.is_some() {
-            return Err(err(
-                "automaton.cell",
-                "is set by automaton.parameters (the file's cell.size_m): leave one of them out".into(),
-            ));
         }
         if self.parameters_force && self.parameters.is_none() {
             return Err(err("automaton.parameters_force", "needs automaton.parameters".into()));

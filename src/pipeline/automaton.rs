@@ -121,7 +121,7 @@ pub fn run_automaton(scene: &LatticeScene, opts: &AutomatonOptions) -> Result<Au
     for w in &outcome.warnings {
         eprintln!("warning: {w}");
     }
-    let mut warnings: Vec<String> = scene.parameters.iter().filter_map(|p| p.warning.clone()).collect();
+    let mut warnings: Vec<String> = scene.parameters.iter().flat_map(|p| p.warnings.clone()).collect();
     for w in &warnings {
         eprintln!("warning: {w}");
     }
