@@ -101,10 +101,11 @@ pub struct AutomatonSummary {
 /// `<out>/analysis`.
 pub fn run_automaton(scene: &LatticeScene, opts: &AutomatonOptions) -> Result<AutomatonSummary, Error> {
     let (file, out) = (&scene.file, opts.out.as_path());
+    // The rule first: a refused one writes nothing.
+    let rule = file.automaton.rule_with(opts.rule).map_err(|e| e.to_string())?;
     crate::output::claim(out, opts.force)?;
     let mut dir = RunDir::create(out, &json!({ "args": opts, "scene_file": scene.path, "scene": file }))?;
     analysis::io::write_atomic(&out.join("scene.toml"), file.to_toml()?.as_bytes())?;
-    let rule = file.automaton.rule_with(opts.rule).map_err(|e| e.to_string())?;
     let s = setup(file, &opts.sample_cache, opts.quiet)?;
     let mut params = cellular::params(file, rule, &s.slide_dem, &file.automaton.free_params());
     if rule == RuleSet::Measured {
