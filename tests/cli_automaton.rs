@@ -222,3 +222,89 @@ fn compare_runs_both_models_on_one_sample_and_writes_the_report() {
     }
     std::fs::remove_dir_all(d).unwrap();
 }
+
+/// `automaton.parameters` (issue 40): the tiny scene run with the measured rule from a
+/// parameter file of the stripe scene's layout, rewritten to the tiny scene's source; the
+/// same seed twice gives the same snapshots; a file of another scene is refused by key
+/// unless forced, and the forced run says so in its summary.
+#[test]
+fn the_measured_rule_runs_from_a_parameter_file_and_refuses_another_scenes() {
+    let d = std::env::temp_dir().join(format!("stripes-cli-measured-{}", std::process::id()));
+    let scene = tiny_scene(&d);
+    let samples = d.join("samples").display().to_string();
+    let text = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/automaton-stripes-seed1.toml"))
+        .unwrap()
+        .replace("grains = 2000", "grains = 40")
+        .replace("mean_diameter_m = 0.000751158012619811", "mean_diameter_m = 0.00075")
+        .replace("length_m = 0.1", "length_m = 0.02")
+        .replace("width_m = 0.02", "width_m = 0.005")
+        .replace("drive = [[0.0, 3.0, 0.01]]", "drive = [[0.0, 20.0, 0.025]]");
+    let file = d.join("automaton.toml");
+    std::fs::write(&file, text).unwrap();
+    let set = format!("automaton.parameters={}", file.display());
+    let run = |name: &str, extra: &[&str]| {
+        let out = d.join(name).display().to_string();
+        let mut args = vec![
+            "automaton",
+            &scene,
+            "--set",
+            &set,
+            "--out",
+            &out,
+            "--sample-cache",
+            &samples,
+            "--quiet",
+        ];
+        args.extend_from_slice(extra);
+        let (ok, stdout, stderr) = stripes(&args);
+        (ok, stdout, stderr, out)
+    };
+    let (ok, stdout, stderr, one) = run("one", &[]);
+    assert!(ok, "{stderr}");
+    let s = last_json(&stdout);
+    assert_eq!(s["rule"], "measured");
+    assert_eq!((s["mass_initial"].as_u64(), s["mass_final"].as_u64()), (Some(40), Some(40)));
+    assert_eq!(s["cells"]["nx"], 26, "the file's 0.758 mm cell on 20 mm");
+    assert!(
+        s["warnings"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .all(|w| !w.as_str().unwrap().contains("parameters")),
+        "{s}"
+    );
+    let (ok, _, stderr, two) = run("two", &[]);
+    assert!(ok, "{stderr}");
+    let bytes = |dir: &str| std::fs::read(Path::new(dir).join("snapshots.bin")).unwrap();
+    assert_eq!(bytes(&one), bytes(&two), "same seed, same snapshots");
+    // The analysis reads the run.
+    let (ok, stdout, stderr) = stripes(&["analyze", &one, "--out", &format!("{one}/again")]);
+    assert!(ok, "{stderr}");
+    assert_eq!(last_json(&stdout)["frames"], 11);
+    // Another scene's file: refused, naming the key and the file; forced, warned.
+    let (ok, _, stderr, _) = run("other", &["--set", "particles.count=41"]);
+    assert!(
+        !ok && stderr.contains("automaton.parameters") && stderr.contains("source.grains"),
+        "{stderr}"
+    );
+    assert!(stderr.contains("automaton.toml"), "{stderr}");
+    let (ok, stdout, stderr, _) = run(
+        "forced",
+        &["--set", "particles.count=41", "--set", "automaton.parameters_force=true"],
+    );
+    assert!(ok, "{stderr}");
+    let w = last_json(&stdout)["warnings"].to_string();
+    assert!(w.contains("parameters_force") && w.contains("source.grains"), "{w}");
+    // rule measured without a file is refused by key.
+    let (ok, _, stderr) = stripes(&[
+        "automaton",
+        &scene,
+        "--rule",
+        "measured",
+        "--out",
+        &d.join("none").display().to_string(),
+        "--quiet",
+    ]);
+    assert!(!ok && stderr.contains("automaton.parameters"), "{stderr}");
+    std::fs::remove_dir_all(&d).ok();
+}

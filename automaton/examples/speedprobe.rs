@@ -49,6 +49,7 @@ fn main() {
         },
         y: YBoundary::Walls,
         seed: 1,
+        measured: None,
     };
     let mut a = Automaton::new(Lattice::from_heights(nx, ny, &h).unwrap(), params, Direction::Plus).unwrap();
     let t = Instant::now();

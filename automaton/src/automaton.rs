@@ -42,8 +42,9 @@ impl Automaton {
     pub fn new(lattice: Lattice, params: Params, first: Direction) -> Result<Self, ParamsError> {
         params.validate()?;
         let resolved = params.resolve();
-        // Trains and graded transport have no bit-parallel step: they run on bytes.
-        let lattice = if resolved.trains || resolved.graded.is_some() {
+        // Trains, graded transport and the measured rule have no bit-parallel step: they run
+        // on bytes.
+        let lattice = if resolved.trains || resolved.graded.is_some() || resolved.measured.is_some() {
             lattice.into_byte_storage()
         } else {
             lattice

@@ -9,6 +9,8 @@
 //! - [`RuleSet::Strict`]: the thesis' two rules exactly. In a submonolayer every grain stops
 //!   where the cell before the next grain's start is, so the pattern moves rigidly by one
 //!   cell per half step (against the flight) and nothing ever forms.
+//! - [`RuleSet::Measured`]: flights, band-edge escapes and sideways steps drawn from a DEM
+//!   run's measured distributions ([`measured`], [`measured_rule`]).
 //! - [`RuleSet::Physical`] (default): the same rules in the tray frame plus a flight cap, a
 //!   sliding threshold, stochastic flights, knock-through along lines of touching grains,
 //!   lateral contacts and optional sideways moves ([`Physical`]), each switchable.
@@ -22,6 +24,8 @@ pub mod automaton;
 mod bits;
 pub mod lattice;
 pub mod mapping;
+pub mod measured;
+pub mod measured_rule;
 mod neighbours;
 pub mod params;
 mod rng;

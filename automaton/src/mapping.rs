@@ -335,6 +335,7 @@ mod tests {
                 physical: ph,
                 y: YBoundary::Walls,
                 seed: 1,
+                measured: None,
             }
             .resolve()
         };

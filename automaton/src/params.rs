@@ -3,6 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::measured_rule::MeasuredRule;
 use crate::transport::Graded;
 
 /// Which rule set runs.
@@ -15,11 +16,14 @@ pub enum RuleSet {
     Strict,
     /// The strict rules plus what a shaken tray supplies, in the tray frame ([`Physical`]).
     Physical,
+    /// Flights, band-edge escapes and sideways steps drawn from the distributions measured on
+    /// a DEM run ([`crate::measured_rule`]); needs [`Params::measured`].
+    Measured,
 }
 
 impl RuleSet {
     /// Every name, as scene files and the command line write it.
-    pub const NAMES: &'static [&'static str] = &["strict", "physical"];
+    pub const NAMES: &'static [&'static str] = &["strict", "physical", "measured"];
 }
 
 impl std::str::FromStr for RuleSet {
@@ -28,6 +32,7 @@ impl std::str::FromStr for RuleSet {
         match s {
             "strict" => Ok(RuleSet::Strict),
             "physical" => Ok(RuleSet::Physical),
+            "measured" => Ok(RuleSet::Measured),
             _ => Err(ParamsError::UnknownRuleSet { given: s.into() }),
         }
     }
@@ -48,6 +53,8 @@ pub enum ParamsError {
         tray_acceleration: f64,
         friction_acceleration: f64,
     },
+    /// The `measured` rule without its measured numbers (`automaton.parameters`).
+    NoMeasurements,
 }
 
 impl std::fmt::Display for ParamsError {
@@ -57,6 +64,12 @@ impl std::fmt::Display for ParamsError {
                 write!(f, "unknown rule set `{given}`, expected one of {}", RuleSet::NAMES.join(", "))
             }
             ParamsError::Probability { field, value } => write!(f, "automaton.{field} must lie in [0, 1], got {value}"),
+            ParamsError::NoMeasurements => {
+                write!(
+                    f,
+                    "rule `measured` needs a parameter file: set automaton.parameters (written by `stripes mechanism RUN`)"
+                )
+            }
             ParamsError::Positive { field, value } => write!(f, "automaton.{field} must be positive and finite, got {value}"),
             ParamsError::Threshold {
                 tray_acceleration,
@@ -241,6 +254,9 @@ pub struct Params {
     pub y: YBoundary,
     /// Seed of the counter-based random bits.
     pub seed: u64,
+    /// Used by `measured` only: the rule's numbers from a DEM run's parameter file.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub measured: Option<MeasuredRule>,
 }
 
 /// Which half step runs: the run's seed and the half step's number `t` (they key the random
@@ -271,6 +287,8 @@ pub(crate) struct Resolved {
     pub periodic_y: bool,
     /// Graded transport ([`Transport::Graded`]); `None`: every flight goes up to the cap.
     pub graded: Option<Graded>,
+    /// The measured rule ([`crate::measured_rule`]); `None`: another rule set.
+    pub measured: Option<MeasuredRule>,
 }
 
 impl Params {
@@ -283,6 +301,15 @@ impl Params {
                 Err(ParamsError::Probability { field, value })
             }
         };
+        if self.rule == RuleSet::Measured {
+            let m = self.measured.ok_or(ParamsError::NoMeasurements)?;
+            prob("edge escape", m.edge_escape)?;
+            for (field, value) in [("measured cell", m.cell_m), ("measured cell across", m.cell_y_m)] {
+                if !(value.is_finite() && value > 0.0) {
+                    return Err(ParamsError::Positive { field, value });
+                }
+            }
+        }
         let ph = &self.physical;
         if let Activation::Bernoulli { p } = ph.activation {
             prob("activation", p)?;
@@ -333,6 +360,22 @@ impl Params {
                 lateral: Lateral::None,
                 periodic_y,
                 graded: None,
+                measured: None,
+            },
+            // The measured rule draws its own flights and sideways steps; every grain of the
+            // top layer is a candidate, as with `strict`.
+            RuleSet::Measured => Resolved {
+                frozen: false,
+                cap: usize::MAX,
+                activation: crate::rng::ONE,
+                knock: 0,
+                sideways: 0,
+                hold: 0,
+                trains: true,
+                lateral: Lateral::None,
+                periodic_y,
+                graded: None,
+                measured: self.measured,
             },
             RuleSet::Physical => {
                 let p = &self.physical;
@@ -373,6 +416,7 @@ impl Params {
                         Transport::Uniform => None,
                         Transport::Graded(g) => Some(g),
                     },
+                    measured: None,
                 }
             }
         }
@@ -387,7 +431,7 @@ mod tests {
     fn refused_parameters_name_the_field_and_value() {
         assert_eq!(
             "loose".parse::<RuleSet>().unwrap_err().to_string(),
-            "unknown rule set `loose`, expected one of strict, physical"
+            "unknown rule set `loose`, expected one of strict, physical, measured"
         );
         let mut params = Params {
             rule: RuleSet::Physical,
@@ -397,6 +441,7 @@ mod tests {
             },
             y: YBoundary::Walls,
             seed: 1,
+            measured: None,
         };
         let e = params.validate().unwrap_err();
         assert_eq!(

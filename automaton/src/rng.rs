@@ -42,6 +42,13 @@ pub enum Stream {
     /// Whether an occupied neighbouring cell holds a grain (frustration), one key per
     /// neighbour ([`neighbour_key`]).
     Frustration = 6,
+    /// The measured rule's jump of a grain: the quantile (digit 0) and the rounding to cells
+    /// (digit 1), per start column ([`crate::measured_rule`]).
+    Jump = 7,
+    /// Whether a grain of a band's leading edge escapes (measured rule).
+    Escape = 8,
+    /// The measured rule's sideways step: quantile, rounding, direction (digits 0, 1, 2).
+    SideStep = 9,
 }
 
 /// The row key of the draws about neighbour `d` (0..8) of each cell, from the row's key.

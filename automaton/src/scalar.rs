@@ -20,11 +20,14 @@
 //!    until it touches a grain of its row.
 //! 3. *Sideways.* A top grain moves to the +y neighbour column if that is lower, with the
 //!    drawn probability; all at once; then the same towards -y.
+//!
+//! The `measured` rule replaces steps 1-3 by its own ([`crate::measured_rule`]).
 //! 4. *Resting (rule 2).* A top grain is at rest when both x-neighbours are at most one
 //!    grain lower; otherwise it moves to the lower side (the flight direction on a tie).
 //!    Applied in sweeps of increasing `i` until every slope is at most 1; each move lowers
 //!    `sum h^2` by at least 2, so this ends.
 
+use crate::measured_rule::{self, MeasuredScratch};
 use crate::neighbours::{neighbour_row, offset_row, NEIGHBOURS};
 use crate::params::{Lateral, Resolved, Tick};
 use crate::rng::{self, Stream};
@@ -38,6 +41,7 @@ pub(crate) struct ScalarScratch {
     flies: Vec<bool>,
     impacts: Vec<(usize, usize, u8)>,
     graded: GradedScratch,
+    measured: MeasuredScratch,
 }
 
 /// Buffers of graded flights ([`graded_flights`]).
@@ -63,6 +67,7 @@ impl ScalarScratch {
                 jumps: vec![0; nx],
                 ..GradedScratch::default()
             },
+            measured: MeasuredScratch::default(),
         }
     }
 }
@@ -140,7 +145,9 @@ pub(crate) fn half_step(nx: usize, ny: usize, h: &mut [u8], r: &Resolved, tick: 
     };
     sc.impacts.clear();
     if !r.frozen {
-        if let Some(g) = &r.graded {
+        if let Some(m) = &r.measured {
+            measured_rule::flights(nx, ny, lf, &mut sc.new, m, seed, t, r.periodic_y, &mut sc.measured);
+        } else if let Some(g) = &r.graded {
             graded_flights(nx, ny, lf, flies, &mut sc.new, g, cap, r.trains, &mut sc.graded);
         } else {
             for j in 0..ny {

@@ -85,6 +85,18 @@ pub struct Spec {
     /// Write a snapshot every this many drive periods (and at the last), so that long runs
     /// fit in memory and on disk; at least 1 and at most the run's periods.
     pub snapshot_every: u64,
+    /// A parameter file written by `stripes mechanism RUN` (`RUN/mechanism/automaton.toml`);
+    /// a relative path is read from the working directory. With it the rule is `measured`
+    /// (or `strict`), and the cell the file's (in place of `cell`, said in the run's warnings).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub parameters: Option<std::path::PathBuf>,
+    /// Use a parameter file measured on another scene (other grains, tray or drive); the run's
+    /// summary then carries a warning.
+    pub parameters_force: bool,
+    /// The cell of the parameter file (`cell.size_m`, m), filled in by the root crate when it
+    /// reads the file; never scene text.
+    #[serde(skip)]
+    pub parameters_cell: Option<f64>,
 }
 
 impl Default for Spec {
@@ -111,6 +123,9 @@ impl Default for Spec {
             sideways_probability: 0.1,
             cell: None,
             snapshot_every: 1,
+            parameters: None,
+            parameters_force: false,
+            parameters_cell: None,
         }
     }
 }
@@ -168,12 +183,37 @@ impl Spec {
                 return Err(err(key, format!("must be positive and finite, got {v}")));
             }
         }
+        if self.parameters_force && self.parameters.is_none() {
+            return Err(err("automaton.parameters_force", "needs automaton.parameters".into()));
+        }
+        self.rule_with(None)?;
         if let Some(c) = self.cell {
             if !(c.is_finite() && c > 0.0) {
                 return Err(err("automaton.cell", format!("must be a positive length (m), got {c}")));
             }
         }
         Ok(())
+    }
+
+    /// The rule that runs, given the command line's choice: with `parameters`, `physical`
+    /// (the default) becomes `measured`, and `strict` stays; `measured` needs `parameters`.
+    pub fn rule_with(&self, chosen: Option<RuleSet>) -> Result<RuleSet, SpecError> {
+        let err = |key: &str, message: &str| SpecError {
+            key: key.into(),
+            message: message.into(),
+        };
+        match (chosen, self.rule, &self.parameters) {
+            (Some(RuleSet::Physical), _, Some(_)) => Err(err(
+                "automaton.parameters",
+                "rule physical takes its numbers from the tray, not from a parameter file: use rule measured or strict, or drop automaton.parameters",
+            )),
+            (None, RuleSet::Physical, Some(_)) => Ok(RuleSet::Measured),
+            (Some(RuleSet::Measured), _, None) | (None, RuleSet::Measured, None) => Err(err(
+                "automaton.parameters",
+                "rule measured needs a parameter file: automaton.parameters = \"RUN/mechanism/automaton.toml\" (written by `stripes mechanism RUN`)",
+            )),
+            (chosen, rule, _) => Ok(chosen.unwrap_or(rule)),
+        }
     }
 
     /// The free parameters this table sets (ingredients switched off are `None`).

@@ -542,6 +542,7 @@ mod tests {
                 },
                 y,
                 seed: 3,
+                measured: None,
             };
             let r = params.resolve();
             let (mut a, mut b) = (rows.clone(), rows);

@@ -25,6 +25,7 @@ fn all_on(cap: usize, y: YBoundary) -> Params {
         },
         y,
         seed: 11,
+        measured: None,
     }
 }
 
@@ -34,6 +35,7 @@ fn strict(y: YBoundary) -> Params {
         physical: Physical::off(),
         y,
         seed: 1,
+        measured: None,
     }
 }
 
@@ -449,6 +451,7 @@ fn graded(cap: usize, hold: f64, trains: bool, sideways: f64) -> Params {
         },
         y: YBoundary::Walls,
         seed: 5,
+        measured: None,
     }
 }
 

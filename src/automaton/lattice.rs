@@ -53,7 +53,8 @@ impl Cells {
         let scene = &file.dem;
         let d = file
             .automaton
-            .cell
+            .parameters_cell
+            .or(file.automaton.cell)
             .unwrap_or(scene.particles.radius_min + scene.particles.radius_max);
         let nx = ((scene.tray.length / d).round() as usize).max(1);
         let ny = ((scene.tray.width / d).round() as usize).max(1);
@@ -216,6 +217,7 @@ pub fn params(file: &SceneFile, rule: RuleSet, slide: &SlideMeasure, free: &Free
             YBoundary::Periodic
         },
         seed: scene.run.seed,
+        measured: None,
     }
 }
 

@@ -4,6 +4,7 @@
 
 pub mod calibrate;
 pub mod lattice;
+pub mod parameters;
 pub mod run;
 
 pub use run::{resolve_lattice, run_automaton, AutomatonOptions};

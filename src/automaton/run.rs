@@ -24,15 +24,19 @@ pub struct LatticeScene {
     /// Where the scene was read (named in the summary).
     pub path: PathBuf,
     pub file: SceneFile,
+    /// The file `automaton.parameters` names, read and checked.
+    pub parameters: Option<crate::automaton::parameters::Parameters>,
 }
 
 /// Checks `file` (read from `path`) for the automaton, before anything is written.
-pub fn resolve_lattice(path: &Path, file: SceneFile) -> Result<LatticeScene, Error> {
+pub fn resolve_lattice(path: &Path, mut file: SceneFile) -> Result<LatticeScene, Error> {
     file.validate()?;
+    let parameters = crate::automaton::parameters::read(&mut file)?;
     lattice::validate_lattice(&file)?;
     Ok(LatticeScene {
         path: path.to_path_buf(),
         file,
+        parameters,
     })
 }
 
@@ -97,12 +101,16 @@ pub struct AutomatonSummary {
 /// `<out>/analysis`.
 pub fn run_automaton(scene: &LatticeScene, opts: &AutomatonOptions) -> Result<AutomatonSummary, Error> {
     let (file, out) = (&scene.file, opts.out.as_path());
+    // The rule first: a refused one writes nothing.
+    let rule = file.automaton.rule_with(opts.rule).map_err(|e| e.to_string())?;
     crate::rundir::output::claim(out, opts.force)?;
     let mut dir = RunDir::create(out, &json!({ "args": opts, "scene_file": scene.path, "scene": file }))?;
     analysis::io::write_atomic(&out.join("scene.toml"), file.to_toml()?.as_bytes())?;
-    let rule = opts.rule.unwrap_or(file.automaton.rule);
     let s = setup(file, &opts.sample_cache, opts.quiet)?;
-    let params = lattice::params(file, rule, &s.slide_dem, &file.automaton.free_params());
+    let mut params = lattice::params(file, rule, &s.slide_dem, &file.automaton.free_params());
+    if rule == RuleSet::Measured {
+        params.measured = scene.parameters.as_ref().map(|p| p.rule(file)).transpose()?;
+    }
     let wall = Instant::now();
     let b = progress_bar(1, opts.quiet, "automaton");
     let outcome = evolve(file, s.lattice, params, Some(&out.join("snapshots.bin")), s.radius, &b, |_, _| ())?;
@@ -114,7 +122,11 @@ pub fn run_automaton(scene: &LatticeScene, opts: &AutomatonOptions) -> Result<Au
     for w in &outcome.warnings {
         eprintln!("warning: {w}");
     }
-    let mut warnings = outcome.warnings.clone();
+    let mut warnings: Vec<String> = scene.parameters.iter().flat_map(|p| p.warnings.clone()).collect();
+    for w in &warnings {
+        eprintln!("warning: {w}");
+    }
+    warnings.extend(outcome.warnings.iter().cloned());
     warnings.extend(analysed.warnings.iter().cloned());
     let c = outcome.cells;
     let cell_updates = (c.nx * c.ny) as f64 * outcome.half_steps as f64;
