@@ -10,7 +10,7 @@ use std::path::PathBuf;
 
 use crate::rundir::output::CliError;
 use crate::studies::sweep::ablate::{automaton_configs, dem_configs, jobs, pin_reference_step};
-use crate::studies::sweep::{self, Model, Sweep, SweepKind, Which};
+use crate::studies::sweep::{Model, Sweep, SweepKind, Which};
 
 #[derive(clap::Args, Debug, serde::Serialize)]
 pub struct Args {
@@ -30,7 +30,7 @@ pub struct Args {
     #[arg(long, default_value = "out/ablate")]
     pub out: PathBuf,
     #[command(flatten)]
-    pub sweep: sweep::SweepArgs,
+    pub sweep: crate::cli::args::SweepArgs,
 }
 
 pub fn run(args: Args) -> Result<String, CliError> {
@@ -59,5 +59,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
         jobs: all,
         resolved: String::new(),
     };
-    args.sweep.execute(&args.out, &sweep, crate::studies::sweep::ablate::report)
+    args.sweep
+        .engine()
+        .execute(&args.out, &sweep, crate::studies::sweep::ablate::report)
 }

@@ -21,10 +21,7 @@ pub struct Args {
     pub out: Option<PathBuf>,
     #[command(flatten)]
     #[serde(flatten)]
-    pub replace: crate::cli::args::Force,
-    #[command(flatten)]
-    #[serde(flatten)]
-    pub quiet: crate::cli::args::Quiet,
+    pub writing: crate::cli::args::Writing,
     /// Cell width of the density map (m); the area fraction is averaged exactly per cell.
     #[arg(long, default_value_t = 1e-3, value_parser = crate::cli::values::positive, allow_negative_numbers = true)]
     pub cell: f64,
@@ -132,7 +129,7 @@ impl Args {
         }
         Ok(AnalysisOptions {
             out: self.out.clone(),
-            force: self.replace.force,
+            force: self.writing.force,
             dt: self.dt,
             options: self.options()?,
             top_view: self.top_view.clone(),

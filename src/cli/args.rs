@@ -22,6 +22,17 @@ pub struct Quiet {
     pub quiet: bool,
 }
 
+/// `--force` and `--quiet` of a command that writes a directory and shows its progress.
+#[derive(clap::Args, Clone, Copy, Debug, Default, Serialize)]
+pub struct Writing {
+    /// Replace the files of an output directory that already holds some (default: refuse it).
+    #[arg(long)]
+    pub force: bool,
+    /// No progress output (warnings still go to stderr, the summary to stdout).
+    #[arg(long)]
+    pub quiet: bool,
+}
+
 /// `--sample-cache` of a command that starts from prepared samples.
 #[derive(clap::Args, Clone, Debug, Serialize)]
 pub struct SampleCache {
@@ -63,4 +74,42 @@ pub struct Overrides {
     /// --set toggles.friction=false.
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub overrides: Vec<String>,
+}
+
+/// Options every sweep command shares (`ablate`, `phase-map`, `events-sweep`).
+#[derive(clap::Args, Debug, Serialize)]
+pub struct SweepArgs {
+    /// Override a scene key for every job (repeatable), e.g. --set run.duration=5.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub overrides: Vec<String>,
+    /// Run only the jobs with index I mod N (e.g. 0/4); `stripes collect DIR` merges shards.
+    #[arg(long, default_value = "0/1")]
+    pub shard: crate::studies::sweep::Shard,
+    /// Jobs run at once on this machine (default: all cores); results do not depend on it.
+    #[arg(long, alias = "threads")]
+    pub jobs: Option<usize>,
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub samples: SampleCache,
+    #[command(flatten)]
+    #[serde(flatten)]
+    pub progress: Quiet,
+    // Without --force, a sweep continues the same sweep in --out (its finished jobs are kept).
+    #[command(flatten)]
+    #[serde(skip)]
+    pub replace: Force,
+}
+
+impl SweepArgs {
+    /// The engine's options these arguments select.
+    pub fn engine(&self) -> crate::studies::sweep::Engine {
+        crate::studies::sweep::Engine {
+            overrides: self.overrides.clone(),
+            shard: self.shard,
+            jobs: self.jobs,
+            sample_cache: self.samples.sample_cache.clone(),
+            quiet: self.progress.quiet,
+            force: self.replace.force,
+        }
+    }
 }

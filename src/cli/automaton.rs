@@ -39,8 +39,9 @@ pub struct Args {
     #[command(flatten)]
     #[serde(flatten)]
     pub set: crate::cli::args::Overrides,
-    /// Rule set: strict (thesis 3.1 exactly) or physical (plus what a shaken tray supplies,
-    /// the scene's [automaton] table). Default: the scene's automaton.rule, itself physical.
+    /// Rule set: strict (thesis 3.1 exactly), physical (plus what a shaken tray supplies,
+    /// the scene's [automaton] table) or measured (every number from a DEM run's parameter
+    /// file, automaton.parameters). Default: the scene's automaton.rule, itself physical.
     #[arg(long, value_parser = rule_parser())]
     pub rule: Option<RuleSet>,
     #[command(flatten)]

@@ -17,10 +17,7 @@ pub struct Args {
     pub out: PathBuf,
     #[command(flatten)]
     #[serde(flatten)]
-    pub replace: crate::cli::args::Force,
-    #[command(flatten)]
-    #[serde(flatten)]
-    pub quiet: crate::cli::args::Quiet,
+    pub writing: crate::cli::args::Writing,
     /// Grains in the tray study (default: 200 quick, 400 full); the tray is count/10000 m
     /// long and 2 cm wide (thesis packing 0.23).
     #[arg(long)]
@@ -42,8 +39,8 @@ impl Args {
         Options {
             quick: self.quick,
             out: self.out.clone(),
-            force: self.replace.force,
-            quiet: self.quiet.quiet,
+            force: self.writing.force,
+            quiet: self.writing.quiet,
             tray_count: self.tray_count,
             tray_duration: self.tray_duration,
             dense_steps: self.dense_steps,

@@ -129,10 +129,7 @@ pub struct Args {
     pub out: Option<PathBuf>,
     #[command(flatten)]
     #[serde(flatten)]
-    pub replace: crate::cli::args::Force,
-    #[command(flatten)]
-    #[serde(flatten)]
-    pub quiet: crate::cli::args::Quiet,
+    pub writing: crate::cli::args::Writing,
 }
 
 impl Args {
@@ -172,8 +169,8 @@ impl Args {
             ratios: self.ratios.clone(),
             scene: self.scene.clone(),
             out: self.out.clone(),
-            force: self.replace.force,
-            quiet: self.quiet.quiet,
+            force: self.writing.force,
+            quiet: self.writing.quiet,
         }
     }
 }

@@ -24,16 +24,13 @@ pub struct Args {
     pub out: PathBuf,
     #[command(flatten)]
     #[serde(flatten)]
-    pub replace: crate::cli::args::Force,
-    #[command(flatten)]
-    #[serde(flatten)]
-    pub quiet: crate::cli::args::Quiet,
+    pub writing: crate::cli::args::Writing,
 }
 
 pub fn run(args: Args) -> Result<String, CliError> {
     let base = ContactTimeCase::default();
     let rows = study(base, args.points, args.steps_per_contact)?;
-    crate::rundir::output::claim(&args.out, args.replace.force)?;
+    crate::rundir::output::claim(&args.out, args.writing.force)?;
     let mut dir = RunDir::create(&args.out, &json!({ "args": &args, "base": base }))?;
     let mut summary = serde_json::Map::new();
     for (param, label, unit, log_x) in [

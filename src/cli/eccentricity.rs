@@ -27,10 +27,7 @@ pub struct Args {
     pub out: PathBuf,
     #[command(flatten)]
     #[serde(flatten)]
-    pub replace: crate::cli::args::Force,
-    #[command(flatten)]
-    #[serde(flatten)]
-    pub quiet: crate::cli::args::Quiet,
+    pub writing: crate::cli::args::Writing,
 }
 
 /// Eccentricity at which eps_n^HS changes sign (linear interpolation), if it does.
@@ -46,7 +43,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
         return Err("--points must be >= 2 and --max-e in [0, 1)".into());
     }
     let es: Vec<f64> = (0..args.points).map(|k| args.max_e * k as f64 / (args.points - 1) as f64).collect();
-    crate::rundir::output::claim(&args.out, args.replace.force)?;
+    crate::rundir::output::claim(&args.out, args.writing.force)?;
     let mut dir = RunDir::create(&args.out, &args)?;
     let (mut hs, mut en, mut phi) = (
         LinePlot::new(

@@ -5,9 +5,9 @@ use std::path::PathBuf;
 
 use serde::Serialize;
 
+use crate::cli::args::SweepArgs;
 use crate::rundir::output::CliError;
 use crate::studies::events_sweep::{events_sweep, Options};
-use crate::studies::sweep::SweepArgs;
 
 #[derive(clap::Args, Debug, Serialize)]
 pub struct Args {
@@ -40,5 +40,5 @@ pub fn run(args: Args) -> Result<String, CliError> {
         out: args.out.clone(),
         log: args.log,
     };
-    events_sweep(&options, &args.sweep)
+    events_sweep(&options, &args.sweep.engine())
 }

@@ -25,10 +25,7 @@ pub struct Args {
     pub out: Option<PathBuf>,
     #[command(flatten)]
     #[serde(flatten)]
-    pub replace: crate::cli::args::Force,
-    #[command(flatten)]
-    #[serde(flatten)]
-    pub progress: crate::cli::args::Quiet,
+    pub writing: crate::cli::args::Writing,
 }
 
 impl Args {
@@ -39,8 +36,8 @@ impl Args {
             per_period: self.per_period,
             sample_cache: self.samples.sample_cache.clone(),
             out: self.out.clone(),
-            force: self.replace.force,
-            quiet: self.progress.quiet,
+            force: self.writing.force,
+            quiet: self.writing.quiet,
         }
     }
 }

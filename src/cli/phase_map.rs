@@ -30,7 +30,7 @@ pub struct Args {
     #[arg(long, default_value = "out/phase-map")]
     pub out: PathBuf,
     #[command(flatten)]
-    pub sweep: sweep::SweepArgs,
+    pub sweep: crate::cli::args::SweepArgs,
 }
 
 pub fn run(args: Args) -> Result<String, CliError> {
@@ -45,5 +45,7 @@ pub fn run(args: Args) -> Result<String, CliError> {
         jobs: phase_map::jobs(&freqs, &amps, &args.model.models(), args.seeds.max(1), scene.run.seed),
         resolved: String::new(),
     };
-    args.sweep.execute(&args.out, &sweep, crate::studies::sweep::phase_map::report)
+    args.sweep
+        .engine()
+        .execute(&args.out, &sweep, crate::studies::sweep::phase_map::report)
 }

@@ -17,10 +17,7 @@ pub struct Args {
     pub out: Option<PathBuf>,
     #[command(flatten)]
     #[serde(flatten)]
-    pub replace: crate::cli::args::Force,
-    #[command(flatten)]
-    #[serde(flatten)]
-    pub quiet: crate::cli::args::Quiet,
+    pub writing: crate::cli::args::Writing,
 }
 
 impl Args {
@@ -28,8 +25,8 @@ impl Args {
         Options {
             runs: self.runs.clone(),
             out: self.out.clone(),
-            force: self.replace.force,
-            quiet: self.quiet.quiet,
+            force: self.writing.force,
+            quiet: self.writing.quiet,
         }
     }
 }

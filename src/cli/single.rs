@@ -53,10 +53,7 @@ pub struct Args {
     pub out: PathBuf,
     #[command(flatten)]
     #[serde(flatten)]
-    pub replace: crate::cli::args::Force,
-    #[command(flatten)]
-    #[serde(flatten)]
-    pub quiet: crate::cli::args::Quiet,
+    pub writing: crate::cli::args::Writing,
 }
 
 impl Args {
@@ -74,8 +71,8 @@ impl Args {
             stop_duration: self.stop_duration,
             dt: self.dt,
             out: self.out.clone(),
-            force: self.replace.force,
-            quiet: self.quiet.quiet,
+            force: self.writing.force,
+            quiet: self.writing.quiet,
         }
     }
 }

@@ -18,7 +18,7 @@ use serde_json::{json, Value};
 use crate::events::measure::Measured;
 use crate::rundir::output::CliError;
 use crate::scene::edit::{Edit, EventsEdit};
-use crate::studies::sweep::{self, EventsResult, Job, Model, Sweep, SweepArgs, SweepKind};
+use crate::studies::sweep::{self, Engine, EventsResult, Job, Model, Sweep, SweepKind};
 
 /// What the study is given besides the engine's options (`--set`, `--shard`, `--jobs`,
 /// `--force`, `--quiet`).
@@ -181,7 +181,7 @@ fn stored_axes(sweep: &Sweep) -> Vec<Axis> {
     axes
 }
 
-pub fn events_sweep(args: &Options, engine: &SweepArgs) -> Result<String, CliError> {
+pub fn events_sweep(args: &Options, engine: &Engine) -> Result<String, CliError> {
     let axes = axes(&args.vary)?;
     let own_seed = check_keys(&axes, &engine.overrides, args.seeds)?;
     if args.log {
@@ -213,7 +213,7 @@ pub fn events_sweep(args: &Options, engine: &SweepArgs) -> Result<String, CliErr
     sweep::check_jobs(&sweep)?;
     if !out.join("sweep.json").exists() {
         // A directory of something else is not taken over without --force.
-        crate::rundir::output::claim(&out, engine.replace.force)?;
+        crate::rundir::output::claim(&out, engine.force)?;
     }
     let log = args.log;
     engine.execute(&out, &sweep, move |root, sweep| report_with(root, sweep, log))
@@ -469,15 +469,13 @@ mod tests {
             out: Some(out.clone()),
             log: true,
         };
-        let engine = SweepArgs {
+        let engine = Engine {
             overrides: Vec::new(),
             shard: sweep::Shard { index: 0, count: 1 },
             jobs: Some(1),
-            samples: crate::cli::args::SampleCache {
-                sample_cache: out.join("samples"),
-            },
-            progress: crate::cli::args::Quiet { quiet: true },
-            replace: crate::cli::args::Force { force: false },
+            sample_cache: out.join("samples"),
+            quiet: true,
+            force: false,
         };
         let e = events_sweep(&args, &engine).unwrap_err().to_string();
         assert!(e.contains("--log: the x axis is base.asymmetry and takes 0"), "{e}");

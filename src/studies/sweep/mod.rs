@@ -32,31 +32,22 @@ pub mod phase_map;
 
 use crate::scene::edit::{DemEdit, Edit};
 
-/// Options every sweep command shares (`ablate`, `phase-map`).
-#[derive(clap::Args, Debug, Serialize)]
-pub struct SweepArgs {
-    /// Override a scene key for every job (repeatable), e.g. --set run.duration=5.
-    #[arg(long = "set", value_name = "KEY=VALUE")]
+/// What the engine is given besides the sweep itself: the overrides of every job, this
+/// process's shard, how many jobs run at once, the cache of prepared samples, and whether to
+/// show progress and to start the sweep in `--out` again (`force`; without it, the same
+/// sweep continues there and another is refused). The command line's options are
+/// `cli::args::SweepArgs`.
+#[derive(Clone, Debug)]
+pub struct Engine {
     pub overrides: Vec<String>,
-    /// Run only the jobs with index I mod N (e.g. 0/4); `stripes collect DIR` merges shards.
-    #[arg(long, default_value = "0/1")]
     pub shard: Shard,
-    /// Jobs run at once on this machine (default: all cores); results do not depend on it.
-    #[arg(long, alias = "threads")]
     pub jobs: Option<usize>,
-    #[command(flatten)]
-    #[serde(flatten)]
-    pub samples: crate::cli::args::SampleCache,
-    #[command(flatten)]
-    #[serde(flatten)]
-    pub progress: crate::cli::args::Quiet,
-    // Without --force, a sweep continues the same sweep in --out (its finished jobs are kept).
-    #[command(flatten)]
-    #[serde(skip)]
-    pub replace: crate::cli::args::Force,
+    pub sample_cache: PathBuf,
+    pub quiet: bool,
+    pub force: bool,
 }
 
-impl SweepArgs {
+impl Engine {
     /// Stores the sweep in `root` (refusing a different one), runs this shard's unfinished
     /// jobs, writes the report of every result present with `report` (also when some job
     /// failed, so nothing finished is lost from view), and returns the report's summary with
@@ -68,7 +59,7 @@ impl SweepArgs {
         report: impl Fn(&Path, &Sweep) -> Result<Value, CliError>,
     ) -> Result<String, CliError> {
         check_jobs(sweep)?;
-        if self.replace.force {
+        if self.force {
             forget(root)?;
         }
         // The job's identity covers the resolved scene, not only its path: results of an
@@ -80,7 +71,7 @@ impl SweepArgs {
         let parallel = self
             .jobs
             .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
-        let progress = run(root, sweep, self.shard, parallel, &self.samples.sample_cache, self.progress.quiet)?;
+        let progress = run(root, sweep, self.shard, parallel, &self.sample_cache, self.quiet)?;
         let mut summary = report(root, sweep)?;
         if sweep.kind != SweepKind::EventsSweep {
             let preparation = preparation(root, sweep)?;
