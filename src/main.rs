@@ -100,9 +100,7 @@ fn main() -> ExitCode {
     };
     match result {
         Ok(summary) => {
-            if let Ok(v) = serde_json::from_str::<serde_json::Value>(&summary) {
-                eprintln!("{}", rundir::output::human_summary(&v));
-            }
+            eprintln!("{}", rundir::output::human_summary(&summary));
             println!("{summary}");
             ExitCode::SUCCESS
         }

@@ -40,13 +40,14 @@ fn remove_previous_outputs(dir: &Path) -> Result<(), CliError> {
     let Ok(text) = std::fs::read_to_string(&summary) else {
         return Ok(());
     };
-    let listed: Vec<PathBuf> = serde_json::from_str::<serde_json::Value>(&text)
-        .ok()
-        .and_then(|v| v.get("files").and_then(|f| f.as_array()).cloned())
-        .unwrap_or_default()
-        .iter()
-        .filter_map(|f| f.as_str().map(PathBuf::from))
-        .collect();
+    /// The part of a summary read here: the files the run wrote (none listed in a summary
+    /// that is not one of ours).
+    #[derive(serde::Deserialize)]
+    struct Listed {
+        #[serde(default)]
+        files: Vec<PathBuf>,
+    }
+    let listed = serde_json::from_str::<Listed>(&text).map_or_else(|_| Vec::new(), |l| l.files);
     let inside = |p: &Path| {
         let parent = p.parent().and_then(|d| d.canonicalize().ok());
         parent.is_some() && parent == dir.canonicalize().ok()
@@ -279,47 +280,94 @@ fn hms(s: f64) -> String {
     format!("{}:{:02}:{:02}", s / 3600, s / 60 % 60, s % 60)
 }
 
-/// A short human-readable account of a command's summary for stderr: what was simulated,
-/// found and written, and how many warnings there were.
-pub fn human_summary(summary: &serde_json::Value) -> String {
-    let num = |k: &str| summary.get(k).and_then(serde_json::Value::as_f64);
+/// The fields of a summary that its line for people reads; every summary has some of them.
+#[derive(serde::Deserialize, Default)]
+struct Headline {
+    simulated_s: Option<f64>,
+    wall_s: Option<f64>,
+    snapshots: Option<f64>,
+    /// Present (the run was classified) but null: too few frames for a phase.
+    #[serde(default, deserialize_with = "present")]
+    phase: Option<Option<String>>,
+    stripe_count_final: Option<f64>,
+    phase_robust: Option<bool>,
+    #[serde(default)]
+    phase_votes: Votes,
+    #[serde(default)]
+    warnings: Vec<serde::de::IgnoredAny>,
+    failed: Option<Vec<serde::de::IgnoredAny>>,
+    out: Option<String>,
+    #[serde(default)]
+    files: Vec<serde::de::IgnoredAny>,
+}
+
+/// How the threshold sets around the default label a run.
+#[derive(serde::Deserialize, Default)]
+struct Votes {
+    #[serde(default)]
+    stripes: u64,
+    #[serde(default)]
+    gas: u64,
+    #[serde(default)]
+    nothing: u64,
+}
+
+/// A key that is present, null or not.
+fn present<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<Option<String>>, D::Error> {
+    use serde::Deserialize;
+    Ok(Some(Option::<String>::deserialize(d)?))
+}
+
+/// A short human-readable account of a command's summary (the JSON line it prints) for
+/// stderr: what was simulated, found and written, and how many warnings there were. A
+/// summary it cannot read gives only "done".
+pub fn human_summary(summary: &str) -> String {
+    let h: Headline = serde_json::from_str(summary).unwrap_or_default();
     let mut parts = Vec::new();
-    if let (Some(t), Some(w)) = (num("simulated_s"), num("wall_s")) {
+    if let (Some(t), Some(w)) = (h.simulated_s, h.wall_s) {
         parts.push(format!("{t:.3} s simulated in {w:.1} s"));
-    } else if let Some(w) = num("wall_s") {
+    } else if let Some(w) = h.wall_s {
         parts.push(format!("{w:.1} s"));
     }
-    if let Some(n) = num("snapshots") {
+    if let Some(n) = h.snapshots {
         parts.push(format!("{n} snapshots"));
     }
-    if let Some(p) = summary.get("phase") {
-        let stripes = num("stripe_count_final").map_or(String::new(), |c| format!(", {c} stripes at the end"));
-        let robust = match summary.get("phase_robust").and_then(serde_json::Value::as_bool) {
+    if let Some(p) = &h.phase {
+        let stripes = h.stripe_count_final.map_or(String::new(), |c| format!(", {c} stripes at the end"));
+        let robust = match h.phase_robust {
             Some(true) => " (the same under every threshold set tried)".to_string(),
-            Some(false) => {
-                let votes = summary.get("phase_votes");
-                let v = |k: &str| votes.and_then(|v| v.get(k)).and_then(serde_json::Value::as_u64).unwrap_or(0);
-                format!(
-                    " (not robust: of 27 threshold sets, {} say stripes, {} gas, {} nothing; see phase_sensitivity.csv)",
-                    v("stripes"),
-                    v("gas"),
-                    v("nothing")
-                )
-            }
+            Some(false) => format!(
+                " (not robust: of 27 threshold sets, {} say stripes, {} gas, {} nothing; see phase_sensitivity.csv)",
+                h.phase_votes.stripes, h.phase_votes.gas, h.phase_votes.nothing
+            ),
             None => String::new(),
         };
-        parts.push(format!("phase {}{robust}{stripes}", p.as_str().unwrap_or("none (too few frames)")));
+        parts.push(format!(
+            "phase {}{robust}{stripes}",
+            p.as_deref().unwrap_or("none (too few frames)")
+        ));
     }
-    let warnings = summary.get("warnings").and_then(serde_json::Value::as_array).map_or(0, Vec::len);
-    parts.push(format!("{warnings} warning(s)"));
-    if let Some(failed) = summary.get("failed").and_then(serde_json::Value::as_array) {
+    parts.push(format!("{} warning(s)", h.warnings.len()));
+    if let Some(failed) = &h.failed {
         parts.push(format!("{} failed run(s)", failed.len()));
     }
-    if let Some(out) = summary.get("out").and_then(serde_json::Value::as_str) {
-        let files = summary.get("files").and_then(serde_json::Value::as_array).map_or(0, Vec::len);
-        parts.push(format!("{files} files in {out}"));
+    if let Some(out) = &h.out {
+        parts.push(format!("{} files in {out}", h.files.len()));
     }
     format!("done: {}", parts.join("; "))
+}
+
+/// A number written by serde_json, where NaN becomes `null`: read back as NaN.
+pub fn nan_if_null<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    use serde::Deserialize;
+    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
+}
+
+/// Rows of three numbers written by serde_json, each `null` read back as NaN.
+pub fn nan_if_null_triples<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Vec<[f64; 3]>, D::Error> {
+    use serde::Deserialize;
+    let rows = Vec::<[Option<f64>; 3]>::deserialize(d)?;
+    Ok(rows.into_iter().map(|r| r.map(|x| x.unwrap_or(f64::NAN))).collect())
 }
 
 #[cfg(test)]
@@ -365,20 +413,12 @@ mod progress_tests {
 
     #[test]
     fn a_sweeps_account_counts_its_failed_runs() {
-        let s = serde_json::json!({"wall_s": 3.0, "warnings": [], "failed": ["a", "b"]});
+        let s = serde_json::json!({"wall_s": 3.0, "warnings": [], "failed": ["a", "b"]}).to_string();
         assert_eq!(human_summary(&s), "done: 3.0 s; 0 warning(s); 2 failed run(s)");
+        let s = serde_json::json!({"wall_s": 1.0, "phase": null, "out": "d", "files": ["a"]}).to_string();
+        assert_eq!(
+            human_summary(&s),
+            "done: 1.0 s; phase none (too few frames); 0 warning(s); 1 files in d"
+        );
     }
-}
-
-/// A number written by serde_json, where NaN becomes `null`: read back as NaN.
-pub fn nan_if_null<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
-    use serde::Deserialize;
-    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
-}
-
-/// Rows of three numbers written by serde_json, each `null` read back as NaN.
-pub fn nan_if_null_triples<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Vec<[f64; 3]>, D::Error> {
-    use serde::Deserialize;
-    let rows = Vec::<[Option<f64>; 3]>::deserialize(d)?;
-    Ok(rows.into_iter().map(|r| r.map(|x| x.unwrap_or(f64::NAN))).collect())
 }

@@ -562,7 +562,7 @@ struct Speed {
 }
 
 /// The DEM's sample of a job: prepared by it, or loaded (or waited for) from the cache.
-#[derive(Debug, Serialize)]
+#[derive(Debug, Serialize, Deserialize)]
 struct SamplePreparation {
     prepare_s: Option<f64>,
     cached: Option<bool>,
@@ -662,10 +662,15 @@ pub struct Preparation {
 
 /// Sums the sample preparation of the sweep's finished jobs.
 pub fn preparation(root: &Path, sweep: &Sweep) -> Result<Preparation, CliError> {
+    /// The part of a tray job's `result.json` read here.
+    #[derive(Deserialize)]
+    struct Prepared {
+        sample_preparation: SamplePreparation,
+    }
     let mut p = Preparation::default();
-    for (_, v) in results(root, sweep)? {
-        let prep = &v["sample_preparation"];
-        let (Some(s), Some(c)) = (prep["prepare_s"].as_f64(), prep["cached"].as_bool()) else {
+    for (job, v) in results(root, sweep)? {
+        let prepared: Prepared = serde_json::from_value(v).map_err(|e| format!("result of job `{}`: {e}", job.id))?;
+        let (Some(s), Some(c)) = (prepared.sample_preparation.prepare_s, prepared.sample_preparation.cached) else {
             continue;
         };
         if c {
