@@ -2,6 +2,7 @@
 //! mapped from the scene and its prepared sample ([`lattice`]), its run with a run directory
 //! ([`run_automaton`]), and the fit of its free parameters to DEM runs ([`calibrate`]).
 
+pub mod bench;
 pub mod calibrate;
 pub mod lattice;
 pub mod parameters;
