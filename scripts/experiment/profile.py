@@ -3,19 +3,35 @@
     python3 scripts/experiment/profile.py RUN_DIR [BIN_MM]
 
 The tray moves: with end walls a grain's lab x is its place in the tray plus the tray's
-displacement u(t), so a profile along the tray subtracts u(t) of the drive schedule
-(scenes/experiment.toml: 5 Hz / 20 mm for 2 s, then 3 Hz / 10 mm, each stage from a zero
-crossing). Prints, per frame: time, stage, the empty length at each end (the distance from the
+displacement u(t), so a profile along the tray subtracts u(t) of the run's own drive schedule
+(read from RUN_DIR/scene.toml: its [[drive.stages]], each from a zero crossing, or its one
+drive.frequency / drive.amplitude). Prints, per frame: time, stage, the empty length at each end (the distance from the
 end wall to the first bin holding at least a tenth of the mean count), the coefficient of
 variation of the counts in bins of BIN_MM (default 20 mm) over the tray, and the count profile.
 """
 import math
 import struct
 import sys
+import tomllib
 
 run = sys.argv[1]
 bin_mm = float(sys.argv[2]) if len(sys.argv) > 2 else 20.0
-STAGES = [(0.0, 5.0, 0.02), (2.0, 3.0, 0.01)]  # (start s, Hz, m)
+
+
+def stages_of(run_dir):
+    """(start s, Hz, m) of each stage of the run's drive (scene.toml)."""
+    with open(f"{run_dir}/scene.toml", "rb") as fh:
+        drive = tomllib.load(fh)["drive"]
+    if not drive.get("stages"):
+        return [(0.0, drive["frequency"], drive["amplitude"])]
+    out, start = [], 0.0
+    for st in drive["stages"]:
+        out.append((start, st["frequency"], st["amplitude"]))
+        start += st["duration"]
+    return out
+
+
+STAGES = stages_of(run)
 
 
 def u(t):
