@@ -32,10 +32,12 @@ mod rng;
 mod scalar;
 pub mod spec;
 mod step;
+pub mod tracks;
 pub mod transport;
 
 pub use automaton::{Automaton, Direction};
 pub use lattice::Lattice;
+pub use tracks::Tracks;
 pub use params::{
     Activation, FlightCap, Frustration, Knock, Lateral, Params, ParamsError, Physical, RuleSet, Sideways, Threshold, Transport, YBoundary,
 };

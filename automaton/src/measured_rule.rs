@@ -99,9 +99,23 @@ pub(crate) fn draw_cells(q: &Quantiles, cell: f64, key: u64, stream: Stream, w: 
     whole as usize + up as usize
 }
 
-/// Buffers of [`flights`].
+/// One grain's move in a half step, in lab-frame cells: from `(row, column)` to
+/// `(row, column)`, and its signed displacement along x in cells (`+` towards higher `i`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct GrainMove {
+    pub from: (usize, usize),
+    pub to: (usize, usize),
+    pub dx: i64,
+}
+
+/// Buffers of [`flights`], and the moves of the last half step.
 #[derive(Default)]
 pub(crate) struct MeasuredScratch {
+    /// Every grain that changed cell in the last half step ([`GrainMove`]).
+    pub(crate) moves: Vec<GrainMove>,
+    /// Grains the resting rule moved after the flights of the last half step (0 on a
+    /// submonolayer: no flight lands on a grain).
+    pub(crate) rested: u64,
     counts: Vec<u32>,
     band: Vec<bool>,
     lead: Vec<bool>,
@@ -146,7 +160,9 @@ fn bands(counts: &[u32], ny: usize, b: &BandDetection, band: &mut Vec<bool>, lea
 }
 
 /// The measured rule's flights and sideways steps on the flight-frame copy `lf` into `new`
-/// (index `j * nx + i`), for half step `t` of the run seeded `seed` (module docs).
+/// (index `j * nx + i`), for half step `t` of the run seeded `seed`, whose flight frame is
+/// the lab frame mirrored when `left` (module docs). Records every grain's move in
+/// `sc.moves`, in lab-frame cells.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn flights(
     nx: usize,
@@ -156,9 +172,13 @@ pub(crate) fn flights(
     m: &MeasuredRule,
     seed: u64,
     t: u64,
+    left: bool,
     periodic_y: bool,
     sc: &mut MeasuredScratch,
 ) {
+    let lab = |i: usize| if left { nx - 1 - i } else { i };
+    let sign: i64 = if left { -1 } else { 1 };
+    sc.moves.clear();
     sc.counts.clear();
     sc.counts
         .extend((0..nx).map(|i| (0..ny).map(|j| lf[j * nx + i] as u32).sum::<u32>()));
@@ -219,6 +239,13 @@ pub(crate) fn flights(
                 }
                 _ => break,
             }
+        }
+        if (j, c) != (j0, i0) {
+            sc.moves.push(GrainMove {
+                from: (j0, lab(i0)),
+                to: (j, lab(c)),
+                dx: sign * ((c + nx - i0) % nx) as i64,
+            });
         }
     }
 }
