@@ -29,6 +29,10 @@ pub struct Args {
     #[command(flatten)]
     #[serde(flatten)]
     pub progress: crate::cli::args::Quiet,
+    /// Only the coarse model's measures from the run's frames (automaton.toml, coarse.json):
+    /// no continuation, no checkpoint read, no DEM step.
+    #[arg(long)]
+    pub coarse_only: bool,
 }
 
 impl Args {
@@ -41,6 +45,7 @@ impl Args {
             out: self.out.clone(),
             force: self.replace.force,
             quiet: self.progress.quiet,
+            coarse_only: self.coarse_only,
         }
     }
 }
