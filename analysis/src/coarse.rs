@@ -642,7 +642,11 @@ mod tests {
             c.drift
         );
         assert_eq!(c.swing.samples, n * 10);
-        assert!(c.drift_signed.q10.abs() < 1e-12 && c.drift_signed.q90.abs() < 1e-12, "{:?}", c.drift_signed);
+        assert!(
+            c.drift_signed.q10.abs() < 1e-12 && c.drift_signed.q90.abs() < 1e-12,
+            "{:?}",
+            c.drift_signed
+        );
         assert_eq!(c.drift_positive_fraction, 0.0, "no period drifts");
         assert!((c.all.excursion.median - 1e-4 * 19.5).abs() < 1e-12);
         // Lone grains: no contacts, packing of one grain in the local disk.

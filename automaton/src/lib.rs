@@ -37,8 +37,8 @@ pub mod transport;
 
 pub use automaton::{Automaton, Direction};
 pub use lattice::Lattice;
-pub use tracks::Tracks;
 pub use params::{
     Activation, FlightCap, Frustration, Knock, Lateral, Params, ParamsError, Physical, RuleSet, Sideways, Threshold, Transport, YBoundary,
 };
 pub use spec::{Spec, TransportKind};
+pub use tracks::Tracks;
