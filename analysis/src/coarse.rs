@@ -220,6 +220,11 @@ pub struct Coarse {
     /// whatever it carries along) and the drift over the period `|dx1 + dx2|` (m).
     pub swing: Spread,
     pub drift: Spread,
+    /// The signed drift over the period `dx1 + dx2` along the tray's x (m; `+` towards +x),
+    /// and the fraction of the periods in which it is positive (0.5 when the tray's two
+    /// strokes move grains alike).
+    pub drift_signed: Spread,
+    pub drift_positive_fraction: f64,
     pub by_packing: Vec<ClassMoves>,
     pub by_contacts: Vec<ClassMoves>,
     pub bands: Bands,
@@ -374,7 +379,7 @@ pub fn measure(
     }
     // Two consecutive half periods (the second starts where the first ends): the swing
     // `|dx1 - dx2| / 2` and the drift over the period `|dx1 + dx2|`.
-    let (mut swing, mut drift) = (Vec::new(), Vec::new());
+    let (mut swing, mut drift, mut drift_signed) = (Vec::new(), Vec::new(), Vec::new());
     for k in 1..window.len() {
         if window[k].0.frame != window[k - 1].1.frame {
             continue;
@@ -382,8 +387,14 @@ pub fn measure(
         for (d1, d2) in signed[k - 1].iter().zip(&signed[k]) {
             swing.push(0.5 * (d1 - d2).abs());
             drift.push((d1 + d2).abs());
+            drift_signed.push(d1 + d2);
         }
     }
+    let drift_positive_fraction = if drift_signed.is_empty() {
+        0.5
+    } else {
+        drift_signed.iter().filter(|&&d| d > 0.0).count() as f64 / drift_signed.len() as f64
+    };
     let class = |low: f64, high: f64, pick: &dyn Fn(&Move) -> bool| ClassMoves {
         low,
         high,
@@ -413,7 +424,7 @@ pub fn measure(
         .filter(|r| r.excursion.samples > 0)
         .collect();
     let all = class(0.0, f64::INFINITY, &|_| true);
-    let (swing, drift) = (Spread::of(swing), Spread::of(drift));
+    let (swing, drift, drift_signed) = (Spread::of(swing), Spread::of(drift), Spread::of(drift_signed));
     let (bands, per_frame) = band_measures(header, frames, &turning, params, cells, mean_d);
     Ok(Coarse {
         turning_frames: turning.len(),
@@ -424,6 +435,8 @@ pub fn measure(
         all,
         swing,
         drift,
+        drift_signed,
+        drift_positive_fraction,
         by_packing,
         by_contacts,
         bands,
@@ -629,6 +642,12 @@ mod tests {
             c.drift
         );
         assert_eq!(c.swing.samples, n * 10);
+        assert!(
+            c.drift_signed.q10.abs() < 1e-12 && c.drift_signed.q90.abs() < 1e-12,
+            "{:?}",
+            c.drift_signed
+        );
+        assert_eq!(c.drift_positive_fraction, 0.0, "no period drifts");
         assert!((c.all.excursion.median - 1e-4 * 19.5).abs() < 1e-12);
         // Lone grains: no contacts, packing of one grain in the local disk.
         assert_eq!(c.by_contacts.len(), 1);

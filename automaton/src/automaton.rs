@@ -104,6 +104,15 @@ impl Automaton {
         self.half_steps += 1;
     }
 
+    /// The moves of the last half step's grains, each grain followed from cell to cell: the
+    /// `measured` rule's flights and sideways steps (none before the first half step). None
+    /// for the other rules (their flights are not drawn per grain) and after a half step in
+    /// which the resting rule moved grains (a pile came down: moves not followed).
+    pub fn measured_moves(&self) -> Option<&[crate::measured_rule::GrainMove]> {
+        let m = &self.bytes.measured;
+        (self.resolved.measured.is_some() && m.rested == 0).then_some(m.moves.as_slice())
+    }
+
     /// One drive period (two half steps).
     pub fn period(&mut self) {
         self.half_step();

@@ -32,6 +32,7 @@ mod rng;
 mod scalar;
 pub mod spec;
 mod step;
+pub mod tracks;
 pub mod transport;
 
 pub use automaton::{Automaton, Direction};
@@ -40,3 +41,4 @@ pub use params::{
     Activation, FlightCap, Frustration, Knock, Lateral, Params, ParamsError, Physical, RuleSet, Sideways, Threshold, Transport, YBoundary,
 };
 pub use spec::{Spec, TransportKind};
+pub use tracks::Tracks;

@@ -66,6 +66,9 @@ pub struct ClassMoves {
 pub struct Excursions {
     pub all: ClassMoves,
     pub by_contacts: Vec<ClassMoves>,
+    /// `dx1 + dx2` over two consecutive half periods, signed along x: a grain's drift over
+    /// its swing out and back (absent in files written before it was measured).
+    pub drift_signed: Option<Spread>,
 }
 
 /// `[bands]`.
@@ -136,12 +139,32 @@ impl MeasuredFile {
         }
     }
 
+    /// The signed drift per period, checked: finite, quantiles in order.
+    pub fn drift_signed(&self) -> Result<&Spread, MeasuredError> {
+        let key = "excursion.drift_signed";
+        let Some(s) = &self.excursion.drift_signed else {
+            return Err(err(
+                key,
+                "absent: the file predates it; run `stripes mechanism RUN --coarse-only` again",
+            ));
+        };
+        let q = [s.q10, s.q25, s.median, s.q75, s.q90];
+        if !(s.mean.is_finite() && q.iter().all(|v| v.is_finite())) {
+            return Err(err(key, format!("must be finite lengths (m), got mean {} and {q:?}", s.mean)));
+        }
+        if q.windows(2).any(|w| w[1] < w[0]) {
+            return Err(err(key, format!("quantiles q10..q90 must not decrease, got {q:?}")));
+        }
+        Ok(s)
+    }
+
     /// Checks what the rule reads; errors name the dotted key.
     pub fn validate(&self) -> Result<(), MeasuredError> {
         self.cell_size()?;
         self.edge_escape()?;
         self.excursion.all.excursion.validate("excursion.all.excursion")?;
         self.excursion.all.sideways.validate("excursion.all.sideways")?;
+        self.drift_signed()?;
         if self.excursion.all.excursion.samples == 0 {
             return Err(err("excursion.all.excursion.samples", "no excursion was measured"));
         }
@@ -287,6 +310,27 @@ impl Quantiles {
         Self { at_knots: q }
     }
 
+    /// As [`Self::of`] for a signed length: the tails continue straight, without the floor
+    /// at 0, and the measured mean is kept by moving `Q(0)` down or `Q(1)` up.
+    pub fn signed(s: &Spread) -> Self {
+        let mut q = [
+            s.q10 - (s.q25 - s.q10) * 0.1 / 0.15,
+            s.q10,
+            s.q25,
+            s.median,
+            s.q75,
+            s.q90,
+            s.q90 + (s.q90 - s.q75) * 0.1 / 0.15,
+        ];
+        let diff = s.mean - Self { at_knots: q }.mean();
+        if diff < 0.0 {
+            q[0] += diff / 0.05;
+        } else {
+            q[6] += diff / 0.05;
+        }
+        Self { at_knots: q }
+    }
+
     /// `Q(u)` for `u` in [0, 1] (m).
     pub fn at(&self, u: f64) -> f64 {
         let u = u.clamp(0.0, 1.0);
@@ -354,5 +398,17 @@ mod tests {
             );
             assert!(q.at_knots.windows(2).all(|w| w[1] >= w[0]) && q.at_knots[0] >= 0.0, "{q:?}");
         }
+    }
+
+    #[test]
+    fn the_signed_inverse_cdf_passes_through_the_quantiles_and_keeps_the_mean() {
+        // The stripe scene's signed drift per period (seed 1): mostly tiny, negative mean.
+        let s = spread(-0.000149, [-0.00204, -0.00015, -2.9e-5, 2.1e-5, 0.00135]);
+        let q = Quantiles::signed(&s);
+        for (u, v) in [(0.1, s.q10), (0.25, s.q25), (0.5, s.median), (0.75, s.q75), (0.9, s.q90)] {
+            assert!((q.at(u) - v).abs() < 1e-15, "{u}: {} against {v}", q.at(u));
+        }
+        assert!((q.mean() - s.mean).abs() < 1e-15, "{} against {}", q.mean(), s.mean);
+        assert!(q.at_knots.windows(2).all(|w| w[1] >= w[0]), "{q:?}");
     }
 }

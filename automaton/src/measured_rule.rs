@@ -15,21 +15,35 @@
 //!    rate measured at the same turning point is the per-half-step chance at the leading
 //!    edge: no further conversion. (A grain that escaped may queue back onto its band in the
 //!    next half step, as in the DEM, whose measure counts such grains as stayed.)
-//! 3. *Jumps.* Every other floor grain (height 1; piles rest) draws its jump from the
-//!    measured excursion distribution of its contact number, `n` = the occupied cells among
-//!    its four orthogonal neighbours (a cell is one grain at the band cores' packing, so
-//!    orthogonal neighbours touch and diagonal ones, sqrt 2 cells off, do not): `Q_n(u)` in
-//!    metres ([`Quantiles`]), over the cell size, rounded stochastically (up with the
-//!    fraction's probability, so the mean is kept). Grains of a row queue behind the landing
-//!    of the grain ahead ([`landings`] with trains): the measured excursions are the DEM
-//!    grains' own moves, made together.
+//! 3. *Jumps.* Every other floor grain (height 1; piles rest) flies. In an even half step
+//!    (the swing out) it draws its jump from the measured excursion distribution of its
+//!    contact number, `n` = the occupied cells among its four orthogonal neighbours (a cell
+//!    is one grain at the band cores' packing, so orthogonal neighbours touch and diagonal
+//!    ones, sqrt 2 cells off, do not): `Q_n(u)` in metres ([`Quantiles`]), over the cell
+//!    size, rounded stochastically (up with the fraction's probability, so the mean is
+//!    kept). In the odd half step that follows (the swing back) a grain that flew out flies
+//!    back by its drawn flight out `J1` less the period's drift: `J2 = max(0, J1 - s d)`,
+//!    `s` the lab direction of the flight out, `d` drawn from the measured signed drift
+//!    `excursion.drift_signed` (`dx1 + dx2` along x, [`Quantiles::signed`], in cells as the
+//!    jumps); so a free grain's net move over a period is the measured drift, not the
+//!    difference of two independent excursions (in
+//!    the DEM a grain's swing out and back are one motion: swing 13.3 mm, drift median 0.08
+//!    mm on the stripe scene). A grain that did not fly out (held, or escaped only now)
+//!    draws from `Q_n` on the way back too. Grains of a row queue behind the landing of the
+//!    grain ahead ([`landings`] with trains): the measured excursions are the DEM grains'
+//!    own moves, made together; a queue can shorten either swing. (Both swings are drawn
+//!    before their queues, so queues shorten them alike: returning the *realised* flight out,
+//!    only the way back was ever shortened, and every grain drifted towards the side of the
+//!    flight out, +1.1 mm per period on the stripe scene against the DEM's -0.15 mm.)
 //! 4. *Sideways.* Every grain that flew draws `|dy|` from the measured sideways distribution
 //!    of its contact number, in cells as the jumps, and a direction (+y or -y, even odds);
 //!    it steps that many cells across while the next cell is empty (walls stop it), grains
 //!    taken in order of row and column.
 //!
 //! Every draw is a counter-based word of the grain's row, half step and start column
-//! ([`crate::rng`]): the same seed gives the same lattice.
+//! ([`crate::rng`]), and the flights out are kept per cell: the same seed gives the same
+//! lattice. Every grain's move is recorded ([`GrainMove`]), so that grains can be followed
+//! one by one ([`crate::Tracks`]).
 
 use serde::{Deserialize, Serialize};
 
@@ -63,6 +77,8 @@ pub struct MeasuredRule {
     pub excursion: [Quantiles; CONTACT_CLASSES],
     /// `|dy|` per half period by contact number.
     pub sideways: [Quantiles; CONTACT_CLASSES],
+    /// `dx1 + dx2` per period, signed along x: a grain's drift over its swing out and back.
+    pub drift: Quantiles,
     /// Probability that a grain of a band's leading edge escapes in a half step.
     pub edge_escape: f64,
     pub band: BandDetection,
@@ -77,6 +93,7 @@ impl MeasuredRule {
             cell_y_m,
             excursion: std::array::from_fn(|n| Quantiles::of(&file.class(n).excursion)),
             sideways: std::array::from_fn(|n| Quantiles::of(&file.class(n).sideways)),
+            drift: Quantiles::signed(file.drift_signed()?),
             edge_escape: file.edge_escape()?,
             band,
         })
@@ -99,17 +116,34 @@ pub(crate) fn draw_cells(q: &Quantiles, cell: f64, key: u64, stream: Stream, w: 
     whole as usize + up as usize
 }
 
-/// Buffers of [`flights`].
+/// One grain's move in a half step, in lab-frame cells: from `(row, column)` to
+/// `(row, column)`, and its signed displacement along x in cells (`+` towards higher `i`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct GrainMove {
+    pub from: (usize, usize),
+    pub to: (usize, usize),
+    pub dx: i64,
+}
+
+/// Buffers of [`flights`], and the moves of the last half step.
 #[derive(Default)]
 pub(crate) struct MeasuredScratch {
+    /// Every grain that changed cell in the last half step ([`GrainMove`]).
+    pub(crate) moves: Vec<GrainMove>,
+    /// Grains the resting rule moved after the flights of the last half step (0 on a
+    /// submonolayer: no flight lands on a grain).
+    pub(crate) rested: u64,
     counts: Vec<u32>,
     band: Vec<bool>,
     lead: Vec<bool>,
     cells: Vec<usize>,
     jumps: Vec<usize>,
     land: Vec<usize>,
-    /// Grains that flew: (row, landing column, contact number, start column).
-    movers: Vec<(usize, usize, usize, usize)>,
+    /// Grains that flew: (row, landing column, contact number, start column, drawn jump).
+    movers: Vec<(usize, usize, usize, usize, usize)>,
+    /// Per lab-frame cell `j * nx + i`: 1 + the drawn flight (cells) of the grain that flew
+    /// out to it in the last outgoing half step, 0 where none did.
+    out: Vec<u32>,
 }
 
 /// Marks band columns and their leading edges (the last column of each run in the flight
@@ -146,7 +180,9 @@ fn bands(counts: &[u32], ny: usize, b: &BandDetection, band: &mut Vec<bool>, lea
 }
 
 /// The measured rule's flights and sideways steps on the flight-frame copy `lf` into `new`
-/// (index `j * nx + i`), for half step `t` of the run seeded `seed` (module docs).
+/// (index `j * nx + i`), for half step `t` of the run seeded `seed`, whose flight frame is
+/// the lab frame mirrored when `left` (module docs). Records every grain's move in
+/// `sc.moves`, in lab-frame cells.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn flights(
     nx: usize,
@@ -156,9 +192,22 @@ pub(crate) fn flights(
     m: &MeasuredRule,
     seed: u64,
     t: u64,
+    left: bool,
     periodic_y: bool,
     sc: &mut MeasuredScratch,
 ) {
+    let lab = |i: usize| if left { nx - 1 - i } else { i };
+    let sign: i64 = if left { -1 } else { 1 };
+    sc.moves.clear();
+    // Even half steps swing grains out, odd ones back.
+    let outgoing = t.is_multiple_of(2);
+    if sc.out.len() != nx * ny {
+        sc.out.clear();
+        sc.out.resize(nx * ny, 0);
+    }
+    if outgoing {
+        sc.out.iter_mut().for_each(|o| *o = 0);
+    }
     sc.counts.clear();
     sc.counts
         .extend((0..nx).map(|i| (0..ny).map(|j| lf[j * nx + i] as u32).sum::<u32>()));
@@ -189,8 +238,19 @@ pub(crate) fn flights(
                     .filter(|&jn| occupied(jn, i))
                     .count();
             let n = n.min(CONTACT_CLASSES - 1);
-            sc.jumps.push(draw_cells(&m.excursion[n], m.cell_m, key, Stream::Jump, i, 0));
-            sc.movers.push((j, i, n, i));
+            let out = if outgoing { 0 } else { sc.out[j * nx + lab(i)] };
+            let jump = if out > 0 {
+                // Back by the drawn flight out, less the period's drift `d` (signed, + towards +x):
+                // the period's net move is `s_out (J1 - J2) = d`, with `s_out = -sign` the
+                // lab direction of the flight out.
+                let x = m.drift.at(uniform(rng::word(key, Stream::Drift, i, 0))) / m.cell_m;
+                let d = x.floor() as i64 + (uniform(rng::word(key, Stream::Drift, i, 1)) < x - x.floor()) as i64;
+                (out as i64 - 1 + d * sign).max(0) as usize
+            } else {
+                draw_cells(&m.excursion[n], m.cell_m, key, Stream::Jump, i, 0)
+            };
+            sc.jumps.push(jump);
+            sc.movers.push((j, i, n, i, jump));
         }
         landings(nx, &sc.cells, &sc.jumps, true, &mut sc.land);
         let mut mover = first_mover;
@@ -205,7 +265,7 @@ pub(crate) fn flights(
             }
         }
     }
-    for &(j0, c, n, i0) in &sc.movers {
+    for &(j0, c, n, i0, drawn) in &sc.movers {
         let key = rng::row_key(seed, t, j0);
         let steps = draw_cells(&m.sideways[n], m.cell_y_m, key, Stream::SideStep, i0, 0);
         let up = rng::word(key, Stream::SideStep, i0, 2) & 1 == 1;
@@ -219,6 +279,16 @@ pub(crate) fn flights(
                 }
                 _ => break,
             }
+        }
+        if outgoing {
+            sc.out[j * nx + lab(c)] = drawn as u32 + 1;
+        }
+        if (j, c) != (j0, i0) {
+            sc.moves.push(GrainMove {
+                from: (j0, lab(i0)),
+                to: (j, lab(c)),
+                dx: sign * ((c + nx - i0) % nx) as i64,
+            });
         }
     }
 }

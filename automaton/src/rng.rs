@@ -49,6 +49,9 @@ pub enum Stream {
     Escape = 8,
     /// The measured rule's sideways step: quantile, rounding, direction (digits 0, 1, 2).
     SideStep = 9,
+    /// The measured rule's signed drift over a period, drawn on the way back: quantile and
+    /// rounding (digits 0, 1).
+    Drift = 10,
 }
 
 /// The row key of the draws about neighbour `d` (0..8) of each cell, from the row's key.

@@ -41,7 +41,7 @@ pub(crate) struct ScalarScratch {
     flies: Vec<bool>,
     impacts: Vec<(usize, usize, u8)>,
     graded: GradedScratch,
-    measured: MeasuredScratch,
+    pub(crate) measured: MeasuredScratch,
 }
 
 /// Buffers of graded flights ([`graded_flights`]).
@@ -146,7 +146,7 @@ pub(crate) fn half_step(nx: usize, ny: usize, h: &mut [u8], r: &Resolved, tick: 
     sc.impacts.clear();
     if !r.frozen {
         if let Some(m) = &r.measured {
-            measured_rule::flights(nx, ny, lf, &mut sc.new, m, seed, t, r.periodic_y, &mut sc.measured);
+            measured_rule::flights(nx, ny, lf, &mut sc.new, m, seed, t, left, r.periodic_y, &mut sc.measured);
         } else if let Some(g) = &r.graded {
             graded_flights(nx, ny, lf, flies, &mut sc.new, g, cap, r.trains, &mut sc.graded);
         } else {
@@ -238,7 +238,10 @@ pub(crate) fn half_step(nx: usize, ny: usize, h: &mut [u8], r: &Resolved, tick: 
             }
         }
     }
-    rest(nx, ny, &mut sc.new);
+    let rested = rest(nx, ny, &mut sc.new);
+    // Moves are traced for the measured rule's floor grains only; a pile that came down
+    // moved grains the trace does not know.
+    sc.measured.rested = rested;
     for j in 0..ny {
         for i in 0..nx {
             h[j * nx + i] = sc.new[j * nx + map(i)];

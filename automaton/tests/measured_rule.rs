@@ -4,7 +4,7 @@
 
 use automaton::measured::{Bands, Cell, ClassMoves, Excursions, MeasuredFile, Source, Spread};
 use automaton::measured_rule::{BandDetection, MeasuredRule};
-use automaton::{Automaton, Direction, Lattice, Params, Physical, RuleSet, YBoundary};
+use automaton::{Automaton, Direction, Lattice, Params, Physical, RuleSet, Tracks, YBoundary};
 
 const CELL: f64 = 1e-3;
 
@@ -44,6 +44,7 @@ fn file(jump: f64, sideways: f64, escape: f64) -> MeasuredFile {
         excursion: Excursions {
             all: class(0.0),
             by_contacts: (0..5).map(|n| class(n as f64)).collect(),
+            drift_signed: Some(flat(0.0)),
         },
         bands: Bands {
             core_packing: Some(0.77),
@@ -154,15 +155,28 @@ fn grains_are_conserved_and_a_seed_gives_one_lattice() {
     };
     f.excursion.all = all;
     f.excursion.by_contacts.clear();
+    // The stripe scene's signed drift per period (seed 1).
+    f.excursion.drift_signed = Some(Spread {
+        samples: 14000,
+        mean: -0.000149,
+        q10: -0.00204,
+        q25: -0.00015,
+        median: -2.9e-5,
+        q75: 2.1e-5,
+        q90: 0.00135,
+    });
     let run = |seed: u64| {
         let mut m = params(&f, seed);
         m.measured.as_mut().unwrap().cell_m = 0.76e-3;
         m.measured.as_mut().unwrap().cell_y_m = 0.76e-3;
         let mut a = Automaton::new(Lattice::from_heights(nx, ny, &h).unwrap(), m, Direction::Plus).unwrap();
+        let mut tracks = Tracks::new(a.lattice()).unwrap();
         for _ in 0..40 {
             a.half_step();
             assert_eq!(a.lattice().mass(), grains);
             assert!(a.lattice().heights().iter().all(|&x| x <= 1));
+            tracks.apply(a.measured_moves().expect("a submonolayer's grains are followed"));
+            assert!(tracks.matches(a.lattice()), "the followed grains are the lattice's");
         }
         a.lattice().heights()
     };
@@ -170,6 +184,64 @@ fn grains_are_conserved_and_a_seed_gives_one_lattice() {
     assert_eq!(once, run(5));
     assert_ne!(once, run(6));
     assert_ne!(once, h, "grains move");
+}
+
+/// A lone grain swings out by its drawn excursion and back by the same less the period's
+/// drift: over many seeds its net move per period has the measured signed drift's mean (in
+/// cells, the stochastic rounding keeps it) and quantiles (within the rounding's cell), while
+/// its moves per half period keep the excursion's mean.
+#[test]
+fn a_lone_grain_drifts_per_period_by_the_measured_drift() {
+    let (nx, ny) = (200, 3);
+    let mut f = file(0.0, 0.0, 0.5);
+    // Excursions 12-16 cells, drifts -4 to +3 cells: the way back never clamps at 0.
+    let spread = |mean: f64, q: [f64; 5]| Spread {
+        samples: 1000,
+        mean: mean * CELL,
+        q10: q[0] * CELL,
+        q25: q[1] * CELL,
+        median: q[2] * CELL,
+        q75: q[3] * CELL,
+        q90: q[4] * CELL,
+    };
+    f.excursion.all.excursion = spread(14.0, [12.5, 13.0, 14.0, 15.0, 15.5]);
+    f.excursion.by_contacts.clear();
+    let drift = spread(-0.5, [-2.5, -1.5, -0.5, 0.5, 1.5]);
+    f.excursion.drift_signed = Some(drift);
+    let (mut nets, mut half_abs, mut halves) = (Vec::new(), 0.0, 0usize);
+    for seed in 0..400 {
+        let mut h = vec![0u8; nx * ny];
+        h[nx + 100] = 1;
+        let mut a = Automaton::new(Lattice::from_heights(nx, ny, &h).unwrap(), params(&f, seed), Direction::Plus).unwrap();
+        let mut tracks = Tracks::new(a.lattice()).unwrap();
+        for _ in 0..5 {
+            let x0 = tracks.unwrapped_x()[0];
+            for _ in 0..2 {
+                let before = tracks.unwrapped_x()[0];
+                a.half_step();
+                tracks.apply(a.measured_moves().unwrap());
+                half_abs += (tracks.unwrapped_x()[0] - before).abs() as f64;
+                halves += 1;
+            }
+            nets.push((tracks.unwrapped_x()[0] - x0) as f64);
+        }
+    }
+    let n = nets.len() as f64;
+    let mean = nets.iter().sum::<f64>() / n;
+    // sd of a drift about 1.6 cells over sqrt(2000): 0.04; allow 0.15.
+    assert!(
+        (mean - drift.mean / CELL).abs() < 0.15,
+        "drift {mean} cells against {}",
+        drift.mean / CELL
+    );
+    nets.sort_by(f64::total_cmp);
+    let at = |p: f64| nets[(p * (n - 1.0)).round() as usize];
+    for (p, v) in [(0.1, drift.q10), (0.5, drift.median), (0.9, drift.q90)] {
+        assert!((at(p) - v / CELL).abs() <= 1.0, "q{p}: {} cells against {}", at(p), v / CELL);
+    }
+    // Out at the excursion's mean, back at it less the mean drift's share (small).
+    let half = half_abs / halves as f64;
+    assert!((half - 14.0).abs() < 0.5, "|dx| per half period {half} cells");
 }
 
 #[test]

@@ -24,7 +24,7 @@ use std::time::Instant;
 
 use analysis::snapshot::{Header, SnapshotWriter};
 use automaton::mapping::{self, FreeParams, SlideMeasure, TrayDrive};
-use automaton::{Automaton, Direction};
+use automaton::{Automaton, Direction, Tracks};
 use automaton::{Lattice, Params, RuleSet, YBoundary};
 use indicatif::ProgressBar;
 use particles::constants::GRAVITY;
@@ -270,8 +270,173 @@ impl StateWriter {
         Ok(())
     }
 
+    /// As [`Self::push`], the grains in the order of `tracks` (grain `k` the same grain in
+    /// every frame).
+    pub fn push_tracked(&mut self, time: f64, offset: f64, tracks: &Tracks) -> Result<(), CliError> {
+        let c = self.cells;
+        let (l, r) = (self.length, self.radius);
+        let pos = tracks
+            .cells()
+            .iter()
+            .map(move |&(j, i)| [((i as f64 + 0.5) * c.dx + offset).rem_euclid(l), (j as f64 + 0.5) * c.dy, r]);
+        self.writer.push(time, pos, std::iter::repeat([0.0; 3]))?;
+        Ok(())
+    }
+
     pub fn sync(&mut self) -> Result<(), CliError> {
         Ok(self.writer.sync()?)
+    }
+}
+
+/// Quantiles of a sample (nearest rank), with its mean: `[q10, q25, median, q75, q90]`.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct Sample {
+    pub samples: usize,
+    pub mean: f64,
+    pub q10: f64,
+    pub q25: f64,
+    pub median: f64,
+    pub q75: f64,
+    pub q90: f64,
+    pub max: f64,
+}
+
+impl Sample {
+    pub fn of(mut v: Vec<f64>) -> Self {
+        if v.is_empty() {
+            return Self::default();
+        }
+        v.sort_by(f64::total_cmp);
+        let at = |p: f64| v[(p * (v.len() - 1) as f64).round() as usize];
+        Self {
+            samples: v.len(),
+            mean: v.iter().sum::<f64>() / v.len() as f64,
+            q10: at(0.1),
+            q25: at(0.25),
+            median: at(0.5),
+            q75: at(0.75),
+            q90: at(0.9),
+            max: v[v.len() - 1],
+        }
+    }
+}
+
+/// What the `measured` rule's grains did, followed one by one ([`Tracks`]), and how full its
+/// columns were: the numbers to set against the parameter file's.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct MeasuredTrace {
+    /// `|dx|` over each drive period of each grain (m), against the file's
+    /// `excursion.drift_per_period`.
+    pub drift_per_period: Sample,
+    /// Mean signed dx per period (m; + towards +x).
+    pub drift_signed_mean: f64,
+    /// `|dx|` over each half period of each grain (m), against `excursion.all.excursion`.
+    pub excursion: Sample,
+    /// `sqrt(<dx^2 + dy^2>)` per period over the mean diameter, over the whole run and over
+    /// its last 10 % of periods (the analysis' tail).
+    pub mobility_all: f64,
+    pub mobility_tail: f64,
+    /// Grains per column over the rows, at the end of every period (all columns).
+    pub column_fill: Sample,
+    /// The fill above which a column is a band column (the rule's).
+    pub band_fill: f64,
+    /// Per period: the fullest column's fill, and the columns above `band_fill`.
+    pub fullest_column: Sample,
+    pub band_columns: Sample,
+    /// Per period: the longest run of adjacent columns above `band_fill` (a band needs
+    /// `band.min_cells`).
+    pub longest_run: Sample,
+}
+
+/// Accumulates a [`MeasuredTrace`].
+struct Tracer {
+    tracks: Tracks,
+    dx: f64,
+    dy: f64,
+    diameter: f64,
+    band_fill: f64,
+    half_x: Vec<i64>,
+    period_x: Vec<i64>,
+    period_y: Vec<usize>,
+    excursion: Vec<f64>,
+    drift: Vec<f64>,
+    signed: f64,
+    /// Sum of squared displacements per period, per period.
+    squares: Vec<f64>,
+    fill: Vec<f64>,
+    fullest: Vec<f64>,
+    band_columns: Vec<f64>,
+    longest: Vec<f64>,
+}
+
+impl Tracer {
+    fn half_step(&mut self, moves: &[automaton::measured_rule::GrainMove]) {
+        self.tracks.apply(moves);
+        for (&x, h) in self.tracks.unwrapped_x().iter().zip(self.half_x.iter_mut()) {
+            self.excursion.push((x - *h).unsigned_abs() as f64 * self.dx);
+            *h = x;
+        }
+    }
+
+    fn period(&mut self, l: &automaton::Lattice) {
+        let mut sq = 0.0;
+        for ((&x, &(j, _)), (px, py)) in self
+            .tracks
+            .unwrapped_x()
+            .iter()
+            .zip(self.tracks.cells())
+            .zip(self.period_x.iter_mut().zip(self.period_y.iter_mut()))
+        {
+            let ddx = (x - *px) as f64 * self.dx;
+            let ddy = (j as f64 - *py as f64) * self.dy;
+            self.drift.push(ddx.abs());
+            self.signed += ddx;
+            sq += ddx * ddx + ddy * ddy;
+            (*px, *py) = (x, j);
+        }
+        self.squares.push(sq / self.period_x.len().max(1) as f64);
+        let (nx, ny) = (l.nx, l.ny);
+        let fills: Vec<f64> = (0..nx)
+            .map(|i| (0..ny).map(|j| l.height(i, j) as f64).sum::<f64>() / ny as f64)
+            .collect();
+        let above: Vec<bool> = fills.iter().map(|&f| f > self.band_fill).collect();
+        let mut longest = 0;
+        if above.iter().all(|&a| a) {
+            longest = nx;
+        } else {
+            let mut run = 0;
+            for k in 0..2 * nx {
+                if above[k % nx] {
+                    run += 1;
+                    longest = longest.max(run.min(nx));
+                } else {
+                    run = 0;
+                }
+            }
+        }
+        self.fullest.push(fills.iter().copied().fold(0.0, f64::max));
+        self.band_columns.push(above.iter().filter(|&&a| a).count() as f64);
+        self.longest.push(longest as f64);
+        self.fill.extend(fills);
+    }
+
+    fn finish(self) -> MeasuredTrace {
+        let n = self.squares.len();
+        let tail = n - ((n as f64 * 0.1).ceil() as usize).clamp(1, n.max(1));
+        let rms = |s: &[f64]| (s.iter().sum::<f64>() / s.len().max(1) as f64).sqrt() / self.diameter;
+        let samples = self.drift.len().max(1) as f64;
+        MeasuredTrace {
+            drift_signed_mean: self.signed / samples,
+            drift_per_period: Sample::of(self.drift),
+            excursion: Sample::of(self.excursion),
+            mobility_all: rms(&self.squares),
+            mobility_tail: rms(&self.squares[tail..]),
+            column_fill: Sample::of(self.fill),
+            band_fill: self.band_fill,
+            fullest_column: Sample::of(self.fullest),
+            band_columns: Sample::of(self.band_columns),
+            longest_run: Sample::of(self.longest),
+        }
     }
 }
 
@@ -291,6 +456,8 @@ pub struct Outcome {
     pub mass: (u64, u64),
     /// What the run changed of the scene, said aloud (e.g. the duration rounded to periods).
     pub warnings: Vec<String>,
+    /// The `measured` rule's grains followed one by one (None for the other rules).
+    pub trace: Option<MeasuredTrace>,
 }
 
 /// Runs the automaton from `lattice` for the scene's duration, writing `snapshots.bin` into
@@ -331,22 +498,69 @@ pub fn evolve(
         )?),
         None => None,
     };
+    // The measured rule's grains are followed one by one, and its states written in that
+    // order, so that the analysis' displacements are the grains' own.
+    let band_fill = params.measured.as_ref().map(|m| m.band.fill);
     let mut a = Automaton::new(lattice, params, Direction::Plus)?;
+    let mut tracer = match (band_fill, Tracks::new(a.lattice())) {
+        (Some(band_fill), Some(tracks)) => {
+            let x: Vec<i64> = tracks.unwrapped_x().to_vec();
+            let y: Vec<usize> = tracks.cells().iter().map(|c| c.0).collect();
+            Some(Tracer {
+                tracks,
+                dx: cells.dx,
+                dy: cells.dy,
+                diameter: 2.0 * radius,
+                band_fill,
+                half_x: x.clone(),
+                period_x: x,
+                period_y: y,
+                excursion: Vec::new(),
+                drift: Vec::new(),
+                signed: 0.0,
+                squares: Vec::new(),
+                fill: Vec::new(),
+                fullest: Vec::new(),
+                band_columns: Vec::new(),
+                longest: Vec::new(),
+            })
+        }
+        (Some(_), None) => {
+            warnings.push("the measured rule's lattice holds piles: its grains are not followed one by one".into());
+            None
+        }
+        _ => None,
+    };
+    let push = |w: &mut StateWriter, t: f64, offset: f64, a: &Automaton, tracer: &Option<Tracer>| match tracer {
+        Some(tr) => w.push_tracked(t, offset, &tr.tracks),
+        None => w.push(t, offset, a.lattice()),
+    };
     if let Some(w) = writer.as_mut() {
-        w.push(0.0, 0.0, a.lattice())?;
+        push(w, 0.0, 0.0, &a, &tracer)?;
     }
     frame(0.0, a.lattice());
     bar.set_length(periods);
     let mut stepping = 0.0;
     for k in 1..=periods {
         let t0 = Instant::now();
-        a.period();
+        for _ in 0..2 {
+            a.half_step();
+            if let Some(tr) = tracer.as_mut() {
+                match a.measured_moves() {
+                    Some(moves) => tr.half_step(moves),
+                    None => return Err("the measured rule's resting rule moved grains: they cannot be followed".into()),
+                }
+            }
+        }
         stepping += t0.elapsed().as_secs_f64();
+        if let Some(tr) = tracer.as_mut() {
+            tr.period(a.lattice());
+        }
         let t = 0.25 / nu + (k - 1) as f64 / nu;
         // Every `automaton.snapshot_every`-th period, and the last.
         if k % every == 0 || k == periods {
             if let Some(w) = writer.as_mut() {
-                w.push(t, scene.drive.amplitude, a.lattice())?;
+                push(w, t, scene.drive.amplitude, &a, &tracer)?;
             }
             frame(t, a.lattice());
         }
@@ -360,6 +574,11 @@ pub fn evolve(
     if m1 != m0 {
         return Err(format!("automaton lost grains: {m0} -> {m1}").into());
     }
+    if let Some(tr) = &tracer {
+        if !tr.tracks.matches(a.lattice()) {
+            return Err("the measured rule's followed grains are not the lattice's".into());
+        }
+    }
     Ok(Outcome {
         periods,
         half_steps: a.half_steps(),
@@ -367,6 +586,7 @@ pub fn evolve(
         cells,
         mass: (m0, m1),
         warnings,
+        trace: tracer.map(Tracer::finish),
     })
 }
 

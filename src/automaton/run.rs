@@ -88,6 +88,10 @@ pub struct AutomatonSummary {
     pub stepping_s: f64,
     pub wall_s: f64,
     pub cell_updates_per_s: f64,
+    /// The `measured` rule's grains followed one by one: their moves per half period and per
+    /// period, their mobility, and the columns' fill ([`lattice::MeasuredTrace`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub measured_trace: Option<lattice::MeasuredTrace>,
     /// The run's warnings, then its analysis'.
     pub warnings: Vec<String>,
     #[serde(flatten)]
@@ -155,6 +159,7 @@ pub fn run_automaton(scene: &LatticeScene, opts: &AutomatonOptions) -> Result<Au
         stepping_s: outcome.stepping_s,
         wall_s,
         cell_updates_per_s: cell_updates / outcome.stepping_s.max(1e-12),
+        measured_trace: outcome.trace.clone(),
         warnings,
         written: dir.written(),
         analysed,

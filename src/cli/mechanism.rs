@@ -26,6 +26,10 @@ pub struct Args {
     #[command(flatten)]
     #[serde(flatten)]
     pub writing: crate::cli::args::Writing,
+    /// Only the coarse model's measures from the run's frames (automaton.toml, coarse.json):
+    /// no continuation, no checkpoint read, no DEM step.
+    #[arg(long)]
+    pub coarse_only: bool,
 }
 
 impl Args {
@@ -38,6 +42,7 @@ impl Args {
             out: self.out.clone(),
             force: self.writing.force,
             quiet: self.writing.quiet,
+            coarse_only: self.coarse_only,
         }
     }
 }

@@ -47,10 +47,14 @@ pub struct Excursions {
     pub half_periods: usize,
     /// How the local state is taken, in words.
     pub local_state: String,
+    /// Fraction of the periods whose drift (`drift_signed`) is positive.
+    pub drift_positive_fraction: f64,
     pub all: ClassMoves,
     /// Over two consecutive half periods: the back-and-forth and the net move per period.
     pub swing: analysis::coarse::Spread,
     pub drift_per_period: analysis::coarse::Spread,
+    /// The drift over the period signed along the tray's x (`+` towards +x).
+    pub drift_signed: analysis::coarse::Spread,
     pub by_packing: Vec<ClassMoves>,
     pub by_contacts: Vec<ClassMoves>,
 }
@@ -121,6 +125,8 @@ pub fn write(run: &Path, periodic: bool, dir: &mut RunDir) -> Result<Parameters,
             all: coarse.all.clone(),
             swing: coarse.swing,
             drift_per_period: coarse.drift,
+            drift_signed: coarse.drift_signed,
+            drift_positive_fraction: coarse.drift_positive_fraction,
             by_packing: coarse.by_packing.clone(),
             by_contacts: coarse.by_contacts.clone(),
         },

@@ -39,6 +39,9 @@ pub struct Options {
     pub out: Option<PathBuf>,
     pub force: bool,
     pub quiet: bool,
+    /// Only the coarse model's measures from the run's frames (`automaton.toml`,
+    /// `coarse.json`): no continuation, so no checkpoint is read and no DEM step is taken.
+    pub coarse_only: bool,
 }
 
 pub fn mechanism(args: &Options) -> Result<String, CliError> {
@@ -48,6 +51,17 @@ pub fn mechanism(args: &Options) -> Result<String, CliError> {
     let scene_path = args.run.join("scene.toml");
     let resolved = crate::dem::resolve(&scene_path, crate::scene::file::load(&scene_path, &[])?)?;
     let scene = resolved.scene();
+    if args.coarse_only {
+        let out = args.out.clone().unwrap_or_else(|| args.run.join("mechanism"));
+        crate::rundir::output::claim(&out, args.force)?;
+        let mut dir = RunDir::create(&out, &json!({ "args": &args, "scene": scene }))?;
+        let coarse = crate::studies::coarse::write(&args.run, !scene.tray.x_walls, &mut dir)?;
+        return dir.finish(json!({
+            "run": args.run.display().to_string(),
+            "coarse_only": true,
+            "coarse": { "file": "automaton.toml", "cell_m": coarse.cell.size_m, "half_periods": coarse.excursion.half_periods },
+        }));
+    }
     let ckpt_path = args.run.join("checkpoint.bin");
     let bytes =
         std::fs::read(&ckpt_path).map_err(|e| format!("{}: cannot read ({e}); run `stripes run` to the end first", ckpt_path.display()))?;
