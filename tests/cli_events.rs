@@ -256,6 +256,23 @@ fn a_ratchet_run_extended_with_resume_matches_the_whole_run_byte_for_byte() {
     let _ = std::fs::remove_dir_all(&d);
 }
 
+/// A sweep's `runs.csv` without its speed column (`collisions_per_s`, which depends on the
+/// machine), as text cells.
+fn runs_without_speed(dir: &std::path::Path) -> Vec<Vec<String>> {
+    let text = std::fs::read_to_string(dir.join("runs.csv")).unwrap();
+    let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
+    let speed = header.iter().position(|h| *h == "collisions_per_s").unwrap();
+    text.lines()
+        .map(|l| {
+            l.split(',')
+                .enumerate()
+                .filter(|(k, _)| *k != speed)
+                .map(|(_, v)| v.to_string())
+                .collect()
+        })
+        .collect()
+}
+
 #[test]
 fn a_sweep_gives_the_same_tables_on_one_thread_and_on_two() {
     let d = std::env::temp_dir().join(format!("stripes-cli-events-sweep-{}", std::process::id()));
@@ -287,20 +304,7 @@ fn a_sweep_gives_the_same_tables_on_one_thread_and_on_two() {
     let (_, dir2) = sweep("two", "2");
     assert_eq!(one["runs"], 4);
     // Measures other than the speed are identical whatever the thread count.
-    let table = |dir: &std::path::Path| -> Vec<Vec<String>> {
-        let text = std::fs::read_to_string(dir.join("runs.csv")).unwrap();
-        let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
-        let speed = header.iter().position(|h| *h == "collisions_per_s").unwrap();
-        text.lines()
-            .map(|l| {
-                l.split(',')
-                    .enumerate()
-                    .filter(|(k, _)| *k != speed)
-                    .map(|(_, v)| v.to_string())
-                    .collect()
-            })
-            .collect()
-    };
+    let table = runs_without_speed;
     assert_eq!(table(&dir1), table(&dir2));
     assert_eq!(table(&dir1).len(), 5);
     let means = std::fs::read_to_string(dir1.join("means.csv")).unwrap();
@@ -358,20 +362,7 @@ fn an_events_sweep_runs_in_shards_continues_and_refuses_another_sweep() {
     }
     let (ok, _, stderr) = stripes(&["collect", &sharded.display().to_string()]);
     assert!(ok, "{stderr}");
-    let table = |dir: &std::path::Path| -> Vec<Vec<String>> {
-        let text = std::fs::read_to_string(dir.join("runs.csv")).unwrap();
-        let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
-        let speed = header.iter().position(|h| *h == "collisions_per_s").unwrap();
-        text.lines()
-            .map(|l| {
-                l.split(',')
-                    .enumerate()
-                    .filter(|(k, _)| *k != speed)
-                    .map(|(_, v)| v.to_string())
-                    .collect()
-            })
-            .collect()
-    };
+    let table = runs_without_speed;
     assert_eq!(table(&one), table(&sharded));
     assert_eq!(table(&one).len(), 5);
     // The same sweep again: nothing is rerun, the tables are the same.
