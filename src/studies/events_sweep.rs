@@ -253,13 +253,16 @@ fn report_with(root: &Path, sweep: &Sweep, log: bool) -> Result<Value, CliError>
     }
     let mut failures = Vec::new();
     let mut warnings = Vec::new();
-    for (job, r) in results.iter().flatten() {
+    // Each finished job's seed, from its scene (read once: the bin note needs it too).
+    let mut seeds = vec![f64::NAN; results.len()];
+    for (k, (job, r)) in results.iter().enumerate().filter_map(|(k, r)| r.as_ref().map(|r| (k, r))) {
         if let Some(f) = &r.failure {
             let line = format!("{}: {f}", job.id);
             eprintln!("warning: run {line}");
             failures.push(line);
         }
         let scene = sweep::events_job_scene(sweep, job)?;
+        seeds[k] = scene.run.seed as f64;
         if let Some(n) = crate::events::measure::bulk_bin_note(scene.run.bin, scene.tray.height, scene.particles.species.len()) {
             if !warnings.contains(&n) {
                 eprintln!("warning: {n}");
@@ -284,9 +287,9 @@ fn report_with(root: &Path, sweep: &Sweep, log: bool) -> Result<Value, CliError>
     header.extend(&columns);
     let mut rows = Vec::new();
     for (k, r) in results.iter().enumerate() {
-        let Some((job, r)) = r else { continue };
+        let Some((_, r)) = r else { continue };
         let mut row = points[k / per.max(1)].clone();
-        row.push(sweep::events_job_scene(sweep, job)?.run.seed as f64);
+        row.push(seeds[k]);
         match &r.measured {
             Some(m) => row.extend(measures(m).iter().map(|(_, v)| *v)),
             None => row.extend(std::iter::repeat_n(f64::NAN, columns.len())),
