@@ -185,6 +185,86 @@ impl AnalysisSummary {
         let mut all = self.to_json()?;
         Ok(SHARED_KEYS.iter().filter_map(|k| all.remove_entry(*k)).collect())
     }
+
+    /// What this analysis says, typed, as the reports that set models side by side read it
+    /// (`stripes compare`); [`Self::shared_keys`] is the same for `summary.json`.
+    pub fn outcome(&self) -> Outcome {
+        let r = &self.report;
+        let vertical = self.geometry == Geometry::VerticalBox;
+        Outcome {
+            phase: if vertical { None } else { r.phase },
+            phase_note: if vertical {
+                Some(VERTICAL_BOX_NOTE.into())
+            } else {
+                r.phase_note.clone()
+            },
+            phase_votes: (!r.phase_robust).then_some(r.phase_votes),
+            stripe_count_final: r.stripe_count_final,
+            stationary_stripe_count: r.stationary_stripe_count,
+            stripe_onset_s: r.stripe_onset_s,
+            stripe_mean_width_final_m: r.stripe_mean_width_final_m,
+            mobility: finite(r.mobility),
+            contrast: finite(r.contrast),
+            msd_plateau_before: r.msd_plateau_before,
+            msd_plateau_after: r.msd_plateau_after,
+            spacing_m: r.spacing_m,
+            structure_peak_height: r.structure_peak_height,
+            band_width_m: r.band_width_m,
+            band_gap_m: r.band_gap_m,
+            in_band_fraction: finite(r.in_band_fraction),
+            warnings: self.warnings.clone(),
+        }
+    }
+}
+
+/// A value that `summary.json` would write as `null` (NaN, infinite) is none.
+fn finite(x: f64) -> Option<f64> {
+    x.is_finite().then_some(x)
+}
+
+/// What a model's analysis found, typed: the phase (none where it has none: too few frames,
+/// a vertical box), the threshold sets' votes where the label is not robust, the stripes,
+/// the structure, the MSD plateaus and the analysis' warnings. Read by the reports that set
+/// two models side by side; `summary.json` writes the same values by name.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Outcome {
+    pub phase: Option<Phase>,
+    pub phase_note: Option<String>,
+    /// The votes of the 27 threshold sets around the default, when they do not all agree
+    /// with the label (`phase_robust = false`).
+    pub phase_votes: Option<analysis::report::PhaseVotes>,
+    pub stripe_count_final: usize,
+    pub stationary_stripe_count: usize,
+    pub stripe_onset_s: Option<f64>,
+    pub stripe_mean_width_final_m: Option<f64>,
+    /// Mean diameters per drive period.
+    pub mobility: Option<f64>,
+    /// Density contrast, times a random layer's.
+    pub contrast: Option<f64>,
+    pub msd_plateau_before: Option<f64>,
+    pub msd_plateau_after: Option<f64>,
+    /// The late frames' S(k) peak spacing (m).
+    pub spacing_m: Option<f64>,
+    pub structure_peak_height: Option<f64>,
+    pub band_width_m: Option<f64>,
+    pub band_gap_m: Option<f64>,
+    pub in_band_fraction: Option<f64>,
+    pub warnings: Vec<String>,
+}
+
+impl Outcome {
+    /// The phase's name, `unknown` without one.
+    pub fn phase_name(&self) -> &'static str {
+        self.phase.map_or("unknown", Phase::name)
+    }
+
+    /// The stripe spacing (m) of a run with stripes: the late frames' S(k) peak, the one
+    /// measure used for every model; none for a run without stripes (a gas's S(k) peak is
+    /// not a stripe spacing).
+    pub fn stripe_spacing(&self) -> Option<f64> {
+        let striped = self.phase == Some(Phase::Stripes) || self.stripe_count_final > 0;
+        striped.then_some(self.spacing_m).flatten()
+    }
 }
 
 impl Serialize for AnalysisSummary {

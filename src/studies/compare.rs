@@ -11,9 +11,12 @@ use std::path::{Path, PathBuf};
 use analysis::io::read_csv;
 use analysis::plot::{Heatmap, LinePlot, Mark};
 use serde::Serialize;
-use serde_json::{json, Value};
+use serde_json::json;
+
+use analysis::classify::Phase;
 
 use crate::analyze::read;
+use crate::analyze::run::Outcome;
 use crate::analyze::{analyze, AnalysisOptions};
 use crate::automaton::lattice::load_scene;
 use crate::automaton::{resolve_lattice, run_automaton, AutomatonOptions};
@@ -48,7 +51,7 @@ fn stage(quiet: bool, k: usize, what: &str) {
     }
 }
 
-fn read_json(path: &Path) -> Result<Value, CliError> {
+fn read_json<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T, CliError> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
     Ok(serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?)
 }
@@ -73,19 +76,9 @@ fn structure_line(distance: Option<f64>, scale: Option<f64>) -> String {
     }
 }
 
-/// A summary value for the report table: integers as they are, other numbers (times) to the
-/// millisecond, null as "none".
-fn fmt_opt(v: Option<&Value>) -> String {
-    match v {
-        Some(Value::Null) | None => "none".into(),
-        Some(Value::Number(n)) => match (n.as_i64(), n.as_f64()) {
-            (Some(i), _) => i.to_string(),
-            (None, Some(f)) => format!("{f:.3}"),
-            _ => n.to_string(),
-        },
-        Some(Value::String(s)) => s.clone(),
-        Some(x) => x.to_string(),
-    }
+/// A number for the report: to the millisecond (times), or "none".
+fn fmt_opt(v: Option<f64>) -> String {
+    v.filter(|f| f.is_finite()).map_or("none".into(), |f| format!("{f:.3}"))
 }
 
 /// What the thesis reports for its reference tray (thesis 3.5.4, Table 3.5).
@@ -97,36 +90,27 @@ MSD per period plateaus at a1 ~ 1.6e-4 m^2 before and a2 ~ 8.9e-4 m^2 after the 
 const EXPERIMENT: &str = "irregular clusters after about 1 s, merging into distinct stripes within 3-5 s \
 (clear at 10 s), static relative to the plate while the grains between them move like a gas (mustard seeds, 3 Hz, 10 mm)";
 
-/// Stripe spacing (m) of a run with stripes: the late frames' S(k) peak (`spacing_m`), the
-/// one measure used for every model; none for a run without stripes.
-fn spacing(keys: &serde_json::Map<String, Value>) -> Option<f64> {
-    let striped = keys.get("phase").and_then(Value::as_str) == Some("stripes")
-        || keys.get("stripe_count_final").and_then(Value::as_f64).is_some_and(|n| n > 0.0);
-    striped.then(|| keys.get("spacing_m").and_then(Value::as_f64)).flatten()
-}
-
 /// Where the two models agree and where they differ, in words, with the likely reason.
 /// `rolling`: a free sphere rolls without slip on the drive (the automaton's frustration and
 /// trains act, [`::automaton::mapping::rolls_without_slip`]).
-fn agreement(dem: &serde_json::Map<String, Value>, auto: &serde_json::Map<String, Value>, rolling: bool) -> Vec<String> {
-    let num = |m: &serde_json::Map<String, Value>, k: &str| m.get(k).and_then(Value::as_f64);
-    let phase = |m: &serde_json::Map<String, Value>| m.get("phase").and_then(Value::as_str).unwrap_or("unknown").to_string();
+fn agreement(dem: &Outcome, auto: &Outcome, rolling: bool) -> Vec<String> {
     let mut out = Vec::new();
-    let (pd, pa) = (phase(dem), phase(auto));
+    let (pd, pa) = (dem.phase_name(), auto.phase_name());
     out.push(if pd == pa {
         format!("Both models give phase `{pd}`.")
     } else {
         format!("The phases differ: DEM `{pd}`, automaton `{pa}`.")
     });
-    if let (Some(cd), Some(ca)) = (num(dem, "stripe_count_final"), num(auto, "stripe_count_final")) {
-        let d = (cd - ca).abs();
-        out.push(if d <= 1.0 {
+    {
+        let (cd, ca) = (dem.stripe_count_final, auto.stripe_count_final);
+        let d = cd.abs_diff(ca);
+        out.push(if d <= 1 {
             format!("Stripe counts agree within one stripe (DEM {cd}, automaton {ca}).")
         } else {
             format!("Stripe counts differ by {d} (DEM {cd}, automaton {ca}).")
         });
     }
-    if let (Some(sd), Some(sa)) = (spacing(dem), spacing(auto)) {
+    if let (Some(sd), Some(sa)) = (dem.stripe_spacing(), auto.stripe_spacing()) {
         let r = sa / sd;
         let within = (0.85..=1.15).contains(&r);
         out.push(format!(
@@ -142,7 +126,7 @@ fn agreement(dem: &serde_json::Map<String, Value>, auto: &serde_json::Map<String
             );
         }
     }
-    match (num(dem, "stripe_onset_s"), num(auto, "stripe_onset_s")) {
+    match (dem.stripe_onset_s, auto.stripe_onset_s) {
         (Some(od), Some(oa)) => {
             let r = oa / od;
             let mut line = format!("Onset: DEM {od:.2} s, automaton {oa:.2} s (ratio {r:.2}).");
@@ -167,11 +151,12 @@ fn agreement(dem: &serde_json::Map<String, Value>, auto: &serde_json::Map<String
 }
 
 /// One sentence on what a model's layer did, from its analysis summary keys.
-fn interpret(model: &str, keys: &serde_json::Map<String, Value>) -> String {
-    let num = |k: &str| keys.get(k).and_then(Value::as_f64);
-    let mobility = num("mobility").map_or("unknown".into(), |m| format!("{m:.3} mean diameters per period"));
-    let contrast = num("contrast").map_or("unknown".into(), |c| format!("{c:.2} x a random layer"));
-    let plateaus = match (num("msd_plateau_before"), num("msd_plateau_after")) {
+fn interpret(model: &str, keys: &Outcome) -> String {
+    let mobility = keys
+        .mobility
+        .map_or("unknown".into(), |m| format!("{m:.3} mean diameters per period"));
+    let contrast = keys.contrast.map_or("unknown".into(), |c| format!("{c:.2} x a random layer"));
+    let plateaus = match (keys.msd_plateau_before, keys.msd_plateau_after) {
         (None, None) => "no flat MSD plateau".to_string(),
         (a, b) => format!(
             "MSD plateaus a1 = {}, a2 = {}",
@@ -179,17 +164,18 @@ fn interpret(model: &str, keys: &serde_json::Map<String, Value>) -> String {
             b.map_or("none".into(), |v| format!("{v:.2e} m^2"))
         ),
     };
-    let sentence = match keys.get("phase").and_then(Value::as_str) {
-        Some("nothing") => format!(
+    let sentence = match keys.phase {
+        Some(Phase::Nothing) => format!(
             "The {model} layer stayed in lockstep with the tray (mobility {mobility}, below the `nothing` threshold): no stripes, contrast {contrast}; {plateaus}."
         ),
-        Some("stripes") => {
-            let onset = num("stripe_onset_s").map_or("no onset found (no lasting stripe count)".to_string(), |t| format!("onset {t:.3} s"));
-            if num("stripe_count_final").is_some_and(|n| n > 0.0) {
+        Some(Phase::Stripes) => {
+            let onset = keys
+                .stripe_onset_s
+                .map_or("no onset found (no lasting stripe count)".to_string(), |t| format!("onset {t:.3} s"));
+            if keys.stripe_count_final > 0 {
                 format!(
                     "The {model} formed stripes: {} at the end ({} stationary), {onset}, contrast {contrast}, mobility {mobility}; {plateaus}.",
-                    fmt_opt(keys.get("stripe_count_final")),
-                    fmt_opt(keys.get("stationary_stripe_count")),
+                    keys.stripe_count_final, keys.stationary_stripe_count,
                 )
             } else {
                 // The label comes from bands that held their place over the last periods (or the
@@ -197,46 +183,44 @@ fn interpret(model: &str, keys: &serde_json::Map<String, Value>) -> String {
                 format!(
                     "The {model} is labelled `stripes` ({} band(s) held their place over the last periods), but its last frame \
                      holds no stripe above the threshold; {onset}, contrast {contrast}, mobility {mobility}; {plateaus}.",
-                    fmt_opt(keys.get("stationary_stripe_count")),
+                    keys.stationary_stripe_count,
                 )
             }
         }
-        Some("gas") => format!(
+        Some(Phase::Gas) => format!(
             "The {model} layer stayed mobile without lasting stripes (a gas): mobility {mobility}, contrast {contrast}, {} stripes at the end; {plateaus}.",
-            fmt_opt(keys.get("stripe_count_final")),
+            keys.stripe_count_final,
         ),
-        _ => format!(
+        None => format!(
             "The {model} run gives no phase: {}.",
-            keys.get("phase_note").and_then(Value::as_str).unwrap_or("unknown reason")
+            keys.phase_note.as_deref().unwrap_or("unknown reason")
         ),
     };
-    if keys.get("phase_robust").and_then(Value::as_bool) == Some(false) {
-        let votes = keys.get("phase_votes");
-        let v = |k: &str| votes.and_then(|v| v.get(k)).and_then(Value::as_u64).unwrap_or(0);
-        format!(
+    match keys.phase_votes {
+        Some(v) => format!(
             "{sentence} The label rests on the classifier's thresholds: of 27 threshold sets around the default, {} say stripes, {} gas and {} nothing.",
-            v("stripes"),
-            v("gas"),
-            v("nothing")
-        )
-    } else {
-        sentence
+            v.stripes, v.gas, v.nothing
+        ),
+        None => sentence,
     }
 }
 
 /// Every warning of the runs and analyses, named by where it came from.
-fn run_warnings(sources: &[(&str, &Value)]) -> Vec<String> {
+fn run_warnings(sources: &[(&str, &[String])]) -> Vec<String> {
     sources
         .iter()
-        .flat_map(|(name, v)| {
-            v.get("warnings")
-                .and_then(Value::as_array)
-                .into_iter()
-                .flatten()
-                .filter_map(Value::as_str)
-                .map(move |w| format!("{name}: {w}"))
-        })
+        .flat_map(|(name, ws)| ws.iter().map(move |w| format!("{name}: {w}")))
         .collect()
+}
+
+/// What a DEM run's `summary.json` tells the report: its speed and its warnings. A run
+/// reused with `--dem-run` may have stopped before its end, without a summary: all unknown.
+#[derive(Clone, Debug, Default, serde::Deserialize)]
+struct DemRunNumbers {
+    particle_steps_per_s: Option<f64>,
+    wall_s: Option<f64>,
+    #[serde(default)]
+    warnings: Vec<String>,
 }
 
 /// One colour scale for several maps: from the lowest to the highest value of any.
@@ -421,9 +405,13 @@ fn compare(args: &Options, file: &crate::scene::file::SceneFile, out: &Path) -> 
     // A run reused with --dem-run may have stopped before its end, without summary.json: its
     // speed is then unknown. A summary that is there but unreadable is an error.
     let summary = dem_dir.join("summary.json");
-    let dem_summary = match (fresh, &args.dem_run) {
-        (Some(s), _) => serde_json::to_value(s)?,
-        (None, Some(_)) if !summary.exists() => Value::Null,
+    let dem_run = match (fresh, &args.dem_run) {
+        (Some(s), _) => DemRunNumbers {
+            particle_steps_per_s: Some(s.particle_steps_per_s),
+            wall_s: Some(s.wall_s),
+            warnings: s.warnings,
+        },
+        (None, Some(_)) if !summary.exists() => DemRunNumbers::default(),
         (None, _) => read_json(&summary)?,
     };
 
@@ -440,7 +428,6 @@ fn compare(args: &Options, file: &crate::scene::file::SceneFile, out: &Path) -> 
             quiet: args.quiet,
         },
     )?;
-    let auto_summary = serde_json::to_value(&automaton)?;
 
     if args.resume {
         dir.json("config.json", &args_json)?;
@@ -449,8 +436,8 @@ fn compare(args: &Options, file: &crate::scene::file::SceneFile, out: &Path) -> 
     // 3. The same analysis of both (the automaton's was made by its run).
     stage(args.quiet, 3, "analysis");
     let dem_analysis_dir = out.join("dem-analysis");
-    let dem_keys = analyze(&dem_dir, &AnalysisOptions::into_dir(dem_analysis_dir.clone()))?.shared_keys()?;
-    let auto_keys = automaton.analysed.shared_keys()?;
+    let dem_analysed = analyze(&dem_dir, &AnalysisOptions::into_dir(dem_analysis_dir.clone()))?;
+    let (dem_keys, auto_keys) = (dem_analysed.outcome(), automaton.analysed.outcome());
 
     // The structures, and their distance; a second DEM seed gives its scale.
     let dem_structure = read::late_structure(&dem_analysis_dir)?;
@@ -503,10 +490,8 @@ fn compare(args: &Options, file: &crate::scene::file::SceneFile, out: &Path) -> 
         dir.note_files(files);
     }
 
-    let dem_speed = dem_summary.get("particle_steps_per_s").and_then(Value::as_f64);
-    let dem_wall = dem_summary.get("wall_s").and_then(Value::as_f64);
-    let auto_speed = auto_summary.get("cell_updates_per_s").and_then(Value::as_f64);
-    let auto_wall = auto_summary.get("wall_s").and_then(Value::as_f64);
+    let (dem_speed, dem_wall) = (dem_run.particle_steps_per_s, dem_run.wall_s);
+    let (auto_speed, auto_wall) = (Some(automaton.cell_updates_per_s), Some(automaton.wall_s));
     let simulated = scene.run.duration;
     let speed = |wall: Option<f64>| wall.map_or("unknown".to_string(), |w| format!("{:.3}", simulated / w.max(1e-12)));
     let mut md = String::new();
@@ -542,11 +527,11 @@ fn compare(args: &Options, file: &crate::scene::file::SceneFile, out: &Path) -> 
     for (name, k) in [("DEM", &dem_keys), ("automaton", &auto_keys)] {
         md.push_str(&format!(
             "| {name} | {} | {} | {} | {} | {} |\n",
-            mm(k.get("spacing_m").and_then(Value::as_f64)),
-            fmt_opt(k.get("structure_peak_height")),
-            mm(k.get("band_width_m").and_then(Value::as_f64)),
-            mm(k.get("band_gap_m").and_then(Value::as_f64)),
-            fmt_opt(k.get("in_band_fraction")),
+            mm(k.spacing_m),
+            fmt_opt(k.structure_peak_height),
+            mm(k.band_width_m),
+            mm(k.band_gap_m),
+            fmt_opt(k.in_band_fraction),
         ));
     }
     md.push_str(
@@ -557,10 +542,10 @@ fn compare(args: &Options, file: &crate::scene::file::SceneFile, out: &Path) -> 
          ![DEM, top view](dem-analysis/top_view.png)\n\n![automaton, top view](automaton/analysis/top_view.png)\n\n",
     );
     let warnings = run_warnings(&[
-        ("DEM run", &dem_summary),
-        ("DEM analysis", &Value::Object(dem_keys.clone())),
-        ("automaton run", &auto_summary),
-        ("automaton analysis", &Value::Object(auto_keys.clone())),
+        ("DEM run", &dem_run.warnings),
+        ("DEM analysis", &dem_keys.warnings),
+        ("automaton run", &automaton.warnings),
+        ("automaton analysis", &auto_keys.warnings),
     ]);
     if !warnings.is_empty() {
         md.push_str("## Warnings of the runs\n\n");
@@ -572,22 +557,22 @@ fn compare(args: &Options, file: &crate::scene::file::SceneFile, out: &Path) -> 
     md.push_str("| model | stripes at the end | spacing (mm) | mean width (mm) | onset (s) | phase | wall time (s) | simulated s per wall s | speed |\n|---|---|---|---|---|---|---|---|---|\n");
     md.push_str(&format!(
         "| DEM | {} | {} | {} | {} | {} | {} | {} | {} particle-steps/s |\n",
-        fmt_opt(dem_keys.get("stripe_count_final")),
-        mm(spacing(&dem_keys)),
-        mm(dem_keys.get("stripe_mean_width_final_m").and_then(Value::as_f64)),
-        fmt_opt(dem_keys.get("stripe_onset_s")),
-        fmt_opt(dem_keys.get("phase")),
+        dem_keys.stripe_count_final,
+        mm(dem_keys.stripe_spacing()),
+        mm(dem_keys.stripe_mean_width_final_m),
+        fmt_opt(dem_keys.stripe_onset_s),
+        dem_keys.phase.map_or("none", Phase::name),
         dem_wall.map_or("unknown".into(), |w| format!("{w:.1}")),
         speed(dem_wall),
         dem_speed.map_or("unknown".into(), |s| format!("{s:.3e}")),
     ));
     md.push_str(&format!(
         "| automaton | {} | {} | {} | {} | {} | {} | {} | {} cell updates/s |\n",
-        fmt_opt(auto_keys.get("stripe_count_final")),
-        mm(spacing(&auto_keys)),
-        mm(auto_keys.get("stripe_mean_width_final_m").and_then(Value::as_f64)),
-        fmt_opt(auto_keys.get("stripe_onset_s")),
-        fmt_opt(auto_keys.get("phase")),
+        auto_keys.stripe_count_final,
+        mm(auto_keys.stripe_spacing()),
+        mm(auto_keys.stripe_mean_width_final_m),
+        fmt_opt(auto_keys.stripe_onset_s),
+        auto_keys.phase.map_or("none", Phase::name),
         auto_wall.map_or("unknown".into(), |w| format!("{w:.2}")),
         speed(auto_wall),
         auto_speed.map_or("unknown".into(), |s| format!("{s:.3e}")),
@@ -613,16 +598,17 @@ fn compare(args: &Options, file: &crate::scene::file::SceneFile, out: &Path) -> 
          show in the maps but are not counted as stripes; the automaton's map often has such thin bands, one or \
          two cells wide.\n\n",
     );
-    if let Some(m) = auto_summary.get("mapping") {
+    {
+        let m = &automaton.mapping;
         md.push_str(&format!(
             "## Automaton mapping\n\nFlight cap {} cells (single-sphere DEM slide {} m per half period, Coulomb block {} m); \
              tray acceleration {} m/s^2 against mu g = {} m/s^2. Parameters: `{}`.\n",
-            fmt_opt(m.get("flight_cap_cells")),
-            fmt_opt(m.get("slide_dem").and_then(|s| s.get("displacement"))),
-            fmt_opt(m.get("slide_coulomb_block").and_then(|s| s.get("displacement"))),
-            fmt_opt(m.get("tray_acceleration")),
-            fmt_opt(m.get("friction_acceleration")),
-            auto_summary.get("params").map(|p| p.to_string()).unwrap_or_default(),
+            fmt_opt(Some(m.flight_cap_cells)),
+            fmt_opt(Some(m.slide_dem.displacement)),
+            fmt_opt(Some(m.slide_coulomb_block.displacement)),
+            fmt_opt(Some(m.tray_acceleration)),
+            fmt_opt(Some(m.friction_acceleration)),
+            serde_json::to_value(&automaton.params)?,
         ));
     }
     let report = out.join("report.md");
@@ -637,10 +623,10 @@ fn compare(args: &Options, file: &crate::scene::file::SceneFile, out: &Path) -> 
         "sample_key": format!("{:016x}", sample_key(scene)),
         "dem_run": dem_dir.display().to_string(),
         "warnings": warnings,
-        "dem": { "analysis": dem_keys, "particle_steps_per_s": dem_speed, "wall_s": dem_wall,
-                 "spacing_m": dem_keys.get("spacing_m"), "band_width_m": dem_keys.get("band_width_m"), "in_band_fraction": dem_keys.get("in_band_fraction") },
-        "automaton": { "analysis": auto_keys, "cell_updates_per_s": auto_speed, "wall_s": auto_wall,
-                 "spacing_m": auto_keys.get("spacing_m"), "band_width_m": auto_keys.get("band_width_m"), "in_band_fraction": auto_keys.get("in_band_fraction") },
+        "dem": { "analysis": dem_analysed.shared_keys()?, "particle_steps_per_s": dem_speed, "wall_s": dem_wall,
+                 "spacing_m": dem_keys.spacing_m, "band_width_m": dem_keys.band_width_m, "in_band_fraction": dem_keys.in_band_fraction },
+        "automaton": { "analysis": automaton.analysed.shared_keys()?, "cell_updates_per_s": auto_speed, "wall_s": auto_wall,
+                 "spacing_m": auto_keys.spacing_m, "band_width_m": auto_keys.band_width_m, "in_band_fraction": auto_keys.in_band_fraction },
         "pattern_distance": pattern_distance,
         "pattern_distance_seed_scale": seed_scale,
         "pattern_distance_scaled": pattern_distance.and_then(|d| analysis::structure::scaled(d, seed_scale)),
@@ -651,27 +637,43 @@ fn compare(args: &Options, file: &crate::scene::file::SceneFile, out: &Path) -> 
 mod tests {
     use super::*;
 
-    fn keys(v: Value) -> serde_json::Map<String, Value> {
-        v.as_object().unwrap().clone()
+    fn outcome(phase: Option<Phase>, count: usize, onset: Option<f64>) -> Outcome {
+        Outcome {
+            phase,
+            stripe_count_final: count,
+            stripe_onset_s: onset,
+            ..Outcome::default()
+        }
     }
 
     /// Issue 19, point 14: the report says in words what each model did, and repeats every
     /// warning with where it came from.
     #[test]
     fn the_report_interprets_and_repeats_warnings() {
-        let dem =
-            keys(json!({"phase": "nothing", "mobility": 0.018, "contrast": 0.53, "msd_plateau_before": null, "msd_plateau_after": null}));
+        let dem = Outcome {
+            mobility: Some(0.018),
+            contrast: Some(0.53),
+            ..outcome(Some(Phase::Nothing), 0, None)
+        };
         let s = interpret("DEM", &dem);
         assert!(s.contains("stayed in lockstep") && s.contains("mobility 0.018"), "{s}");
-        let auto = keys(
-            json!({"phase": "stripes", "stripe_count_final": 3, "stationary_stripe_count": 2, "stripe_onset_s": 0.7125, "contrast": 2.5, "mobility": 6.0}),
-        );
+        let auto = Outcome {
+            stationary_stripe_count: 2,
+            contrast: Some(2.5),
+            mobility: Some(6.0),
+            ..outcome(Some(Phase::Stripes), 3, Some(0.7125))
+        };
         let s = interpret("automaton", &auto);
         assert!(s.contains("formed stripes: 3 at the end (2 stationary), onset 0.713 s"), "{s}");
         assert!(!s.contains("thresholds"), "no sweep, no claim about it: {s}");
-        let mut fragile = auto.clone();
-        fragile.insert("phase_robust".into(), false.into());
-        fragile.insert("phase_votes".into(), json!({"nothing": 0, "stripes": 21, "gas": 6}));
+        let fragile = Outcome {
+            phase_votes: Some(analysis::report::PhaseVotes {
+                nothing: 0,
+                stripes: 21,
+                gas: 6,
+            }),
+            ..auto.clone()
+        };
         let s = interpret("DEM", &fragile);
         assert!(
             s.ends_with("of 27 threshold sets around the default, 21 say stripes, 6 gas and 0 nothing."),
@@ -679,27 +681,37 @@ mod tests {
         );
         // Issue 43: a run labelled stripes whose last frame holds none says so, and an onset
         // that was not found is not "none s".
-        let held = keys(json!({"phase": "stripes", "stripe_count_final": 0, "stationary_stripe_count": 1, "stripe_onset_s": null}));
+        let held = Outcome {
+            stationary_stripe_count: 1,
+            ..outcome(Some(Phase::Stripes), 0, None)
+        };
         let s = interpret("automaton", &held);
         assert!(!s.contains("formed stripes") && s.contains("last frame holds no stripe"), "{s}");
         assert!(
             s.contains("1 band(s) held") && s.contains("no onset found") && !s.contains("none s"),
             "{s}"
         );
-        let none = keys(json!({"phase": null, "phase_note": "too few frames for a phase"}));
+        let none = Outcome {
+            phase_note: Some("too few frames for a phase".into()),
+            ..Outcome::default()
+        };
         assert!(interpret("DEM", &none).contains("no phase: too few frames"));
         assert!(THESIS.contains("4 +- 0.875"));
-        let w = run_warnings(&[("DEM run", &json!({"warnings": ["dt coarse"]})), ("automaton run", &json!({}))]);
+        let w = run_warnings(&[("DEM run", &["dt coarse".to_string()]), ("automaton run", &[])]);
         assert_eq!(w, vec!["DEM run: dt coarse".to_string()]);
     }
 
     /// Issue 17, point 4: the report says where the models agree and differ, with spacing.
     #[test]
     fn agreement_names_phase_count_spacing_and_onset() {
-        let dem = keys(
-            json!({"phase": "stripes", "stripe_count_final": 3, "stripe_onset_s": 1.5, "spacing_m": 0.0333333, "stripe_spacing_m": 0.1}),
-        );
-        let auto = keys(json!({"phase": "stripes", "stripe_count_final": 2, "stripe_onset_s": 4.5, "spacing_m": 0.05}));
+        let dem = Outcome {
+            spacing_m: Some(0.0333333),
+            ..outcome(Some(Phase::Stripes), 3, Some(1.5))
+        };
+        let auto = Outcome {
+            spacing_m: Some(0.05),
+            ..outcome(Some(Phase::Stripes), 2, Some(4.5))
+        };
         let lines = agreement(&dem, &auto, true);
         assert_eq!(lines[0], "Both models give phase `stripes`.");
         assert!(lines[1].contains("agree within one stripe"), "{lines:?}");
@@ -708,16 +720,26 @@ mod tests {
             "{lines:?}"
         );
         assert!(lines[3].contains("ratio 3.00") && lines[3].contains("more slowly"), "{lines:?}");
-        let gas = keys(json!({"phase": "gas", "stripe_count_final": 0, "stripe_onset_s": null}));
+        let gas = outcome(Some(Phase::Gas), 0, None);
         let lines = agreement(&dem, &gas, false);
         assert!(lines[0].contains("differ") && lines[1].contains("differ by 3"), "{lines:?}");
         assert_eq!(lines.len(), 3, "no spacing without stripes: {lines:?}");
         assert!(lines[2].contains("automaton none"), "{lines:?}");
-        assert_eq!(spacing(&gas), None);
-        let gas_with_peak = keys(json!({"phase": "gas", "stripe_count_final": 0, "spacing_m": 0.02}));
-        assert_eq!(spacing(&gas_with_peak), None, "a gas's S(k) peak is not a stripe spacing");
-        let sk = keys(json!({"phase": "stripes", "stripe_count_final": 3, "stripe_spacing_m": 0.1, "spacing_m": 0.04}));
-        assert_eq!(spacing(&sk), Some(0.04), "the S(k) peak, not the time-averaged profile's mode");
+        assert_eq!(gas.stripe_spacing(), None);
+        let gas_with_peak = Outcome {
+            spacing_m: Some(0.02),
+            ..gas.clone()
+        };
+        assert_eq!(gas_with_peak.stripe_spacing(), None, "a gas's S(k) peak is not a stripe spacing");
+        let sk = Outcome {
+            spacing_m: Some(0.04),
+            ..outcome(Some(Phase::Stripes), 3, None)
+        };
+        assert_eq!(
+            sk.stripe_spacing(),
+            Some(0.04),
+            "the S(k) peak (the profile's mode is not in an outcome)"
+        );
     }
 
     /// Issue 19, point 14: the two density maps carry the model's name and share one scale.

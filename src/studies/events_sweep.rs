@@ -238,7 +238,7 @@ fn report_with(root: &Path, sweep: &Sweep, log: bool) -> Result<Value, CliError>
     let axes = stored_axes(sweep);
     let points = grid(&axes);
     let per = sweep.jobs.len() / points.len().max(1);
-    let (found, mut dir) = sweep::open_report(root, sweep)?;
+    let (found, mut dir) = sweep::open_report::<EventsResult>(root, sweep)?;
     dir.json("plots.json", &serde_json::to_value(PlotScale { log })?)?;
     let mut results: Vec<Option<(Job, EventsResult)>> = Vec::new();
     results.resize_with(sweep.jobs.len(), || None);
@@ -248,8 +248,7 @@ fn report_with(root: &Path, sweep: &Sweep, log: bool) -> Result<Value, CliError>
             .iter()
             .position(|j| j.id == job.id)
             .expect("a result of the sweep's own job");
-        let r: EventsResult = serde_json::from_value(v).map_err(|e| format!("{}: result of job `{}`: {e}", root.display(), job.id))?;
-        results[k] = Some((job, r));
+        results[k] = Some((job, v));
     }
     let mut failures = Vec::new();
     let mut warnings = Vec::new();

@@ -252,7 +252,7 @@ fn fmt(x: f64, digits: usize) -> String {
 
 /// Writes the report of whatever results exist; returns the summary.
 pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
-    let (results, mut dir) = super::open_report(root, sweep)?;
+    let (results, mut dir) = super::open_report::<super::TrayResult>(root, sweep)?;
     let packing: Vec<usize> = sweep
         .jobs
         .iter()
@@ -279,20 +279,22 @@ pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
         )?;
         let mut grid = Vec::new();
         for c in &configs(model, &packing) {
-            let mine: Vec<&(Job, Value)> = results
+            let mine: Vec<&(Job, super::TrayResult)> = results
                 .iter()
                 .filter(|(j, _)| j.model == model && j.labels.get("config").and_then(Value::as_str) == Some(&c.name))
                 .collect();
             if mine.is_empty() {
                 continue;
             }
-            let get = |k: &str| mine.iter().map(|(_, r)| super::metric(r, k)).collect::<Vec<_>>();
-            let (onset, onset_sd, with_onset) = mean_std(&get("stripe_onset_s"));
-            let (count, count_sd, _) = mean_std(&get("stripe_count_final"));
-            let (before, _, _) = mean_std(&get("msd_plateau_before"));
-            let (after, _, _) = mean_std(&get("msd_plateau_after"));
+            let get = |k: fn(&super::JobAnalysis) -> Option<f64>| {
+                mine.iter().map(|(_, r)| super::nan_if_none(k(&r.analysis))).collect::<Vec<_>>()
+            };
+            let (onset, onset_sd, with_onset) = mean_std(&get(|a| a.stripe_onset_s));
+            let (count, count_sd, _) = mean_std(&get(|a| a.stripe_count_final));
+            let (before, _, _) = mean_std(&get(|a| a.msd_plateau_before));
+            let (after, _, _) = mean_std(&get(|a| a.msd_plateau_after));
             // The majority phase; samples split evenly between phases are a tie, named as one.
-            let phase = match super::majority(mine.iter().map(|(_, r)| super::label(r, "phase"))) {
+            let phase = match super::majority(mine.iter().map(|(_, r)| r.analysis.phase_label())) {
                 super::Majority::None => String::new(),
                 super::Majority::One(p) => p,
                 super::Majority::Tie(ps) => format!("tie: {}", ps.join(" / ")),

@@ -423,7 +423,7 @@ pub fn run(root: &Path, sweep: &Sweep, shard: Shard, parallel: usize, samples: &
 
 /// Opens a sweep's report: the results present (in job order) and the sweep directory as
 /// an output directory (its `config.json` names the sweep).
-pub fn open_report(root: &Path, sweep: &Sweep) -> Result<(Vec<(Job, Value)>, RunDir), CliError> {
+pub fn open_report<T: serde::de::DeserializeOwned>(root: &Path, sweep: &Sweep) -> Result<(Vec<(Job, T)>, RunDir), CliError> {
     let results = results(root, sweep)?;
     let dir = RunDir::create(
         root,
@@ -668,8 +668,7 @@ pub fn preparation(root: &Path, sweep: &Sweep) -> Result<Preparation, CliError> 
         sample_preparation: SamplePreparation,
     }
     let mut p = Preparation::default();
-    for (job, v) in results(root, sweep)? {
-        let prepared: Prepared = serde_json::from_value(v).map_err(|e| format!("result of job `{}`: {e}", job.id))?;
+    for (_, prepared) in results::<Prepared>(root, sweep)? {
         let (Some(s), Some(c)) = (prepared.sample_preparation.prepare_s, prepared.sample_preparation.cached) else {
             continue;
         };
@@ -697,17 +696,60 @@ fn append_preparation(report: &Path, p: &Preparation) -> Result<(), CliError> {
     Ok(())
 }
 
-/// The results present, in job order, with the job each belongs to.
-pub fn results(root: &Path, sweep: &Sweep) -> Result<Vec<(Job, Value)>, CliError> {
+/// The results present, in job order, with the job each belongs to, read as `T` (the part
+/// of `result.json` the reader needs); a result that is not one names its file and job.
+pub fn results<T: serde::de::DeserializeOwned>(root: &Path, sweep: &Sweep) -> Result<Vec<(Job, T)>, CliError> {
     let mut out = Vec::new();
     for job in &sweep.jobs {
         let path = job_dir(root, job).join("result.json");
         if let Ok(text) = std::fs::read_to_string(&path) {
-            let v: Value = serde_json::from_str(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+            let v: T = serde_json::from_str(&text).map_err(|e| format!("{}: result of job `{}`: {e}", path.display(), job.id))?;
             out.push((job.clone(), v));
         }
     }
     Ok(out)
+}
+
+/// What the reports of a tray sweep read from a finished job's `result.json`: its
+/// analysis' phase and numbers (a number `summary.json` wrote as null reads as none).
+#[derive(Clone, Debug, Default, Deserialize)]
+pub struct TrayResult {
+    pub analysis: JobAnalysis,
+}
+
+/// The analysis of a tray job, as its sweep's report reads it.
+#[derive(Clone, Debug, Default, Deserialize)]
+pub struct JobAnalysis {
+    pub phase: Option<String>,
+    pub phase_robust: Option<bool>,
+    pub phase_votes: Option<Votes>,
+    pub contrast: Option<f64>,
+    pub mobility: Option<f64>,
+    pub stripe_count_final: Option<f64>,
+    pub stripe_onset_s: Option<f64>,
+    pub structure_peak_height: Option<f64>,
+    pub msd_plateau_before: Option<f64>,
+    pub msd_plateau_after: Option<f64>,
+}
+
+/// How many of the classifier's threshold sets give each phase.
+#[derive(Clone, Copy, Debug, Default, Deserialize)]
+pub struct Votes {
+    pub stripes: u64,
+    pub gas: u64,
+    pub nothing: u64,
+}
+
+impl JobAnalysis {
+    /// The phase's name, `?` without one.
+    pub fn phase_label(&self) -> String {
+        self.phase.clone().unwrap_or_else(|| "?".into())
+    }
+}
+
+/// A number of a job's analysis, `NaN` when it has none (as the reports' means take it).
+pub fn nan_if_none(x: Option<f64>) -> f64 {
+    x.unwrap_or(f64::NAN)
 }
 
 /// The "Scale: ..." line of a sweep's report: scene, N, box, packing, duration, samples per
@@ -732,7 +774,6 @@ pub fn scale_line(sweep: &Sweep, finished: usize, unit: &str) -> Result<String, 
     ))
 }
 
-/// A number from a job's analysis summary (`NaN` when absent or null).
 /// The phase most samples of a cell or configuration share: one phase, a tie between the
 /// phases that share the largest count (never given to either), or none without samples.
 #[derive(Clone, Debug, PartialEq)]
@@ -754,19 +795,6 @@ pub fn majority<T: Ord + Clone>(items: impl IntoIterator<Item = T>) -> Majority<
         0 => Majority::None,
         1 => Majority::One(leaders.remove(0)),
         _ => Majority::Tie(leaders),
-    }
-}
-
-pub fn metric(result: &Value, key: &str) -> f64 {
-    result["analysis"][key].as_f64().unwrap_or(f64::NAN)
-}
-
-/// A string from a job's analysis summary (`"?"` when absent).
-pub fn label(result: &Value, key: &str) -> String {
-    match &result["analysis"][key] {
-        Value::String(s) => s.clone(),
-        Value::Null => "?".into(),
-        v => v.to_string(),
     }
 }
 

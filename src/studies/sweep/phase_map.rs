@@ -83,7 +83,7 @@ fn mean(v: &[f64]) -> f64 {
 
 /// Writes the CSV, the plots and the report of whatever results exist; returns the summary.
 pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
-    let (results, mut dir) = super::open_report(root, sweep)?;
+    let (results, mut dir) = super::open_report::<super::TrayResult>(root, sweep)?;
     let mut csv =
         String::from("model,frequency,amplitude,sample,phase,stripe_count,contrast,mobility,onset_s,structure_peak_height,phase_robust\n");
     // Runs whose phase changes with the classifier's thresholds.
@@ -108,29 +108,30 @@ pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
     type Cell = Vec<(usize, [f64; 3])>;
     let mut cells: BTreeMap<(String, usize, usize), Cell> = BTreeMap::new();
     for (job, r) in &results {
-        let (f, a) = (num(r, "frequency"), num(r, "amplitude"));
-        let phase = super::label(r, "phase");
-        let (contrast, mobility) = (super::metric(r, "contrast"), super::metric(r, "mobility"));
-        let count = super::metric(r, "stripe_count_final");
-        let onset = super::metric(r, "stripe_onset_s");
-        let height = super::metric(r, "structure_peak_height");
-        let robust = r["analysis"]["phase_robust"].as_bool();
+        let labels = Value::Object(job.labels.clone());
+        let (f, a) = (num(&labels, "frequency"), num(&labels, "amplitude"));
+        let sample = labels["sample"].as_u64().unwrap_or(0);
+        let r = &r.analysis;
+        let phase = r.phase_label();
+        let (contrast, mobility) = (super::nan_if_none(r.contrast), super::nan_if_none(r.mobility));
+        let count = super::nan_if_none(r.stripe_count_final);
+        let onset = super::nan_if_none(r.stripe_onset_s);
+        let height = super::nan_if_none(r.structure_peak_height);
+        let robust = r.phase_robust;
         if robust == Some(false) {
-            let votes = &r["analysis"]["phase_votes"];
+            let v = r.phase_votes.unwrap_or_default();
             fragile.push(format!(
-                "{} ({f} Hz, {a} m, sample {}): {phase}; of 27 threshold sets {} say stripes, {} gas, {} nothing",
+                "{} ({f} Hz, {a} m, sample {sample}): {phase}; of 27 threshold sets {} say stripes, {} gas, {} nothing",
                 job.model.name(),
-                r["sample"].as_u64().unwrap_or(0),
-                votes["stripes"],
-                votes["gas"],
-                votes["nothing"]
+                v.stripes,
+                v.gas,
+                v.nothing
             ));
         }
         writeln!(
             csv,
-            "{},{f},{a},{},{phase},{count},{contrast},{mobility},{onset},{height},{}",
+            "{},{f},{a},{sample},{phase},{count},{contrast},{mobility},{onset},{height},{}",
             job.model.name(),
-            r["sample"].as_u64().unwrap_or(0),
             robust.map_or("?", |b| if b { "1" } else { "0" })
         )?;
         let fi = freqs.iter().position(|x| *x == f).unwrap_or(0);
