@@ -105,13 +105,10 @@ def main():
     centres = sorted(float(r["center"]) for r in bands)
     prof = subprocess.run([sys.executable, f"{HERE}/profile.py", out], capture_output=True,
                           text=True, check=True).stdout
-    empty = None
-    for line in prof.splitlines():
-        if line.startswith("#"):
-            continue
-        f = line.split()
-        if abs(float(f[0]) - t_best) < 1e-6:
-            empty = [int(f[3]), int(f[4])]
+    # profile.py prints times to 0.1 ms: its row nearest the camera's frame.
+    rows_p = [l.split() for l in prof.splitlines() if not l.startswith("#")]
+    near = min(rows_p, key=lambda f: abs(float(f[0]) - t_best)) if rows_p else None
+    empty = [int(near[3]), int(near[4])] if near and abs(float(near[0]) - t_best) < 1e-3 else None
     summary = json.load(open(f"{out}/analysis/summary.json"))
     print(json.dumps({
         "run": run,
