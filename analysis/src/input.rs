@@ -75,6 +75,8 @@ pub enum LoadError {
     },
     /// The `config.json` beside a snapshot file cannot give the drive period.
     Metadata(MetadataError),
+    /// The description given with the run gives no drive ([`load_described`]).
+    Description { file: PathBuf, why: DescriptionError },
 }
 
 impl std::fmt::Display for LoadError {
@@ -100,6 +102,10 @@ impl std::fmt::Display for LoadError {
                 frame - 1
             ),
             LoadError::Metadata(e) => e.fmt(f),
+            LoadError::Description { file, why } => match why {
+                DescriptionError::Amplitude => write!(f, "{}: the run's drive amplitude is not a number >= 0", file.display()),
+                DescriptionError::Stages(e) => write!(f, "{}: the run's drive stages give no drive: {e}", file.display()),
+            },
         }
     }
 }
@@ -239,77 +245,151 @@ pub fn metadata(file: &Path) -> Result<Metadata, MetadataError> {
     };
     let drive_table = scene.get("drive");
     let Some(value) = drive_table.and_then(|d| d.get("frequency")) else {
-        return Ok(Metadata {
-            geometry,
-            found: true,
-            ..Metadata::default()
-        });
+        return Ok(Metadata::of(&RunDescription { geometry, drive: None }).expect("no drive, nothing to refuse"));
     };
-    let f = value.as_f64().ok_or_else(|| MetadataError::FrequencyNotANumber {
+    let frequency = value.as_f64().ok_or_else(|| MetadataError::FrequencyNotANumber {
         path: path.clone(),
         value: value.clone(),
     })?;
-    let period = (f.is_finite() && f > 0.0).then(|| 1.0 / f);
     let horizontal = drive_table
         .and_then(|d| d.get("direction"))
         .and_then(|v| v.as_str())
         .is_none_or(|d| d == "x");
-    let mut drive = None;
-    if let (Some(_), true) = (period, horizontal) {
-        if let Some(a) = drive_table.and_then(|d| d.get("amplitude")) {
-            let bad = || MetadataError::Amplitude {
-                path: path.clone(),
-                value: a.clone(),
-            };
-            let amplitude = a.as_f64().ok_or_else(bad)?;
-            let d = TrayDrive::harmonic(amplitude, f).map_err(|_| bad())?;
-            drive = (amplitude > 0.0).then_some(d);
-        }
-    }
-    if let (Some(stages), true) = (drive_table.and_then(|d| d.get("stages")), horizontal) {
-        drive = schedule(stages, &path)?;
-    }
-    Ok(Metadata {
-        period,
+    let amplitude_value = drive_table.and_then(|d| d.get("amplitude"));
+    let bad_amplitude = |a: &serde_json::Value| MetadataError::Amplitude {
+        path: path.clone(),
+        value: a.clone(),
+    };
+    // Only what a horizontal drive uses is read (and refused when it is not a number).
+    let moving = horizontal && frequency.is_finite() && frequency > 0.0;
+    let amplitude = match amplitude_value.filter(|_| moving) {
+        Some(a) => Some(a.as_f64().ok_or_else(|| bad_amplitude(a))?),
+        None => None,
+    };
+    let stages = match drive_table
+        .and_then(|d| d.get("stages"))
+        .and_then(|s| s.as_array())
+        .filter(|_| horizontal)
+    {
+        Some(list) => list
+            .iter()
+            .enumerate()
+            .map(|(k, stage)| {
+                let field = |name: &str| {
+                    stage.get(name).and_then(|v| v.as_f64()).ok_or_else(|| MetadataError::Stage {
+                        path: path.to_path_buf(),
+                        key: format!("scene.drive.stages[{k}].{name}"),
+                        value: stage.get(name).cloned().unwrap_or(serde_json::Value::Null),
+                    })
+                };
+                Ok(StageDescription {
+                    frequency: field("frequency")?,
+                    amplitude: field("amplitude")?,
+                    duration: field("duration")?,
+                })
+            })
+            .collect::<Result<Vec<_>, MetadataError>>()?,
+        None => Vec::new(),
+    };
+    let description = RunDescription {
         geometry,
-        found: true,
-        drive,
+        drive: Some(DriveDescription {
+            frequency,
+            amplitude,
+            horizontal,
+            stages,
+        }),
+    };
+    Metadata::of(&description).map_err(|e| match e {
+        DescriptionError::Amplitude => bad_amplitude(amplitude_value.expect("only a given amplitude is refused")),
+        DescriptionError::Stages(why) => MetadataError::Stage {
+            path: path.to_path_buf(),
+            key: "scene.drive.stages".into(),
+            value: serde_json::Value::String(why),
+        },
     })
 }
 
-/// The tray's motion of a drive schedule, `scene.drive.stages` as the DEM writes it: a list of
-/// `{frequency, amplitude, duration}`, stage `k` starting at the sum of the durations before it
-/// with `x_tray = A_k sin(2 pi nu_k (t - t_k))` (a zero crossing, `particles::drive`). An
-/// empty list is the single drive above; a stage whose field is not a number is an error
-/// naming it.
-fn schedule(stages: &serde_json::Value, path: &Path) -> Result<Option<TrayDrive>, MetadataError> {
-    let Some(list) = stages.as_array().filter(|l| !l.is_empty()) else {
-        return Ok(None);
-    };
-    let mut start = 0.0;
-    let mut out = Vec::with_capacity(list.len());
-    for (k, stage) in list.iter().enumerate() {
-        let field = |name: &str| {
-            stage.get(name).and_then(|v| v.as_f64()).ok_or_else(|| MetadataError::Stage {
-                path: path.to_path_buf(),
-                key: format!("scene.drive.stages[{k}].{name}"),
-                value: stage.get(name).cloned().unwrap_or(serde_json::Value::Null),
-            })
+/// What the analysis needs to know of a run besides its frames: a tray or an event-driven
+/// box, and the drive. Read from the run's `config.json` ([`metadata`]), or given typed by
+/// the program that has just run the model ([`load_described`]); both become [`Metadata`]
+/// through [`Metadata::of`].
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct RunDescription {
+    pub geometry: Geometry,
+    /// None: the run has no drive (no period, every frame kept as stored).
+    pub drive: Option<DriveDescription>,
+}
+
+/// A run's drive: one harmonic stage (`frequency`, `amplitude`) or a schedule of stages.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct DriveDescription {
+    /// Hz (with stages: the last stage's); the period is its inverse when it is positive.
+    pub frequency: f64,
+    /// m; none where the run's description gives none (no tray motion is then known).
+    pub amplitude: Option<f64>,
+    /// Whether the drive moves the tray along x (a vertical drive has no tray frame).
+    pub horizontal: bool,
+    /// The schedule, stage after stage from t = 0; empty: the one stage above.
+    pub stages: Vec<StageDescription>,
+}
+
+/// One stage of a drive schedule, as the DEM's scene writes it (`[[drive.stages]]`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StageDescription {
+    pub frequency: f64,
+    pub amplitude: f64,
+    pub duration: f64,
+}
+
+/// Why a [`RunDescription`] gives no tray motion.
+#[derive(Clone, Debug, PartialEq)]
+pub enum DescriptionError {
+    /// The amplitude is not a number >= 0.
+    Amplitude,
+    /// The stages give no drive (the reason).
+    Stages(String),
+}
+
+impl Metadata {
+    /// The metadata of a described run: the period `1 / frequency` where it is positive;
+    /// for a horizontal drive the tray's motion, `x_tray = A sin(2 pi nu t)` (none at
+    /// `A = 0`), or with a schedule stage `k` from the sum of the durations before it, as
+    /// `A_k sin(2 pi nu_k (t - t_k))` (a zero crossing, `particles::drive`).
+    pub fn of(description: &RunDescription) -> Result<Metadata, DescriptionError> {
+        let mut meta = Metadata {
+            geometry: description.geometry,
+            found: true,
+            ..Metadata::default()
         };
-        let (frequency, amplitude, duration) = (field("frequency")?, field("amplitude")?, field("duration")?);
-        out.push(Stage {
-            start,
-            frequency,
-            amplitude,
-            phase: 0.0,
-        });
-        start += duration;
+        let Some(d) = &description.drive else {
+            return Ok(meta);
+        };
+        let f = d.frequency;
+        meta.period = (f.is_finite() && f > 0.0).then(|| 1.0 / f);
+        if !d.horizontal {
+            return Ok(meta);
+        }
+        if let (Some(_), Some(amplitude)) = (meta.period, d.amplitude) {
+            let drive = TrayDrive::harmonic(amplitude, f).map_err(|_| DescriptionError::Amplitude)?;
+            meta.drive = (amplitude > 0.0).then_some(drive);
+        }
+        if !d.stages.is_empty() {
+            let mut start = 0.0;
+            let mut out = Vec::with_capacity(d.stages.len());
+            for s in &d.stages {
+                out.push(Stage {
+                    start,
+                    frequency: s.frequency,
+                    amplitude: s.amplitude,
+                    phase: 0.0,
+                });
+                start += s.duration;
+            }
+            meta.drive = Some(TrayDrive::from_stages(out).map_err(|e| DescriptionError::Stages(e.to_string()))?);
+        }
+        Ok(meta)
     }
-    TrayDrive::from_stages(out).map(Some).map_err(|e| MetadataError::Stage {
-        path: path.to_path_buf(),
-        key: "scene.drive.stages".into(),
-        value: serde_json::Value::String(e.to_string()),
-    })
 }
 
 /// Whether a snapshot header has the layout `stripes events` writes: a slab one largest
@@ -375,6 +455,13 @@ pub fn metadata_period(file: &Path) -> Result<Option<f64>, MetadataError> {
 /// when it is of neither kind, holds no complete frame, its times do not increase, or the
 /// `config.json` beside it cannot be read ([`metadata_period`]).
 pub fn load(path: &Path, dt: f64) -> Result<Run, LoadError> {
+    load_described(path, dt, None)
+}
+
+/// [`load`], with the run's description given typed (by the program that has just run the
+/// model, from its scene) instead of read back from its `config.json`; `None` reads the
+/// file as [`load`] does.
+pub fn load_described(path: &Path, dt: f64, description: Option<&RunDescription>) -> Result<Run, LoadError> {
     let file = if path.is_dir() {
         path.join("snapshots.bin")
     } else {
@@ -423,7 +510,12 @@ pub fn load(path: &Path, dt: f64) -> Result<Run, LoadError> {
             });
         }
     }
+    let given = match (kind, description) {
+        (InputKind::Snapshots, Some(d)) => Some(Metadata::of(d).map_err(|why| LoadError::Description { file: file.clone(), why })?),
+        _ => None,
+    };
     let meta = match kind {
+        InputKind::Snapshots if given.is_some() => given.expect("just matched"),
         InputKind::Snapshots => {
             let mut meta = metadata(&file).map_err(LoadError::Metadata)?;
             if meta.found {
@@ -542,6 +634,102 @@ mod tests {
         std::fs::create_dir(&config).unwrap();
         let e = metadata_period(&file).unwrap_err();
         assert!(matches!(e, MetadataError::Unreadable { .. }), "a directory in its place: {e}");
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+
+    /// Issue 42, step 2: a command that has just run a model gives the analysis its run's
+    /// description typed; it is the same metadata as the run's config.json gives, through the
+    /// same conversion, and no config.json is read for it.
+    #[test]
+    fn a_typed_description_gives_the_config_files_metadata_without_reading_it() {
+        let dir = std::env::temp_dir().join(format!("stripes-described-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let file = dir.join("snapshots.bin");
+        let config = dir.join("config.json");
+        let stage = |frequency, amplitude, duration| StageDescription {
+            frequency,
+            amplitude,
+            duration,
+        };
+        let cases = [
+            (
+                r#"{"scene": {"drive": {"frequency": 3.0, "amplitude": 0.01}}}"#,
+                Some(DriveDescription {
+                    frequency: 3.0,
+                    amplitude: Some(0.01),
+                    horizontal: true,
+                    stages: vec![],
+                }),
+            ),
+            (
+                r#"{"scene": {"drive": {"frequency": 3.0, "amplitude": 0.01, "stages": [
+                    {"frequency": 5.0, "amplitude": 0.02, "duration": 2.0},
+                    {"frequency": 3.0, "amplitude": 0.01, "duration": 3600.0}]}}}"#,
+                Some(DriveDescription {
+                    frequency: 3.0,
+                    amplitude: Some(0.01),
+                    horizontal: true,
+                    stages: vec![stage(5.0, 0.02, 2.0), stage(3.0, 0.01, 3600.0)],
+                }),
+            ),
+            (
+                r#"{"scene": {"drive": {"frequency": 3.0, "amplitude": 0.01, "direction": "z"}}}"#,
+                Some(DriveDescription {
+                    frequency: 3.0,
+                    amplitude: Some(0.01),
+                    horizontal: false,
+                    stages: vec![],
+                }),
+            ),
+            (
+                r#"{"scene": {"drive": {"frequency": 0.0, "amplitude": 0.01}}}"#,
+                Some(DriveDescription {
+                    frequency: 0.0,
+                    amplitude: Some(0.01),
+                    horizontal: true,
+                    stages: vec![],
+                }),
+            ),
+            (r#"{"scene": {"run": {}}}"#, None),
+        ];
+        for (json, drive) in cases {
+            std::fs::write(&config, json).unwrap();
+            let typed = Metadata::of(&RunDescription {
+                geometry: Geometry::Tray,
+                drive,
+            })
+            .unwrap();
+            assert_eq!(typed, metadata(&file).unwrap(), "{json}");
+        }
+        // A run on disk: a garbled config.json is refused when read, and not read when the
+        // description is given.
+        let header = Header {
+            length: 0.1,
+            width: 0.02,
+            radii: vec![1e-3; 2],
+        };
+        let mut w = crate::snapshot::SnapshotWriter::create(&file, header).unwrap();
+        for k in 0..4 {
+            let t = k as f64 / 12.0;
+            w.push(t, [[0.01, 0.01, 1e-3], [0.05, 0.01, 1e-3]].into_iter(), [[0.0; 3]; 2].into_iter())
+                .unwrap();
+        }
+        drop(w);
+        std::fs::write(&config, "{ cut off").unwrap();
+        assert!(matches!(load(&dir, 1e-5), Err(LoadError::Metadata(MetadataError::NotJson { .. }))));
+        let given = RunDescription {
+            geometry: Geometry::Tray,
+            drive: Some(DriveDescription {
+                frequency: 3.0,
+                amplitude: Some(0.01),
+                horizontal: true,
+                stages: vec![],
+            }),
+        };
+        let run = load_described(&dir, 1e-5, Some(&given)).unwrap();
+        assert_eq!(run.frames.len(), 4);
+        assert_eq!(run.period, Some(1.0 / 3.0));
+        assert!(run.drive.is_some() && run.warnings.is_empty(), "{:?}", run.warnings);
         std::fs::remove_dir_all(dir).unwrap();
     }
 }

@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
-use analysis::input::{load, Geometry, InputKind};
+use analysis::input::{load_described, DriveDescription, Geometry, InputKind, RunDescription, StageDescription};
 use analysis::report::{Options, Summary};
 use serde::ser::Error as _;
 use serde::{Serialize, Serializer};
@@ -35,6 +35,35 @@ pub struct AnalysisOptions {
     /// The frame of `density_map.png`: the camera's (tray frame, one frame per period at the
     /// turning point) or every frame as stored (lab frame).
     pub map_frame: MapFrame,
+    /// The run's description (tray or box, drive), given typed by a command that has just
+    /// run the model from its scene ([`describe_tray`]); none: read from the run's
+    /// `config.json`.
+    #[serde(skip)]
+    pub description: Option<RunDescription>,
+}
+
+/// The description of a run of a tray scene, for its analysis: a tray, its drive's
+/// frequency, amplitude, direction and stages, as the scene gives them (what the run's
+/// `config.json` says of it, without reading it back).
+pub fn describe_tray(scene: &particles::scene::Scene) -> RunDescription {
+    let d = &scene.drive;
+    RunDescription {
+        geometry: Geometry::Tray,
+        drive: Some(DriveDescription {
+            frequency: d.frequency,
+            amplitude: Some(d.amplitude),
+            horizontal: d.direction == particles::scene::DriveDirection::X,
+            stages: d
+                .stages
+                .iter()
+                .map(|s| StageDescription {
+                    frequency: s.frequency,
+                    amplitude: s.amplitude,
+                    duration: s.duration,
+                })
+                .collect(),
+        }),
+    }
 }
 
 /// Which frames and positions `density_map.png` draws.
@@ -70,6 +99,15 @@ impl AnalysisOptions {
             options: Options::default(),
             top_view: Vec::new(),
             map_frame: MapFrame::Tray,
+            description: None,
+        }
+    }
+
+    /// These options, with the run's description given ([`AnalysisOptions::description`]).
+    pub fn described(self, description: RunDescription) -> Self {
+        Self {
+            description: Some(description),
+            ..self
         }
     }
 }
@@ -279,7 +317,7 @@ impl Serialize for AnalysisSummary {
 /// few frames to infer it).
 pub fn analyze(input: &Path, opts: &AnalysisOptions) -> Result<AnalysisSummary, Error> {
     let mut options = opts.options.clone();
-    let run = load(input, opts.dt)?;
+    let run = load_described(input, opts.dt, opts.description.as_ref())?;
     for w in &run.warnings {
         eprintln!("warning: {w}");
     }

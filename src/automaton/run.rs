@@ -120,7 +120,10 @@ pub fn run_automaton(scene: &LatticeScene, opts: &AutomatonOptions) -> Result<Au
     let outcome = evolve(file, s.lattice, params, Some(&out.join("snapshots.bin")), s.radius, &b, |_, _| ())?;
     b.finish_and_clear();
     let wall_s = wall.elapsed().as_secs_f64();
-    let analysed = analyze(out, &AnalysisOptions::into_dir(out.join("analysis")))?;
+    let analysed = analyze(
+        out,
+        &AnalysisOptions::into_dir(out.join("analysis")).described(crate::analyze::run::describe_tray(&file.dem)),
+    )?;
     let mut keys = analysed.shared_keys()?;
     keys.remove("warnings");
     for w in &outcome.warnings {

@@ -133,6 +133,7 @@ impl Args {
             dt: self.dt,
             options: self.options()?,
             top_view: self.top_view.clone(),
+            description: None,
             map_frame: self.map_frame,
         })
     }

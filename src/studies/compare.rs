@@ -436,7 +436,11 @@ fn compare(args: &Options, file: &crate::scene::file::SceneFile, out: &Path) -> 
     // 3. The same analysis of both (the automaton's was made by its run).
     stage(args.quiet, 3, "analysis");
     let dem_analysis_dir = out.join("dem-analysis");
-    let dem_analysed = analyze(&dem_dir, &AnalysisOptions::into_dir(dem_analysis_dir.clone()))?;
+    // The DEM run (fresh, or reused and checked to be this scene's) is described by the scene.
+    let dem_analysed = analyze(
+        &dem_dir,
+        &AnalysisOptions::into_dir(dem_analysis_dir.clone()).described(crate::analyze::run::describe_tray(scene)),
+    )?;
     let (dem_keys, auto_keys) = (dem_analysed.outcome(), automaton.analysed.outcome());
 
     // The structures, and their distance; a second DEM seed gives its scale.

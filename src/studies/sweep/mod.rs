@@ -589,6 +589,8 @@ fn run_job(root: &Path, sweep: &Sweep, job: &Job, samples: &Path) -> Result<(), 
     let dir = job_dir(root, job);
     let run_dir = dir.join("run");
     let file = job_scene(sweep, job)?;
+    // The run's analysis is told its drive by the scene, not by the run's config.json.
+    let description = analyze::run::describe_tray(&file.dem);
     let (speed, sample_preparation) = match job.model {
         Model::Dem => {
             let s = crate::dem::run_dem(
@@ -636,7 +638,7 @@ fn run_job(root: &Path, sweep: &Sweep, job: &Job, samples: &Path) -> Result<(), 
             )
         }
     };
-    let analysis = analyze::analyze(&run_dir, &AnalysisOptions::into_dir(dir.join("analysis")))?;
+    let analysis = analyze::analyze(&run_dir, &AnalysisOptions::into_dir(dir.join("analysis")).described(description))?;
     let result = JobResult {
         id: &job.id,
         model: job.model.name(),
