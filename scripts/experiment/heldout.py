@@ -23,13 +23,13 @@ without frames.
 import csv
 import json
 import os
-import shutil
-import struct
 import subprocess
 import sys
 import tomllib
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+from window import copy_window  # noqa: E402
 HALF_WINDOW_S = 1.0
 END_ZONE_M = 0.1
 
@@ -46,54 +46,7 @@ def main():
     out = sys.argv[3] if len(sys.argv) > 3 else f"{run.rstrip('/')}-heldout-{after:g}"
     t3, length = t3_and_length(run)
     target = t3 + after
-    snap = f"{run}/snapshots.bin"
-    with open(snap, "rb") as fh:
-        head = fh.read(16)
-        if head[:8] != b"STRPSNP1":
-            sys.exit(f"{snap}: not a stripes snapshot file")
-        n = struct.unpack("<Q", head[8:16])[0]
-        header_bytes = 32 + 8 * n
-        frame_bytes = 8 + 24 * n
-        size = os.path.getsize(snap)
-        frames = (size - header_bytes) // frame_bytes
-        fh.seek(0)
-        header = fh.read(header_bytes)
-        # Frames are one per period in time order: find the window by bisection on the
-        # written frames' times (zeros before a committed checkpoint read as t = 0).
-        def time_of(k):
-            fh.seek(header_bytes + k * frame_bytes)
-            return struct.unpack("<d", fh.read(8))[0]
-
-        lo, hi = 0, frames
-        while lo < hi:
-            mid = (lo + hi) // 2
-            if time_of(mid) < target - HALF_WINDOW_S:
-                lo = mid + 1
-            else:
-                hi = mid
-        picked = []
-        k = lo
-        while k < frames:
-            t = time_of(k)
-            if t > target + HALF_WINDOW_S:
-                break
-            fh.seek(header_bytes + k * frame_bytes)
-            body = fh.read(frame_bytes)
-            if t == 0.0 or not any(body[8:]):
-                sys.exit(f"{snap}: frame {k} in the window is zeros (before the checkpoint the run continued from)")
-            picked.append((t, body))
-            k += 1
-    if not picked:
-        sys.exit(f"{snap}: no frame within {HALF_WINDOW_S} s of t = {target} s ({frames} frames on disk)")
-    if os.path.exists(out):
-        shutil.rmtree(out)
-    os.makedirs(out)
-    with open(f"{out}/snapshots.bin", "wb") as fh:
-        fh.write(header)
-        for _, body in picked:
-            fh.write(body)
-    for name in ("scene.toml", "config.json"):
-        shutil.copy(f"{run}/{name}", f"{out}/{name}")
+    copy_window(run, target - HALF_WINDOW_S, target + HALF_WINDOW_S, out)
     stripes = os.environ.get("STRIPES", "target/release/stripes")
     subprocess.run([stripes, "analyze", out, "--out", f"{out}/analysis", "--force", "--quiet",
                     "--top-view", f"{target}"], check=True, stdout=subprocess.DEVNULL)
