@@ -63,9 +63,52 @@ pub fn spacings(analysis: &Path) -> Result<Vec<(f64, f64)>, CliError> {
         .collect())
 }
 
-/// `summary.json`.
-pub fn summary(analysis: &Path) -> Result<serde_json::Value, CliError> {
+/// `summary.json`, read as [`SavedSummary`].
+pub fn summary(analysis: &Path) -> Result<SavedSummary, CliError> {
     let p = analysis.join("summary.json");
     let text = std::fs::read_to_string(&p).map_err(|e| format!("cannot read {}: {e}", p.display()))?;
-    Ok(serde_json::from_str(&text).map_err(|e| format!("{} is not JSON: {e}", p.display()))?)
+    Ok(serde_json::from_str(&text).map_err(|e| format!("{} is not an analysis summary: {e}", p.display()))?)
+}
+
+/// An analysis' `summary.json` as the studies read it back (`stripes seeds`, the sweeps'
+/// reports): the phase and the numbers they pool. A number written as null (undefined)
+/// reads as none; keys that an older analysis did not write read as none.
+#[derive(Clone, Debug, Default, serde::Deserialize)]
+pub struct SavedSummary {
+    /// `tray` or `vertical-box`.
+    pub geometry: Option<String>,
+    /// `stripes`, `gas`, `nothing`, `unclassified` (a vertical box) or none.
+    pub phase: Option<String>,
+    pub phase_robust: Option<bool>,
+    pub phase_votes: Option<Votes>,
+    pub particles: Option<f64>,
+    pub period_s: Option<f64>,
+    pub mean_area_fraction: Option<f64>,
+    pub contrast: Option<f64>,
+    pub mobility: Option<f64>,
+    pub stripe_count_final: Option<f64>,
+    pub tail_stripe_count: Option<f64>,
+    pub stripe_onset_s: Option<f64>,
+    pub structure_peak_height: Option<f64>,
+    pub spacing_m: Option<f64>,
+    pub band_width_m: Option<f64>,
+    pub band_gap_m: Option<f64>,
+    pub in_band_fraction: Option<f64>,
+    pub msd_plateau_before: Option<f64>,
+    pub msd_plateau_after: Option<f64>,
+}
+
+/// How many of the classifier's threshold sets give each phase.
+#[derive(Clone, Copy, Debug, Default, serde::Deserialize)]
+pub struct Votes {
+    pub stripes: u64,
+    pub gas: u64,
+    pub nothing: u64,
+}
+
+impl SavedSummary {
+    /// The phase's name, `?` without one.
+    pub fn phase_label(&self) -> String {
+        self.phase.clone().unwrap_or_else(|| "?".into())
+    }
 }

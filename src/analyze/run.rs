@@ -119,6 +119,9 @@ pub enum PeriodSource {
     Given,
     /// The run's `config.json`.
     Metadata,
+    /// The run's scene, given by the command that has just run it
+    /// ([`AnalysisOptions::description`]).
+    Described,
     /// The median spacing of the snapshots.
     Spacing,
 }
@@ -128,6 +131,7 @@ impl PeriodSource {
         match self {
             PeriodSource::Given => "--period",
             PeriodSource::Metadata => "run metadata (config.json: 1 / scene.drive.frequency)",
+            PeriodSource::Described => "run metadata (the run's scene, given by the command that ran it: 1 / drive.frequency)",
             PeriodSource::Spacing => "median snapshot spacing",
         }
     }
@@ -325,7 +329,11 @@ pub fn analyze(input: &Path, opts: &AnalysisOptions) -> Result<AnalysisSummary, 
         PeriodSource::Given
     } else if let Some(p) = run.period {
         options.period = Some(p);
-        PeriodSource::Metadata
+        if opts.description.is_some() {
+            PeriodSource::Described
+        } else {
+            PeriodSource::Metadata
+        }
     } else {
         PeriodSource::Spacing
     };

@@ -14,6 +14,7 @@ use serde::Serialize;
 use serde_json::{json, Value};
 
 use crate::analyze::read;
+use crate::analyze::read::SavedSummary;
 use crate::rundir::output::{CliError, RunDir};
 
 /// What the study is given (the command's arguments, without the command line); serialised
@@ -28,17 +29,21 @@ pub struct Options {
     pub quiet: bool,
 }
 
-/// The summary numbers pooled over the runs, with their units for the report.
-const KEYS: [(&str, &str, f64); 9] = [
-    ("spacing_m", "S(k) peak spacing (mm)", 1e3),
-    ("band_width_m", "band width (mm)", 1e3),
-    ("band_gap_m", "gap between bands (mm)", 1e3),
-    ("in_band_fraction", "grains in bands", 1.0),
-    ("contrast", "contrast", 1.0),
-    ("structure_peak_height", "S(k) peak height", 1.0),
-    ("stripe_count_final", "bands in the last frame", 1.0),
-    ("tail_stripe_count", "bands, median of the tail", 1.0),
-    ("stripe_onset_s", "onset (s)", 1.0),
+/// A number of an analysis summary.
+type Field = fn(&SavedSummary) -> Option<f64>;
+
+/// The summary numbers pooled over the runs: the name they are written under, their label
+/// and unit for the report, and the field.
+const KEYS: [(&str, &str, f64, Field); 9] = [
+    ("spacing_m", "S(k) peak spacing (mm)", 1e3, |s| s.spacing_m),
+    ("band_width_m", "band width (mm)", 1e3, |s| s.band_width_m),
+    ("band_gap_m", "gap between bands (mm)", 1e3, |s| s.band_gap_m),
+    ("in_band_fraction", "grains in bands", 1.0, |s| s.in_band_fraction),
+    ("contrast", "contrast", 1.0, |s| s.contrast),
+    ("structure_peak_height", "S(k) peak height", 1.0, |s| s.structure_peak_height),
+    ("stripe_count_final", "bands in the last frame", 1.0, |s| s.stripe_count_final),
+    ("tail_stripe_count", "bands, median of the tail", 1.0, |s| s.tail_stripe_count),
+    ("stripe_onset_s", "onset (s)", 1.0, |s| s.stripe_onset_s),
 ];
 
 /// Mean, sample standard deviation and standard error of the finite values; the spread and
@@ -64,11 +69,11 @@ fn shown(x: f64) -> String {
 /// Runs `seeds` cannot pool: analyses of an event-driven vertical box, whose band widths and
 /// spacings are those of grains stacked in columns, not of a tray's stripes. Refused, naming
 /// each.
-fn refuse_unpoolable(runs: &[PathBuf], summaries: &[Value]) -> Result<(), CliError> {
+fn refuse_unpoolable(runs: &[PathBuf], summaries: &[SavedSummary]) -> Result<(), CliError> {
     let vertical: Vec<String> = runs
         .iter()
         .zip(summaries)
-        .filter(|(_, s)| s["geometry"].as_str() == Some("vertical-box") || s["phase"].as_str() == Some("unclassified"))
+        .filter(|(_, s)| s.geometry.as_deref() == Some("vertical-box") || s.phase.as_deref() == Some("unclassified"))
         .map(|(r, _)| r.display().to_string())
         .collect();
     if vertical.is_empty() {
@@ -106,14 +111,15 @@ fn refuse_repeats(runs: &[PathBuf], dirs: &[PathBuf]) -> Result<(), CliError> {
 /// Runs that are not of one scene: their grain count, drive period or tray packing differ.
 /// Pooling them is allowed (any set worth pooling), but said, so that a spread between seeds
 /// is not read from runs of different scenes.
-fn unlike_runs(runs: &[PathBuf], summaries: &[Value]) -> Vec<String> {
+fn unlike_runs(runs: &[PathBuf], summaries: &[SavedSummary]) -> Vec<String> {
     let mut warnings = Vec::new();
-    for (key, what, rel) in [
-        ("particles", "grain counts", 0.0),
-        ("period_s", "drive periods", 1e-9),
-        ("mean_area_fraction", "packings", 0.05),
-    ] {
-        let v: Vec<Option<f64>> = summaries.iter().map(|s| s[key].as_f64()).collect();
+    let fields: [(&str, &str, f64, Field); 3] = [
+        ("particles", "grain counts", 0.0, |s| s.particles),
+        ("period_s", "drive periods", 1e-9, |s| s.period_s),
+        ("mean_area_fraction", "packings", 0.05, |s| s.mean_area_fraction),
+    ];
+    for (key, what, rel, field) in fields {
+        let v: Vec<Option<f64>> = summaries.iter().map(field).collect();
         let Some(first) = v.iter().flatten().next().copied() else {
             continue;
         };
@@ -154,18 +160,18 @@ pub fn seeds(args: &Options) -> Result<String, CliError> {
     let names: Vec<String> = args.runs.iter().map(|r| r.display().to_string()).collect();
 
     // One row per run.
-    let num = |s: &Value, k: &str| s[k].as_f64().unwrap_or(f64::NAN);
+    let num = |s: &SavedSummary, field: Field| field(s).unwrap_or(f64::NAN);
     let mut csv = String::from("run,phase,phase_robust");
-    for (k, _, _) in KEYS {
+    for (k, _, _, _) in KEYS {
         csv.push(',');
         csv.push_str(k);
     }
     csv.push('\n');
     for (name, s) in names.iter().zip(&summaries) {
-        let robust = s["phase_robust"].as_bool().map_or("?", |b| if b { "1" } else { "0" });
-        let _ = write!(csv, "{name},{},{robust}", s["phase"].as_str().unwrap_or("none"));
-        for (k, _, _) in KEYS {
-            let _ = write!(csv, ",{}", num(s, k));
+        let robust = s.phase_robust.map_or("?", |b| if b { "1" } else { "0" });
+        let _ = write!(csv, "{name},{},{robust}", s.phase.as_deref().unwrap_or("none"));
+        for (_, _, _, field) in KEYS {
+            let _ = write!(csv, ",{}", num(s, field));
         }
         csv.push('\n');
     }
@@ -174,8 +180,8 @@ pub fn seeds(args: &Options) -> Result<String, CliError> {
     // Pooled numbers.
     let mut pooled = serde_json::Map::new();
     let mut table = String::from("| quantity | mean | spread (sd) | standard error | runs | per run |\n|---|---|---|---|---|---|\n");
-    for (k, label, unit) in KEYS {
-        let v: Vec<f64> = summaries.iter().map(|s| num(s, k)).collect();
+    for (k, label, unit, field) in KEYS {
+        let v: Vec<f64> = summaries.iter().map(|s| num(s, field)).collect();
         let (mean, sd, se, n) = spread(&v);
         // NaN is written as null: an undefined spread, not a spread of 0.
         let num = |x: f64| if x.is_finite() { json!(x) } else { Value::Null };
@@ -205,11 +211,15 @@ pub fn seeds(args: &Options) -> Result<String, CliError> {
                 continue;
             };
             if let Some(d) = analysis::structure::distance(a, b) {
-                distances.push(json!({ "a": names[i], "b": names[j], "distance": d }));
+                distances.push((i, j, d));
             }
         }
     }
-    let values: Vec<f64> = distances.iter().filter_map(|d| d["distance"].as_f64()).collect();
+    let values: Vec<f64> = distances.iter().map(|d| d.2).filter(|d| d.is_finite()).collect();
+    let distances: Vec<Value> = distances
+        .into_iter()
+        .map(|(i, j, d)| json!({ "a": names[i], "b": names[j], "distance": d }))
+        .collect();
     let (d_mean, d_sd, _, d_n) = spread(&values);
     let d_max = values.iter().copied().fold(f64::NAN, f64::max);
 
@@ -226,8 +236,8 @@ pub fn seeds(args: &Options) -> Result<String, CliError> {
     let phases: Vec<String> = summaries
         .iter()
         .map(|s| {
-            let p = s["phase"].as_str().unwrap_or("none");
-            match s["phase_robust"].as_bool() {
+            let p = s.phase.as_deref().unwrap_or("none");
+            match s.phase_robust {
                 Some(false) => format!("{p} (threshold-sensitive)"),
                 _ => p.to_string(),
             }
@@ -266,16 +276,21 @@ pub fn seeds(args: &Options) -> Result<String, CliError> {
 mod tests {
     use super::*;
 
+    /// A summary as `summary.json` would hold it.
+    fn saved(v: Value) -> SavedSummary {
+        serde_json::from_value(v).unwrap()
+    }
+
     fn runs(n: usize) -> Vec<PathBuf> {
         (1..=n).map(|i| PathBuf::from(format!("seed-{i}"))).collect()
     }
 
     #[test]
     fn seeds_of_one_scene_pass_and_other_scenes_are_named() {
-        let a = json!({"particles": 2000.0, "period_s": 1.0 / 3.0, "mean_area_fraction": 0.458});
-        let b = json!({"particles": 2000.0, "period_s": 1.0 / 3.0, "mean_area_fraction": 0.461});
+        let a = saved(json!({"particles": 2000.0, "period_s": 1.0 / 3.0, "mean_area_fraction": 0.458}));
+        let b = saved(json!({"particles": 2000.0, "period_s": 1.0 / 3.0, "mean_area_fraction": 0.461}));
         assert!(unlike_runs(&runs(2), &[a.clone(), b]).is_empty());
-        let c = json!({"particles": 1000.0, "period_s": 0.2, "mean_area_fraction": 0.458});
+        let c = saved(json!({"particles": 1000.0, "period_s": 0.2, "mean_area_fraction": 0.458}));
         let w = unlike_runs(&runs(3), &[a.clone(), a, c]);
         assert_eq!(w.len(), 2, "{w:?}");
         assert!(w[0].contains("grain counts") && w[0].contains("seed-3 1000"), "{w:?}");
@@ -293,8 +308,8 @@ mod tests {
         let (_, sd, se, n) = spread(&[1.0, 3.0]);
         assert_eq!(n, 2);
         assert!((sd - 2f64.sqrt()).abs() < 1e-12 && (se - 1.0).abs() < 1e-12);
-        let tray = json!({"phase": "stripes", "geometry": "tray"});
-        let vertical = json!({"phase": "unclassified", "geometry": "vertical-box"});
+        let tray = saved(json!({"phase": "stripes", "geometry": "tray"}));
+        let vertical = saved(json!({"phase": "unclassified", "geometry": "vertical-box"}));
         assert!(refuse_unpoolable(&runs(2), &[tray.clone(), tray.clone()]).is_ok());
         let e = refuse_unpoolable(&runs(2), &[tray, vertical]).unwrap_err().to_string();
         assert!(e.starts_with("seed-2 is an analysis of an event-driven vertical box"), "{e}");

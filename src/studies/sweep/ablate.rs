@@ -286,7 +286,7 @@ pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
             if mine.is_empty() {
                 continue;
             }
-            let get = |k: fn(&super::JobAnalysis) -> Option<f64>| {
+            let get = |k: fn(&crate::analyze::read::SavedSummary) -> Option<f64>| {
                 mine.iter().map(|(_, r)| super::nan_if_none(k(&r.analysis))).collect::<Vec<_>>()
             };
             let (onset, onset_sd, with_onset) = mean_std(&get(|a| a.stripe_onset_s));

@@ -716,37 +716,7 @@ pub fn results<T: serde::de::DeserializeOwned>(root: &Path, sweep: &Sweep) -> Re
 /// analysis' phase and numbers (a number `summary.json` wrote as null reads as none).
 #[derive(Clone, Debug, Default, Deserialize)]
 pub struct TrayResult {
-    pub analysis: JobAnalysis,
-}
-
-/// The analysis of a tray job, as its sweep's report reads it.
-#[derive(Clone, Debug, Default, Deserialize)]
-pub struct JobAnalysis {
-    pub phase: Option<String>,
-    pub phase_robust: Option<bool>,
-    pub phase_votes: Option<Votes>,
-    pub contrast: Option<f64>,
-    pub mobility: Option<f64>,
-    pub stripe_count_final: Option<f64>,
-    pub stripe_onset_s: Option<f64>,
-    pub structure_peak_height: Option<f64>,
-    pub msd_plateau_before: Option<f64>,
-    pub msd_plateau_after: Option<f64>,
-}
-
-/// How many of the classifier's threshold sets give each phase.
-#[derive(Clone, Copy, Debug, Default, Deserialize)]
-pub struct Votes {
-    pub stripes: u64,
-    pub gas: u64,
-    pub nothing: u64,
-}
-
-impl JobAnalysis {
-    /// The phase's name, `?` without one.
-    pub fn phase_label(&self) -> String {
-        self.phase.clone().unwrap_or_else(|| "?".into())
-    }
+    pub analysis: crate::analyze::read::SavedSummary,
 }
 
 /// A number of a job's analysis, `NaN` when it has none (as the reports' means take it).
