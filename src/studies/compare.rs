@@ -612,7 +612,7 @@ fn compare(args: &Options, file: &crate::scene::file::SceneFile, out: &Path) -> 
             fmt_opt(Some(m.slide_coulomb_block.displacement)),
             fmt_opt(Some(m.tray_acceleration)),
             fmt_opt(Some(m.friction_acceleration)),
-            serde_json::to_value(&automaton.params)?,
+            serde_json::to_value(automaton.params)?,
         ));
     }
     let report = out.join("report.md");

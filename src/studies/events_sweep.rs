@@ -147,8 +147,10 @@ fn jobs(axes: &[Axis], seeds: u64, own_seed: bool) -> Vec<Job> {
             if !own_seed {
                 edits.push(Edit::Events(EventsEdit::Seed(seed)));
             }
-            let mut labels = serde_json::Map::new();
-            labels.insert("point".into(), k.into());
+            let labels = crate::studies::sweep::Labels {
+                point: Some(k as u64),
+                ..Default::default()
+            };
             jobs.push(Job {
                 id: if own_seed { format!("p{k:03}") } else { format!("p{k:03}-s{seed}") },
                 model: Model::Events,

@@ -200,10 +200,12 @@ pub fn jobs(configs: &[Config], model: Model, samples: usize, seed: u64) -> Vec<
     let mut jobs = Vec::new();
     for c in configs {
         for k in 0..samples {
-            let mut labels = serde_json::Map::new();
-            labels.insert("config".into(), c.name.clone().into());
-            labels.insert("sample".into(), k.into());
-            labels.insert("step".into(), c.step.describe().into());
+            let labels = super::Labels {
+                config: Some(c.name.clone()),
+                sample: Some(k as u64),
+                step: Some(c.step.describe()),
+                ..super::Labels::default()
+            };
             let mut edits = c.edits.clone();
             edits.push(Edit::Dem(DemEdit::Seed(seed + k as u64)));
             jobs.push(Job {
@@ -256,7 +258,7 @@ pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
     let packing: Vec<usize> = sweep
         .jobs
         .iter()
-        .filter_map(|j| j.labels.get("config")?.as_str()?.strip_prefix("N=")?.parse().ok())
+        .filter_map(|j| j.labels.config.as_deref()?.strip_prefix("N=")?.parse().ok())
         .collect();
     let mut md = String::new();
     writeln!(md, "# Ablation study (thesis 3.5.4)\n")?;
@@ -281,7 +283,7 @@ pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
         for c in &configs(model, &packing) {
             let mine: Vec<&(Job, super::TrayResult)> = results
                 .iter()
-                .filter(|(j, _)| j.model == model && j.labels.get("config").and_then(Value::as_str) == Some(&c.name))
+                .filter(|(j, _)| j.model == model && j.labels.config.as_deref() == Some(&c.name))
                 .collect();
             if mine.is_empty() {
                 continue;
@@ -320,7 +322,7 @@ pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
                 Thesis::Text(t) => (t.into(), "-".into()),
                 Thesis::NotRun => ("not run".into(), "-".into()),
             };
-            let step = mine[0].0.labels.get("step").and_then(Value::as_str).unwrap_or("the scene's");
+            let step = mine[0].0.labels.step.as_deref().unwrap_or("the scene's");
             writeln!(
                 md,
                 "| {} | {} | {} | {} | {} +- {} | {} | {} | {} | {} | {} |",

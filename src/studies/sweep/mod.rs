@@ -145,7 +145,35 @@ pub struct Job {
     pub edits: Vec<Edit>,
     /// What the job stands for (configuration, frequency, amplitude, sample, ...), copied into
     /// its result.
-    pub labels: serde_json::Map<String, Value>,
+    pub labels: Labels,
+}
+
+/// What a job stands for, each sweep kind setting its own: the ablation's configuration,
+/// step and sample; the phase map's frequency, amplitude and sample; the event-driven
+/// sweep's grid point. Written as a JSON object of the fields set (in `sweep.json` and each
+/// job's `result.json`); the fields are in alphabetical order, so the object is the one the
+/// sweeps wrote when the labels were a map.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Labels {
+    /// Drive amplitude (m) of a phase-map cell.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub amplitude: Option<f64>,
+    /// The ablation's configuration (e.g. `reference`, `N=2000`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub config: Option<String>,
+    /// Drive frequency (Hz) of a phase-map cell.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub frequency: Option<f64>,
+    /// The event-driven sweep's grid point (index into its axes' grid).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub point: Option<u64>,
+    /// Sample index (the sample's seed offset).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sample: Option<u64>,
+    /// The ablation's time step, in words.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub step: Option<String>,
 }
 
 /// What a sweep is, and so what `collect` draws from its results. Stored in `sweep.json` by
@@ -504,7 +532,7 @@ pub fn events_job_scene(sweep: &Sweep, job: &Job) -> Result<crate::scene::events
 #[derive(Debug, Serialize, Deserialize)]
 pub struct EventsResult {
     pub id: String,
-    pub labels: serde_json::Map<String, Value>,
+    pub labels: Labels,
     pub measured: Option<crate::events::measure::Measured>,
     pub failure: Option<String>,
     pub wall_s: f64,
@@ -574,7 +602,7 @@ struct JobResult<'a> {
     id: &'a str,
     model: &'static str,
     #[serde(flatten)]
-    labels: &'a serde_json::Map<String, Value>,
+    labels: &'a Labels,
     analysis: analyze::AnalysisSummary,
     speed: Speed,
     sample_preparation: SamplePreparation,
@@ -728,12 +756,7 @@ pub fn nan_if_none(x: Option<f64>) -> f64 {
 /// `unit` (cell, configuration) and how many jobs have finished.
 pub fn scale_line(sweep: &Sweep, finished: usize, unit: &str) -> Result<String, CliError> {
     let scene = crate::scene::file::load(&sweep.scene, &sweep.overrides)?.dem;
-    let samples = sweep
-        .jobs
-        .iter()
-        .filter_map(|j| j.labels.get("sample")?.as_u64())
-        .max()
-        .map_or(1, |k| k + 1);
+    let samples = sweep.jobs.iter().filter_map(|j| j.labels.sample).max().map_or(1, |k| k + 1);
     Ok(format!(
         "Scale: scene `{}`, N = {}, box {} m x {} m (packing {:.3}), {} s per run, {samples} sample(s) per {unit}, {finished} of {} jobs finished.",
         sweep.scene.display(),

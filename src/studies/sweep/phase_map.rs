@@ -27,10 +27,12 @@ pub fn jobs(freqs: &[f64], amps: &[f64], models: &[Model], samples: usize, seed:
             for &f in freqs {
                 for k in 0..samples {
                     let seed = seed + k as u64;
-                    let mut labels = serde_json::Map::new();
-                    labels.insert("frequency".into(), f.into());
-                    labels.insert("amplitude".into(), a.into());
-                    labels.insert("sample".into(), k.into());
+                    let labels = super::Labels {
+                        frequency: Some(f),
+                        amplitude: Some(a),
+                        sample: Some(k as u64),
+                        ..super::Labels::default()
+                    };
                     jobs.push(Job {
                         id: format!("{}-f{f}-a{a}-s{k}", model.name()),
                         model,
@@ -89,17 +91,8 @@ pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
     // Runs whose phase changes with the classifier's thresholds.
     let mut fragile = Vec::new();
     // (model, amplitude index, frequency index) -> per-sample (phase, contrast, mobility).
-    let num = |v: &Value, k: &str| v[k].as_f64().unwrap_or(f64::NAN);
-    let mut freqs: Vec<f64> = sweep
-        .jobs
-        .iter()
-        .map(|j| num(&Value::Object(j.labels.clone()), "frequency"))
-        .collect();
-    let mut amps: Vec<f64> = sweep
-        .jobs
-        .iter()
-        .map(|j| num(&Value::Object(j.labels.clone()), "amplitude"))
-        .collect();
+    let mut freqs: Vec<f64> = sweep.jobs.iter().map(|j| j.labels.frequency.unwrap_or(f64::NAN)).collect();
+    let mut amps: Vec<f64> = sweep.jobs.iter().map(|j| j.labels.amplitude.unwrap_or(f64::NAN)).collect();
     for v in [&mut freqs, &mut amps] {
         v.sort_by(f64::total_cmp);
         v.dedup();
@@ -108,9 +101,9 @@ pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
     type Cell = Vec<(usize, [f64; 3])>;
     let mut cells: BTreeMap<(String, usize, usize), Cell> = BTreeMap::new();
     for (job, r) in &results {
-        let labels = Value::Object(job.labels.clone());
-        let (f, a) = (num(&labels, "frequency"), num(&labels, "amplitude"));
-        let sample = labels["sample"].as_u64().unwrap_or(0);
+        let labels = &job.labels;
+        let (f, a) = (labels.frequency.unwrap_or(f64::NAN), labels.amplitude.unwrap_or(f64::NAN));
+        let sample = labels.sample.unwrap_or(0);
         let r = &r.analysis;
         let phase = r.phase_label();
         let (contrast, mobility) = (super::nan_if_none(r.contrast), super::nan_if_none(r.mobility));
