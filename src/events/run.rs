@@ -61,7 +61,15 @@ pub struct EventsSummary {
     #[serde(flatten)]
     pub paper: crate::events::measure::PaperObservables,
     pub current_x_m_per_s: f64,
+    /// `T_2 / T_1` over the grains in the middle third of the box's height, grain by grain
+    /// (no height bins: the same for every `run.bin`); NaN (null) with one species.
     pub temperature_ratio_bulk: f64,
+    /// Grain positions sampled above the box's open top (no lid), summed over samples, their
+    /// fraction of every sampled position, and the samples with at least one (a warning says
+    /// so when there are any).
+    pub escaped_grain_samples: u64,
+    pub escaped_fraction: f64,
+    pub escaped_samples: u64,
     pub temperatures: Vec<Temperatures>,
     /// The side-wall cluster's record (null in a periodic box).
     pub side_cluster: Option<crate::events::side::SideSummary>,
@@ -237,7 +245,11 @@ fn simulate(
             "the energy ledger misses by {ledger:e} of the energy moved (expected round-off, below 1e-9)"
         ));
     }
-    warnings.extend(crate::events::measure::bulk_bin_note(obs.bin, sim.config.height, species));
+    warnings.extend(crate::events::measure::escaped_note(
+        &obs,
+        events::observe::box_top(&sim.config),
+        sim.len(),
+    ));
     if sim.ledger.dissipated < 0.0 {
         warnings.push(format!(
             "the collisions added {:e} J instead of dissipating it (dissipated_j < 0): a collapse guard \
@@ -292,7 +304,10 @@ fn simulate(
         mean_height_m: obs.mean_height(),
         paper: crate::events::measure::PaperObservables::of(&obs, &sim, scene),
         current_x_m_per_s: obs.mean_vx(),
-        temperature_ratio_bulk: crate::events::measure::bulk_ratio(&obs, sim.config.height),
+        temperature_ratio_bulk: obs.bulk_temperature_ratio(),
+        escaped_grain_samples: obs.escaped,
+        escaped_fraction: obs.escaped as f64 / obs.samples.saturating_mul(sim.len() as u64).max(1) as f64,
+        escaped_samples: obs.escaped_samples,
         temperatures,
         side_cluster,
         segregation: crate::events::segregation::summary(&obs),
