@@ -291,6 +291,18 @@ fn a_ratchet_run_extended_with_resume_matches_the_whole_run_byte_for_byte() {
     std::fs::write(&ckpt, &bytes[..bytes.len() / 2]).unwrap();
     let (ok, _, stderr) = run(&part, "4", &["--resume"]);
     assert!(!ok && stderr.contains("cut short"), "{stderr}");
+    // Issue 43, messages: a run stopped before its first checkpoint was told "nothing was
+    // written" beside 48 MB of snapshots; the message says what the directory holds.
+    std::fs::remove_file(&ckpt).unwrap();
+    let (ok, _, stderr) = run(&part, "4", &["--resume"]);
+    assert!(
+        !ok && !stderr.contains("nothing was written") && stderr.contains("before a first checkpoint") && stderr.contains("MB)"),
+        "{stderr}"
+    );
+    let none = d.join("none").display().to_string();
+    let (ok, _, stderr) = run(&none, "4", &["--resume"]);
+    assert!(!ok && stderr.contains("nothing was written"), "{stderr}");
+    assert!(!d.join("none").exists());
     let _ = std::fs::remove_dir_all(&d);
 }
 

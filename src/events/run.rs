@@ -91,7 +91,12 @@ pub fn run_events(path: &Path, scene: &EventScene, opts: &EventsOptions) -> Resu
     let fingerprint = fingerprint(scene)?;
     let resumed = if opts.resume {
         let path = out.join("checkpoint.bin");
-        let bytes = std::fs::read(&path).map_err(|e| format!("--resume: cannot read {} (nothing was written): {e}", path.display()))?;
+        // A directory without a checkpoint is named with what it holds (issue 43: "nothing was
+        // written" was said of a run stopped before its first checkpoint, with 48 MB written).
+        if !path.exists() {
+            return Err(format!("--resume: {}", crate::rundir::resume::no_checkpoint(&out)).into());
+        }
+        let bytes = std::fs::read(&path).map_err(|e| format!("--resume: cannot read {}: {e}", path.display()))?;
         let c = checkpoint::decode(&bytes).map_err(|e| format!("--resume: {}: {e}", path.display()))?;
         crate::events::resume::check(&out, scene, c.fingerprint == fingerprint)?;
         Some(c)
@@ -135,8 +140,17 @@ fn fingerprint(scene: &EventScene) -> Result<u64, Error> {
     Ok(crate::rundir::bytes::fnv1a(toml::to_string(&s)?.as_bytes()) ^ crate::events::resume::tables_hash(scene)?)
 }
 
-/// Wall time between checkpoints.
+/// Wall time before the first checkpoint of an invocation, and between the later ones: a
+/// run stopped within its first seconds can already be resumed (issue 43: before, the first
+/// came after 30 s, and a run stopped sooner had written snapshots but no checkpoint).
+const FIRST_CHECKPOINT: Duration = Duration::from_secs(3);
 const CHECKPOINT_EVERY: Duration = Duration::from_secs(30);
+
+/// Whether a checkpoint is due `since` the last one (or the start), when this invocation has
+/// already written `written` of them.
+fn checkpoint_due(since: Duration, written: u64) -> bool {
+    since >= if written == 0 { FIRST_CHECKPOINT } else { CHECKPOINT_EVERY }
+}
 
 fn simulate(
     path: &Path,
@@ -196,6 +210,7 @@ fn simulate(
     bar.set_position(first - 1);
     let wall = Instant::now();
     let mut last_checkpoint = Instant::now();
+    let mut checkpoints = 0u64;
     let checkpoint_path = out.join("checkpoint.bin");
     let checkpoint = |sim: &Simulation, obs: &Observer, sample: u64, frames: u64, snapshots: &mut SnapshotWriter| {
         // The frames the checkpoint counts are on disk before it is.
@@ -226,9 +241,10 @@ fn simulate(
             )?;
             frames += 1;
         }
-        if last_checkpoint.elapsed() >= CHECKPOINT_EVERY {
+        if checkpoint_due(last_checkpoint.elapsed(), checkpoints) {
             checkpoint(&sim, &obs, k, frames, &mut snapshots)?;
             last_checkpoint = Instant::now();
+            checkpoints += 1;
         }
         bar.set_message(format!("t = {t:.3} s of {} s, {} collisions", scene.run.duration, sim.collisions()));
         bar.set_position(k);
@@ -489,4 +505,21 @@ fn temperature_ratio_plot(dir: &mut RunDir, profiles: &[Vec<[f64; 5]>], bin: f64
         );
     }
     dir.plot("temperature_ratio", &plot)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Issue 43: a run stopped before its first checkpoint (then after 30 s of wall time)
+    /// left snapshots but nothing to resume from. The first comes after 3 s, the later ones
+    /// every 30 s.
+    #[test]
+    fn the_first_checkpoint_comes_within_seconds() {
+        let s = Duration::from_secs_f64;
+        assert!(!checkpoint_due(s(2.9), 0));
+        assert!(checkpoint_due(s(3.0), 0));
+        assert!(!checkpoint_due(s(3.0), 1) && !checkpoint_due(s(29.9), 4));
+        assert!(checkpoint_due(s(30.0), 1));
+    }
 }

@@ -18,8 +18,9 @@ use crate::analyze::{analyze, AnalysisOptions};
 use crate::automaton::lattice::load_scene;
 use crate::automaton::{resolve_lattice, run_automaton, AutomatonOptions};
 use crate::dem::samples::sample_key;
-use crate::dem::{no_checkpoint, resolve, run_dem, RunOptions};
+use crate::dem::{resolve, run_dem, RunOptions};
 use crate::rundir::output::{CliError, RunDir};
+use crate::rundir::resume::no_checkpoint;
 
 /// What a comparison is given: the scene file and its overrides, where it writes, and the
 /// runs it may reuse. Serialised as the command's arguments into `config.json`.
