@@ -199,6 +199,35 @@ fn bad_event_scenes_are_refused_and_leave_nothing() {
     assert!(ok, "{stderr}");
     assert!(stderr.contains("nothing moves the grains"), "{stderr}");
     assert!(last_json(&stdout)["warnings"].to_string().contains("nothing moves"), "{stdout}");
+    // Issue 43, finding 10: a large guard.min_rebound_speed gave negative dissipation with no
+    // warning. One faster than the grains is refused (src/scene/events_checks.rs); one just
+    // below them, on smooth elastic pairs, adds energy in slow collisions, and says so.
+    let out = d.join("pumped").display().to_string();
+    let (ok, stdout, stderr) = stripes(&[
+        "events",
+        vibrated_box,
+        "--out",
+        &out,
+        "--quiet",
+        "--set",
+        "guard.min_rebound_speed=0.19",
+        "--set",
+        "rules.pair.e=1",
+        "--set",
+        "rules.pair.mu=0",
+        "--set",
+        "run.duration=0.3",
+        "--set",
+        "run.transient=0",
+    ]);
+    assert!(ok, "{stderr}");
+    let s = last_json(&stdout);
+    assert!(s["dissipated_j"].as_f64().unwrap() < 0.0, "{s}");
+    assert!(
+        s["warnings"].to_string().contains("instead of dissipating it (dissipated_j < 0)")
+            && stderr.contains("guard.min_rebound_speed = 0.19 m/s"),
+        "{stderr}"
+    );
     let _ = std::fs::remove_dir_all(&d);
 }
 
@@ -230,6 +259,16 @@ fn grains_above_an_open_top_are_counted_and_warned_about() {
     let said = format!("{escaped} of {} sampled grain positions", 50 * samples);
     assert!(stderr.contains(&said) && stderr.contains("open top"), "{stderr}");
     assert!(s["warnings"].to_string().contains(&said), "{s}");
+    // A sweep's run says it too, by its job.
+    let sweep = d.join("sweep").display().to_string();
+    let mut args = vec!["events-sweep", scene, "--out", &sweep, "--quiet", "--vary", "drive.peak_speed=0.6"];
+    for set in ["box.height=0.01", "run.duration=0.3", "run.transient=0.1"] {
+        args.extend(["--set", set]);
+    }
+    let (ok, stdout, stderr) = stripes(&args);
+    assert!(ok, "{stderr}");
+    let w = last_json(&stdout)["warnings"].to_string();
+    assert!(w.contains("run p000-s1: ") && w.contains("above the box's open top"), "{w}");
     let _ = std::fs::remove_dir_all(&d);
 }
 

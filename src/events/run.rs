@@ -269,8 +269,9 @@ fn simulate(
     if sim.ledger.dissipated < 0.0 {
         warnings.push(format!(
             "the collisions added {:e} J instead of dissipating it (dissipated_j < 0): a collapse guard \
-             (guard.min_rebound_speed = {:?} m/s) sent grains apart faster than they met",
-            -sim.ledger.dissipated, scene.guard.min_rebound_speed
+             (guard.min_rebound_speed = {} m/s) sent grains apart faster than they met",
+            -sim.ledger.dissipated,
+            scene.guard.min_rebound_speed.map_or("none".to_string(), |v| v.to_string())
         ));
     }
     if obs.samples == 0 {
