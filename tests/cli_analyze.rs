@@ -173,6 +173,28 @@ fn snapshots_and_a_lammps_dump_of_the_same_layer_give_the_same_analysis() {
     let table = std::fs::read_to_string(seeds_out.join("seeds.csv")).unwrap();
     assert_eq!(table.lines().count(), 3, "{table}");
     assert!(seeds_out.join("spacing_over_time.png").is_file());
+    // Issue 43, messages: `seeds` printed "3 warning(s)" without the warnings. A copy whose
+    // summary claims another grain count is pooled with a warning, printed where it is seen
+    // and counted in the summary line.
+    let summary_path = copy.join("summary.json");
+    let mut other: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&summary_path).unwrap()).unwrap();
+    other["particles"] = serde_json::json!(other["particles"].as_f64().unwrap() + 1.0);
+    std::fs::write(&summary_path, other.to_string()).unwrap();
+    let warned_out = dir.join("seeds-warned");
+    let (ok, stdout, stderr) = stripes(&[
+        "seeds",
+        run.to_str().unwrap(),
+        copy.to_str().unwrap(),
+        "--out",
+        warned_out.to_str().unwrap(),
+    ]);
+    assert!(ok, "{stderr}");
+    let e = summary_of(&stdout, &warned_out);
+    assert_eq!(e["warnings"].as_array().unwrap().len(), 1, "{e}");
+    assert!(
+        stderr.contains("warning: the runs differ in their grain counts") && stderr.contains("1 warning(s)"),
+        "{stderr}"
+    );
     let (ok, _, stderr) = stripes(&["seeds", run.to_str().unwrap(), dir.to_str().unwrap()]);
     assert!(!ok && stderr.contains("stripes analyze"), "{stderr}");
 

@@ -153,6 +153,31 @@ pub fn rest_height_of(config: &crate::config::Config) -> RestHeight {
     rest_height(count, diameter, config.width)
 }
 
+/// Sums of one species over the grains whose centres lie in the bulk at a sample, the middle
+/// third `[h/3, 2h/3)` of the box's height `h` (between the floor's and the lid's mean
+/// positions): the mixture paper's "bulk", away from the walls that heat each species. Taken
+/// grain by grain, with no height bins.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct BulkSums {
+    /// Grains counted (summed over samples).
+    pub count: u64,
+    /// Sums of `m v_x^2` and `m v_z^2` (J).
+    pub mvx2: f64,
+    pub mvz2: f64,
+}
+
+/// The bulk of a box `height` high: the middle third `[height/3, 2 height/3)` (m above the
+/// floor's mean position).
+pub fn bulk_range(height: f64) -> (f64, f64) {
+    (height / 3.0, 2.0 * height / 3.0)
+}
+
+/// The height above which a grain has left the box (m above the floor's mean position): the
+/// lid's highest position, or without a lid the box's height, its open top.
+pub fn box_top(config: &crate::config::Config) -> f64 {
+    config.height + config.lid.map_or(0.0, |m| m.amplitude.abs())
+}
+
 /// Everything sampled.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Observer {
@@ -202,6 +227,14 @@ pub struct Observer {
     /// unless [`Observer::with_phases`] asked for them).
     pub phase_heights: Vec<Vec<Profile>>,
     pub phase_across: Vec<Vec<Profile>>,
+    /// Per species, the sums over the grains in the bulk ([`BulkSums`]), for
+    /// [`Observer::bulk_temperature_ratio`].
+    pub bulk: Vec<BulkSums>,
+    /// Grains whose centres were above the box's top ([`box_top`]) at a sample, summed over
+    /// samples, and the samples with at least one: without a lid a grain can fly out of the
+    /// box. The profiles count such a grain in their top bin and the means at its height.
+    pub escaped: u64,
+    pub escaped_samples: u64,
 }
 
 impl Observer {
@@ -233,6 +266,9 @@ impl Observer {
             phases: vec![PhaseSums::default()],
             phase_heights: Vec::new(),
             phase_across: Vec::new(),
+            bulk: vec![BulkSums::default(); species],
+            escaped: 0,
+            escaped_samples: 0,
         }
     }
 
@@ -344,6 +380,7 @@ impl Observer {
         }
         let n = sim.len();
         let (mut h, mut vx) = (0.0, 0.0);
+        let escaped = self.escaped;
         for i in 0..n {
             let (r, v, k, m, iw2) = self.add_to_heights(sim, i);
             h += r.y;
@@ -376,12 +413,15 @@ impl Observer {
             self.thin_velocities();
         }
         self.add_phase(sim);
+        self.escaped_samples += u64::from(self.escaped > escaped);
         self.height_sum += h / n as f64;
         self.vx_sum += vx / n as f64;
         self.samples += 1;
     }
 
-    /// Adds grain `i` to its species' profile against height; returns its position,
+    /// Adds grain `i` to its species' profile against height, to the bulk's sums if its
+    /// centre lies in the bulk, and to the escaped grains if it is above the box's top;
+    /// returns its position,
     /// velocity, species, mass and `q m R^2 w^2` for the caller's other records.
     fn add_to_heights(&mut self, sim: &Simulation, i: usize) -> (Vec2, Vec2, usize, f64, f64) {
         let (r, v) = sim.state(i);
@@ -390,6 +430,16 @@ impl Observer {
         // Truncation is the floor for a non-negative height (and 0 below the floor).
         let b = ((r.y / self.bin).max(0.0) as usize).min(self.bins - 1);
         self.species[k].add(b, m, v.x, v.y, iw2);
+        let (lo, hi) = bulk_range(sim.config.height);
+        if r.y >= lo && r.y < hi {
+            let bulk = &mut self.bulk[k];
+            bulk.count += 1;
+            bulk.mvx2 += m * v.x * v.x;
+            bulk.mvz2 += m * v.y * v.y;
+        }
+        if r.y > box_top(&sim.config) {
+            self.escaped += 1;
+        }
         (r, v, k, m, iw2)
     }
 
@@ -398,6 +448,7 @@ impl Observer {
     fn sample_heights(&mut self, sim: &Simulation) {
         let n = sim.len();
         let (mut h, mut vx) = (0.0, 0.0);
+        let escaped = self.escaped;
         for i in 0..n {
             let (r, v, ..) = self.add_to_heights(sim, i);
             h += r.y;
@@ -407,6 +458,7 @@ impl Observer {
             f.add(sim);
         }
         self.add_phase(sim);
+        self.escaped_samples += u64::from(self.escaped > escaped);
         self.height_sum += h / n as f64;
         self.vx_sum += vx / n as f64;
         self.samples += 1;
@@ -463,9 +515,22 @@ impl Observer {
         }
     }
 
-    /// The translational temperature ratio `T_2 / T_1`, with `T_k = (T_x + T_z) / 2` of
-    /// species k over the grains whose centres lie in `[z_lo, z_hi)` (the mixture paper's
-    /// `gamma`, its Figs 2-3); NaN with one species or an empty range.
+    /// The bulk's translational temperature ratio `T_2 / T_1`, with `T_k = (T_x + T_z) / 2 =
+    /// sum(m v_x^2 + m v_z^2) / (2 N_k)` over the grains of species k whose centres lay in the
+    /// middle third of the box's height at each sample ([`BulkSums`]; the mixture paper's
+    /// `gamma`, its Figs 2-3). Grain by grain, so it does not depend on the profiles' bin.
+    /// NaN with one species or when a species never entered the bulk.
+    pub fn bulk_temperature_ratio(&self) -> f64 {
+        if self.bulk.len() < 2 {
+            return f64::NAN;
+        }
+        let t = |b: &BulkSums| 0.5 * (b.mvx2 + b.mvz2) / b.count as f64;
+        t(&self.bulk[1]) / t(&self.bulk[0])
+    }
+
+    /// The same ratio from the height profiles, over the bins whose centres lie in
+    /// `[z_lo, z_hi)`: it depends on the bin (the summary's bulk ratio is
+    /// [`Observer::bulk_temperature_ratio`]); NaN with one species or an empty range.
     pub fn temperature_ratio(&self, z_lo: f64, z_hi: f64) -> f64 {
         if self.species.len() < 2 {
             return f64::NAN;
@@ -575,6 +640,7 @@ mod tests {
             lean.sample(&sim);
         }
         assert_eq!(lean.species, full.species);
+        assert_eq!((&lean.bulk, lean.escaped), (&full.bulk, full.escaped));
         assert_eq!(
             (lean.height_sum, lean.vx_sum, lean.samples),
             (full.height_sum, full.vx_sum, full.samples)
@@ -600,6 +666,114 @@ mod tests {
         let across: f64 = full.phase_across.iter().map(|p| p[0].count.iter().sum::<f64>()).sum();
         assert_eq!(across, full.across[0].count.iter().sum::<f64>());
         assert!(full.phase_profile(3, 0).is_some() && lean.phase_profile(3, 0).is_none());
+    }
+
+    /// Two grains of each species placed by hand in a 0.03 m box without a lid, whose bulk
+    /// (the middle third) is `[0.01, 0.02)` m.
+    fn four_grains() -> Simulation {
+        let species = |mass: f64| Species {
+            count: 2,
+            radius_min: 1e-3,
+            radius_max: 1e-3,
+            mass: crate::Mass::Each(mass),
+        };
+        let config = Config {
+            width: 0.02,
+            height: 0.03,
+            side_walls: SideWalls::Periodic,
+            gravity: 10.0,
+            q: 0.4,
+            species: vec![species(1e-6), species(2e-6)],
+            floor: Some(Motion {
+                amplitude: 1e-4,
+                frequency: 10.0,
+                phase: 0.0,
+            }),
+            base: None,
+            lid: None,
+            waveform: crate::wall::Waveform::Sine,
+            rules: Rules::uniform(Rule::smooth(0.9), Rule::smooth(1.0), 2),
+            guard: Guard::default(),
+            initial_speed: 0.0,
+            seed: 5,
+        };
+        let mut sim = Simulation::new(config).unwrap();
+        // Species 1: one grain in the bulk moving (1, 2) m/s, one below it. Species 2: one
+        // in the bulk moving (0.5, -1) m/s, one above the open top at 0.035 m. (The engine
+        // shuffles the species over the grains: each grain takes the next state of its own.)
+        let states = [
+            [(0.015, Vec2::new(1.0, 2.0)), (0.005, Vec2::new(3.0, 0.0))],
+            [(0.012, Vec2::new(0.5, -1.0)), (0.035, Vec2::new(0.0, 4.0))],
+        ];
+        let mut taken = [0, 0];
+        let (mut r, mut v) = (Vec::new(), Vec::new());
+        for (i, &s) in sim.species.iter().enumerate() {
+            let (z, u) = states[s][taken[s]];
+            taken[s] += 1;
+            r.push(Vec2::new(0.002 + 0.004 * i as f64, z));
+            v.push(u);
+        }
+        assert_eq!(taken, [2, 2]);
+        sim.set_state(&r, &v, &[0.0; 4]).unwrap();
+        sim
+    }
+
+    /// Issue 43, finding 8: the bulk ratio moved from 0.65 to 0.62 and 0.77 with `run.bin`
+    /// (it averaged the height bins whose centres lay in the middle third) and was NaN at large
+    /// bins. It is now summed grain by grain: the hand-computed value for every bin size,
+    /// where the binned ratio over the same third moves with the bin.
+    #[test]
+    fn the_bulk_temperature_ratio_is_the_grains_in_the_middle_third_whatever_the_bin() {
+        let sim = four_grains();
+        // T_1 = (1e-6 (1 + 4)) / 2 over one grain, T_2 = (2e-6 (0.25 + 1)) / 2: T2/T1 = 0.5.
+        let want = 0.5;
+        let mut binned = Vec::new();
+        for bin in [1e-3, 4e-3, 7e-3, 0.02, 0.05] {
+            let mut obs = Observer::new(2, bin, 0.03, 0.02);
+            obs.sample(&sim);
+            obs.sample(&sim);
+            let ratio = obs.bulk_temperature_ratio();
+            assert!((ratio - want).abs() < 1e-12, "bin {bin}: T2/T1 = {ratio}, by hand {want}");
+            assert_eq!(obs.bulk[0].count, 2, "bin {bin}: one grain of species 1 in the bulk, twice");
+            assert_eq!(obs.bulk[1].count, 2, "bin {bin}");
+            binned.push(obs.temperature_ratio(0.01, 0.02));
+        }
+        // The binned ratio over the same range: the 1 mm bins agree; 20 mm bins take the
+        // grain below the bulk (the bin [0, 20) mm has its centre at 10 mm), 50 mm bins none.
+        assert!((binned[0] - want).abs() < 1e-12, "{binned:?}");
+        assert!((binned[3] - want).abs() > 0.1, "{binned:?}");
+        assert!(binned[4].is_nan(), "{binned:?}");
+        // One species has no ratio.
+        assert!(Observer::new(1, 1e-3, 0.03, 0.02).bulk_temperature_ratio().is_nan());
+    }
+
+    /// Issue 43, finding 9: grains above a box without a lid piled into the top profile bin
+    /// (H = 0.171 m in a 0.05 m box) with nothing said. The observer counts them per sample,
+    /// with gravity as without, in the lean observer as in the full one.
+    #[test]
+    fn grains_above_the_open_top_are_counted_at_every_sample() {
+        let sim = four_grains();
+        for lean in [false, true] {
+            let mut obs = Observer::new(2, 1e-3, 0.03, 0.02);
+            if lean {
+                obs = obs.means_and_heights();
+            }
+            for _ in 0..3 {
+                obs.sample(&sim);
+            }
+            assert_eq!((obs.escaped, obs.escaped_samples, obs.samples), (3, 3, 3), "lean {lean}");
+            // And in the top bin, as the warning says.
+            assert_eq!(obs.species[1].count[obs.bins - 1], 3.0, "lean {lean}");
+        }
+        // Under a lid at the same height nothing is above the top.
+        assert_eq!(box_top(&sim.config), 0.03);
+        let mut lidded = sim.config.clone();
+        lidded.lid = Some(Motion {
+            amplitude: 0.01,
+            frequency: 10.0,
+            phase: 0.0,
+        });
+        assert_eq!(box_top(&lidded), 0.04);
     }
 
     /// At the sample times, the centre of mass of one grain is its height, and the phase is

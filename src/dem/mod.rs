@@ -13,4 +13,4 @@ pub mod thermo;
 pub mod vtk;
 
 pub use resolve::resolve;
-pub use run::{no_checkpoint, run_dem, RunOptions};
+pub use run::{run_dem, RunOptions};

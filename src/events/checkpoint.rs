@@ -3,12 +3,13 @@
 //! (`checkpoint.bin`) written atomically. A run continued from it with `--resume` goes on
 //! bit for bit as if it had not stopped.
 //!
-//! Layout (little-endian): the magic `STRIPES-EVENTS-CKPT-6\n`, the scene's fingerprint
-//! (u64), then the payload, then an FNV-1a checksum (u64) of the payload. Vectors are a
-//! u64 length followed by their items. A file cut short or altered fails its checksum and
+//! Layout (little-endian): the magic `STRIPES-EVENTS-CKPT-7\n` (7: the bulk's sums and the
+//! escaped grains' counts, issue 43; an older layout is refused by its number), the scene's
+//! fingerprint (u64), then the payload, then an FNV-1a checksum (u64) of the payload. Vectors
+//! are a u64 length followed by their items. A file cut short or altered fails its checksum and
 //! is refused with the byte count, never half read.
 
-use events::observe::{Observer, PhaseSums, Profile};
+use events::observe::{BulkSums, Observer, PhaseSums, Profile};
 use events::phase_field::PhaseField;
 use events::segregation::Mixing;
 use events::sim::{Counts, Ledger};
@@ -17,7 +18,9 @@ use events::{Next, State, Vec2};
 
 use crate::rundir::bytes::{seal, unseal, Reader, Writer};
 
-const MAGIC: &[u8] = b"STRIPES-EVENTS-CKPT-6\n";
+const MAGIC: &[u8] = b"STRIPES-EVENTS-CKPT-7\n";
+/// The magic without its layout number.
+const MAGIC_STEM: &[u8] = b"STRIPES-EVENTS-CKPT-";
 /// The header read apart from the sealed payload: the magic and the scene's fingerprint.
 const HEAD: usize = MAGIC.len() + 8;
 
@@ -205,6 +208,14 @@ pub fn encode(c: &Checkpoint) -> Vec<u8> {
             write_profiles(&mut o, profiles);
         }
     }
+    o.u64(b.bulk.len() as u64);
+    for s in &b.bulk {
+        o.u64(s.count);
+        o.f64(s.mvx2);
+        o.f64(s.mvz2);
+    }
+    o.u64(b.escaped);
+    o.u64(b.escaped_samples);
     let mut bytes = MAGIC.to_vec();
     bytes.extend_from_slice(&c.fingerprint.to_le_bytes());
     bytes.extend_from_slice(&o.0);
@@ -243,6 +254,14 @@ fn read_profiles(i: &mut Reader<'_>) -> Result<Vec<Profile>, String> {
 /// Reads a checkpoint; the error says what is wrong (not a checkpoint, cut short, altered).
 pub fn decode(bytes: &[u8]) -> Result<Checkpoint, String> {
     if !bytes.starts_with(MAGIC) {
+        if let Some(rest) = bytes.strip_prefix(MAGIC_STEM) {
+            let layout: String = rest.iter().take_while(|b| b.is_ascii_digit()).map(|&b| b as char).collect();
+            return Err(format!(
+                "a checkpoint of layout {layout}, written by an older `stripes events`; this one reads layout {} \
+                 (it keeps the bulk's sums and the escaped grains, issue 43): run the scene again without --resume",
+                String::from_utf8_lossy(&MAGIC[MAGIC_STEM.len()..MAGIC.len() - 1])
+            ));
+        }
         return Err("not a checkpoint of `stripes events`".into());
     }
     let body = unseal(bytes, HEAD)?;
@@ -400,6 +419,17 @@ pub fn decode(bytes: &[u8]) -> Result<Checkpoint, String> {
     }
     let phase_across = per_phase.pop().expect("two");
     let phase_heights = per_phase.pop().expect("two");
+    let n = i.count(24, "records")?;
+    let bulk = (0..n)
+        .map(|_| {
+            Ok(BulkSums {
+                count: i.u64()?,
+                mvx2: i.f64()?,
+                mvz2: i.f64()?,
+            })
+        })
+        .collect::<Result<Vec<_>, String>>()?;
+    let (escaped, escaped_samples) = (i.u64()?, i.u64()?);
     if phases.is_empty()
         || [&phase_heights, &phase_across]
             .iter()
@@ -412,6 +442,9 @@ pub fn decode(bytes: &[u8]) -> Result<Checkpoint, String> {
     }
     if species.iter().any(|p| p.count.len() != bins) || across.iter().any(|p| p.count.len() != across_bins) {
         return Err("the profiles do not have the bins they claim".into());
+    }
+    if bulk.len() != species.len() {
+        return Err("the bulk's sums do not have the species the profiles have".into());
     }
     Ok(Checkpoint {
         fingerprint,
@@ -443,6 +476,9 @@ pub fn decode(bytes: &[u8]) -> Result<Checkpoint, String> {
             phases,
             phase_heights,
             phase_across,
+            bulk,
+            escaped,
+            escaped_samples,
         },
     })
 }
@@ -490,5 +526,10 @@ mod tests {
         let k = altered.len() / 3;
         altered[k] ^= 1;
         assert!(decode(&altered).unwrap_err().contains("checksum"));
+        // A checkpoint of the layout before the bulk's sums is refused by its number.
+        let mut older = bytes.clone();
+        older[MAGIC.len() - 2] = b'6';
+        let e = decode(&older).unwrap_err();
+        assert!(e.contains("a checkpoint of layout 6") && e.contains("reads layout 7"), "{e}");
     }
 }

@@ -34,9 +34,14 @@ pub struct Measured {
     /// K/R over the samples at `run.phase` only.
     #[serde(deserialize_with = "crate::rundir::output::nan_if_null")]
     pub k_over_r_phase0: f64,
-    /// `T_2 / T_1` over the middle third of the box's height (NaN with one species).
+    /// `T_2 / T_1` over the grains in the middle third of the box's height at each sample,
+    /// grain by grain ([`Observer::bulk_temperature_ratio`]; NaN with one species).
     #[serde(deserialize_with = "crate::rundir::output::nan_if_null")]
     pub temperature_ratio_bulk: f64,
+    /// Grain positions sampled above the box's open top, summed over samples
+    /// ([`escaped_note`]); 0 in a result written before they were counted.
+    #[serde(default)]
+    pub escaped_grain_samples: u64,
     /// Per species: whole-box `T_x`, `T_z`, `T_rot` (J).
     #[serde(deserialize_with = "crate::rundir::output::nan_if_null_triples")]
     pub temperatures: Vec<[f64; 3]>,
@@ -83,7 +88,8 @@ pub fn observe(scene: &EventScene) -> Result<(Measured, Observer), String> {
         k_over_r: obs.kinetic_ratio(),
         reduced_height_m: paper.reduced_height_m,
         k_over_r_phase0: paper.k_over_r_phase,
-        temperature_ratio_bulk: bulk_ratio(&obs, sim.config.height),
+        temperature_ratio_bulk: obs.bulk_temperature_ratio(),
+        escaped_grain_samples: obs.escaped,
         temperatures: (0..sim.config.species.len())
             .map(|k| {
                 let (x, z, r) = obs.temperatures(k);
@@ -95,36 +101,21 @@ pub fn observe(scene: &EventScene) -> Result<(Measured, Observer), String> {
     Ok((measured, obs))
 }
 
-/// `T_2 / T_1` over the middle third of a box of `height` (between the floor's and the lid's
-/// mean positions): the mixture paper's "bulk", away from the walls that heat each species.
-pub fn bulk_ratio(obs: &Observer, height: f64) -> f64 {
-    obs.temperature_ratio(height / 3.0, 2.0 * height / 3.0)
-}
-
-/// Whether [`bulk_ratio`] depends on `run.bin`, said as a warning: it averages the height
-/// bins whose centres lie in the middle third `[h/3, 2h/3)`, so with bins of `bin` it covers
-/// whole bins from one edge to the other. `None` when those bins match the third within a
-/// twentieth of the height (or with one species); else what they cover, or that none does.
-pub fn bulk_bin_note(bin: f64, height: f64, species: usize) -> Option<String> {
-    if species < 2 || !(bin > 0.0 && height > 0.0) {
-        return None;
-    }
-    let (lo, hi) = (height / 3.0, 2.0 * height / 3.0);
-    // Bin b (centre (b + 1/2) bin) counts when lo <= centre < hi.
-    let first = (lo / bin - 0.5).ceil().max(0.0);
-    let last = (hi / bin - 0.5).ceil() - 1.0;
-    if last < first {
-        return Some(format!(
-            "temperature_ratio_bulk is null: no height bin of run.bin = {bin} m has its centre in the middle third \
-             [{lo:.4}, {hi:.4}) m of the box; a run.bin below {:.4} m measures it",
-            height / 3.0
-        ));
-    }
-    let (a, b) = (first * bin, (last + 1.0) * bin);
-    ((a - lo).abs().max((b - hi).abs()) > height / 20.0).then(|| {
+/// The escaped grains of a run, said as a warning: grains whose centres were above the box's
+/// open top (`box.height`, no lid) at a sample. The profiles count them in their top bin and
+/// the means at their height, so a height or profile with them is not the box's. `None` when
+/// none escaped. `top` is the box's top (m), `grains` the grains per sample.
+pub fn escaped_note(obs: &Observer, top: f64, grains: usize) -> Option<String> {
+    (obs.escaped > 0).then(|| {
+        let sampled = obs.samples.saturating_mul(grains as u64).max(1);
         format!(
-            "temperature_ratio_bulk depends on run.bin: the bins of {bin} m whose centres lie in the middle third \
-             [{lo:.4}, {hi:.4}) m cover [{a:.4}, {b:.4}] m; a smaller run.bin measures the middle third"
+            "{} of {sampled} sampled grain positions ({:.3} %) were above the box's open top ({top} m: box.height, \
+             drive.lid = \"none\"), in {} of {} samples: the escaped grains are counted in the top bin of the \
+             profiles and at their height in mean_height_m and reduced_height_m; a lid or a taller box keeps them in",
+            obs.escaped,
+            100.0 * obs.escaped as f64 / sampled as f64,
+            obs.escaped_samples,
+            obs.samples
         )
     })
 }
@@ -260,22 +251,25 @@ mod report_checks {
 }
 
 #[cfg(test)]
-mod bulk_bin_tests {
-    use super::bulk_bin_note;
+mod bulk_tests {
+    use super::*;
 
     /// Issue 43, finding 8: temperature_ratio_bulk moved from 0.65 to 0.62 and 0.77 with
-    /// run.bin and was null at large bins, with no warning. The mixture's bins of one diameter
-    /// cover the middle third of its 32-diameter box within a twentieth of the height (no
-    /// note); bins of 10 mm cover [20, 30] mm of a 51.2 mm box (a note with the range); bins of
-    /// 30 mm leave no centre in the third (null, said).
+    /// run.bin and was null at large bins. Summed grain by grain, it is the same number for
+    /// bins of one diameter, of 10 mm (which covered [20, 30] mm of the third) and of 30 mm
+    /// (which left no bin centre in it), on the mixture's short run.
     #[test]
-    fn a_bulk_ratio_that_depends_on_the_bin_says_so() {
-        let h = 32.0 * 1.6e-3;
-        assert_eq!(bulk_bin_note(1.6e-3, h, 2), None);
-        assert_eq!(bulk_bin_note(0.01, h, 1), None, "one species has no ratio");
-        let n = bulk_bin_note(0.01, h, 2).unwrap();
-        assert!(n.contains("depends on run.bin") && n.contains("cover [0.0200, 0.0300] m"), "{n}");
-        let n = bulk_bin_note(0.03, h, 2).unwrap();
-        assert!(n.contains("is null") && n.contains("a run.bin below 0.0171 m"), "{n}");
+    fn the_bulk_ratio_is_the_same_for_every_run_bin() {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/mixture.toml");
+        let ratio = |bin: &str| {
+            let set = ["run.duration=0.3".to_string(), "run.transient=0.1".into(), format!("run.bin={bin}")];
+            let m = measure(&crate::scene::events::load(&path, &set).unwrap()).unwrap();
+            (m.temperature_ratio_bulk, m.collisions)
+        };
+        let one = ratio("0.0016");
+        assert!(one.0 > 0.2 && one.0 < 1.0, "{one:?}");
+        for bin in ["0.01", "0.03"] {
+            assert_eq!(ratio(bin), one, "run.bin = {bin}");
+        }
     }
 }

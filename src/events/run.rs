@@ -61,7 +61,15 @@ pub struct EventsSummary {
     #[serde(flatten)]
     pub paper: crate::events::measure::PaperObservables,
     pub current_x_m_per_s: f64,
+    /// `T_2 / T_1` over the grains in the middle third of the box's height, grain by grain
+    /// (no height bins: the same for every `run.bin`); NaN (null) with one species.
     pub temperature_ratio_bulk: f64,
+    /// Grain positions sampled above the box's open top (no lid), summed over samples, their
+    /// fraction of every sampled position, and the samples with at least one (a warning says
+    /// so when there are any).
+    pub escaped_grain_samples: u64,
+    pub escaped_fraction: f64,
+    pub escaped_samples: u64,
     pub temperatures: Vec<Temperatures>,
     /// The side-wall cluster's record (null in a periodic box).
     pub side_cluster: Option<crate::events::side::SideSummary>,
@@ -83,7 +91,12 @@ pub fn run_events(path: &Path, scene: &EventScene, opts: &EventsOptions) -> Resu
     let fingerprint = fingerprint(scene)?;
     let resumed = if opts.resume {
         let path = out.join("checkpoint.bin");
-        let bytes = std::fs::read(&path).map_err(|e| format!("--resume: cannot read {} (nothing was written): {e}", path.display()))?;
+        // A directory without a checkpoint is named with what it holds (issue 43: "nothing was
+        // written" was said of a run stopped before its first checkpoint, with 48 MB written).
+        if !path.exists() {
+            return Err(format!("--resume: {}", crate::rundir::resume::no_checkpoint(&out)).into());
+        }
+        let bytes = std::fs::read(&path).map_err(|e| format!("--resume: cannot read {}: {e}", path.display()))?;
         let c = checkpoint::decode(&bytes).map_err(|e| format!("--resume: {}: {e}", path.display()))?;
         crate::events::resume::check(&out, scene, c.fingerprint == fingerprint)?;
         Some(c)
@@ -127,8 +140,17 @@ fn fingerprint(scene: &EventScene) -> Result<u64, Error> {
     Ok(crate::rundir::bytes::fnv1a(toml::to_string(&s)?.as_bytes()) ^ crate::events::resume::tables_hash(scene)?)
 }
 
-/// Wall time between checkpoints.
+/// Wall time before the first checkpoint of an invocation, and between the later ones: a
+/// run stopped within its first seconds can already be resumed (issue 43: before, the first
+/// came after 30 s, and a run stopped sooner had written snapshots but no checkpoint).
+const FIRST_CHECKPOINT: Duration = Duration::from_secs(3);
 const CHECKPOINT_EVERY: Duration = Duration::from_secs(30);
+
+/// Whether a checkpoint is due `since` the last one (or the start), when this invocation has
+/// already written `written` of them.
+fn checkpoint_due(since: Duration, written: u64) -> bool {
+    since >= if written == 0 { FIRST_CHECKPOINT } else { CHECKPOINT_EVERY }
+}
 
 fn simulate(
     path: &Path,
@@ -188,6 +210,7 @@ fn simulate(
     bar.set_position(first - 1);
     let wall = Instant::now();
     let mut last_checkpoint = Instant::now();
+    let mut checkpoints = 0u64;
     let checkpoint_path = out.join("checkpoint.bin");
     let checkpoint = |sim: &Simulation, obs: &Observer, sample: u64, frames: u64, snapshots: &mut SnapshotWriter| {
         // The frames the checkpoint counts are on disk before it is.
@@ -218,9 +241,10 @@ fn simulate(
             )?;
             frames += 1;
         }
-        if last_checkpoint.elapsed() >= CHECKPOINT_EVERY {
+        if checkpoint_due(last_checkpoint.elapsed(), checkpoints) {
             checkpoint(&sim, &obs, k, frames, &mut snapshots)?;
             last_checkpoint = Instant::now();
+            checkpoints += 1;
         }
         bar.set_message(format!("t = {t:.3} s of {} s, {} collisions", scene.run.duration, sim.collisions()));
         bar.set_position(k);
@@ -237,12 +261,17 @@ fn simulate(
             "the energy ledger misses by {ledger:e} of the energy moved (expected round-off, below 1e-9)"
         ));
     }
-    warnings.extend(crate::events::measure::bulk_bin_note(obs.bin, sim.config.height, species));
+    warnings.extend(crate::events::measure::escaped_note(
+        &obs,
+        events::observe::box_top(&sim.config),
+        sim.len(),
+    ));
     if sim.ledger.dissipated < 0.0 {
         warnings.push(format!(
             "the collisions added {:e} J instead of dissipating it (dissipated_j < 0): a collapse guard \
-             (guard.min_rebound_speed = {:?} m/s) sent grains apart faster than they met",
-            -sim.ledger.dissipated, scene.guard.min_rebound_speed
+             (guard.min_rebound_speed = {} m/s) sent grains apart faster than they met",
+            -sim.ledger.dissipated,
+            scene.guard.min_rebound_speed.map_or("none".to_string(), |v| v.to_string())
         ));
     }
     if obs.samples == 0 {
@@ -292,7 +321,10 @@ fn simulate(
         mean_height_m: obs.mean_height(),
         paper: crate::events::measure::PaperObservables::of(&obs, &sim, scene),
         current_x_m_per_s: obs.mean_vx(),
-        temperature_ratio_bulk: crate::events::measure::bulk_ratio(&obs, sim.config.height),
+        temperature_ratio_bulk: obs.bulk_temperature_ratio(),
+        escaped_grain_samples: obs.escaped,
+        escaped_fraction: obs.escaped as f64 / obs.samples.saturating_mul(sim.len() as u64).max(1) as f64,
+        escaped_samples: obs.escaped_samples,
         temperatures,
         side_cluster,
         segregation: crate::events::segregation::summary(&obs),
@@ -474,4 +506,21 @@ fn temperature_ratio_plot(dir: &mut RunDir, profiles: &[Vec<[f64; 5]>], bin: f64
         );
     }
     dir.plot("temperature_ratio", &plot)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Issue 43: a run stopped before its first checkpoint (then after 30 s of wall time)
+    /// left snapshots but nothing to resume from. The first comes after 3 s, the later ones
+    /// every 30 s.
+    #[test]
+    fn the_first_checkpoint_comes_within_seconds() {
+        let s = Duration::from_secs_f64;
+        assert!(!checkpoint_due(s(2.9), 0));
+        assert!(checkpoint_due(s(3.0), 0));
+        assert!(!checkpoint_due(s(3.0), 1) && !checkpoint_due(s(29.9), 4));
+        assert!(checkpoint_due(s(30.0), 1));
+    }
 }

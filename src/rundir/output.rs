@@ -312,10 +312,17 @@ struct Votes {
     nothing: u64,
 }
 
-/// A key that is present, null or not.
+/// A key that is present, null or not: the phase a run was classified as. A `phase` that is
+/// a number (the drive phase of `stripes events`' summary) is no classification, and is read
+/// as absent rather than making the whole summary unreadable (its line then said
+/// "0 warning(s)" beside a run's warnings).
 fn present<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<Option<String>>, D::Error> {
     use serde::Deserialize;
-    Ok(Some(Option::<String>::deserialize(d)?))
+    Ok(match serde_json::Value::deserialize(d)? {
+        serde_json::Value::String(s) => Some(Some(s)),
+        serde_json::Value::Null => Some(None),
+        _ => None,
+    })
 }
 
 /// A short human-readable account of a command's summary (the JSON line it prints) for
@@ -420,5 +427,9 @@ mod progress_tests {
             human_summary(&s),
             "done: 1.0 s; phase none (too few frames); 0 warning(s); 1 files in d"
         );
+        // An event-driven run's summary: its `phase` is the drive phase (a number), and its
+        // warnings are counted (the line said "0 warning(s)" beside a warning).
+        let s = serde_json::json!({"simulated_s": 0.3, "wall_s": 0.5, "phase": 0.0, "warnings": ["escaped"]}).to_string();
+        assert_eq!(human_summary(&s), "done: 0.300 s simulated in 0.5 s; 1 warning(s)");
     }
 }

@@ -65,6 +65,37 @@ pub fn check_scenes(found: &SceneFile, given: &SceneFile, origin: &str, what: &s
     .into())
 }
 
+/// Why a directory cannot be resumed, in words that are true of what it holds: nothing, or
+/// files written before a first checkpoint was due.
+pub fn no_checkpoint(out: &Path) -> String {
+    let (mut files, mut bytes) = (0u64, 0u64);
+    let mut walk = vec![out.to_path_buf()];
+    while let Some(d) = walk.pop() {
+        for e in std::fs::read_dir(&d).into_iter().flatten().flatten() {
+            let p = e.path();
+            if p.is_dir() {
+                walk.push(p);
+            } else if e.file_name() != ".lock" {
+                files += 1;
+                bytes += e.metadata().map_or(0, |m| m.len());
+            }
+        }
+    }
+    if files == 0 {
+        format!(
+            "{} holds no checkpoint.bin to continue from (nothing was written); start the run without --resume",
+            out.display()
+        )
+    } else {
+        format!(
+            "{} holds no checkpoint.bin to continue from: its {files} file(s) ({:.3} MB) were written before a first checkpoint; \
+             --force starts the run again",
+            out.display(),
+            bytes as f64 / 1e6
+        )
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -134,12 +134,18 @@ fn a_table_s_bad_value_is_named_by_row_and_column() {
 }
 
 /// Issue 43, messages: a tray scene given to `stripes events` is named as one (it was
-/// "unknown field `automaton`"), and a word where a number is due says what is due (it was
+/// "unknown field `automaton`"), and the reverse, and a word where a number is due says what is due (it was
 /// "did not match any variant of untagged enum PerSpecies").
 #[test]
 fn a_tray_scene_and_a_word_for_a_number_are_named() {
     let e = load(&scene_path("stripes.toml"), &[]).unwrap_err();
     assert!(e.message.contains("this is a tray scene"), "{e}");
+    // And the reverse: an event-driven scene given to a tray command.
+    let e = crate::scene::file::load(&scene_path("mixture.toml"), &[]).unwrap_err();
+    assert!(
+        e.message.contains("this is an event-driven scene") && e.message.contains("stripes events"),
+        "{e}"
+    );
     let (_, m) = refused_by("vibrated-box.toml", &["rules.pair.e=\"x\""]);
     assert!(
         m.contains("expected a number, or a list of numbers") && !m.contains("untagged"),

@@ -21,8 +21,9 @@ use crate::analyze::{analyze, AnalysisOptions};
 use crate::automaton::lattice::load_scene;
 use crate::automaton::{resolve_lattice, run_automaton, AutomatonOptions};
 use crate::dem::samples::sample_key;
-use crate::dem::{no_checkpoint, resolve, run_dem, RunOptions};
+use crate::dem::{resolve, run_dem, RunOptions};
 use crate::rundir::output::{CliError, RunDir};
+use crate::rundir::resume::no_checkpoint;
 
 /// What a comparison is given: the scene file and its overrides, where it writes, and the
 /// runs it may reuse. Serialised as the command's arguments into `config.json`.
@@ -230,19 +231,29 @@ fn common_scale(maps: &[Heatmap]) -> (f64, f64) {
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), (l, h)| (a.min(l), b.max(h)))
 }
 
-/// The density map of an analysis directory (its `density_map.csv`), titled with the model.
+/// The density map of an analysis directory, titled with the model: the camera's
+/// (`camera_profiles.csv`: one frame per drive period at the turning point, positions relative
+/// to the tray) where the analysis has one, else every frame as stored (`density_map.csv`).
+/// Issue 43: the DEM's map was drawn from its lab-frame frames, four per period, so that its
+/// bands zig-zagged by the drive's amplitude beside the automaton's.
 fn density_map(model: &str, analysis: &Path, length: f64) -> Result<Heatmap, CliError> {
-    let p = analysis.join("density_map.csv");
+    let camera = analysis.join("camera_profiles.csv");
+    // The camera's table has the tray's displacement after the time.
+    let (p, skip, frames) = if camera.is_file() {
+        (camera, 2, ", tray frame at the turning points")
+    } else {
+        (analysis.join("density_map.csv"), 1, ", every frame as stored")
+    };
     let (_, rows) = read_csv(&p).map_err(|e| format!("cannot read {}: {e}", p.display()))?;
     let t0 = rows.first().map_or(0.0, |r| r[0]);
     let t1 = rows.last().map_or(1.0, |r| r[0]).max(t0 + 1e-9);
     Ok(Heatmap {
-        title: format!("{model}: area fraction phi(x, t)"),
+        title: format!("{model}: area fraction phi(x, t){frames}"),
         x_label: "x (m)".into(),
         y_label: "t (s)".into(),
         x_range: (0.0, length),
         y_range: (t0, t1),
-        values: rows.into_iter().map(|r| r[1..].to_vec()).collect(),
+        values: rows.into_iter().map(|r| r[skip.min(r.len())..].to_vec()).collect(),
         colorbar_label: "area fraction".into(),
         scale: None,
         cell_names: None,
@@ -763,6 +774,19 @@ mod tests {
         let maps = [density_map("DEM", &a, 0.1).unwrap(), density_map("automaton", &b, 0.1).unwrap()];
         assert!(maps[0].title.starts_with("DEM") && maps[1].title.starts_with("automaton"));
         assert_eq!(common_scale(&maps), (0.1, 0.8));
+        // Issue 43, plots: with the camera's stroboscopic tray-frame profiles beside it, the
+        // map is drawn from them (one frame per period, the tray's displacement left out), not
+        // from the lab-frame frames of density_map.csv.
+        analysis::io::write_csv_atomic(
+            &a.join("camera_profiles.csv"),
+            &["t", "tray_x", "x0", "x1"],
+            &[vec![0.0, 0.01, 0.6, 0.7], vec![1.0, -0.01, 0.65, 0.75]],
+        )
+        .unwrap();
+        let map = density_map("DEM", &a, 0.1).unwrap();
+        assert_eq!(map.values, vec![vec![0.6, 0.7], vec![0.65, 0.75]]);
+        assert_eq!(map.y_range, (0.0, 1.0));
+        assert!(map.title.contains("tray frame at the turning points"), "{}", map.title);
         std::fs::remove_dir_all(d).unwrap();
     }
 

@@ -254,7 +254,7 @@ fn report_with(root: &Path, sweep: &Sweep, log: bool) -> Result<Value, CliError>
     }
     let mut failures = Vec::new();
     let mut warnings = Vec::new();
-    // Each finished job's seed, from its scene (read once: the bin note needs it too).
+    // Each finished job's seed, from its scene (read once: the escaped grains' note needs it too).
     let mut seeds = vec![f64::NAN; results.len()];
     for (k, (job, r)) in results.iter().enumerate().filter_map(|(k, r)| r.as_ref().map(|r| (k, r))) {
         if let Some(f) = &r.failure {
@@ -264,11 +264,21 @@ fn report_with(root: &Path, sweep: &Sweep, log: bool) -> Result<Value, CliError>
         }
         let scene = sweep::events_job_scene(sweep, job)?;
         seeds[k] = scene.run.seed as f64;
-        if let Some(n) = crate::events::measure::bulk_bin_note(scene.run.bin, scene.tray.height, scene.particles.species.len()) {
-            if !warnings.contains(&n) {
-                eprintln!("warning: {n}");
-                warnings.push(n);
-            }
+        // Grains above the box's open top are counted in the top bin and the means: said
+        // per run.
+        if let Some(m) = r.measured.as_ref().filter(|m| m.escaped_grain_samples > 0) {
+            let grains: usize = scene.particles.species.iter().map(|s| s.count).sum();
+            let sampled = m.samples.saturating_mul(grains as u64).max(1);
+            let w = format!(
+                "run {}: {} of {sampled} sampled grain positions ({:.3} %) were above the box's open top \
+                 (box.height = {} m, drive.lid = \"none\"), counted in the top profile bin and in its heights",
+                job.id,
+                m.escaped_grain_samples,
+                100.0 * m.escaped_grain_samples as f64 / sampled as f64,
+                scene.tray.height
+            );
+            eprintln!("warning: {w}");
+            warnings.push(w);
         }
     }
     let finished = results.iter().flatten().count();
