@@ -153,6 +153,9 @@ pub enum StateMismatch {
     Order { particles: usize },
     /// The saved state holds rolling springs, and the laws here have none.
     RollingSprings,
+    /// The simulation's grains are rigid clumps, whose orientations and angular momenta a
+    /// saved state does not carry.
+    Clumps,
 }
 
 impl fmt::Display for StateMismatch {
@@ -168,6 +171,11 @@ impl fmt::Display for StateMismatch {
             StateMismatch::NotNeighbours { i, j } => {
                 write!(f, "pair ({i}, {j}) of the checkpoint is not a neighbour pair")
             }
+            StateMismatch::Clumps => write!(
+                f,
+                "the grains are clumps (particles.shape = \"clump\"), and a checkpoint does not carry the bodies' \
+                 orientations and angular momenta yet: a clump run cannot be resumed"
+            ),
             StateMismatch::Order { particles } => {
                 write!(f, "the grains' places in the checkpoint are not an order of {particles} grains")
             }

@@ -87,6 +87,9 @@ impl Simulation {
     /// exported `saved`, from that state. An error names what does not match; the simulation
     /// is then left in an unspecified state and must not be stepped.
     pub fn import_state(&mut self, saved: SavedState) -> Result<(), StateMismatch> {
+        if self.bodies().is_some() {
+            return Err(StateMismatch::Clumps);
+        }
         let n = self.len();
         if saved.len() != n {
             return Err(StateMismatch::ParticleCount {

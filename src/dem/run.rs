@@ -205,6 +205,16 @@ pub fn run_dem(resolved: &Resolved, opts: &RunOptions) -> Result<DemSummary, Err
 
 fn run_in_pool(resolved: &Resolved, opts: &RunOptions, threads_why: String) -> Result<DemSummary, Error> {
     let out = &opts.out;
+    let clumps = resolved.file.dem.particles.shape == particles::scene::Shape::Clump;
+    if opts.resume && clumps {
+        // Refused before the directory is touched: a checkpoint does not carry the bodies.
+        return Err(format!(
+            "--resume {}: the grains are clumps (particles.shape = \"clump\"), and a checkpoint does not carry the \
+             bodies' orientations and angular momenta yet, so a clump run cannot be resumed; start it again with --force",
+            out.display()
+        )
+        .into());
+    }
     // The lock, held until this function returns (a second run into the same directory is
     // refused, even with --force), and only then the directory's contents.
     let existed = out.exists();
@@ -450,10 +460,11 @@ fn step(resolved: &Resolved, opts: &RunOptions, started: Started, threads_why: S
     let s = &*state;
     let stepped = sim.steps - start_steps;
     let (balance, balance_relative) = thermo.balance().map_or((None, None), |b| (Some(b.0), Some(b.1)));
+    let (kinetic, rotational, potential) = sim.energies();
     let energy = Energy {
-        kinetic: measure::kinetic_energy(s),
-        rotational: measure::rotational_energy(s),
-        potential: measure::potential_energy(s, sim.setup.gravity),
+        kinetic,
+        rotational,
+        potential,
         stored: sim.stored_energy,
         injected: sim.ledger.injected,
         dissipated: sim.ledger.dissipated,
