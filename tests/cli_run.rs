@@ -240,3 +240,42 @@ fn off_a_terminal_progress_and_summary_go_to_stderr() {
     let _ = std::fs::remove_dir_all(out);
     let _ = std::fs::remove_dir_all(cache);
 }
+
+/// Issue 39, step 3: a run of clumps (triangles) runs, closes its energy balance, writes its
+/// member spheres for `stripes analyze`, writes no checkpoint, and `--resume` refuses it
+/// without touching the run.
+#[test]
+fn a_clump_run_is_analysed_and_refuses_to_resume() {
+    let cache = tmp("cache-clump");
+    let out = tmp("run-clump");
+    let clump = [
+        "--quiet",
+        "--set",
+        "particles.shape=clump",
+        "--set",
+        "particles.clump_spheres=3",
+        "--set",
+        "particles.clump_spacing=1.0",
+        "--set",
+        "particles.count=40",
+    ];
+    let s = summary(&run(&out, Some(&cache), &clump));
+    assert_eq!(s["particles"], 120, "three member spheres per clump");
+    assert!(s["energy"]["balance_relative"].as_f64().unwrap() < 1e-3, "{}", s["energy"]);
+    assert!(!out.join("checkpoint.bin").exists());
+    assert!(!s["files"].to_string().contains("checkpoint.bin"), "{}", s["files"]);
+    let analysis = Command::new(env!("CARGO_BIN_EXE_stripes"))
+        .args(["analyze", out.to_str().unwrap(), "--quiet"])
+        .output()
+        .unwrap();
+    assert!(analysis.status.success(), "{}", stderr(&analysis));
+    let before = std::fs::read(out.join("snapshots.bin")).unwrap();
+    let mut resume = clump.to_vec();
+    resume.push("--resume");
+    let refused = run(&out, Some(&cache), &resume);
+    assert!(!refused.status.success());
+    assert!(stderr(&refused).contains("cannot be resumed"), "{}", stderr(&refused));
+    assert_eq!(std::fs::read(out.join("snapshots.bin")).unwrap(), before);
+    let _ = std::fs::remove_dir_all(out);
+    let _ = std::fs::remove_dir_all(cache);
+}

@@ -449,7 +449,11 @@ fn step(resolved: &Resolved, opts: &RunOptions, started: Started, threads_why: S
         eprintln!("warning: {w}");
         warnings.push(w);
     }
-    dir.note_files([thermo.path.clone(), out.join("snapshots.bin"), recorder.checkpoint.clone()]);
+    dir.note_files([thermo.path.clone(), out.join("snapshots.bin")]);
+    if sim.bodies().is_none() {
+        // Clump runs write no checkpoint (see `run_in_pool`).
+        dir.note_files([recorder.checkpoint.clone()]);
+    }
     dir.plot("thermo", &thermo.plot())?;
     if let Some(vtk) = &recorder.vtk {
         dir.note_files([vtk.pvd_path()]);
