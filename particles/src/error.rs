@@ -153,9 +153,8 @@ pub enum StateMismatch {
     Order { particles: usize },
     /// The saved state holds rolling springs, and the laws here have none.
     RollingSprings,
-    /// The simulation's grains are rigid clumps, whose orientations and angular momenta a
-    /// saved state does not carry.
-    Clumps,
+    /// The saved state holds `saved` rigid bodies (clumps), the simulation `bodies`.
+    Clumps { saved: usize, bodies: usize },
 }
 
 impl fmt::Display for StateMismatch {
@@ -171,10 +170,9 @@ impl fmt::Display for StateMismatch {
             StateMismatch::NotNeighbours { i, j } => {
                 write!(f, "pair ({i}, {j}) of the checkpoint is not a neighbour pair")
             }
-            StateMismatch::Clumps => write!(
+            StateMismatch::Clumps { saved, bodies } => write!(
                 f,
-                "the grains are clumps (particles.shape = \"clump\"), and a checkpoint does not carry the bodies' \
-                 orientations and angular momenta yet: a clump run cannot be resumed"
+                "the checkpoint holds {saved} rigid clumps, the scene {bodies} (particles.shape, particles.count)"
             ),
             StateMismatch::Order { particles } => {
                 write!(f, "the grains' places in the checkpoint are not an order of {particles} grains")

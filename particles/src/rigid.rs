@@ -268,6 +268,49 @@ impl Bodies {
     }
 }
 
+/// A body's dynamic state between steps, as plain data for checkpoints: centre of mass (m),
+/// velocity (m/s), orientation quaternion and NO_SQUISH's conjugate momentum (kg m^2/s).
+/// Its force and torque are not stored: they are the members' (which are), gathered again.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SavedBody {
+    pub x: Vec3,
+    pub v: Vec3,
+    pub q: Quat,
+    pub p: Quat,
+}
+
+impl Bodies {
+    /// Every body's dynamic state (see [`SavedBody`]).
+    pub fn export(&self) -> Vec<SavedBody> {
+        (0..self.len())
+            .map(|g| SavedBody {
+                x: self.x[g],
+                v: self.v[g],
+                q: self.q[g],
+                p: self.p[g],
+            })
+            .collect()
+    }
+
+    /// Takes back the bodies' states of [`Self::export`] and gathers their forces and
+    /// torques from the members' of `state` (already restored), as the step that wrote
+    /// them did: a run continued from them goes on bit for bit. `false` if the count differs.
+    pub fn import(&mut self, saved: &[SavedBody], state: &State) -> bool {
+        if saved.len() != self.len() {
+            return false;
+        }
+        for (g, b) in saved.iter().enumerate() {
+            self.x[g] = b.x;
+            self.v[g] = b.v;
+            self.v_half[g] = b.v;
+            self.q[g] = b.q;
+            self.p[g] = b.p;
+        }
+        self.gather(state);
+        true
+    }
+}
+
 /// The body's axes in space from the members' arms about the centre of mass: the columns of
 /// the rotation. Dimer: e1 along member 0's arm, e2 horizontal (or along y for an upright
 /// dimer). Trimer: e2 along member 0's arm, e1 from member 1 to member 2.

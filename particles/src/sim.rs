@@ -450,6 +450,15 @@ impl Simulation {
         self.outcome(first_bad)
     }
 
+    /// Takes back the bodies' saved states, the members' already restored (see
+    /// [`Bodies::import`]; the counts are checked by the caller).
+    pub(crate) fn import_bodies(&mut self, saved: &[crate::rigid::SavedBody]) {
+        if let Some(b) = self.bodies.as_mut() {
+            let taken = b.import(saved, &self.state);
+            debug_assert!(taken);
+        }
+    }
+
     /// The rigid bodies when the grains are clumps.
     pub fn bodies(&self) -> Option<&Bodies> {
         self.bodies.as_ref()

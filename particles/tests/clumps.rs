@@ -299,3 +299,41 @@ fn a_tray_of_clumps_is_prepared_without_overlaps_and_its_ledger_closes() {
     // The spheres' bound on their shaken tray at this step (extreme_contacts.rs): 1e-4.
     assert!(miss < 1e-4 * l.injected, "the ledger misses by {miss:e} J");
 }
+
+#[test]
+fn a_clump_run_continued_from_its_saved_state_goes_on_bit_for_bit() {
+    use particles::{prepare::initial_state, scene::Shape, time_step, tray};
+    let scene = common::tray_scene(0.01, 0.01, 40, particles::scene::TimeStep::Seconds(4e-6), 5, |s| {
+        s.particles.shape = Shape::Clump;
+        s.particles.clump_spheres = Some(2);
+        s.particles.clump_spacing = Some(0.8);
+    });
+    let fresh = || {
+        let setup = tray::setup(&scene, tray::drive(&scene), time_step::for_scene(&scene).unwrap()).unwrap();
+        Simulation::new(setup, initial_state(&scene).unwrap()).unwrap()
+    };
+    let mut whole = fresh();
+    for _ in 0..3000 {
+        whole.step().unwrap();
+    }
+    let saved = whole.export_state();
+    assert_eq!(saved.bodies.len(), 40);
+    for _ in 0..3000 {
+        whole.step().unwrap();
+    }
+    let mut resumed = fresh();
+    resumed.import_state(saved).unwrap();
+    for _ in 0..3000 {
+        resumed.step().unwrap();
+    }
+    let b = whole.bodies().unwrap();
+    assert!(whole.contact_counts.1 > 0, "the clumps touch the tray: {:?}", whole.contact_counts);
+    assert!((0..b.len()).all(|g| b.v[g].norm() > 1e-3), "the tray moves them");
+    assert_eq!(common::state_bits(&resumed), common::state_bits(&whole));
+    assert_eq!(resumed.export_state().bodies, whole.export_state().bodies);
+    // A state of spheres, or of another number of clumps, is refused by name.
+    let mut spheres = whole.export_state();
+    spheres.bodies.clear();
+    let e = fresh().import_state(spheres).unwrap_err();
+    assert!(e.to_string().contains("0 rigid clumps, the scene 40"), "{e}");
+}

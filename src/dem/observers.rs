@@ -118,11 +118,6 @@ impl Observer for Recorder {
         if sim.time >= (self.snap_time)(self.frames) - 0.5 * sim.setup.dt {
             self.snapshot(sim)?;
         }
-        if sim.bodies().is_some() {
-            // Clump runs write no checkpoint: it could not be resumed (the bodies'
-            // orientations and angular momenta are not in it; `--resume` refuses them).
-            return Ok(());
-        }
         // The clock is read every 256 steps, and only until a first checkpoint is on disk.
         let early = self
             .first_by

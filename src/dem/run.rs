@@ -205,16 +205,6 @@ pub fn run_dem(resolved: &Resolved, opts: &RunOptions) -> Result<DemSummary, Err
 
 fn run_in_pool(resolved: &Resolved, opts: &RunOptions, threads_why: String) -> Result<DemSummary, Error> {
     let out = &opts.out;
-    let clumps = resolved.file.dem.particles.shape == particles::scene::Shape::Clump;
-    if opts.resume && clumps {
-        // Refused before the directory is touched: a checkpoint does not carry the bodies.
-        return Err(format!(
-            "--resume {}: the grains are clumps (particles.shape = \"clump\"), and a checkpoint does not carry the \
-             bodies' orientations and angular momenta yet, so a clump run cannot be resumed; start it again with --force",
-            out.display()
-        )
-        .into());
-    }
     // The lock, held until this function returns (a second run into the same directory is
     // refused, even with --force), and only then the directory's contents.
     let existed = out.exists();
@@ -449,11 +439,7 @@ fn step(resolved: &Resolved, opts: &RunOptions, started: Started, threads_why: S
         eprintln!("warning: {w}");
         warnings.push(w);
     }
-    dir.note_files([thermo.path.clone(), out.join("snapshots.bin")]);
-    if sim.bodies().is_none() {
-        // Clump runs write no checkpoint (see `run_in_pool`).
-        dir.note_files([recorder.checkpoint.clone()]);
-    }
+    dir.note_files([thermo.path.clone(), out.join("snapshots.bin"), recorder.checkpoint.clone()]);
     dir.plot("thermo", &thermo.plot())?;
     if let Some(vtk) = &recorder.vtk {
         dir.note_files([vtk.pvd_path()]);
