@@ -153,6 +153,8 @@ pub enum StateMismatch {
     Order { particles: usize },
     /// The saved state holds rolling springs, and the laws here have none.
     RollingSprings,
+    /// The saved state holds `saved` rigid bodies (clumps), the simulation `bodies`.
+    Clumps { saved: usize, bodies: usize },
 }
 
 impl fmt::Display for StateMismatch {
@@ -168,6 +170,10 @@ impl fmt::Display for StateMismatch {
             StateMismatch::NotNeighbours { i, j } => {
                 write!(f, "pair ({i}, {j}) of the checkpoint is not a neighbour pair")
             }
+            StateMismatch::Clumps { saved, bodies } => write!(
+                f,
+                "the checkpoint holds {saved} rigid clumps, the scene {bodies} (particles.shape, particles.count)"
+            ),
             StateMismatch::Order { particles } => {
                 write!(f, "the grains' places in the checkpoint are not an order of {particles} grains")
             }

@@ -26,6 +26,7 @@
 
 pub mod advance;
 pub mod boundary;
+pub mod clump;
 pub mod constants;
 pub mod contact;
 pub mod drive;
@@ -38,6 +39,7 @@ pub mod measure;
 pub mod neighbor;
 mod parallel;
 pub mod prepare;
+pub mod rigid;
 pub mod saved;
 pub mod scene;
 pub mod setup;

@@ -70,6 +70,9 @@ pub struct NeighborList {
     pub skin: f64,
     /// Number of builds so far.
     pub builds: u64,
+    /// Particles per rigid body (`0` or `1`: none): the runs `b * body_size..(b + 1) *
+    /// body_size` are clumps, whose members are never a pair of the list.
+    pub body_size: u32,
     // Scratch of the cell grid, kept to avoid allocation per build.
     cell_of: Vec<u32>,
     cell_start: Vec<usize>,
@@ -155,6 +158,9 @@ impl NeighborList {
                 self.build_cells(self.skin, pos, radius, boundary)
             }
         }
+        if self.body_size > 1 {
+            self.drop_pairs_within_bodies();
+        }
         self.owner.clear();
         for i in 0..n {
             self.owner.resize(self.offsets[i + 1], i as u32);
@@ -166,6 +172,26 @@ impl NeighborList {
         self.anchor.clear();
         self.anchor.extend_from_slice(pos);
         self.builds += 1;
+    }
+
+    /// Removes the pairs of members of one body (`body_size`) from the lists.
+    fn drop_pairs_within_bodies(&mut self) {
+        let size = self.body_size;
+        let mut kept = 0;
+        let mut start = 0;
+        for i in 0..self.offsets.len() - 1 {
+            let end = self.offsets[i + 1];
+            for s in start..end {
+                let j = self.partners[s];
+                if j / size != i as u32 / size {
+                    self.partners[kept] = j;
+                    kept += 1;
+                }
+            }
+            start = end;
+            self.offsets[i + 1] = kept;
+        }
+        self.partners.truncate(kept);
     }
 
     /// The particles in the order of the cells of the grid of the smallest skin, column by

@@ -54,16 +54,25 @@ pub fn reference(scene: &Scene) -> Scene {
 /// constant, until it is bumped.
 pub const SAMPLE_REVISION: u64 = 7;
 
-/// The grains on their lattice, before relaxation.
+/// The grains on their lattice, before relaxation. A clump (`particles.shape = "clump"`)
+/// takes a site of the lattice whose spacing is 2.1 times its reach (the circle about its
+/// centre that holds it lying flat, [`crate::clump::ClumpShape::reach`]), so clumps of any
+/// orientation never overlap; it lies flat with a random orientation in the plane (uniform,
+/// drawn after the grain's velocity), its spheres one after another in the state, each
+/// carrying `1/n` of the union's mass.
 pub fn initial_state(scene: &Scene) -> Result<State, SimError> {
     let mut rng = ChaCha8Rng::seed_from_u64(scene.run.seed);
     let p = &scene.particles;
     let n = p.count;
+    let clump = scene.clump_shape()?;
     let radii: Vec<f64> = (0..n).map(|_| rng.gen_range(p.radius_min..=p.radius_max)).collect();
-    // Lattice of spacing 2.1 r_max, fully inside the side walls; as many layers as needed.
-    let spacing = 2.1 * p.radius_max;
+    // A grain's reach in the plane (m): its radius, or its clump's circle.
+    let reach = p.radius_max * clump.map_or(1.0, |c| c.reach());
+    // Lattice of spacing 2.1 times the reach, fully inside the side walls; as many layers as
+    // needed.
+    let spacing = 2.1 * reach;
     let nx = ((scene.tray.length / spacing).floor() as usize).max(1);
-    let ny = (((scene.tray.width - 2.0 * p.radius_max) / spacing).floor() as usize + 1).max(1);
+    let ny = (((scene.tray.width - 2.0 * reach) / spacing).floor() as usize + 1).max(1);
     let per_layer = nx * ny;
     let layers = n.div_ceil(per_layer);
     // Fill the lower layers completely and a random subset of the top one.
@@ -78,7 +87,7 @@ pub fn initial_state(scene: &Scene) -> Result<State, SimError> {
     let material = scene.material();
     let (_, wall_law) = reference(scene).laws()?;
     let dy = if ny > 1 {
-        (scene.tray.width - 2.0 * p.radius_max * 1.05) / (ny - 1) as f64
+        (scene.tray.width - 2.0 * reach * 1.05) / (ny - 1) as f64
     } else {
         0.0
     };
@@ -87,14 +96,19 @@ pub fn initial_state(scene: &Scene) -> Result<State, SimError> {
         let (layer, cell) = (site / per_layer, site % per_layer);
         let (ix, iy) = (cell % nx, cell / nx);
         let r = radii[i];
-        let m = material.sphere_mass(r);
+        // Mass of the grain, and of each of its spheres.
+        let (m, spheres) = match clump {
+            None => (material.sphere_mass(r), 1),
+            Some(c) => (material.density * c.mass_and_inertia().0 * r.powi(3), c.spheres),
+        };
+        let m_sphere = m / spheres as f64;
         let z = if layer == 0 {
-            r - wall_law.normal.static_overlap(m * GRAVITY, r)
+            r - wall_law.normal.static_overlap(m_sphere * GRAVITY, r)
         } else {
             p.radius_max + layer as f64 * spacing
         };
         let y = if ny > 1 {
-            1.05 * p.radius_max + iy as f64 * dy
+            1.05 * reach + iy as f64 * dy
         } else {
             0.5 * scene.tray.width
         };
@@ -104,7 +118,17 @@ pub fn initial_state(scene: &Scene) -> Result<State, SimError> {
             rng.gen_range(-1.0..=1.0) * scene.prepare.speed,
             0.0,
         );
-        state.push(Vec3::new(x, y, z), v, Vec3::zeros(), r, m);
+        match clump {
+            None => state.push(Vec3::new(x, y, z), v, Vec3::zeros(), r, m),
+            Some(c) => {
+                let angle: f64 = rng.gen_range(0.0..std::f64::consts::TAU);
+                let (sin, cos) = angle.sin_cos();
+                for b in c.offsets() {
+                    let arm = Vec3::new(cos * b.x - sin * b.y, sin * b.x + cos * b.y, 0.0) * r;
+                    state.push(Vec3::new(x, y, z) + arm, v, Vec3::zeros(), r, m_sphere);
+                }
+            }
+        }
     }
     Ok(state)
 }

@@ -45,6 +45,9 @@ pub struct SavedState {
     /// field is in the grains' own order; a resumed run takes these places back, so that it
     /// adds each grain's forces in the same order as the run it continues.
     pub order: Vec<u32>,
+    /// The rigid bodies' states when the grains are clumps ([`crate::rigid::SavedBody`]);
+    /// empty for spheres.
+    pub bodies: Vec<crate::rigid::SavedBody>,
 }
 
 impl SavedState {
@@ -80,6 +83,7 @@ impl Simulation {
             pair_rolls: self.pair_rolls(),
             wall_rolls: self.wall_rolls(),
             order: self.order().to_vec(),
+            bodies: self.bodies().map_or_else(Vec::new, |b| b.export()),
         }
     }
 
@@ -87,6 +91,12 @@ impl Simulation {
     /// exported `saved`, from that state. An error names what does not match; the simulation
     /// is then left in an unspecified state and must not be stepped.
     pub fn import_state(&mut self, saved: SavedState) -> Result<(), StateMismatch> {
+        if self.bodies().map_or(0, |b| b.len()) != saved.bodies.len() {
+            return Err(StateMismatch::Clumps {
+                saved: saved.bodies.len(),
+                bodies: self.bodies().map_or(0, |b| b.len()),
+            });
+        }
         let n = self.len();
         if saved.len() != n {
             return Err(StateMismatch::ParticleCount {
@@ -119,6 +129,7 @@ impl Simulation {
         s.force = saved.force;
         s.torque = saved.torque;
         self.set_histories((&saved.pair_histories, saved.wall_histories), (&saved.pair_rolls, saved.wall_rolls))?;
+        self.import_bodies(&saved.bodies);
         if saved.order.is_empty() {
             Ok(())
         } else {

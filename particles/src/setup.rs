@@ -35,6 +35,9 @@ pub struct Setup {
     /// law, by the grains' indices; a contact takes the mean of its grains' (a wall contact
     /// the grain's). Empty: every contact takes the law's `mu_r`.
     pub rolling_mu: Vec<f64>,
+    /// The grains' shape when they are rigid clumps of spheres ([`crate::clump`]): each run of
+    /// `spheres` particles of the state is one grain. `None`: every particle is a sphere.
+    pub clump: Option<crate::clump::ClumpShape>,
 }
 
 /// The box `[lo, hi]` (m) a particle must stay in, at rest, moving with `motion`: at time t
@@ -69,7 +72,7 @@ pub enum Vertical {
 impl Setup {
     /// True if some contact law produces torques, so spins must be integrated.
     pub fn needs_rotation(&self) -> bool {
-        self.pair_law.produces_torque() || (!self.walls.is_empty() && self.wall_law.produces_torque())
+        self.clump.is_some() || self.pair_law.produces_torque() || (!self.walls.is_empty() && self.wall_law.produces_torque())
     }
 }
 

@@ -31,6 +31,7 @@ use crate::forces;
 use crate::integrate;
 use crate::neighbor::NeighborList;
 use crate::parallel::{on_blocks, region};
+use crate::rigid::Bodies;
 use crate::scene::SortInterval;
 use crate::setup::{ContactRecord, Partner, Setup, Vertical, MAX_OVERLAP_FRACTION};
 use crate::state::{State, StateBlock};
@@ -124,6 +125,9 @@ pub struct Simulation {
     /// The worst contact beyond [`MAX_OVERLAP_FRACTION`] at the last force evaluation:
     /// `(particle, partner, overlap, radius)`.
     overlap_violation: Option<(usize, Partner, f64, f64)>,
+    /// The rigid bodies when the grains are clumps (`Setup::clump`): each run of
+    /// `spheres` particles is one body, which owns their motion ([`crate::rigid`]).
+    bodies: Option<Bodies>,
 }
 
 impl Simulation {
@@ -160,6 +164,28 @@ impl Simulation {
             });
         }
         let rolling_mu = setup.rolling_mu.clone();
+        let bodies = match &setup.clump {
+            Some(shape) => {
+                let refuse = |field: &str, message: &str| SimError::InvalidParameter {
+                    field: field.into(),
+                    message: message.into(),
+                };
+                if setup.vertical == Vertical::Pinned {
+                    return Err(refuse(
+                        "toggles.jumping",
+                        "clumps move in 3D: a pinned layer of clumps is not supported",
+                    ));
+                }
+                if setup.integrator != integrate::Integrator::VelocityVerlet {
+                    return Err(refuse(
+                        "run.integrator",
+                        "clumps are integrated by velocity Verlet and NO_SQUISH only",
+                    ));
+                }
+                Some(Bodies::of(shape, &mut state, &setup.boundary).map_err(|m| refuse("particles.shape", &m))?)
+            }
+            None => None,
+        };
         let wall_roll = if setup.wall_law.rolling.has_history() {
             vec![Vec3::zeros(); n * n_walls.max(1)]
         } else {
@@ -192,11 +218,15 @@ impl Simulation {
             drift: 0.0,
             built_at: 0,
             overlap_violation: None,
+            bodies,
         };
         sim.check_finite()?;
         sim.refresh_neighbors();
         sim.check_overlaps()?;
         sim.compute_forces(0.0, false);
+        if let Some(b) = sim.bodies.as_mut() {
+            b.gather(&sim.state);
+        }
         let dt = sim.setup.dt;
         sim.setup.integrator.start(&mut sim.state, dt);
         Ok(sim)
@@ -298,6 +328,9 @@ impl Simulation {
     /// team is busy with another simulation): the same work per block, so the same bits for
     /// any number of threads.
     pub fn step(&mut self) -> Result<(), SimError> {
+        if self.bodies.is_some() {
+            return self.step_bodies();
+        }
         let dt = self.setup.dt;
         let blocks = self.state.len().div_ceil(BLOCK);
         // A sort moves the grains before the forces, so it takes the place of the list's
@@ -377,6 +410,89 @@ impl Simulation {
         let kick = self.setup.integrator.has_after_stage();
         let first_bad = self.absorb(sums, dt, kick);
         self.steps += 1;
+        self.outcome(first_bad)
+    }
+
+    /// A step of rigid clumps ([`crate::rigid`]), in the same stages: 1. each body's
+    /// velocity Verlet and NO_SQUISH stage before the forces, which places its members with
+    /// their predicted velocities and spins; 2. the neighbour list's decision from the
+    /// members' displacements (never a sort: the members of a body stay consecutive);
+    /// 3. and 4. the members' forces as for spheres, without the spheres' kick; then each
+    /// body gathers its members' forces and torques and takes its second half kick, which
+    /// sets its members' velocities and spins, and the checks; 5. the ledger, corrected
+    /// for the kick on the members' velocities as for spheres.
+    fn step_bodies(&mut self) -> Result<(), SimError> {
+        let dt = self.setup.dt;
+        let mut bodies = self.bodies.take().expect("a step of clumps has bodies");
+        let span = bodies.before_forces(&mut self.state, &self.setup.boundary, dt);
+        // Back before the list's rebuild, which leaves out the pairs within each body.
+        self.bodies = Some(bodies);
+        let planes = forces::wall_planes(&self.setup, self.time + dt);
+        let bounds = self.container_bounds(self.time + dt);
+        // SAFETY: no other reference to the positions is alive.
+        let (drift, due) = unsafe { Step::of(self, &planes, bounds, false).rebuild_due(&[span]) };
+        self.time += dt;
+        self.drift = drift;
+        if due {
+            self.rebuild_neighbors();
+        }
+        let sums = Step::of(self, &planes, bounds, false).forces_on_blocks();
+        // As for spheres: the correction holds where every force but the elastic normal one
+        // is dissipative (no tangential or rolling spring).
+        let book = !self.setup.pair_law.has_history() && !self.setup.wall_law.has_history();
+        let bodies = self.bodies.as_mut().expect("a step of clumps has bodies");
+        let excess = bodies.after_forces(&mut self.state, &self.drag, dt, book);
+        let first_bad = self.absorb(sums, dt, false);
+        self.ledger.dissipated -= excess;
+        self.steps += 1;
+        let s = &self.state;
+        let first_bad = first_bad.or_else(|| (0..s.len()).find(|&i| !is_sound(&s.pos[i], &s.vel[i], &s.omega[i], &bounds)));
+        self.outcome(first_bad)
+    }
+
+    /// Takes back the bodies' saved states, the members' already restored (see
+    /// [`Bodies::import`]; the counts are checked by the caller).
+    pub(crate) fn import_bodies(&mut self, saved: &[crate::rigid::SavedBody]) {
+        if let Some(b) = self.bodies.as_mut() {
+            let taken = b.import(saved, &self.state);
+            debug_assert!(taken);
+        }
+    }
+
+    /// The rigid bodies when the grains are clumps.
+    pub fn bodies(&self) -> Option<&Bodies> {
+        self.bodies.as_ref()
+    }
+
+    /// Sets the velocity (m/s) and spin (rad/s) of clump `g` and its members' (for
+    /// experiments that launch a clump).
+    pub fn set_body_motion(&mut self, g: usize, v: Vec3, w: Vec3) {
+        let b = self.bodies.as_mut().expect("the grains are clumps");
+        b.set_motion(g, &mut self.state, &self.setup.boundary, v, w);
+    }
+
+    /// Kinetic (translational and rotational) and potential energies (J): of the bodies for
+    /// clumps, of the spheres otherwise ([`crate::measure`]).
+    pub fn energies(&self) -> (f64, f64, f64) {
+        match &self.bodies {
+            Some(b) => {
+                let (k, r) = b.kinetic_energies();
+                (k, r, b.potential_energy(self.setup.gravity))
+            }
+            None => {
+                let state = self.state();
+                (
+                    crate::measure::kinetic_energy(&state),
+                    crate::measure::rotational_energy(&state),
+                    crate::measure::potential_energy(&state, self.setup.gravity),
+                )
+            }
+        }
+    }
+
+    /// The result of a step whose checks found `first_bad` unsound, or the worst overlap
+    /// beyond the limit.
+    fn outcome(&self, first_bad: Option<usize>) -> Result<(), SimError> {
         match (first_bad, self.overlap_violation) {
             (Some(i), _) => Err(self.describe_bad(i)),
             (None, Some((i, partner, overlap, radius))) => Err(SimError::ExcessiveOverlap {
@@ -396,11 +512,8 @@ impl Simulation {
 
     /// Total mechanical energy: kinetic, rotational, gravitational and stored in contacts (J).
     pub fn total_energy(&self) -> f64 {
-        let state = self.state();
-        crate::measure::kinetic_energy(&state)
-            + crate::measure::rotational_energy(&state)
-            + crate::measure::potential_energy(&state, self.setup.gravity)
-            + self.stored_energy
+        let (k, r, p) = self.energies();
+        k + r + p + self.stored_energy
     }
 
     /// Every position, velocity and spin finite, and every particle inside the container
@@ -655,6 +768,8 @@ impl Simulation {
         });
         let old_roll = std::mem::take(&mut self.pair_roll);
         let list = &mut self.neighbors;
+        // The members of a clump never touch as a pair.
+        list.body_size = self.bodies.as_ref().map_or(1, |b| b.spheres as u32);
         // The steps the old lists lasted, for the adaptive skin (none before the first build).
         let lasted = (!list.anchor().is_empty()).then(|| self.steps - self.built_at);
         list.build_after(&search, lasted, &s.pos, &s.radius, &self.setup.boundary);
@@ -1249,6 +1364,7 @@ mod tests {
                 count,
                 radius_min: 0.25e-3,
                 radius_max: 0.5e-3,
+                ..Default::default()
             },
             material: Default::default(),
             contact: ContactSpec {

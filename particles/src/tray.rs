@@ -98,6 +98,15 @@ pub fn setup(scene: &Scene, motion: Motion, dt: f64) -> Result<Setup, SimError> 
             motion: sides,
         }),
         sort: scene.run.sort_interval,
-        rolling_mu: scene.rolling_mu(),
+        rolling_mu: match scene.clump_shape()? {
+            // One value per grain, repeated for each of its members.
+            Some(c) => scene
+                .rolling_mu()
+                .iter()
+                .flat_map(|&mu| std::iter::repeat_n(mu, c.spheres))
+                .collect(),
+            None => scene.rolling_mu(),
+        },
+        clump: scene.clump_shape()?,
     })
 }

@@ -84,6 +84,7 @@ fn lifted(law: ContactLaw, tilt: f64, v0: f64, w0: f64, lift: f64) -> Simulation
         container: None,
         sort: particles::scene::SortInterval::NONE,
         rolling_mu: Vec::new(),
+        clump: None,
     };
     Simulation::new(setup, state).unwrap()
 }

@@ -15,8 +15,12 @@
 //! is refused before it is read. `STRPCKP3` is the same layout without the checksum. A
 //! checkpoint of an older layout is read as one without rolling springs (`STRPCKP2`: no rolling springs; its
 //! runs had no rolling spring to keep), and `STRPCKP1` also as one whose grains are at their
-//! own indices.
+//! own indices. `STRPCKP5`, written only for clumps (`particles.shape = "clump"`), is
+//! `STRPCKP4` with the rigid bodies after the places: `u64` count, then per body its centre,
+//! velocity (3 `f64` each), orientation quaternion and conjugate momentum (4 `f64` each;
+//! `particles::rigid::SavedBody`); a sphere run's checkpoint stays `STRPCKP4`, byte for byte.
 
+use particles::rigid::SavedBody;
 use particles::saved::SavedState;
 use particles::sim::{Ledger, Simulation};
 use particles::Vec3;
@@ -24,6 +28,8 @@ use particles::Vec3;
 use crate::rundir::bytes::{seal, unseal, Reader, Writer};
 
 const MAGIC: &[u8; 8] = b"STRPCKP4";
+/// [`MAGIC`]'s layout with the rigid bodies of a clump run after the places.
+const MAGIC_WITH_BODIES: &[u8; 8] = b"STRPCKP5";
 /// The same layout without the checksum.
 const MAGIC_UNSEALED: &[u8; 8] = b"STRPCKP3";
 /// The layout without the rolling springs.
@@ -36,7 +42,7 @@ const MAGIC_WITHOUT_PLACES: &[u8; 8] = b"STRPCKP1";
 pub fn encode(sim: &Simulation, fingerprint: u64, extra: u64) -> Vec<u8> {
     let s = sim.export_state();
     let mut w = Writer::default();
-    w.0.extend_from_slice(MAGIC);
+    w.0.extend_from_slice(if s.bodies.is_empty() { MAGIC } else { MAGIC_WITH_BODIES });
     w.u64(fingerprint);
     w.f64(s.time);
     w.u64(s.steps);
@@ -62,6 +68,16 @@ pub fn encode(sim: &Simulation, fingerprint: u64, extra: u64) -> Vec<u8> {
     w.u64(s.order.len() as u64);
     for &g in &s.order {
         w.u32(g);
+    }
+    if !s.bodies.is_empty() {
+        w.u64(s.bodies.len() as u64);
+        for b in &s.bodies {
+            w.vec3(&b.x);
+            w.vec3(&b.v);
+            for c in b.q.iter().chain(&b.p) {
+                w.f64(*c);
+            }
+        }
     }
     w.u64(extra);
     seal(&mut w.0, MAGIC.len());
@@ -112,16 +128,17 @@ pub fn restore(sim: &mut Simulation, bytes: &[u8], fingerprint: u64) -> Result<u
 /// The state and caller data in `bytes`, which must belong to the scene `fingerprint` and
 /// hold `particles` particles.
 fn decode(bytes: &[u8], fingerprint: u64, particles: usize) -> Result<(SavedState, u64), String> {
-    let bytes = if bytes.starts_with(MAGIC) {
+    let bytes = if bytes.starts_with(MAGIC) || bytes.starts_with(MAGIC_WITH_BODIES) {
         unseal(bytes, MAGIC.len())?
     } else {
         bytes
     };
     let mut r = Reader::new(bytes);
-    let (places, rolls) = match r.take(8)? {
-        m if m == MAGIC || m == MAGIC_UNSEALED => (true, true),
-        m if m == MAGIC_WITHOUT_ROLLS => (true, false),
-        m if m == MAGIC_WITHOUT_PLACES => (false, false),
+    let (places, rolls, bodies) = match r.take(8)? {
+        m if m == MAGIC_WITH_BODIES => (true, true, true),
+        m if m == MAGIC || m == MAGIC_UNSEALED => (true, true, false),
+        m if m == MAGIC_WITHOUT_ROLLS => (true, false, false),
+        m if m == MAGIC_WITHOUT_PLACES => (false, false, false),
         _ => return Err("not a stripes checkpoint".into()),
     };
     if r.u64()? != fingerprint {
@@ -155,6 +172,7 @@ fn decode(bytes: &[u8], fingerprint: u64, particles: usize) -> Result<(SavedStat
         pair_rolls: Vec::new(),
         wall_rolls: Vec::new(),
         order: Vec::new(),
+        bodies: Vec::new(),
     };
     for _ in 0..n {
         s.pos.push(r.vec3()?);
@@ -174,6 +192,23 @@ fn decode(bytes: &[u8], fingerprint: u64, particles: usize) -> Result<(SavedStat
         s.order.reserve_exact(count);
         for _ in 0..count {
             s.order.push(r.u32()?);
+        }
+    }
+    if bodies {
+        let count = r.count(14 * 8, "rigid bodies")?;
+        s.bodies.reserve_exact(count);
+        for _ in 0..count {
+            let (x, v) = (r.vec3()?, r.vec3()?);
+            let mut qp = [0.0; 8];
+            for c in &mut qp {
+                *c = r.f64()?;
+            }
+            s.bodies.push(SavedBody {
+                x,
+                v,
+                q: [qp[0], qp[1], qp[2], qp[3]],
+                p: [qp[4], qp[5], qp[6], qp[7]],
+            });
         }
     }
     let extra = r.u64()?;

@@ -419,10 +419,11 @@ fn step(resolved: &Resolved, opts: &RunOptions, started: Started, threads_why: S
     let s = &*state;
     let stepped = sim.steps - start_steps;
     let (balance, balance_relative) = thermo.balance().map_or((None, None), |b| (Some(b.0), Some(b.1)));
+    let (kinetic, rotational, potential) = sim.energies();
     let energy = Energy {
-        kinetic: measure::kinetic_energy(s),
-        rotational: measure::rotational_energy(s),
-        potential: measure::potential_energy(s, sim.setup.gravity),
+        kinetic,
+        rotational,
+        potential,
         stored: sim.stored_energy,
         injected: sim.ledger.injected,
         dissipated: sim.ledger.dissipated,

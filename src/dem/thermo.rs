@@ -25,7 +25,6 @@ use std::path::{Path, PathBuf};
 
 use analysis::plot::{LinePlot, Mark};
 use particles::advance::{Observer, ObserverError};
-use particles::measure;
 use particles::setup::Partner;
 use particles::sim::Simulation;
 
@@ -104,11 +103,7 @@ impl Thermo {
     pub fn push(&mut self, sim: &Simulation, recorded: bool) {
         let state = sim.state();
         let s = &*state;
-        let (k, r, p) = (
-            measure::kinetic_energy(s),
-            measure::rotational_energy(s),
-            measure::potential_energy(s, sim.setup.gravity),
-        );
+        let (k, r, p) = sim.energies();
         let total = k + r + p + sim.stored_energy;
         let e0 = self.rows.first().map_or(total, |row| row[13]);
         let (mut overlap, mut fraction) = if recorded { (0.0f64, 0.0f64) } else { (f64::NAN, f64::NAN) };

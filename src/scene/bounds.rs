@@ -31,7 +31,8 @@ fn gigabytes(b: f64) -> String {
 /// bounds (else an error naming the key and the size), and the warnings a run must give at
 /// its start (the disk it will fill, a drive too weak to move anything).
 pub fn dem(scene: &Scene, dt: f64) -> Result<Vec<String>, SceneError> {
-    let n = scene.particles.count;
+    // Spheres: a clump is as many as it has.
+    let n = scene.particles.count * scene.clump_shape()?.map_or(1, |c| c.spheres);
     if n > MAX_GRAINS {
         return Err(refuse(
             "particles.count",

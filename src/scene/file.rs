@@ -217,6 +217,12 @@ seed = 1
         let doc: toml::Table = toml::from_str(&file.to_toml().unwrap()).unwrap();
         keys("", &doc, &mut all);
         assert!(all.iter().any(|k| k == "drive.stages.duration"), "{all:?}");
+        // The clump's keys (a clump needs velocity Verlet, so not with the set above).
+        let clump = ["particles.shape=clump", "particles.clump_spheres=2", "particles.clump_spacing=1.0"];
+        let file = parse(SCENE, &clump.map(String::from), "clump").unwrap();
+        let doc: toml::Table = toml::from_str(&file.to_toml().unwrap()).unwrap();
+        keys("", &doc, &mut all);
+        assert!(all.iter().any(|k| k == "particles.clump_spacing"), "{all:?}");
         assert!(all.len() > 40, "{all:?}");
         let docs = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/scenes.md")).unwrap();
         let missing: Vec<&String> = all.iter().filter(|k| !docs.contains(&format!("`{k}`"))).collect();

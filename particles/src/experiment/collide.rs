@@ -300,6 +300,7 @@ impl Collision {
             container: None,
             sort: crate::scene::SortInterval::NONE,
             rolling_mu: Vec::new(),
+            clump: None,
         };
         let mut sim = Simulation::new(setup, state)?;
         sim.record_contacts(true);

@@ -132,6 +132,7 @@ impl SphereOnFloor {
             container: None,
             sort: crate::scene::SortInterval::NONE,
             rolling_mu: Vec::new(),
+            clump: None,
         };
         Simulation::new(setup, state)
     }

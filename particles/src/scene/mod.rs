@@ -289,14 +289,70 @@ impl Drive {
 }
 
 /// `[particles]`: the population, radii uniform in `[radius_min, radius_max]`.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Particles {
+    /// Number of grains (with clumps: of clumps, each of `clump_spheres` spheres).
     pub count: usize,
-    /// m.
+    /// m (with clumps: the radius of a clump's spheres, one per grain).
     pub radius_min: f64,
     /// m.
     pub radius_max: f64,
+    /// `"sphere"` (default) or `"clump"`: grains with flat sides, rigid clumps of
+    /// `clump_spheres` overlapping spheres ([`crate::clump`]). The shape keys are left out of
+    /// the serialised scene for spheres, so that sample keys and checkpoint fingerprints of
+    /// sphere scenes still hold.
+    #[serde(default, skip_serializing_if = "Shape::is_sphere")]
+    pub shape: Shape,
+    /// Clumps: 2 (a dimer) or 3 (an equilateral triangle); needed by `shape = "clump"`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub clump_spheres: Option<usize>,
+    /// Clumps: distance between neighbouring sphere centres over their radius, in (0, 2)
+    /// (below 2 the spheres overlap); needed by `shape = "clump"`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub clump_spacing: Option<f64>,
+}
+
+/// `particles.shape`: what a grain is.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(try_from = "String", into = "String")]
+pub enum Shape {
+    /// One sphere.
+    #[default]
+    Sphere,
+    /// A rigid clump of overlapping spheres (`particles.clump_spheres`, `particles.clump_spacing`).
+    Clump,
+}
+
+impl Shape {
+    fn is_sphere(&self) -> bool {
+        *self == Shape::Sphere
+    }
+}
+
+impl TryFrom<String> for Shape {
+    type Error = crate::error::UnknownName;
+    fn try_from(s: String) -> Result<Self, Self::Error> {
+        match s.as_str() {
+            "sphere" => Ok(Shape::Sphere),
+            "clump" => Ok(Shape::Clump),
+            _ => Err(crate::error::UnknownName {
+                what: "particles.shape (sphere, or clump: rigid overlapping spheres)",
+                given: s,
+                expected: &["sphere", "clump"],
+            }),
+        }
+    }
+}
+
+impl From<Shape> for String {
+    fn from(s: Shape) -> String {
+        match s {
+            Shape::Sphere => "sphere",
+            Shape::Clump => "clump",
+        }
+        .into()
+    }
 }
 
 /// `[contact]`: one slot per sub-model, and their parameters (Table 3.3). Particle pairs and
@@ -502,8 +558,25 @@ impl Scene {
         if self.particles.radius_max < self.particles.radius_min {
             return Err(err("particles.radius_max", "must be >= particles.radius_min"));
         }
-        if 2.0 * self.particles.radius_max > self.tray.width.min(self.tray.length) {
+        let clump = self.clump_shape()?;
+        // A grain's reach in the plane: its radius, or a clump's circle about its centre.
+        let reach = self.particles.radius_max * clump.map_or(1.0, |c| c.reach());
+        if 2.0 * reach > self.tray.width.min(self.tray.length) {
             return Err(err("particles.radius_max", "a particle does not fit in the box"));
+        }
+        if clump.is_some() {
+            if !self.toggles.jumping {
+                return Err(err(
+                    "toggles.jumping",
+                    "must stay true with particles.shape = \"clump\": a clump is integrated as a rigid body in 3D",
+                ));
+            }
+            if self.run.integrator != crate::integrate::Integrator::VelocityVerlet {
+                return Err(err(
+                    "run.integrator",
+                    "must be \"velocity-verlet\" with particles.shape = \"clump\" (the bodies' rotation is NO_SQUISH's)",
+                ));
+            }
         }
         if self.drive.direction == DriveDirection::Z && !self.toggles.jumping {
             return Err(err(
@@ -511,9 +584,10 @@ impl Scene {
                 "must stay true with drive.direction = \"z\": a pinned layer cannot follow a vertically vibrated floor",
             ));
         }
-        // The preparation shuffles the sites of one lattice layer (spacing 2.1 R_max): a tray
-        // far larger than its grains need would size that from the box alone.
-        let spacing = 2.1 * self.particles.radius_max;
+        // The preparation shuffles the sites of one lattice layer (spacing 2.1 R_max, or 2.1
+        // times a clump's reach): a tray far larger than its grains need would size that
+        // from the box alone.
+        let spacing = 2.1 * reach;
         let sites = (self.tray.length / spacing).floor() * ((self.tray.width / spacing).floor() + 1.0);
         let most = 64.0 * self.particles.count as f64 + (1u64 << 20) as f64;
         if sites > most {
@@ -598,16 +672,57 @@ impl Scene {
         if phi > 0.9 && self.drive.direction == DriveDirection::X {
             return Err(err(
                 "particles.count",
-                format!("2D packing fraction {phi:.2} does not fit in one layer (max 0.9)"),
+                format!(
+                    "2D packing fraction {phi:.2} does not fit in one layer (max 0.9{})",
+                    if clump.is_some() { "; clumps counted lying flat" } else { "" }
+                ),
             ));
         }
         Ok(())
     }
 
-    /// Expected projected area of the grains, `N pi <r^2>` (m^2).
+    /// Expected projected area of the grains, `N pi <r^2>` (m^2); for clumps lying flat,
+    /// `N a <r^2>` with `a` the area of the union of the clump's unit discs.
     pub fn projected_area(&self) -> f64 {
         let (a, b) = (self.particles.radius_min, self.particles.radius_max);
-        self.particles.count as f64 * std::f64::consts::PI * (a * a + a * b + b * b) / 3.0
+        let unit = match self.clump_shape() {
+            Ok(Some(c)) => c.projected_area(),
+            _ => std::f64::consts::PI,
+        };
+        self.particles.count as f64 * unit * (a * a + a * b + b * b) / 3.0
+    }
+
+    /// The grains' clump shape (`particles.shape = "clump"`), `None` for spheres; an error
+    /// names the key that is missing, out of range, or given for spheres.
+    pub fn clump_shape(&self) -> Result<Option<crate::clump::ClumpShape>, SceneError> {
+        let p = &self.particles;
+        match p.shape {
+            Shape::Sphere => {
+                for (key, given) in [
+                    ("particles.clump_spheres", p.clump_spheres.is_some()),
+                    ("particles.clump_spacing", p.clump_spacing.is_some()),
+                ] {
+                    if given {
+                        return Err(err(key, "is a clump's key: it needs particles.shape = \"clump\""));
+                    }
+                }
+                Ok(None)
+            }
+            Shape::Clump => {
+                let spheres = p
+                    .clump_spheres
+                    .ok_or_else(|| err("particles.clump_spheres", "needed by particles.shape = \"clump\" (2 or 3)"))?;
+                let spacing = p.clump_spacing.ok_or_else(|| {
+                    err(
+                        "particles.clump_spacing",
+                        "needed by particles.shape = \"clump\" (distance between sphere centres in radii, below 2)",
+                    )
+                })?;
+                crate::clump::ClumpShape::new(spheres, spacing)
+                    .map(Some)
+                    .map_err(|e| err(e.key, e.message))
+            }
+        }
     }
 
     /// Expected 2D packing fraction `N pi <r^2> / (L W)` (thesis: about 0.23).

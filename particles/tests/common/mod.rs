@@ -35,6 +35,7 @@ pub fn tray_scene(length: f64, width: f64, count: usize, dt: TimeStep, seed: u64
             count,
             radius_min: 0.25e-3,
             radius_max: 0.5e-3,
+            ..Default::default()
         },
         material: Material::default(),
         contact: ContactSpec::default(),
@@ -113,5 +114,6 @@ pub fn free_setup(law: ContactLaw, boundary: Boundary, dt: f64) -> Setup {
         container: None,
         sort: particles::scene::SortInterval::NONE,
         rolling_mu: Vec::new(),
+        clump: None,
     }
 }
