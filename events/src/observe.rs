@@ -668,6 +668,33 @@ mod tests {
         assert!(full.phase_profile(3, 0).is_some() && lean.phase_profile(3, 0).is_none());
     }
 
+    /// A `width` x `height` box with periodic sides and no lid, g = 10 m/s^2, on a floor
+    /// shaken at 10 Hz and 0.1 mm, holding `species` as smooth grains (pair restitution 0.9,
+    /// walls 1).
+    fn shaken_box(width: f64, height: f64, species: Vec<Species>) -> Config {
+        let kinds = species.len();
+        Config {
+            width,
+            height,
+            side_walls: SideWalls::Periodic,
+            gravity: 10.0,
+            q: 0.4,
+            species,
+            floor: Some(Motion {
+                amplitude: 1e-4,
+                frequency: 10.0,
+                phase: 0.0,
+            }),
+            base: None,
+            lid: None,
+            waveform: crate::wall::Waveform::Sine,
+            rules: Rules::uniform(Rule::smooth(0.9), Rule::smooth(1.0), kinds),
+            guard: Guard::default(),
+            initial_speed: 0.0,
+            seed: 5,
+        }
+    }
+
     /// Two grains of each species placed by hand in a 0.03 m box without a lid, whose bulk
     /// (the middle third) is `[0.01, 0.02)` m.
     fn four_grains() -> Simulation {
@@ -677,27 +704,7 @@ mod tests {
             radius_max: 1e-3,
             mass: crate::Mass::Each(mass),
         };
-        let config = Config {
-            width: 0.02,
-            height: 0.03,
-            side_walls: SideWalls::Periodic,
-            gravity: 10.0,
-            q: 0.4,
-            species: vec![species(1e-6), species(2e-6)],
-            floor: Some(Motion {
-                amplitude: 1e-4,
-                frequency: 10.0,
-                phase: 0.0,
-            }),
-            base: None,
-            lid: None,
-            waveform: crate::wall::Waveform::Sine,
-            rules: Rules::uniform(Rule::smooth(0.9), Rule::smooth(1.0), 2),
-            guard: Guard::default(),
-            initial_speed: 0.0,
-            seed: 5,
-        };
-        let mut sim = Simulation::new(config).unwrap();
+        let mut sim = Simulation::new(shaken_box(0.02, 0.03, vec![species(1e-6), species(2e-6)])).unwrap();
         // Species 1: one grain in the bulk moving (1, 2) m/s, one below it. Species 2: one
         // in the bulk moving (0.5, -1) m/s, one above the open top at 0.035 m. (The engine
         // shuffles the species over the grains: each grain takes the next state of its own.)
@@ -781,32 +788,13 @@ mod tests {
     /// and 1/2 of a 10 Hz drive, has its heights at those times in those bins.
     #[test]
     fn each_sample_goes_to_the_phase_of_the_drive() {
-        let config = Config {
-            width: 5e-3,
-            height: 1.0,
-            side_walls: SideWalls::Periodic,
-            gravity: 10.0,
-            q: 0.4,
-            species: vec![Species {
-                count: 1,
-                radius_min: 1e-3,
-                radius_max: 1e-3,
-                mass: crate::Mass::Each(1e-6),
-            }],
-            floor: Some(Motion {
-                amplitude: 1e-4,
-                frequency: 10.0,
-                phase: 0.0,
-            }),
-            base: None,
-            lid: None,
-            waveform: crate::wall::Waveform::Sine,
-            rules: Rules::uniform(Rule::smooth(0.9), Rule::smooth(1.0), 1),
-            guard: Guard::default(),
-            initial_speed: 0.0,
-            seed: 5,
+        let one = Species {
+            count: 1,
+            radius_min: 1e-3,
+            radius_max: 1e-3,
+            mass: crate::Mass::Each(1e-6),
         };
-        let mut sim = Simulation::new(config).unwrap();
+        let mut sim = Simulation::new(shaken_box(5e-3, 1.0, vec![one])).unwrap();
         sim.set_state(&[Vec2::new(1e-3, 0.5)], &[Vec2::new(0.0, 2.0)], &[3.0]).unwrap();
         let mut obs = Observer::new(1, 1e-3, 1.0, 5e-3).with_phases(2, false);
         sim.run_until(0.1).unwrap();
