@@ -187,14 +187,18 @@ impl Bodies {
             let c = 0.5 * dt / self.mass[g];
             let half = self.v[g] + self.force[g] * c;
             self.v_half[g] = half;
-            let old_arms: Vec<Vec3> = (0..self.spheres).map(|k| self.arm(g, k)).collect();
+            // At most three members: the old arms on the stack, not a Vec per body and step.
+            let mut old_arms = [Vec3::zeros(); 3];
+            for (k, a) in old_arms.iter_mut().enumerate().take(self.spheres) {
+                *a = self.arm(g, k);
+            }
             let step = half * dt;
             self.x[g] += step;
             // Half kick of p by the torque (in the body frame), then the free rotation.
             let tq = rotate_back(&self.q[g], &self.torque[g]);
             self.p[g] = add(self.p[g], scale(quatvec(&self.q[g], &tq), dt));
             no_squish(&mut self.q[g], &mut self.p[g], &self.inertia[g], dt);
-            for (k, old) in old_arms.iter().enumerate() {
+            for (k, old) in old_arms.iter().enumerate().take(self.spheres) {
                 let u = (step + self.arm(g, k) - old) / dt;
                 lo = lo.inf(&u);
                 hi = hi.sup(&u);
