@@ -8,6 +8,13 @@
 #
 #   scripts/experiment/clumps-fit.sh OUT            # from the start
 #   scripts/experiment/clumps-fit.sh OUT --resume   # on from OUT's checkpoint
+#   scripts/experiment/clumps-fit.sh OUT --set contact.wall_friction=0.45   # other values
+#
+# The shape and size come from the environment (defaults: the first run's triangles):
+#   CLUMP_SPHERES (3), CLUMP_SPACING (1.0, d / R), RADIUS_MIN (0.616e-3), RADIUS_MAX (0.880e-3).
+# Dimers of the seeds' projected area at d = R: CLUMP_SPHERES=2 RADIUS_MIN=0.695e-3
+# RADIUS_MAX=0.994e-3 (two discs at d = R cover 5.055 r^2; a seed's disc is pi r_seed^2, so
+# r = 0.7883 r_seed for r_seed = 0.882-1.261 mm).
 #
 # To go on from the checkpoint committed in docs/results/experiment/clumps-fit/ on another
 # machine: copy its scene.toml and checkpoint.bin into OUT, put the committed
@@ -22,5 +29,6 @@ bin=${STRIPES:-target/release/stripes}
 nice "$bin" run scenes/experiment.toml --out "$out" --quiet "$@" \
   --set run.duration=12 --set run.seed=101 --set run.threads=1 --set run.snapshots_per_period=4 \
   --set run.checkpoint_interval=0.5 \
-  --set particles.shape=clump --set particles.clump_spheres=3 --set particles.clump_spacing=1.0 \
-  --set particles.radius_min=0.616e-3 --set particles.radius_max=0.880e-3
+  --set particles.shape=clump --set particles.clump_spheres="${CLUMP_SPHERES:-3}" \
+  --set particles.clump_spacing="${CLUMP_SPACING:-1.0}" \
+  --set particles.radius_min="${RADIUS_MIN:-0.616e-3}" --set particles.radius_max="${RADIUS_MAX:-0.880e-3}"
