@@ -4,7 +4,8 @@ probe of what holds grains in bands): reads a DEM run's snapshots.bin (frames at
 turning points, a drive A sin(2 pi f t)), and prints, before and after a time, the mean and
 median excursion |dx| in the tray's frame per half period for grains with 0, 1, 2+ contacts
 whose direction lies within 30 degrees of x ("aligned"), and likewise for contacts within 30
-degrees of y ("side").
+degrees of y ("side"); then by local packing (projected area within 2.5 mean diameters), and
+the coherence: the spread of a grain's signed move less its neighbours' mean move.
 
     python3 scripts/coarse-model/aligned.py RUN F A SPLIT_S [GAP]
 
@@ -51,6 +52,7 @@ def contacts(x, y, r, length, gap):
     ay = np.zeros(n, int)
     al = np.zeros(n, int)
     pk = np.zeros(n)
+    mates = [None] * n
     c30 = math.cos(math.radians(30))
     for (bx, by), members in buckets.items():
         near = []
@@ -64,13 +66,14 @@ def contacts(x, y, r, length, gap):
             d_y = y[near] - y[i]
             d = np.hypot(d_x, d_y)
             pk[i] = (np.pi * r[near][d <= reach] ** 2).sum() / (np.pi * reach * reach)
+            mates[i] = near[(d <= reach) & (near != i)]
             touch = (d < (r[i] + r[near]) * (1 + gap)) & (near != i)
             if touch.any():
                 cosx = np.abs(d_x[touch]) / d[touch]
                 ax[i] = int((cosx > c30).sum())
                 ay[i] = int((cosx < 0.5).sum())
                 al[i] = int(touch.sum())
-    return ax, ay, al, pk
+    return ax, ay, al, pk, mates
 
 
 def main():
@@ -88,8 +91,10 @@ def main():
         tray = a * (math.sin(2 * math.pi * f * tb) - math.sin(2 * math.pi * f * ta))
         dx = (xb - xa) - tray
         dx -= length * np.round(dx / length)
-        ax, ay, al, pk = contacts(xa, ya, r, length, gap)
-        rows["before" if ta < split else "after"].append((np.abs(dx), ax, ay, al, pk))
+        ax, ay, al, pk, mates = contacts(xa, ya, r, length, gap)
+        # A grain's signed move less the mean move of the grains within 2.5 mean diameters.
+        dev = np.array([dx[i] - dx[m].mean() if len(m) >= 3 else np.nan for i, m in enumerate(mates)])
+        rows["before" if ta < split else "after"].append((np.abs(dx), ax, ay, al, pk, dev))
     for when, data in rows.items():
         if not data:
             continue
@@ -110,6 +115,13 @@ def main():
             if m.sum() >= 20:
                 parts.append(f"{lo:.1f}-{lo + 0.1:.1f}: n {m.sum()} mean {ex[m].mean():.2f} q10 {np.quantile(ex[m], 0.1):.2f}")
         print("  by local packing: " + " | ".join(parts))
+        dev = np.concatenate([d[5] for d in data]) * 1e3
+        parts = []
+        for lo in np.arange(0.1, 1.0, 0.1):
+            m = (pk >= lo) & (pk < lo + 0.1) & ~np.isnan(dev)
+            if m.sum() >= 20:
+                parts.append(f"{lo:.1f}-{lo + 0.1:.1f}: sd {dev[m].std():.2f}")
+        print("  coherence, sd of (signed move - neighbours' mean move) (mm): " + " | ".join(parts))
 
 
 main()
