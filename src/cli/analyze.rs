@@ -9,7 +9,8 @@ use analysis::report::Options;
 use serde::Serialize;
 
 use crate::analyze::{analyze, AnalysisOptions, MapFrame};
-use crate::rundir::output::{json_line, CliError};
+use crate::rundir::output::CliError;
+use crate::rundir::report::{report, Reported};
 
 #[derive(clap::Args, Debug, Serialize)]
 pub struct Args {
@@ -139,8 +140,8 @@ impl Args {
     }
 }
 
-pub fn run(args: Args) -> Result<String, CliError> {
-    json_line(&analyze(&args.input, &args.analysis_options()?)?)
+pub fn run(args: Args) -> Reported {
+    report(analyze(&args.input, &args.analysis_options()?)?)
 }
 
 #[cfg(test)]
