@@ -726,6 +726,28 @@ fn compare(args: &Options, file: &crate::scene::file::SceneFile, out: &Path) -> 
 mod tests {
     use super::*;
 
+    /// Issue 42: each model's speed is written under its own key, as the JSON object that
+    /// `compare` built before its summary was a struct.
+    #[test]
+    fn a_models_speed_is_written_under_its_own_key() {
+        let run = |speed| ModelRun {
+            analysis: serde_json::Map::new(),
+            speed,
+            wall_s: Some(2.0),
+            spacing_m: None,
+            band_width_m: Some(1e-3),
+            in_band_fraction: None,
+        };
+        let dem = serde_json::to_value(run(Speed::ParticleStepsPerS(Some(5e6)))).unwrap();
+        let automaton = serde_json::to_value(run(Speed::CellUpdatesPerS(None))).unwrap();
+        assert_eq!(
+            dem.to_string(),
+            r#"{"analysis":{},"band_width_m":0.001,"in_band_fraction":null,"particle_steps_per_s":5000000.0,"spacing_m":null,"wall_s":2.0}"#
+        );
+        assert_eq!(automaton["cell_updates_per_s"], serde_json::Value::Null);
+        assert!(automaton.get("particle_steps_per_s").is_none());
+    }
+
     fn outcome(phase: Option<Phase>, count: usize, onset: Option<f64>) -> Outcome {
         Outcome {
             phase,

@@ -485,6 +485,25 @@ fn stopping_test(dir: &mut RunDir, args: &Options, scene: &Scene, radius: f64) -
 mod tests {
     use super::*;
 
+    /// Issue 42: an uncapped wall friction is written as `"inf"` (JSON has no infinity), a
+    /// finite one as its number, and the drift and the stopping test only where they ran.
+    #[test]
+    fn the_summary_writes_an_uncapped_friction_as_inf() {
+        let summary = |mu: f64| SingleSummary {
+            amplitude: 0.025,
+            radius: 5e-4,
+            wall_friction: mu,
+            amplitudes: Vec::new(),
+            drift: None,
+            rolling_stop: None,
+            written: Written::default(),
+        };
+        let inf = serde_json::to_value(summary(f64::INFINITY)).unwrap();
+        assert_eq!(inf["wall_friction"], "inf");
+        assert!(inf.get("drift").is_none() && inf.get("rolling_stop").is_none());
+        assert_eq!(serde_json::to_value(summary(0.3)).unwrap()["wall_friction"], 0.3);
+    }
+
     #[test]
     fn frequencies_are_one_value_or_a_sweep() {
         assert_eq!(parse_frequencies("20").unwrap(), vec![20.0]);

@@ -674,7 +674,7 @@ pub fn compare(file: &SceneFile, opts: &Options) -> Result<BoxSummary, CliError>
         h_walton_vs_dem: h_diff_walton,
         h_within_10_percent: h_diff.abs() <= 0.1,
         speedup_table: speedup,
-        speedup_walton: speedup_walton,
+        speedup_walton,
         speedup_at_least_100: speedup >= 100.0,
         wall_s,
         written: dir.written(),
