@@ -99,11 +99,17 @@ fn main() -> ExitCode {
         Command::Mechanism(a) => cli::mechanism::run(a),
     };
     match result {
-        Ok(summary) => {
-            eprintln!("{}", rundir::output::human_summary(&summary));
-            println!("{summary}");
-            ExitCode::SUCCESS
-        }
+        Ok(report) => match report.json_line() {
+            Ok(line) => {
+                eprintln!("{}", report.headline().line());
+                println!("{line}");
+                ExitCode::SUCCESS
+            }
+            Err(e) => {
+                eprintln!("error: cannot write the summary: {e}");
+                ExitCode::FAILURE
+            }
+        },
         Err(e) => {
             eprintln!("error: {e}");
             ExitCode::FAILURE

@@ -16,6 +16,7 @@ use analysis::classify::{Classification, Phase};
 use super::files::{draw, draw_camera, top_view, write_camera, write_tables};
 use crate::rundir::output::CliError as Error;
 use crate::rundir::output::{RunDir, Written};
+use crate::rundir::report::{self, Headline, PhaseLine};
 
 /// How to analyse a run and where to write the analysis.
 #[derive(Clone, Debug, Serialize)]
@@ -306,6 +307,33 @@ impl Outcome {
     pub fn stripe_spacing(&self) -> Option<f64> {
         let striped = self.phase == Some(Phase::Stripes) || self.stripe_count_final > 0;
         striped.then_some(self.spacing_m).flatten()
+    }
+}
+
+impl AnalysisSummary {
+    /// The classification's part of a line for people: the phase, the final stripe count
+    /// and whether the label is robust.
+    pub fn phase_line(&self) -> PhaseLine {
+        let r = &self.report;
+        let phase = if self.geometry == Geometry::VerticalBox {
+            Some("unclassified".to_string())
+        } else {
+            r.phase.map(|p| p.name().to_string())
+        };
+        PhaseLine {
+            phase,
+            stripe_count_final: Some(r.stripe_count_final),
+            robust: Some(if r.phase_robust { Ok(()) } else { Err(r.phase_votes.into()) }),
+        }
+    }
+}
+
+impl report::Summary for AnalysisSummary {
+    fn headline(&self) -> Headline {
+        Headline {
+            phase: Some(self.phase_line()),
+            ..Headline::written(self.warnings.len(), &self.written)
+        }
     }
 }
 

@@ -5,16 +5,54 @@ use std::path::Path;
 use std::time::Instant;
 
 use automaton::{Automaton, Direction, RuleSet};
-use serde_json::{json, Value};
+use std::collections::BTreeMap;
+
+use automaton::Params;
+use serde::Serialize;
+use serde_json::Value;
 
 use crate::automaton::lattice::{self, Cells};
 use crate::host::clock::Stopwatch;
-use crate::rundir::output::{CliError, RunDir};
+use crate::rundir::output::{CliError, RunDir, Written};
+use crate::rundir::report::{Headline, Summary};
 use crate::scene::file::SceneFile;
+
+/// What `stripes automaton --bench` measured: `summary.json`, field for field.
+#[derive(Clone, Debug, Serialize)]
+pub struct BenchSummary {
+    pub scene: String,
+    pub grains: u64,
+    pub cells: Cells,
+    pub threads: usize,
+    /// Each rule's speed, by its name (`strict`, `physical`).
+    pub cases: BTreeMap<&'static str, Case>,
+    pub flight_cap_cells: f64,
+    #[serde(flatten)]
+    pub written: Written,
+}
+
+/// One rule's speed.
+#[derive(Clone, Debug, Serialize)]
+pub struct Case {
+    pub cell_updates_per_s: f64,
+    pub grain_updates_per_s: f64,
+    pub cell_updates_per_wall_s: f64,
+    pub half_steps: u64,
+    pub cpu_s: f64,
+    pub wall_s: f64,
+    pub frozen: bool,
+    pub params: Params,
+}
+
+impl Summary for BenchSummary {
+    fn headline(&self) -> Headline {
+        Headline::written(0, &self.written)
+    }
+}
 
 /// Speed on the scene's tray: a random layer of the scene's grain count, `strict` and
 /// `physical`, each for about `bench_seconds`.
-pub fn bench(path: &Path, file: &SceneFile, out: &Path, force: bool, seconds: f64, config: &Value) -> Result<String, CliError> {
+pub fn bench(path: &Path, file: &SceneFile, out: &Path, force: bool, seconds: f64, config: &Value) -> Result<BenchSummary, CliError> {
     crate::automaton::lattice::validate_lattice(file)?;
     let scene = &file.dem;
     crate::rundir::output::claim(out, force)?;
@@ -35,7 +73,7 @@ pub fn bench(path: &Path, file: &SceneFile, out: &Path, force: bool, seconds: f6
     let (lattice, _, _) = lattice::lattice_from_positions(&cells, scene.tray.length, &pos);
     let slide = lattice::slide_dem(scene)?;
     let mut rows = Vec::new();
-    let mut cases = serde_json::Map::new();
+    let mut cases = BTreeMap::new();
     for (name, rule) in [("strict", RuleSet::Strict), ("physical", RuleSet::Physical)] {
         let params = lattice::params(file, rule, &slide, &file.automaton.free_params());
         let mut a = Automaton::new(lattice.clone(), params, Direction::Plus)?;
@@ -59,10 +97,17 @@ pub fn bench(path: &Path, file: &SceneFile, out: &Path, force: bool, seconds: f6
         let grain_rate = lattice.mass() as f64 * steps as f64 / cpu;
         rows.push(vec![cell_rate, grain_rate, steps as f64, cpu, wall]);
         cases.insert(
-            name.into(),
-            json!({ "cell_updates_per_s": cell_rate, "grain_updates_per_s": grain_rate,
-                    "cell_updates_per_wall_s": cells_per_step * steps as f64 / wall,
-                    "half_steps": steps, "cpu_s": cpu, "wall_s": wall, "frozen": a.frozen(), "params": params }),
+            name,
+            Case {
+                cell_updates_per_s: cell_rate,
+                grain_updates_per_s: grain_rate,
+                cell_updates_per_wall_s: cells_per_step * steps as f64 / wall,
+                half_steps: steps,
+                cpu_s: cpu,
+                wall_s: wall,
+                frozen: a.frozen(),
+                params,
+            },
         );
     }
     dir.csv(
@@ -70,12 +115,15 @@ pub fn bench(path: &Path, file: &SceneFile, out: &Path, force: bool, seconds: f6
         &["cell_updates_per_s", "grain_updates_per_s", "half_steps", "cpu_s", "wall_s"],
         &rows,
     )?;
-    dir.finish(json!({
-        "scene": path.display().to_string(),
-        "grains": lattice.mass(),
-        "cells": cells,
-        "threads": 1,
-        "cases": cases,
-        "flight_cap_cells": (slide.displacement / cells.dx).round(),
-    }))
+    let summary = BenchSummary {
+        scene: path.display().to_string(),
+        grains: lattice.mass(),
+        cells,
+        threads: 1,
+        cases,
+        flight_cap_cells: (slide.displacement / cells.dx).round(),
+        written: dir.written(),
+    };
+    dir.finish_typed(&summary)?;
+    Ok(summary)
 }

@@ -23,7 +23,8 @@ use analysis::stripes::{detect, onset, StripeParams};
 use serde_json::json;
 
 use crate::automaton::lattice::{self, evolve, load_scene, setup, Cells};
-use crate::rundir::output::{CliError, RunDir};
+use crate::rundir::output::{CliError, RunDir, Written};
+use crate::rundir::report::{Headline, Summary};
 
 /// Activation probabilities of the grid.
 pub const ACTIVATIONS: [f64; 5] = [0.2, 0.35, 0.5, 0.65, 0.8];
@@ -162,7 +163,44 @@ pub struct Calibration {
     pub quiet: bool,
 }
 
-pub fn run(args: &Calibration) -> Result<String, CliError> {
+/// What a calibration found: `summary.json`, field for field.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct CalibrationSummary {
+    pub runs: Vec<String>,
+    pub grid_points: usize,
+    /// The best grid point: `activation`, the swept axis' key and `loss`.
+    pub best: std::collections::BTreeMap<String, f64>,
+    /// The best point's fit to each run.
+    pub fit: Vec<Fit>,
+    /// The `--set` options of the best point.
+    #[serde(rename = "use")]
+    pub use_: String,
+    #[serde(flatten)]
+    pub written: Written,
+}
+
+/// The automaton at one grid point against one DEM run.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct Fit {
+    pub e_count: f64,
+    pub e_contrast: f64,
+    pub contrast_automaton: f64,
+    pub contrast_dem: f64,
+    pub count_final_automaton: Option<usize>,
+    pub count_final_dem: Option<usize>,
+    pub onset_automaton_s: Option<f64>,
+    pub onset_dem_s: Option<f64>,
+    pub spacing_automaton_m: Option<f64>,
+    pub spacing_dem_m: Option<f64>,
+}
+
+impl Summary for CalibrationSummary {
+    fn headline(&self) -> Headline {
+        Headline::written(0, &self.written)
+    }
+}
+
+pub fn run(args: &Calibration) -> Result<CalibrationSummary, CliError> {
     let out = args.out.clone().unwrap_or_else(|| "out/automaton-calibration".into());
     struct RunData {
         scene: crate::scene::file::SceneFile,
@@ -185,7 +223,7 @@ pub fn run(args: &Calibration) -> Result<String, CliError> {
     let total = (activations.len() * values.len() * runs.len()) as u64;
     let b = crate::rundir::output::progress_bar(total, args.quiet, "calibrate");
     let mut rows = Vec::new();
-    let mut best: Option<(f64, f64, f64, Vec<serde_json::Value>)> = None;
+    let mut best: Option<(f64, f64, f64, Vec<Fit>)> = None;
     let mut best_series: Vec<Vec<(f64, f64)>> = Vec::new();
     for &p in &activations {
         for &v in &values {
@@ -213,12 +251,18 @@ pub fn run(args: &Calibration) -> Result<String, CliError> {
                 let (ec, ek) = errors(&r.dem, &m);
                 loss += ec * ec + ek * ek;
                 let spacing = |m: &Metrics| m.counts.last().filter(|&&c| c > 0).map(|&c| scene.dem.tray.length / c as f64);
-                per_run.push(
-                    json!({ "e_count": ec, "e_contrast": ek, "contrast_automaton": m.contrast, "contrast_dem": r.dem.contrast,
-                    "count_final_automaton": m.counts.last(), "count_final_dem": r.dem.counts.last(),
-                    "onset_automaton_s": onset(&m.times, &m.counts), "onset_dem_s": onset(&r.dem.times, &r.dem.counts),
-                    "spacing_automaton_m": spacing(&m), "spacing_dem_m": spacing(&r.dem) }),
-                );
+                per_run.push(Fit {
+                    e_count: ec,
+                    e_contrast: ek,
+                    contrast_automaton: m.contrast,
+                    contrast_dem: r.dem.contrast,
+                    count_final_automaton: m.counts.last().copied(),
+                    count_final_dem: r.dem.counts.last().copied(),
+                    onset_automaton_s: onset(&m.times, &m.counts),
+                    onset_dem_s: onset(&r.dem.times, &r.dem.counts),
+                    spacing_automaton_m: spacing(&m),
+                    spacing_dem_m: spacing(&r.dem),
+                });
                 series.push(m.times.iter().zip(&m.counts).map(|(t, c)| (*t, *c as f64)).collect());
                 b.inc(1);
             }
@@ -246,13 +290,19 @@ pub fn run(args: &Calibration) -> Result<String, CliError> {
             );
         dir.plot(&format!("calibration_run{}", k + 1), &plot)?;
     }
-    dir.finish(json!({
-        "runs": args.runs.iter().map(|p| p.display().to_string()).collect::<Vec<_>>(),
-        "grid_points": rows.len(),
-        "best": { "activation": p, axis.key(): v, "loss": loss },
-        "fit": per_run,
-        "use": format!("--set automaton.activation={p} --set automaton.{}={v}", axis.key()),
-    }))
+    let summary = CalibrationSummary {
+        runs: args.runs.iter().map(|p| p.display().to_string()).collect(),
+        grid_points: rows.len(),
+        best: [("activation", p), (axis.key(), v), ("loss", loss)]
+            .into_iter()
+            .map(|(k, x)| (k.to_string(), x))
+            .collect(),
+        fit: per_run,
+        use_: format!("--set automaton.activation={p} --set automaton.{}={v}", axis.key()),
+        written: dir.written(),
+    };
+    dir.finish_typed(&summary)?;
+    Ok(summary)
 }
 
 /// Stripe counts and contrast of a DEM run's snapshots.

@@ -15,6 +15,7 @@ use crate::analyze::{analyze, AnalysisOptions, AnalysisSummary};
 use crate::automaton::lattice::{self, evolve, setup, Cells};
 use crate::rundir::output::CliError as Error;
 use crate::rundir::output::{progress_bar, RunDir, Written};
+use crate::rundir::report::{Headline, Summary};
 use crate::scene::file::SceneFile;
 
 /// A scene checked for the automaton: both tables valid and a lattice the automaton can
@@ -99,6 +100,16 @@ pub struct AutomatonSummary {
     /// The whole analysis of the run (`<out>/analysis/summary.json`).
     #[serde(skip)]
     pub analysed: AnalysisSummary,
+}
+
+impl Summary for AutomatonSummary {
+    fn headline(&self) -> Headline {
+        Headline {
+            wall_s: Some(self.wall_s),
+            phase: Some(self.analysed.phase_line()),
+            ..Headline::written(self.warnings.len(), &self.written)
+        }
+    }
 }
 
 /// Runs the automaton on a checked scene into `opts.out` and analyses it into

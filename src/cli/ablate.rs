@@ -8,7 +8,7 @@
 
 use std::path::PathBuf;
 
-use crate::rundir::output::CliError;
+use crate::rundir::report::{report, Reported};
 use crate::studies::sweep::ablate::{automaton_configs, dem_configs, jobs, pin_reference_step};
 use crate::studies::sweep::{Model, Sweep, SweepKind, Which};
 
@@ -33,7 +33,7 @@ pub struct Args {
     pub sweep: crate::cli::args::SweepArgs,
 }
 
-pub fn run(args: Args) -> Result<String, CliError> {
+pub fn run(args: Args) -> Reported {
     let file = crate::scene::file::load(&args.scene, &args.sweep.overrides)?;
     let scene = &file.dem;
     scene.validate()?;
@@ -59,7 +59,9 @@ pub fn run(args: Args) -> Result<String, CliError> {
         jobs: all,
         resolved: String::new(),
     };
-    args.sweep
-        .engine()
-        .execute(&args.out, &sweep, crate::studies::sweep::ablate::report)
+    report(
+        args.sweep
+            .engine()
+            .execute(&args.out, &sweep, crate::studies::sweep::ablate::report)?,
+    )
 }

@@ -9,7 +9,8 @@ use analysis::report::Options;
 use serde::Serialize;
 
 use crate::analyze::{analyze, AnalysisOptions, MapFrame};
-use crate::rundir::output::{json_line, CliError};
+use crate::rundir::output::CliError;
+use crate::rundir::report::{report, Reported};
 
 #[derive(clap::Args, Debug, Serialize)]
 pub struct Args {
@@ -49,21 +50,21 @@ pub struct Args {
     pub periodic_y: bool,
     /// Window FROM,TO (s) of the MSD plateau a1 before stripes (default: the first three
     /// quarters of the time before the onset; without onset, the first half of the run).
-    #[arg(long)]
-    pub plateau_before: Option<String>,
+    #[arg(long, value_parser = crate::cli::values::window, value_name = "FROM,TO")]
+    pub plateau_before: Option<(f64, f64)>,
     /// Window FROM,TO (s) of the MSD plateau a2 after stripes (default: from the onset plus a
     /// quarter of the remaining time; without onset, the second half of the run).
-    #[arg(long)]
-    pub plateau_after: Option<String>,
+    #[arg(long, value_parser = crate::cli::values::window, value_name = "FROM,TO")]
+    pub plateau_after: Option<(f64, f64)>,
     /// Classifier: below this mobility (mean diameters per period) the phase is `nothing`.
-    #[arg(long, default_value_t = 0.1)]
+    #[arg(long, default_value_t = 0.1, value_parser = crate::cli::values::non_negative)]
     pub mobility_min: f64,
     /// Classifier: at or above this contrast (x random layer), with stripes, the phase is `stripes`.
-    #[arg(long, default_value_t = 2.0)]
+    #[arg(long, default_value_t = 2.0, value_parser = crate::cli::values::non_negative)]
     pub contrast_min: f64,
     /// Classifier: drive periods over which a band must hold its place (in the time-averaged
     /// profile) to count as a stationary stripe, whatever the contrast.
-    #[arg(long, default_value_t = 10.0)]
+    #[arg(long, default_value_t = 10.0, value_parser = crate::cli::values::positive)]
     pub persistence_periods: f64,
     /// Times (s) of the top views (x-y, in the tray's frame) drawn in top_view.png, e.g.
     /// 1,10,100; each is the stroboscopic frame (at the drive's turning point) nearest it
@@ -77,22 +78,9 @@ pub struct Args {
     pub map_frame: MapFrame,
 }
 
-fn window(s: &Option<String>, name: &str) -> Result<Option<(f64, f64)>, CliError> {
-    let Some(s) = s else { return Ok(None) };
-    let v: Vec<f64> = s
-        .split(',')
-        .map(|p| p.trim().parse::<f64>())
-        .collect::<Result<_, _>>()
-        .map_err(|_| format!("--{name}: expected FROM,TO in seconds, got `{s}`"))?;
-    match v[..] {
-        [a, b] if a <= b => Ok(Some((a, b))),
-        _ => Err(format!("--{name}: expected FROM,TO with FROM <= TO, got `{s}`").into()),
-    }
-}
-
 impl Args {
     /// The library options these arguments select.
-    pub fn options(&self) -> Result<Options, CliError> {
+    pub fn options(&self) -> Options {
         let mut o = Options {
             cell: self.cell,
             threshold: self.threshold,
@@ -101,27 +89,16 @@ impl Args {
             periodic_y: self.periodic_y,
             tracer: self.tracer,
             tail_fraction: self.tail,
-            plateau_before: window(&self.plateau_before, "plateau-before")?,
-            plateau_after: window(&self.plateau_after, "plateau-after")?,
+            plateau_before: self.plateau_before,
+            plateau_after: self.plateau_after,
             ..Options::default()
         };
-        // Written so that NaN fails each test.
-        for (option, x) in [("--mobility-min", self.mobility_min), ("--contrast-min", self.contrast_min)] {
-            if !(x.is_finite() && x >= 0.0) {
-                return Err(format!("{option} must be a number >= 0, got {x}").into());
-            }
-        }
         o.classify.mobility_min = self.mobility_min;
         o.classify.contrast_min = self.contrast_min;
-        if !(self.persistence_periods.is_finite() && self.persistence_periods > 0.0) {
-            return Err(format!("--persistence-periods must be a positive number, got {}", self.persistence_periods).into());
-        }
         o.classify.persistence_periods = self.persistence_periods;
-        Ok(o)
+        o
     }
-}
 
-impl Args {
     /// The pipeline's options these arguments select.
     pub fn analysis_options(&self) -> Result<AnalysisOptions, CliError> {
         if let Some(t) = self.top_view.iter().find(|t| !t.is_finite()) {
@@ -131,7 +108,7 @@ impl Args {
             out: self.out.clone(),
             force: self.writing.force,
             dt: self.dt,
-            options: self.options()?,
+            options: self.options(),
             top_view: self.top_view.clone(),
             description: None,
             map_frame: self.map_frame,
@@ -139,8 +116,8 @@ impl Args {
     }
 }
 
-pub fn run(args: Args) -> Result<String, CliError> {
-    json_line(&analyze(&args.input, &args.analysis_options()?)?)
+pub fn run(args: Args) -> Reported {
+    report(analyze(&args.input, &args.analysis_options()?)?)
 }
 
 #[cfg(test)]
@@ -159,7 +136,7 @@ mod tests {
     #[test]
     fn default_matches_the_command_line_defaults() {
         let parsed = Cli::parse_from(["analyze", "run", "--force", "--out", "x"]).args;
-        assert_eq!(parsed.options().unwrap(), Options::default());
+        assert_eq!(parsed.options(), Options::default());
         let into_dir = AnalysisOptions::into_dir("x".into());
         assert_eq!(
             serde_json::to_value(parsed.analysis_options().unwrap()).unwrap(),

@@ -17,7 +17,7 @@ use serde::Serialize;
 use serde_json::json;
 
 use crate::automaton::{resolve_lattice, run_automaton, AutomatonOptions};
-use crate::rundir::output::{json_line, CliError};
+use crate::rundir::report::{report, Reported};
 
 #[derive(clap::Args, Debug, Serialize)]
 pub struct Args {
@@ -58,24 +58,31 @@ pub struct Args {
     pub progress: crate::cli::args::Quiet,
 }
 
-pub fn run(args: Args) -> Result<String, CliError> {
+pub fn run(args: Args) -> Reported {
     if !args.calibrate.is_empty() {
-        return crate::automaton::calibrate::run(&crate::automaton::calibrate::Calibration {
+        return report(crate::automaton::calibrate::run(&crate::automaton::calibrate::Calibration {
             runs: args.calibrate.clone(),
             out: args.out.clone(),
             overrides: args.set.overrides.clone(),
             samples: args.samples.sample_cache.clone(),
             quiet: args.progress.quiet,
-        });
+        })?);
     }
     let path = args.scene.clone().ok_or("a scene file is needed")?;
     let scene = resolve_lattice(&path, crate::scene::file::load(&path, &args.set.overrides)?)?;
     if args.bench {
         let out = args.out.clone().unwrap_or_else(|| PathBuf::from("out/automaton-bench"));
         let config = json!({ "args": &args, "scene": &scene.file.dem });
-        return crate::automaton::bench::bench(&path, &scene.file, &out, args.replace.force, args.bench_seconds, &config);
+        return report(crate::automaton::bench::bench(
+            &path,
+            &scene.file,
+            &out,
+            args.replace.force,
+            args.bench_seconds,
+            &config,
+        )?);
     }
-    json_line(&run_automaton(&scene, &args.options(&path))?)
+    report(run_automaton(&scene, &args.options(&path))?)
 }
 
 /// `--rule`: the automaton's own rule-set type, by its scene-file names.

@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use serde::Serialize;
 
-use crate::rundir::output::CliError;
+use crate::rundir::report::{report, Reported};
 use crate::studies::tradeoff::bench::{bench, Options};
 
 #[derive(clap::Args, Debug, Serialize)]
@@ -49,6 +49,6 @@ impl Args {
     }
 }
 
-pub fn run(args: Args) -> Result<String, CliError> {
-    bench(&args.options())
+pub fn run(args: Args) -> Reported {
+    report(bench(&args.options())?)
 }

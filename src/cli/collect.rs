@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-use crate::rundir::output::CliError;
+use crate::rundir::report::{report, Reported};
 use crate::studies::sweep::{self, SweepKind};
 
 #[derive(clap::Args, Debug, serde::Serialize)]
@@ -12,12 +12,11 @@ pub struct Args {
     pub dir: PathBuf,
 }
 
-pub fn run(args: Args) -> Result<String, CliError> {
+pub fn run(args: Args) -> Reported {
     let sweep = sweep::load(&args.dir)?;
-    let summary = match sweep.kind {
-        SweepKind::PhaseMap => sweep::phase_map::report(&args.dir, &sweep)?,
-        SweepKind::Ablate => sweep::ablate::report(&args.dir, &sweep)?,
-        SweepKind::EventsSweep => crate::studies::events_sweep::report(&args.dir, &sweep)?,
-    };
-    Ok(serde_json::to_string(&summary)?)
+    match sweep.kind {
+        SweepKind::PhaseMap => report(sweep::phase_map::report(&args.dir, &sweep)?),
+        SweepKind::Ablate => report(sweep::ablate::report(&args.dir, &sweep)?),
+        SweepKind::EventsSweep => report(crate::studies::events_sweep::report(&args.dir, &sweep)?),
+    }
 }

@@ -8,8 +8,8 @@ use particles::contact::choice::{NormalKind, RollingKind, TangentialKind};
 use particles::integrate::Integrator;
 
 use crate::cli::values::{kind, parse_vec3};
-use crate::rundir::output::CliError;
-use crate::studies::collide::{collide, Options};
+use crate::rundir::report::{report, Reported};
+use crate::studies::collide::{collide, restitution_table, Options};
 
 #[derive(clap::Args, Clone, Debug, Serialize)]
 pub struct Args {
@@ -175,6 +175,10 @@ impl Args {
     }
 }
 
-pub fn run(args: Args) -> Result<String, CliError> {
-    collide(&args.options())
+pub fn run(args: Args) -> Reported {
+    let options = args.options();
+    if options.table {
+        return report(restitution_table(&options)?);
+    }
+    report(collide(&options)?)
 }

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use serde::Serialize;
 
-use crate::rundir::output::CliError;
+use crate::rundir::report::{report, Reported};
 use crate::studies::compare::{compare_scene, Options};
 
 #[derive(clap::Args, Debug, Serialize)]
@@ -50,6 +50,6 @@ impl Args {
     }
 }
 
-pub fn run(args: Args) -> Result<String, CliError> {
-    compare_scene(&args.options())
+pub fn run(args: Args) -> Reported {
+    report(compare_scene(&args.options())?)
 }

@@ -7,7 +7,8 @@ use particles::experiment::contact_time::{study, ContactTimeCase};
 use serde::Serialize;
 use serde_json::json;
 
-use crate::rundir::output::{CliError, RunDir};
+use crate::rundir::output::{RunDir, Written};
+use crate::rundir::report::{report, Headline, Reported, Summary};
 
 /// Options of `stripes contact-time`; the base point is Fig 3.5's (R = 0.5 mm, Y = 1e6 Pa,
 /// A = 8.5e-6 s, v = 2 mm/s, rho = 2500 kg/m^3, nu = 0.3).
@@ -27,12 +28,34 @@ pub struct Args {
     pub writing: crate::cli::args::Writing,
 }
 
-pub fn run(args: Args) -> Result<String, CliError> {
+/// What the sweeps found: `summary.json`, field for field.
+#[derive(Serialize)]
+struct ContactTimeSummary {
+    /// Each swept parameter's range of `t_c / t_c(eq 3.19)`.
+    sweeps: std::collections::BTreeMap<&'static str, Ratios>,
+    base_t_c: f64,
+    #[serde(flatten)]
+    written: Written,
+}
+
+#[derive(Serialize)]
+struct Ratios {
+    min_ratio_to_eq_3_19: f64,
+    max_ratio_to_eq_3_19: f64,
+}
+
+impl Summary for ContactTimeSummary {
+    fn headline(&self) -> Headline {
+        Headline::written(0, &self.written)
+    }
+}
+
+pub fn run(args: Args) -> Reported {
     let base = ContactTimeCase::default();
     let rows = study(base, args.points, args.steps_per_contact)?;
     crate::rundir::output::claim(&args.out, args.writing.force)?;
     let mut dir = RunDir::create(&args.out, &json!({ "args": &args, "base": base }))?;
-    let mut summary = serde_json::Map::new();
+    let mut sweeps = std::collections::BTreeMap::new();
     for (param, label, unit, log_x) in [
         ("dissipation", "dissipation A", "s", false),
         ("radius", "radius R", "m", true),
@@ -69,13 +92,19 @@ pub fn run(args: Args) -> Result<String, CliError> {
         }
         dir.plot(&format!("contact_time_{param}"), &plot)?;
         let ratios: Vec<f64> = sel.iter().map(|r| r.t_c / r.t_c_eq_3_19).collect();
-        summary.insert(
-            param.into(),
-            json!({
-                "min_ratio_to_eq_3_19": ratios.iter().cloned().fold(f64::INFINITY, f64::min),
-                "max_ratio_to_eq_3_19": ratios.iter().cloned().fold(0.0, f64::max),
-            }),
+        sweeps.insert(
+            param,
+            Ratios {
+                min_ratio_to_eq_3_19: ratios.iter().cloned().fold(f64::INFINITY, f64::min),
+                max_ratio_to_eq_3_19: ratios.iter().cloned().fold(0.0, f64::max),
+            },
         );
     }
-    dir.finish(json!({ "sweeps": summary, "base_t_c": rows[0].t_c_eq_3_19 }))
+    let summary = ContactTimeSummary {
+        sweeps,
+        base_t_c: rows[0].t_c_eq_3_19,
+        written: dir.written(),
+    };
+    dir.finish_typed(&summary)?;
+    report(summary)
 }

@@ -5,9 +5,9 @@ use std::path::PathBuf;
 use analysis::plot::{LinePlot, Mark};
 use particles::experiment::eccentricity::{thesis_studies, EccentricPoint};
 use serde::Serialize;
-use serde_json::json;
 
-use crate::rundir::output::{CliError, RunDir};
+use crate::rundir::output::{RunDir, Written};
+use crate::rundir::report::{report, Headline, Reported, Summary};
 
 /// Options of `stripes eccentricity`. The four configurations are the thesis' (Fig 4.4, 4.7,
 /// 4.10): linear dashpot and viscoelastic spheres, smooth and with Cundall-Strack friction.
@@ -30,6 +30,30 @@ pub struct Args {
     pub writing: crate::cli::args::Writing,
 }
 
+/// What the study found: `summary.json`, field for field.
+#[derive(Serialize)]
+struct EccentricitySummary {
+    studies: Vec<Study>,
+    #[serde(flatten)]
+    written: Written,
+}
+
+/// One configuration's curves in a few numbers.
+#[derive(Serialize)]
+struct Study {
+    study: &'static str,
+    eps_n_hs_zero_crossing_e: Option<f64>,
+    eps_n_hs_min: f64,
+    eps_n_max_deviation_from_1: f64,
+    phi_max: f64,
+}
+
+impl Summary for EccentricitySummary {
+    fn headline(&self) -> Headline {
+        Headline::written(0, &self.written)
+    }
+}
+
 /// Eccentricity at which eps_n^HS changes sign (linear interpolation), if it does.
 fn zero_crossing(points: &[EccentricPoint]) -> Option<f64> {
     points.windows(2).find(|w| w[0].eps_n_hs > 0.0 && w[1].eps_n_hs <= 0.0).map(|w| {
@@ -38,7 +62,7 @@ fn zero_crossing(points: &[EccentricPoint]) -> Option<f64> {
     })
 }
 
-pub fn run(args: Args) -> Result<String, CliError> {
+pub fn run(args: Args) -> Reported {
     if args.points < 2 || !(0.0..1.0).contains(&args.max_e) {
         return Err("--points must be >= 2 and --max-e in [0, 1)".into());
     }
@@ -77,13 +101,13 @@ pub fn run(args: Args) -> Result<String, CliError> {
         hs = hs.series(study.name, pts.iter().map(|p| (p.e, p.eps_n_hs)).collect(), mark);
         en = en.series(study.name, pts.iter().map(|p| (p.e, p.eps_n)).collect(), mark);
         phi = phi.series(study.name, pts.iter().map(|p| (p.e, p.phi)).collect(), mark);
-        summary.push(json!({
-            "study": study.name,
-            "eps_n_hs_zero_crossing_e": zero_crossing(&pts),
-            "eps_n_hs_min": pts.iter().map(|p| p.eps_n_hs).fold(f64::INFINITY, f64::min),
-            "eps_n_max_deviation_from_1": pts.iter().map(|p| (p.eps_n - 1.0).abs()).fold(0.0, f64::max),
-            "phi_max": pts.iter().map(|p| p.phi).fold(0.0, f64::max),
-        }));
+        summary.push(Study {
+            study: study.name,
+            eps_n_hs_zero_crossing_e: zero_crossing(&pts),
+            eps_n_hs_min: pts.iter().map(|p| p.eps_n_hs).fold(f64::INFINITY, f64::min),
+            eps_n_max_deviation_from_1: pts.iter().map(|p| (p.eps_n - 1.0).abs()).fold(0.0, f64::max),
+            phi_max: pts.iter().map(|p| p.phi).fold(0.0, f64::max),
+        });
     }
     let rows: Vec<Vec<f64>> = (0..es.len()).map(|k| columns.iter().map(|c| c[k]).collect()).collect();
     let header: Vec<&str> = header.iter().map(String::as_str).collect();
@@ -91,5 +115,10 @@ pub fn run(args: Args) -> Result<String, CliError> {
     dir.plot("eps_n_hs", &hs)?;
     dir.plot("eps_n", &en)?;
     dir.plot("phi", &phi)?;
-    dir.finish(json!({ "studies": summary }))
+    let summary = EccentricitySummary {
+        studies: summary,
+        written: dir.written(),
+    };
+    dir.finish_typed(&summary)?;
+    report(summary)
 }

@@ -10,12 +10,12 @@
 use std::path::PathBuf;
 
 use crate::events::{run_events, EventsOptions};
-use crate::rundir::output::{json_line, CliError};
+use crate::rundir::report::{report, Reported};
 
 /// The command's arguments: a scene run's, with nothing of its own.
 pub type Args = crate::cli::args::SceneRun;
 
-pub fn run(args: Args) -> Result<String, CliError> {
+pub fn run(args: Args) -> Reported {
     let scene = crate::scene::events::load(&args.scene, &args.set.overrides)?;
     let name = args
         .scene
@@ -27,5 +27,5 @@ pub fn run(args: Args) -> Result<String, CliError> {
         resume: args.resume,
         quiet: args.quiet,
     };
-    json_line(&run_events(&args.scene, &scene, &opts)?)
+    report(run_events(&args.scene, &scene, &opts)?)
 }

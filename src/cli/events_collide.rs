@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use serde::Serialize;
 
 use crate::events::impacts::{impacts, Options};
-use crate::rundir::output::CliError;
+use crate::rundir::report::Reported;
 
 #[derive(clap::Args, Clone, Debug, Serialize)]
 pub struct Args {
@@ -83,7 +83,7 @@ impl Args {
     }
 }
 
-pub fn run(args: Args) -> Result<String, CliError> {
+pub fn run(args: Args) -> Reported {
     impacts(&args.options())
 }
 
@@ -102,7 +102,7 @@ mod tests {
         let cli = Cli::try_parse_from(std::iter::once("events-collide").chain(options.iter().copied())).unwrap();
         match run(cli.args) {
             Err(e) => e.to_string(),
-            Ok(line) => panic!("{options:?} accepted: {line}"),
+            Ok(r) => panic!("{options:?} accepted: {}", r.json_line().unwrap()),
         }
     }
 
@@ -130,6 +130,6 @@ mod tests {
         }
         // In contact, the default impact is accepted.
         let cli = Cli::try_parse_from(["events-collide", "--target", "pair", "--z1", "2e-3"]).unwrap();
-        assert!(run(cli.args).unwrap().contains("\"branch\""));
+        assert!(run(cli.args).unwrap().json_line().unwrap().contains("\"branch\""));
     }
 }

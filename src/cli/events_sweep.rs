@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use serde::Serialize;
 
 use crate::cli::args::SweepArgs;
-use crate::rundir::output::CliError;
+use crate::rundir::report::{report, Reported};
 use crate::studies::events_sweep::{events_sweep, Options};
 
 #[derive(clap::Args, Debug, Serialize)]
@@ -32,7 +32,7 @@ pub struct Args {
     pub sweep: SweepArgs,
 }
 
-pub fn run(args: Args) -> Result<String, CliError> {
+pub fn run(args: Args) -> Reported {
     let options = Options {
         scene: args.scene.clone(),
         vary: args.vary.clone(),
@@ -40,5 +40,5 @@ pub fn run(args: Args) -> Result<String, CliError> {
         out: args.out.clone(),
         log: args.log,
     };
-    events_sweep(&options, &args.sweep.engine())
+    report(events_sweep(&options, &args.sweep.engine())?)
 }

@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use serde::Serialize;
 
-use crate::rundir::output::CliError;
+use crate::rundir::report::{report, Reported};
 use crate::studies::mechanism::{mechanism, Options};
 
 #[derive(clap::Args, Debug, Serialize)]
@@ -47,6 +47,6 @@ impl Args {
     }
 }
 
-pub fn run(args: Args) -> Result<String, CliError> {
-    mechanism(&args.options())
+pub fn run(args: Args) -> Reported {
+    report(mechanism(&args.options())?)
 }

@@ -6,7 +6,7 @@
 
 use std::path::PathBuf;
 
-use crate::rundir::output::CliError;
+use crate::rundir::report::{report, Reported};
 use crate::studies::sweep::{self, phase_map, Sweep, SweepKind, Which};
 
 #[derive(clap::Args, Debug, serde::Serialize)]
@@ -33,7 +33,7 @@ pub struct Args {
     pub sweep: crate::cli::args::SweepArgs,
 }
 
-pub fn run(args: Args) -> Result<String, CliError> {
+pub fn run(args: Args) -> Reported {
     let freqs = sweep::parse_range(&args.frequency, "frequency")?;
     let amps = sweep::parse_range(&args.amplitude, "amplitude")?;
     let scene = crate::scene::file::load(&args.scene, &args.sweep.overrides)?.dem;
@@ -45,7 +45,9 @@ pub fn run(args: Args) -> Result<String, CliError> {
         jobs: phase_map::jobs(&freqs, &amps, &args.model.models(), args.seeds.max(1), scene.run.seed),
         resolved: String::new(),
     };
-    args.sweep
-        .engine()
-        .execute(&args.out, &sweep, crate::studies::sweep::phase_map::report)
+    report(
+        args.sweep
+            .engine()
+            .execute(&args.out, &sweep, crate::studies::sweep::phase_map::report)?,
+    )
 }

@@ -18,7 +18,7 @@ use std::path::PathBuf;
 use serde::Serialize;
 
 use crate::dem::{resolve, run_dem, RunOptions};
-use crate::rundir::output::{json_line, CliError};
+use crate::rundir::report::{report, Reported};
 
 #[derive(clap::Args, Debug, Serialize)]
 pub struct Args {
@@ -72,8 +72,8 @@ impl Args {
     }
 }
 
-pub fn run(args: Args) -> Result<String, CliError> {
+pub fn run(args: Args) -> Reported {
     let file = crate::scene::file::load(&args.run.scene, &args.run.set.overrides)?;
     let resolved = resolve(&args.run.scene, file)?;
-    json_line(&run_dem(&resolved, &args.options())?)
+    report(run_dem(&resolved, &args.options())?)
 }

@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use serde::Serialize;
 
-use crate::rundir::output::CliError;
+use crate::rundir::report::{report, Reported};
 use crate::studies::seeds::{seeds, Options};
 
 #[derive(clap::Args, Debug, Serialize)]
@@ -31,6 +31,6 @@ impl Args {
     }
 }
 
-pub fn run(args: Args) -> Result<String, CliError> {
-    seeds(&args.options())
+pub fn run(args: Args) -> Reported {
+    report(seeds(&args.options())?)
 }

@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use serde::Serialize;
 
-use crate::rundir::output::CliError;
+use crate::rundir::report::{report, Reported};
 use crate::studies::single::{single_sphere, Options};
 
 #[derive(clap::Args, Debug, Serialize)]
@@ -77,6 +77,6 @@ impl Args {
     }
 }
 
-pub fn run(args: Args) -> Result<String, CliError> {
-    single_sphere(&args.options())
+pub fn run(args: Args) -> Reported {
+    report(single_sphere(&args.options())?)
 }

@@ -19,6 +19,28 @@ pub fn positive(s: &str) -> Result<f64, String> {
     Ok(x)
 }
 
+/// A finite number of at least zero.
+pub fn non_negative(s: &str) -> Result<f64, String> {
+    let x = not_nan(s)?;
+    if !(x.is_finite() && x >= 0.0) {
+        return Err(format!("must be a finite number >= 0, got {x}"));
+    }
+    Ok(x)
+}
+
+/// A window `FROM,TO` of seconds, `FROM <= TO`.
+pub fn window(s: &str) -> Result<(f64, f64), String> {
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|p| p.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| format!("expected FROM,TO in seconds, got `{s}`"))?;
+    match v[..] {
+        [a, b] if a <= b => Ok((a, b)),
+        _ => Err(format!("expected FROM,TO with FROM <= TO, got `{s}`")),
+    }
+}
+
 /// A count of at least one.
 pub fn at_least_one(s: &str) -> Result<usize, String> {
     at_least(s, 1)

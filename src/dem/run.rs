@@ -19,6 +19,7 @@ use crate::dem::thermo::Thermo;
 use crate::dem::vtk::VtkSeries;
 use crate::rundir::output::CliError as Error;
 use crate::rundir::output::{non_empty, progress_bar, RunDir, Written};
+use crate::rundir::report::{Headline, Summary};
 
 /// How to run a resolved scene and where to write it (the scene itself is in [`Resolved`]).
 #[derive(Clone, Debug, Default, Serialize)]
@@ -109,6 +110,17 @@ pub struct DemSummary {
     pub warnings: Vec<String>,
     #[serde(flatten)]
     pub written: Written,
+}
+
+impl Summary for DemSummary {
+    fn headline(&self) -> Headline {
+        Headline {
+            simulated_s: Some(self.simulated_s),
+            wall_s: Some(self.wall_s),
+            snapshots: Some(self.snapshots),
+            ..Headline::written(self.warnings.len(), &self.written)
+        }
+    }
 }
 
 /// Files a run writes into its directory (removed by `--force` before a new run).

@@ -12,7 +12,8 @@ use analysis::plot::{LinePlot, Mark};
 use events::impact::{self, Impact, Target, Walton};
 use serde::Serialize;
 
-use crate::rundir::output::{json_line, CliError, RunDir};
+use crate::rundir::output::{CliError, RunDir};
+use crate::rundir::report::{Headline, Report, Summary};
 
 /// Options of `stripes events-collide`. SI units; angles in degrees.
 /// What the study is given (the command's arguments, without the command line); serialised
@@ -71,6 +72,12 @@ struct One {
     dissipated_j: f64,
 }
 
+impl Summary for One {
+    fn headline(&self) -> Headline {
+        Headline::default()
+    }
+}
+
 /// The option that an engine field comes from.
 fn option_of(field: &str) -> &'static str {
     match field {
@@ -94,7 +101,7 @@ fn named(e: events::EventsError) -> CliError {
     }
 }
 
-pub fn impacts(args: &Options) -> Result<String, CliError> {
+pub fn impacts(args: &Options) -> Result<Box<dyn Report>, CliError> {
     let target = match args.target.as_str() {
         "wall" => Target::Wall,
         "pair" => Target::Pair,
@@ -123,7 +130,7 @@ pub fn impacts(args: &Options) -> Result<String, CliError> {
         }
         let r = imp.run().map_err(named)?;
         let o = r.outcome;
-        return json_line(&One {
+        return Ok(Box::new(One {
             target: args.target.clone(),
             branch: r.branch.name(),
             tan_psi_in: r.tan_in,
@@ -137,7 +144,7 @@ pub fn impacts(args: &Options) -> Result<String, CliError> {
             v2_after: [o.v2.x, o.v2.y],
             w2_after: o.w2,
             dissipated_j: o.dissipated,
-        });
+        }));
     };
     if count < 2 {
         return Err(format!("--sweep: needs at least 2 angles, got {count}").into());
@@ -219,10 +226,13 @@ pub fn impacts(args: &Options) -> Result<String, CliError> {
     )?;
     dir.plot("rebound", &rebound)?;
     dir.plot("beta", &beta.include_y(-1.0).include_y(1.0))?;
-    dir.finish(serde_json::json!({
-        "impacts": rows.len(),
-        "max_closed_form_error": worst,
-        "branch_codes": "0 smooth, 1 sticking, 2 coulomb",
-        "switches": switches,
-    }))
+    Ok(Box::new(dir.finish(
+        Headline::default(),
+        serde_json::json!({
+            "impacts": rows.len(),
+            "max_closed_form_error": worst,
+            "branch_codes": "0 smooth, 1 sticking, 2 coulomb",
+            "switches": switches,
+        }),
+    )?))
 }

@@ -15,6 +15,7 @@ use serde_json::json;
 use crate::events::checkpoint;
 use crate::rundir::output::CliError as Error;
 use crate::rundir::output::{progress_bar, RunDir, Written};
+use crate::rundir::report::{Headline, Summary};
 use crate::scene::events::EventScene;
 
 /// How to run an event-driven scene and where to write it.
@@ -80,6 +81,16 @@ pub struct EventsSummary {
     pub warnings: Vec<String>,
     #[serde(flatten)]
     pub written: Written,
+}
+
+impl Summary for EventsSummary {
+    fn headline(&self) -> Headline {
+        Headline {
+            simulated_s: Some(self.simulated_s),
+            wall_s: Some(self.wall_s),
+            ..Headline::written(self.warnings.len(), &self.written)
+        }
+    }
 }
 
 /// Runs the event-driven scene read from `path` into `opts.out`, new or continued from its

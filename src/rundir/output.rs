@@ -10,6 +10,8 @@ use std::time::{Duration, Instant};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde::Serialize;
 
+use crate::rundir::report::{Headline, Untyped};
+
 /// Error type of the CLI: a message for the user.
 pub type CliError = Box<dyn std::error::Error + Send + Sync>;
 
@@ -162,17 +164,23 @@ impl RunDir {
         self.json("summary.json", &value)
     }
 
-    /// Writes `summary.json` (with the list of files written) and returns it as one line of
-    /// JSON for stdout.
-    pub fn finish(mut self, summary: serde_json::Value) -> Result<String, CliError> {
+    /// Writes `summary.json` from a JSON object, with `out` and `files` added, and returns it
+    /// beside its headline, which the caller gives from its own values (the directory added).
+    pub fn finish(mut self, headline: Headline, summary: serde_json::Value) -> Result<Untyped, CliError> {
         let mut summary = summary;
-        let files: Vec<String> = self.written.iter().map(|p| p.display().to_string()).collect();
+        let written = self.written();
         if let serde_json::Value::Object(map) = &mut summary {
-            map.insert("out".into(), self.path.display().to_string().into());
-            map.insert("files".into(), files.into());
+            map.insert("out".into(), written.out.clone().into());
+            map.insert("files".into(), written.files.clone().into());
         }
         self.json("summary.json", &summary)?;
-        Ok(serde_json::to_string(&summary)?)
+        Ok(Untyped {
+            headline: Headline {
+                out: Some((written.out, written.files.len())),
+                ..headline
+            },
+            value: summary,
+        })
     }
 }
 
@@ -181,12 +189,6 @@ impl RunDir {
 pub struct Written {
     pub out: String,
     pub files: Vec<String>,
-}
-
-/// A typed summary as the one line of JSON a command prints (keys in the order of
-/// `summary.json`).
-pub fn json_line(summary: &impl Serialize) -> Result<String, CliError> {
-    Ok(serde_json::to_string(&serde_json::to_value(summary)?)?)
 }
 
 /// Whether `dir` exists and holds anything.
@@ -280,90 +282,6 @@ fn hms(s: f64) -> String {
     format!("{}:{:02}:{:02}", s / 3600, s / 60 % 60, s % 60)
 }
 
-/// The fields of a summary that its line for people reads; every summary has some of them.
-#[derive(serde::Deserialize, Default)]
-struct Headline {
-    simulated_s: Option<f64>,
-    wall_s: Option<f64>,
-    snapshots: Option<f64>,
-    /// Present (the run was classified) but null: too few frames for a phase.
-    #[serde(default, deserialize_with = "present")]
-    phase: Option<Option<String>>,
-    stripe_count_final: Option<f64>,
-    phase_robust: Option<bool>,
-    #[serde(default)]
-    phase_votes: Votes,
-    #[serde(default)]
-    warnings: Vec<serde::de::IgnoredAny>,
-    failed: Option<Vec<serde::de::IgnoredAny>>,
-    out: Option<String>,
-    #[serde(default)]
-    files: Vec<serde::de::IgnoredAny>,
-}
-
-/// How the threshold sets around the default label a run.
-#[derive(serde::Deserialize, Default)]
-struct Votes {
-    #[serde(default)]
-    stripes: u64,
-    #[serde(default)]
-    gas: u64,
-    #[serde(default)]
-    nothing: u64,
-}
-
-/// A key that is present, null or not: the phase a run was classified as. A `phase` that is
-/// a number (the drive phase of `stripes events`' summary) is no classification, and is read
-/// as absent rather than making the whole summary unreadable (its line then said
-/// "0 warning(s)" beside a run's warnings).
-fn present<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<Option<String>>, D::Error> {
-    use serde::Deserialize;
-    Ok(match serde_json::Value::deserialize(d)? {
-        serde_json::Value::String(s) => Some(Some(s)),
-        serde_json::Value::Null => Some(None),
-        _ => None,
-    })
-}
-
-/// A short human-readable account of a command's summary (the JSON line it prints) for
-/// stderr: what was simulated, found and written, and how many warnings there were. A
-/// summary it cannot read gives only "done".
-pub fn human_summary(summary: &str) -> String {
-    let h: Headline = serde_json::from_str(summary).unwrap_or_default();
-    let mut parts = Vec::new();
-    if let (Some(t), Some(w)) = (h.simulated_s, h.wall_s) {
-        parts.push(format!("{t:.3} s simulated in {w:.1} s"));
-    } else if let Some(w) = h.wall_s {
-        parts.push(format!("{w:.1} s"));
-    }
-    if let Some(n) = h.snapshots {
-        parts.push(format!("{n} snapshots"));
-    }
-    if let Some(p) = &h.phase {
-        let stripes = h.stripe_count_final.map_or(String::new(), |c| format!(", {c} stripes at the end"));
-        let robust = match h.phase_robust {
-            Some(true) => " (the same under every threshold set tried)".to_string(),
-            Some(false) => format!(
-                " (not robust: of 27 threshold sets, {} say stripes, {} gas, {} nothing; see phase_sensitivity.csv)",
-                h.phase_votes.stripes, h.phase_votes.gas, h.phase_votes.nothing
-            ),
-            None => String::new(),
-        };
-        parts.push(format!(
-            "phase {}{robust}{stripes}",
-            p.as_deref().unwrap_or("none (too few frames)")
-        ));
-    }
-    parts.push(format!("{} warning(s)", h.warnings.len()));
-    if let Some(failed) = &h.failed {
-        parts.push(format!("{} failed run(s)", failed.len()));
-    }
-    if let Some(out) = &h.out {
-        parts.push(format!("{} files in {out}", h.files.len()));
-    }
-    format!("done: {}", parts.join("; "))
-}
-
 /// A number written by serde_json, where NaN becomes `null`: read back as NaN.
 pub fn nan_if_null<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
     use serde::Deserialize;
@@ -416,20 +334,5 @@ mod progress_tests {
             line,
             "events: 50% (5/10 at 2.50e0/s), t = 1 s of 2 s, 400 collisions, elapsed 0:00:02, eta 0:00:02"
         );
-    }
-
-    #[test]
-    fn a_sweeps_account_counts_its_failed_runs() {
-        let s = serde_json::json!({"wall_s": 3.0, "warnings": [], "failed": ["a", "b"]}).to_string();
-        assert_eq!(human_summary(&s), "done: 3.0 s; 0 warning(s); 2 failed run(s)");
-        let s = serde_json::json!({"wall_s": 1.0, "phase": null, "out": "d", "files": ["a"]}).to_string();
-        assert_eq!(
-            human_summary(&s),
-            "done: 1.0 s; phase none (too few frames); 0 warning(s); 1 files in d"
-        );
-        // An event-driven run's summary: its `phase` is the drive phase (a number), and its
-        // warnings are counted (the line said "0 warning(s)" beside a warning).
-        let s = serde_json::json!({"simulated_s": 0.3, "wall_s": 0.5, "phase": 0.0, "warnings": ["escaped"]}).to_string();
-        assert_eq!(human_summary(&s), "done: 0.300 s simulated in 0.5 s; 1 warning(s)");
     }
 }

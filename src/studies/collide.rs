@@ -11,7 +11,7 @@ use std::path::PathBuf;
 
 use particles::contact::choice::{LawChoice, LawParameters, Missing, NormalKind, RollingKind, TangentialKind};
 use particles::contact::ContactLaw;
-use particles::experiment::collide::{Collision, Impact, StepSize, Target};
+use particles::experiment::collide::{Collision, CollisionResult, Impact, StepSize, Target};
 use particles::integrate::Integrator;
 use particles::material::Material;
 use particles::Vec3;
@@ -19,7 +19,8 @@ use serde::Serialize;
 
 use analysis::plot::Heatmap;
 
-use crate::rundir::output::{CliError, RunDir};
+use crate::rundir::output::{CliError, RunDir, Written};
+use crate::rundir::report::{Headline, Report, Summary};
 
 /// Options of `stripes collide`. SI units. Defaults: the thesis' glass beads (Table 3.1).
 /// What the study is given (the command's arguments, without the command line); serialised
@@ -187,20 +188,45 @@ impl Options {
     }
 }
 
-pub fn collide(args: &Options) -> Result<String, CliError> {
-    if args.table {
-        return run_table(args);
+/// One impact: the experiment's result, and the directory it was written to (none for the
+/// calculator, which writes nothing).
+#[derive(Clone, Debug, Serialize)]
+pub struct ImpactSummary {
+    #[serde(flatten)]
+    pub result: CollisionResult,
+    #[serde(flatten)]
+    pub written: Option<Written>,
+}
+
+impl Report for ImpactSummary {
+    fn headline(&self) -> Headline {
+        self.written.as_ref().map_or_else(Headline::default, |w| Headline::written(0, w))
     }
+
+    fn json_line(&self) -> Result<String, serde_json::Error> {
+        match self.written {
+            // The calculator's line: the result's fields in their own order.
+            None => serde_json::to_string(&self.result),
+            Some(_) => serde_json::to_string(&serde_json::to_value(self)?),
+        }
+    }
+}
+
+/// One impact; written into `--out` with its `config.json` and `summary.json` if given.
+pub fn collide(args: &Options) -> Result<ImpactSummary, CliError> {
     let collision = args.collision()?;
     let result = collision.run()?;
     // Without --out, a calculator: the result is printed, nothing is written, and a second
     // call needs neither --force nor a new directory.
     let Some(out) = &args.out else {
-        return Ok(serde_json::to_string(&result)?);
+        return Ok(ImpactSummary { result, written: None });
     };
     crate::rundir::output::claim(out, args.force)?;
     let dir = RunDir::create(out, &args)?;
-    dir.finish(serde_json::to_value(&result)?)
+    let mut summary = ImpactSummary { result, written: None };
+    summary.written = Some(dir.written());
+    dir.finish_typed(&summary)?;
+    Ok(summary)
 }
 
 /// The restitution table as two maps, `<name>_beta` and `<name>_eps_n`: every impact of the
@@ -271,8 +297,36 @@ pub fn clamp_to_rule(name: &str, rows: &mut [Row]) -> Vec<String> {
     notes
 }
 
+/// What `--table` wrote: `summary.json`, field for field.
+#[derive(Clone, Debug, Serialize)]
+pub struct TableSummary {
+    pub restitution: TableRange,
+    pub restitution_floor: TableRange,
+    /// Where the laws came from: the law options or a scene.
+    pub laws_from: String,
+    pub warnings: Vec<String>,
+    #[serde(flatten)]
+    pub written: Written,
+}
+
+/// The impacts of one table and the range of their coefficients.
+#[derive(Clone, Debug, Serialize)]
+pub struct TableRange {
+    pub impacts: usize,
+    pub beta_min: f64,
+    pub beta_max: f64,
+    pub eps_n_min: f64,
+    pub eps_n_max: f64,
+}
+
+impl Summary for TableSummary {
+    fn headline(&self) -> Headline {
+        Headline::written(self.warnings.len(), &self.written)
+    }
+}
+
 /// `--table`: the restitution tables of pairs and of the floor, with plots.
-fn run_table(args: &Options) -> Result<String, CliError> {
+pub fn restitution_table(args: &Options) -> Result<TableSummary, CliError> {
     for &x in args.g_n.iter().chain(&args.ratios) {
         if !(x.is_finite() && x > 0.0) {
             return Err(format!("--g-n and --ratios must be positive numbers, got {x}").into());
@@ -319,7 +373,7 @@ fn run_table(args: &Options) -> Result<String, CliError> {
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from("out/collide"));
     crate::rundir::output::claim(&out, args.force)?;
     let mut dir = RunDir::create(&out, &args)?;
-    let mut summary = serde_json::Map::new();
+    let mut ranges = Vec::new();
     for (name, rows) in tables {
         let table: Vec<Vec<f64>> = rows.iter().map(|r| vec![r.g_n, r.g_t_over_g_n, r.eps_n, r.beta]).collect();
         dir.csv(&format!("{name}.csv"), &["g_n", "g_t_over_g_n", "eps_n", "beta"], &table)?;
@@ -327,19 +381,30 @@ fn run_table(args: &Options) -> Result<String, CliError> {
             let files = map.save(&out.join(&stem)).map_err(|e| format!("cannot draw {stem}: {e}"))?;
             dir.note_files(files);
         }
-        let (lo, hi) = rows
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), r| (a.min(r.beta), b.max(r.beta)));
-        summary.insert(
-            name.to_string(),
-            serde_json::json!({ "impacts": rows.len(), "beta_min": lo, "beta_max": hi,
-                "eps_n_min": rows.iter().map(|r| r.eps_n).fold(f64::INFINITY, f64::min),
-                "eps_n_max": rows.iter().map(|r| r.eps_n).fold(f64::NEG_INFINITY, f64::max) }),
-        );
+        let range = |f: fn(&Row) -> f64| {
+            rows.iter()
+                .map(f)
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| (a.min(x), b.max(x)))
+        };
+        let ((beta_min, beta_max), (eps_n_min, eps_n_max)) = (range(|r| r.beta), range(|r| r.eps_n));
+        ranges.push(TableRange {
+            impacts: rows.len(),
+            beta_min,
+            beta_max,
+            eps_n_min,
+            eps_n_max,
+        });
     }
-    summary.insert("laws_from".into(), source.into());
-    summary.insert("warnings".into(), warnings.into());
-    dir.finish(serde_json::Value::Object(summary))
+    let [restitution, restitution_floor] = <[TableRange; 2]>::try_from(ranges).map_err(|_| "two tables")?;
+    let summary = TableSummary {
+        restitution,
+        restitution_floor,
+        laws_from: source,
+        warnings,
+        written: dir.written(),
+    };
+    dir.finish_typed(&summary)?;
+    Ok(summary)
 }
 
 #[cfg(test)]

@@ -22,8 +22,10 @@ use crate::automaton::lattice::load_scene;
 use crate::automaton::{resolve_lattice, run_automaton, AutomatonOptions};
 use crate::dem::samples::sample_key;
 use crate::dem::{resolve, run_dem, RunOptions};
-use crate::rundir::output::{CliError, RunDir};
+use crate::rundir::output::{CliError, RunDir, Written};
+use crate::rundir::report::{Headline, Summary};
 use crate::rundir::resume::no_checkpoint;
+use crate::studies::vibrated_box::BoxSummary;
 
 /// What a comparison is given: the scene file and its overrides, where it writes, and the
 /// runs it may reuse. Serialised as the command's arguments into `config.json`.
@@ -280,7 +282,63 @@ fn one_time_axis(a: &[(f64, f64)], b: &[(f64, f64)]) -> Vec<Vec<f64>> {
 
 /// Both models on the scene and its sample, analysed alike, written to `report.md`; a scene
 /// with `drive.direction = "z"` goes to the vibrated box's three-way check.
-pub fn compare_scene(args: &Options) -> Result<String, CliError> {
+/// What `stripes compare` found: the tray's DEM against the automaton, or the vibrated
+/// box's three models; `summary.json`, field for field.
+#[derive(Clone, Debug, Serialize)]
+#[serde(untagged)]
+pub enum CompareSummary {
+    Tray(Box<TraySummary>),
+    VibratedBox(Box<BoxSummary>),
+}
+
+impl Summary for CompareSummary {
+    fn headline(&self) -> Headline {
+        match self {
+            CompareSummary::Tray(t) => Headline::written(t.warnings.len(), &t.written),
+            CompareSummary::VibratedBox(b) => b.headline(),
+        }
+    }
+}
+
+/// The DEM and the automaton on one scene and sample.
+#[derive(Clone, Debug, Serialize)]
+pub struct TraySummary {
+    pub scene: String,
+    pub sample_key: String,
+    pub dem_run: String,
+    pub warnings: Vec<String>,
+    pub dem: ModelRun,
+    pub automaton: ModelRun,
+    pub pattern_distance: Option<f64>,
+    pub pattern_distance_seed_scale: Option<f64>,
+    pub pattern_distance_scaled: Option<f64>,
+    #[serde(flatten)]
+    pub written: Written,
+}
+
+/// One model's run: its analysis' shared keys, its speed and its bands.
+#[derive(Clone, Debug, Serialize)]
+pub struct ModelRun {
+    /// The keys of the analysis that every model's summary repeats
+    /// ([`crate::analyze::AnalysisSummary::shared_keys`]).
+    pub analysis: serde_json::Map<String, serde_json::Value>,
+    #[serde(flatten)]
+    pub speed: Speed,
+    pub wall_s: Option<f64>,
+    pub spacing_m: Option<f64>,
+    pub band_width_m: Option<f64>,
+    pub in_band_fraction: Option<f64>,
+}
+
+/// A model's speed in its own unit.
+#[derive(Clone, Copy, Debug, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Speed {
+    ParticleStepsPerS(Option<f64>),
+    CellUpdatesPerS(Option<f64>),
+}
+
+pub fn compare_scene(args: &Options) -> Result<CompareSummary, CliError> {
     let file = load_scene(&args.scene, &args.overrides)?;
     let scene = &file.dem;
     let name = args
@@ -291,7 +349,7 @@ pub fn compare_scene(args: &Options) -> Result<String, CliError> {
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from(format!("out/compare-{name}")));
     // A vertically vibrated box is compared with the event-driven model, not the automaton.
     if crate::studies::vibrated_box::is_vibrated_box(scene) {
-        return crate::studies::vibrated_box::compare(
+        let summary = crate::studies::vibrated_box::compare(
             &file,
             &crate::studies::vibrated_box::Options {
                 scene: args.scene.clone(),
@@ -302,7 +360,8 @@ pub fn compare_scene(args: &Options) -> Result<String, CliError> {
                 force: args.force,
                 quiet: args.quiet,
             },
-        );
+        )?;
+        return Ok(CompareSummary::VibratedBox(Box::new(summary)));
     }
     if crate::rundir::output::non_empty(&out) && !args.force && !args.resume {
         return Err(format!(
@@ -360,7 +419,7 @@ fn check_dem_run(d: &Path, scene: &particles::scene::Scene) -> Result<(), CliErr
     Ok(())
 }
 
-fn compare(args: &Options, file: &crate::scene::file::SceneFile, out: &Path) -> Result<String, CliError> {
+fn compare(args: &Options, file: &crate::scene::file::SceneFile, out: &Path) -> Result<CompareSummary, CliError> {
     let scene = &file.dem;
     let args_json = json!({ "args": args, "scene": file });
     // A resume rewrites config.json only once both runs are done: one killed on the way
@@ -633,24 +692,61 @@ fn compare(args: &Options, file: &crate::scene::file::SceneFile, out: &Path) -> 
     for sub in ["dem", "automaton"] {
         dir.note_tree(Path::new(sub));
     }
-    dir.finish(json!({
-        "scene": args.scene.display().to_string(),
-        "sample_key": format!("{:016x}", sample_key(scene)),
-        "dem_run": dem_dir.display().to_string(),
-        "warnings": warnings,
-        "dem": { "analysis": dem_analysed.shared_keys()?, "particle_steps_per_s": dem_speed, "wall_s": dem_wall,
-                 "spacing_m": dem_keys.spacing_m, "band_width_m": dem_keys.band_width_m, "in_band_fraction": dem_keys.in_band_fraction },
-        "automaton": { "analysis": automaton.analysed.shared_keys()?, "cell_updates_per_s": auto_speed, "wall_s": auto_wall,
-                 "spacing_m": auto_keys.spacing_m, "band_width_m": auto_keys.band_width_m, "in_band_fraction": auto_keys.in_band_fraction },
-        "pattern_distance": pattern_distance,
-        "pattern_distance_seed_scale": seed_scale,
-        "pattern_distance_scaled": pattern_distance.and_then(|d| analysis::structure::scaled(d, seed_scale)),
-    }))
+    let summary = TraySummary {
+        scene: args.scene.display().to_string(),
+        sample_key: format!("{:016x}", sample_key(scene)),
+        dem_run: dem_dir.display().to_string(),
+        warnings,
+        dem: ModelRun {
+            analysis: dem_analysed.shared_keys()?,
+            speed: Speed::ParticleStepsPerS(dem_speed),
+            wall_s: dem_wall,
+            spacing_m: dem_keys.spacing_m,
+            band_width_m: dem_keys.band_width_m,
+            in_band_fraction: dem_keys.in_band_fraction,
+        },
+        automaton: ModelRun {
+            analysis: automaton.analysed.shared_keys()?,
+            speed: Speed::CellUpdatesPerS(auto_speed),
+            wall_s: auto_wall,
+            spacing_m: auto_keys.spacing_m,
+            band_width_m: auto_keys.band_width_m,
+            in_band_fraction: auto_keys.in_band_fraction,
+        },
+        pattern_distance,
+        pattern_distance_seed_scale: seed_scale,
+        pattern_distance_scaled: pattern_distance.and_then(|d| analysis::structure::scaled(d, seed_scale)),
+        written: dir.written(),
+    };
+    dir.finish_typed(&summary)?;
+    Ok(CompareSummary::Tray(Box::new(summary)))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Issue 42: each model's speed is written under its own key, as the JSON object that
+    /// `compare` built before its summary was a struct.
+    #[test]
+    fn a_models_speed_is_written_under_its_own_key() {
+        let run = |speed| ModelRun {
+            analysis: serde_json::Map::new(),
+            speed,
+            wall_s: Some(2.0),
+            spacing_m: None,
+            band_width_m: Some(1e-3),
+            in_band_fraction: None,
+        };
+        let dem = serde_json::to_value(run(Speed::ParticleStepsPerS(Some(5e6)))).unwrap();
+        let automaton = serde_json::to_value(run(Speed::CellUpdatesPerS(None))).unwrap();
+        assert_eq!(
+            dem.to_string(),
+            r#"{"analysis":{},"band_width_m":0.001,"in_band_fraction":null,"particle_steps_per_s":5000000.0,"spacing_m":null,"wall_s":2.0}"#
+        );
+        assert_eq!(automaton["cell_updates_per_s"], serde_json::Value::Null);
+        assert!(automaton.get("particle_steps_per_s").is_none());
+    }
 
     fn outcome(phase: Option<Phase>, count: usize, onset: Option<f64>) -> Outcome {
         Outcome {

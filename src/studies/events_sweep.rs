@@ -13,12 +13,13 @@ use std::path::{Path, PathBuf};
 
 use analysis::plot::{LinePlot, Mark};
 use serde::Serialize;
-use serde_json::{json, Value};
+use serde_json::json;
 
 use crate::events::measure::Measured;
 use crate::rundir::output::CliError;
+use crate::rundir::report::{Headline, Untyped};
 use crate::scene::edit::{Edit, EventsEdit};
-use crate::studies::sweep::{self, Engine, EventsResult, Job, Model, Sweep, SweepKind};
+use crate::studies::sweep::{self, Engine, EventsResult, Job, Model, Sweep, SweepKind, SweepReport};
 
 /// What the study is given besides the engine's options (`--set`, `--shard`, `--jobs`,
 /// `--force`, `--quiet`).
@@ -183,7 +184,7 @@ fn stored_axes(sweep: &Sweep) -> Vec<Axis> {
     axes
 }
 
-pub fn events_sweep(args: &Options, engine: &Engine) -> Result<String, CliError> {
+pub fn events_sweep(args: &Options, engine: &Engine) -> Result<SweepReport<Untyped>, CliError> {
     let axes = axes(&args.vary)?;
     let own_seed = check_keys(&axes, &engine.overrides, args.seeds)?;
     if args.log {
@@ -222,7 +223,7 @@ pub fn events_sweep(args: &Options, engine: &Engine) -> Result<String, CliError>
 }
 
 /// The report of an events sweep's results present (`stripes collect`): linear axes.
-pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
+pub fn report(root: &Path, sweep: &Sweep) -> Result<Untyped, CliError> {
     let log = std::fs::read_to_string(root.join("plots.json"))
         .ok()
         .and_then(|t| serde_json::from_str::<PlotScale>(&t).ok())
@@ -236,7 +237,7 @@ struct PlotScale {
     log: bool,
 }
 
-fn report_with(root: &Path, sweep: &Sweep, log: bool) -> Result<Value, CliError> {
+fn report_with(root: &Path, sweep: &Sweep, log: bool) -> Result<Untyped, CliError> {
     let axes = stored_axes(sweep);
     let points = grid(&axes);
     let per = sweep.jobs.len() / points.len().max(1);
@@ -289,8 +290,10 @@ fn report_with(root: &Path, sweep: &Sweep, log: bool) -> Result<Value, CliError>
         }
         let md = format!("# events-sweep of `{}`\n\nNo run has finished yet.\n\n", sweep.scene.display());
         sweep::write_report(root, sweep, &mut dir, md)?;
-        let line = dir.finish(json!({ "kind": "events-sweep", "jobs": sweep.jobs.len(), "runs": 0 }))?;
-        return Ok(serde_json::from_str(&line)?);
+        return dir.finish(
+            Headline::default(),
+            json!({ "kind": "events-sweep", "jobs": sweep.jobs.len(), "runs": 0 }),
+        );
     };
     let columns: Vec<&str> = measures(example).iter().map(|(n, _)| *n).collect();
     let mut header: Vec<&str> = axes.iter().map(|a| a.key.as_str()).collect();
@@ -409,22 +412,30 @@ fn report_with(root: &Path, sweep: &Sweep, log: bool) -> Result<Value, CliError>
         md.push_str(&format!("Warning: {w}\n\n"));
     }
     sweep::write_report(root, sweep, &mut dir, std::mem::take(&mut md))?;
-    let line = dir.finish(json!({
-        "kind": "events-sweep",
-        "scene": sweep.scene.display().to_string(),
-        "jobs": sweep.jobs.len(),
-        "runs": finished,
-        "grid_points": points.len(),
-        "seeds": per,
-        "wall_s": wall_s,
-        "cpu_s": cpu,
-        "collisions": collisions,
-        "collisions_per_cpu_s": collisions as f64 / cpu.max(1e-9),
-        "worst_energy_ledger_error": measured.iter().flatten().map(|m| m.energy_ledger_error).fold(0.0, f64::max),
-        "failed": failures,
-        "warnings": warnings,
-    }))?;
-    Ok(serde_json::from_str(&line)?)
+    let headline = Headline {
+        wall_s: Some(wall_s),
+        warnings: warnings.len(),
+        failed: Some(failures.len()),
+        ..Headline::default()
+    };
+    dir.finish(
+        headline,
+        json!({
+            "kind": "events-sweep",
+            "scene": sweep.scene.display().to_string(),
+            "jobs": sweep.jobs.len(),
+            "runs": finished,
+            "grid_points": points.len(),
+            "seeds": per,
+            "wall_s": wall_s,
+            "cpu_s": cpu,
+            "collisions": collisions,
+            "collisions_per_cpu_s": collisions as f64 / cpu.max(1e-9),
+            "worst_energy_ledger_error": measured.iter().flatten().map(|m| m.energy_ledger_error).fold(0.0, f64::max),
+            "failed": failures,
+            "warnings": warnings,
+        }),
+    )
 }
 
 #[cfg(test)]

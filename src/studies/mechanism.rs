@@ -22,7 +22,9 @@ use particles::tray;
 use serde::Serialize;
 use serde_json::json;
 
+use crate::rundir::output::Written;
 use crate::rundir::output::{progress_bar, CliError, RunDir};
+use crate::rundir::report::{Headline, Summary};
 
 /// What the study is given (the command's arguments, without the command line); serialised
 /// as the arguments into `config.json`.
@@ -44,7 +46,95 @@ pub struct Options {
     pub coarse_only: bool,
 }
 
-pub fn mechanism(args: &Options) -> Result<String, CliError> {
+/// What `stripes mechanism` found: `summary.json`, field for field.
+#[derive(Debug, Serialize)]
+#[serde(untagged)]
+pub enum MechanismSummary {
+    /// `--coarse-only`: the coarse model's parameters alone.
+    CoarseOnly(CoarseOnly),
+    Full(Box<Full>),
+}
+
+#[derive(Debug, Serialize)]
+pub struct CoarseOnly {
+    pub run: String,
+    pub coarse_only: bool,
+    pub coarse: CoarseFile,
+    #[serde(flatten)]
+    pub written: Written,
+}
+
+/// The grains' motions inside and outside the bands, continued from the run's checkpoint.
+#[derive(Debug, Serialize)]
+pub struct Full {
+    pub run: String,
+    pub from_s: f64,
+    pub periods: u32,
+    pub per_period: u32,
+    pub gamma: f64,
+    pub floor_speed_m_s: f64,
+    pub slip_fraction: f64,
+    pub band: Fractions,
+    pub outside: Fractions,
+    pub relative_slope: f64,
+    pub by_density: Vec<DensityClass>,
+    pub relative_slope_hypothesis: f64,
+    pub coarse: Coarse,
+    #[serde(flatten)]
+    pub written: Written,
+}
+
+/// Each motion's share of the grain instants of a group, their number and the slope.
+#[derive(Debug, Serialize)]
+pub struct Fractions {
+    #[serde(flatten)]
+    pub motions: std::collections::BTreeMap<&'static str, f64>,
+    pub grain_instants: u64,
+    pub slope: f64,
+}
+
+/// One class of local packing (`phi_hi` infinite, written as null, for the last).
+#[derive(Debug, Serialize)]
+pub struct DensityClass {
+    pub phi_lo: f64,
+    pub phi_hi: f64,
+    pub grain_instants: f64,
+    pub slope: f64,
+}
+
+/// The coarse model's parameter file and its cell.
+#[derive(Debug, Serialize)]
+pub struct CoarseFile {
+    pub file: &'static str,
+    pub cell_m: Option<f64>,
+    pub half_periods: usize,
+}
+
+/// The coarse model's file with the measures it holds.
+#[derive(Debug, Serialize)]
+pub struct Coarse {
+    #[serde(flatten)]
+    pub file: CoarseFile,
+    pub before_s: Option<f64>,
+    pub excursion_mean_m: f64,
+    pub excursion_sd_m: f64,
+    pub sideways_mean_m: f64,
+    pub core_packing: Option<f64>,
+    pub escape_per_period: Option<f64>,
+    pub edge_escape_per_period: Option<f64>,
+    pub residence_mean_periods: f64,
+}
+
+impl Summary for MechanismSummary {
+    fn headline(&self) -> Headline {
+        match self {
+            MechanismSummary::CoarseOnly(c) => Headline::written(0, &c.written),
+            MechanismSummary::Full(f) => Headline::written(0, &f.written),
+        }
+    }
+}
+
+pub fn mechanism(args: &Options) -> Result<MechanismSummary, CliError> {
     if args.periods == 0 || args.per_period == 0 {
         return Err("--periods and --per-period must be at least 1".into());
     }
@@ -56,11 +146,18 @@ pub fn mechanism(args: &Options) -> Result<String, CliError> {
         crate::rundir::output::claim(&out, args.force)?;
         let mut dir = RunDir::create(&out, &json!({ "args": &args, "scene": scene }))?;
         let coarse = crate::studies::coarse::write(&args.run, !scene.tray.x_walls, &mut dir)?;
-        return dir.finish(json!({
-            "run": args.run.display().to_string(),
-            "coarse_only": true,
-            "coarse": { "file": "automaton.toml", "cell_m": coarse.cell.size_m, "half_periods": coarse.excursion.half_periods },
-        }));
+        let summary = CoarseOnly {
+            run: args.run.display().to_string(),
+            coarse_only: true,
+            coarse: CoarseFile {
+                file: "automaton.toml",
+                cell_m: coarse.cell.size_m,
+                half_periods: coarse.excursion.half_periods,
+            },
+            written: dir.written(),
+        };
+        dir.finish_typed(&summary)?;
+        return Ok(MechanismSummary::CoarseOnly(summary));
     }
     let ckpt_path = args.run.join("checkpoint.bin");
     let bytes =
@@ -200,44 +297,49 @@ pub fn mechanism(args: &Options) -> Result<String, CliError> {
     .series("held by the floor: 0", vec![(0.0, 0.0), (0.9, 0.0)], Mark::Dashed);
     dir.plot("mechanism_by_density", &by_phi)?;
 
-    let fractions = |t: &Tally| -> serde_json::Value {
-        let mut m = serde_json::Map::new();
-        for k in Motion::ALL {
-            m.insert(k.name().into(), json!(t.fraction(k)));
-        }
-        m.insert("grain_instants".into(), json!(t.total()));
-        m.insert("slope".into(), json!(t.slope()));
-        serde_json::Value::Object(m)
+    let fractions = |t: &Tally| Fractions {
+        motions: Motion::ALL.iter().map(|&k| (k.name(), t.fraction(k))).collect(),
+        grain_instants: t.total(),
+        slope: t.slope(),
     };
-    let summary = json!({
-        "run": args.run.display().to_string(),
-        "from_s": start,
-        "periods": args.periods,
-        "per_period": args.per_period,
-        "gamma": floor_speed * 2.0 * std::f64::consts::PI * nu / sim.setup.gravity.norm(),
-        "floor_speed_m_s": floor_speed,
-        "slip_fraction": analysis::mechanism::SLIP_FRACTION,
-        "band": fractions(&total.band),
-        "outside": fractions(&total.outside),
-        "relative_slope": total.relative_slope(),
-        "by_density": density_rows
+    let summary = Full {
+        run: args.run.display().to_string(),
+        from_s: start,
+        periods: args.periods,
+        per_period: args.per_period,
+        gamma: floor_speed * 2.0 * std::f64::consts::PI * nu / sim.setup.gravity.norm(),
+        floor_speed_m_s: floor_speed,
+        slip_fraction: analysis::mechanism::SLIP_FRACTION,
+        band: fractions(&total.band),
+        outside: fractions(&total.outside),
+        relative_slope: total.relative_slope(),
+        by_density: density_rows
             .iter()
-            .map(|r| json!({ "phi_lo": r[0], "phi_hi": if r[1].is_finite() { json!(r[1]) } else { json!(null) }, "grain_instants": r[2], "slope": r[3] }))
-            .collect::<Vec<_>>(),
-        "relative_slope_hypothesis": 5.0 / 7.0,
-        "coarse": {
-            "file": "automaton.toml",
-            "cell_m": coarse.cell.size_m,
-            "half_periods": coarse.excursion.half_periods,
-            "before_s": coarse.excursion.before_s,
-            "excursion_mean_m": coarse.excursion.all.excursion.mean,
-            "excursion_sd_m": coarse.excursion.all.excursion.sd,
-            "sideways_mean_m": coarse.excursion.all.sideways.mean,
-            "core_packing": coarse.bands.core_packing,
-            "escape_per_period": coarse.bands.escape_per_period,
-            "edge_escape_per_period": coarse.bands.edge_escape_per_period,
-            "residence_mean_periods": coarse.bands.residence_periods.mean,
+            .map(|r| DensityClass {
+                phi_lo: r[0],
+                phi_hi: r[1],
+                grain_instants: r[2],
+                slope: r[3],
+            })
+            .collect(),
+        relative_slope_hypothesis: 5.0 / 7.0,
+        coarse: Coarse {
+            file: CoarseFile {
+                file: "automaton.toml",
+                cell_m: coarse.cell.size_m,
+                half_periods: coarse.excursion.half_periods,
+            },
+            before_s: coarse.excursion.before_s,
+            excursion_mean_m: coarse.excursion.all.excursion.mean,
+            excursion_sd_m: coarse.excursion.all.excursion.sd,
+            sideways_mean_m: coarse.excursion.all.sideways.mean,
+            core_packing: coarse.bands.core_packing,
+            escape_per_period: coarse.bands.escape_per_period,
+            edge_escape_per_period: coarse.bands.edge_escape_per_period,
+            residence_mean_periods: coarse.bands.residence_periods.mean,
         },
-    });
-    dir.finish(summary)
+        written: dir.written(),
+    };
+    dir.finish_typed(&summary)?;
+    Ok(MechanismSummary::Full(Box::new(summary)))
 }

@@ -11,11 +11,12 @@ use std::path::PathBuf;
 
 use analysis::plot::{LinePlot, Mark};
 use serde::Serialize;
-use serde_json::{json, Value};
 
 use crate::analyze::read;
 use crate::analyze::read::SavedSummary;
+use crate::rundir::output::Written;
 use crate::rundir::output::{CliError, RunDir};
+use crate::rundir::report::{Headline, Summary};
 
 /// What the study is given (the command's arguments, without the command line); serialised
 /// as the arguments into `config.json`.
@@ -138,7 +139,47 @@ fn unlike_runs(runs: &[PathBuf], summaries: &[SavedSummary]) -> Vec<String> {
     warnings
 }
 
-pub fn seeds(args: &Options) -> Result<String, CliError> {
+/// What `stripes seeds` found: `summary.json`, field for field.
+#[derive(Debug, Serialize)]
+pub struct SeedsSummary {
+    pub runs: Vec<String>,
+    /// Each run's phase, `(threshold-sensitive)` where the label is not robust.
+    pub phases: Vec<String>,
+    /// Each quantity pooled over the runs that have it.
+    pub pooled: std::collections::BTreeMap<&'static str, Pooled>,
+    pub pattern_distances: Vec<Distance>,
+    pub pattern_distance_mean: f64,
+    pub pattern_distance_max: f64,
+    pub warnings: Vec<String>,
+    #[serde(flatten)]
+    pub written: Written,
+}
+
+/// A quantity over the runs: mean, spread and standard error (NaN, written as null, where
+/// undefined: not a spread of 0).
+#[derive(Debug, Serialize)]
+pub struct Pooled {
+    pub mean: f64,
+    pub sd: f64,
+    pub stderr: f64,
+    pub runs: usize,
+}
+
+/// The pattern distance between two runs.
+#[derive(Debug, Serialize)]
+pub struct Distance {
+    pub a: String,
+    pub b: String,
+    pub distance: f64,
+}
+
+impl Summary for SeedsSummary {
+    fn headline(&self) -> Headline {
+        Headline::written(self.warnings.len(), &self.written)
+    }
+}
+
+pub fn seeds(args: &Options) -> Result<SeedsSummary, CliError> {
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from("out/seeds"));
     let dirs = args.runs.iter().map(|r| read::resolve(r)).collect::<Result<Vec<_>, _>>()?;
     refuse_repeats(&args.runs, &dirs)?;
@@ -178,15 +219,21 @@ pub fn seeds(args: &Options) -> Result<String, CliError> {
     dir.text("seeds.csv", &csv)?;
 
     // Pooled numbers.
-    let mut pooled = serde_json::Map::new();
+    let mut pooled = std::collections::BTreeMap::new();
     let mut table = String::from("| quantity | mean | spread (sd) | standard error | runs | per run |\n|---|---|---|---|---|---|\n");
     for (k, label, unit, field) in KEYS {
         let v: Vec<f64> = summaries.iter().map(|s| num(s, field)).collect();
         let (mean, sd, se, n) = spread(&v);
         // NaN is written as null: an undefined spread, not a spread of 0.
-        let num = |x: f64| if x.is_finite() { json!(x) } else { Value::Null };
-        let (mean_v, sd_v, se_v) = (num(mean), num(sd), num(se));
-        pooled.insert(k.into(), json!({ "mean": mean_v, "sd": sd_v, "stderr": se_v, "runs": n }));
+        pooled.insert(
+            k,
+            Pooled {
+                mean,
+                sd,
+                stderr: se,
+                runs: n,
+            },
+        );
         if n == 1 {
             warnings.push(format!(
                 "{k}: only one run has a value, so its spread and standard error are undefined (null), not 0"
@@ -216,9 +263,13 @@ pub fn seeds(args: &Options) -> Result<String, CliError> {
         }
     }
     let values: Vec<f64> = distances.iter().map(|d| d.2).filter(|d| d.is_finite()).collect();
-    let distances: Vec<Value> = distances
+    let distances: Vec<Distance> = distances
         .into_iter()
-        .map(|(i, j, d)| json!({ "a": names[i], "b": names[j], "distance": d }))
+        .map(|(i, j, distance)| Distance {
+            a: names[i].clone(),
+            b: names[j].clone(),
+            distance,
+        })
         .collect();
     let (d_mean, d_sd, _, d_n) = spread(&values);
     let d_max = values.iter().copied().fold(f64::NAN, f64::max);
@@ -260,21 +311,24 @@ pub fn seeds(args: &Options) -> Result<String, CliError> {
     md.push_str("![spacing over time](spacing_over_time.png)\n\n![bands over time](count_over_time.png)\n");
     dir.text("report.md", &md)?;
 
-    dir.finish(json!({
-        "runs": names,
-        "phases": phases,
-        "pooled": pooled,
-        "pattern_distances": distances,
-        "pattern_distance_mean": d_mean,
-        "pattern_distance_max": d_max,
-        "out": out.display().to_string(),
-        "warnings": warnings,
-    }))
+    let summary = SeedsSummary {
+        runs: names,
+        phases,
+        pooled,
+        pattern_distances: distances,
+        pattern_distance_mean: d_mean,
+        pattern_distance_max: d_max,
+        warnings,
+        written: dir.written(),
+    };
+    dir.finish_typed(&summary)?;
+    Ok(summary)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use serde_json::{json, Value};
 
     /// A summary as `summary.json` would hold it.
     fn saved(v: Value) -> SavedSummary {

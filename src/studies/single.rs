@@ -20,7 +20,8 @@ use particles::time_step;
 use serde::Serialize;
 use serde_json::json;
 
-use crate::rundir::output::{CliError, RunDir};
+use crate::rundir::output::{CliError, RunDir, Written};
+use crate::rundir::report::{Headline, Summary};
 
 /// The thesis' reference scene, the default of `--scene`.
 const THESIS_REFERENCE: &str = include_str!("../../scenes/thesis-reference.toml");
@@ -122,7 +123,61 @@ struct Shaken {
     amplitudes: Amplitudes,
 }
 
-pub fn single_sphere(args: &Options) -> Result<String, CliError> {
+/// What `stripes single` found: `summary.json`, field for field.
+#[derive(Debug, Serialize)]
+pub struct SingleSummary {
+    pub amplitude: f64,
+    pub radius: f64,
+    /// The wall's Coulomb coefficient, `"inf"` when uncapped.
+    #[serde(serialize_with = "finite_or_inf")]
+    pub wall_friction: f64,
+    pub amplitudes: Vec<AmplitudeRow>,
+    /// With one frequency: each run's drift over the run, `drift_<run>_m`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub drift: Option<std::collections::BTreeMap<String, f64>>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rolling_stop: Option<Vec<Stop>>,
+    #[serde(flatten)]
+    pub written: Written,
+}
+
+/// One shaking run's amplitudes beside the rolling and sliding predictions.
+#[derive(Debug, Serialize)]
+pub struct AmplitudeRow {
+    pub frequency: f64,
+    pub gamma: f64,
+    pub rolling_friction: f64,
+    pub dt: f64,
+    pub x_peak_to_peak: f64,
+    pub vx_amplitude: f64,
+    pub rolling_prediction: Amplitudes,
+    pub sliding_prediction: Option<Amplitudes>,
+    pub coulomb_regime: &'static str,
+}
+
+/// Where a launched sphere stopped, for one rolling friction.
+#[derive(Debug, Serialize)]
+pub struct Stop {
+    pub mu_r: f64,
+    pub distance_m: f64,
+    pub final_speed: f64,
+}
+
+fn finite_or_inf<S: serde::Serializer>(mu: &f64, s: S) -> Result<S::Ok, S::Error> {
+    if mu.is_finite() {
+        s.serialize_f64(*mu)
+    } else {
+        s.serialize_str("inf")
+    }
+}
+
+impl Summary for SingleSummary {
+    fn headline(&self) -> Headline {
+        Headline::written(0, &self.written)
+    }
+}
+
+pub fn single_sphere(args: &Options) -> Result<SingleSummary, CliError> {
     let mut scene = match &args.scene {
         Some(path) => crate::scene::file::load(path, &args.overrides)?,
         None => crate::scene::file::parse(THESIS_REFERENCE, &args.overrides, "scenes/thesis-reference.toml (built in)")?,
@@ -204,36 +259,44 @@ pub fn single_sphere(args: &Options) -> Result<String, CliError> {
         &rows,
     )?;
     amplitude_plots(&mut dir, &runs, amplitude, mu, radius)?;
-    let amplitude_summary: Vec<serde_json::Value> = runs
+    let amplitudes = runs
         .iter()
         .map(|r| {
             let g = sphere::gamma(amplitude, r.frequency, GRAVITY);
-            json!({
-                "frequency": r.frequency,
-                "gamma": g,
-                "rolling_friction": r.mu_r,
-                "dt": r.dt,
-                "x_peak_to_peak": r.amplitudes.x_peak_to_peak,
-                "vx_amplitude": r.amplitudes.vx_amplitude,
-                "rolling_prediction": Amplitudes::rolling(amplitude, r.frequency),
-                "sliding_prediction": mu.is_finite().then(|| Amplitudes::sliding(mu, GRAVITY, r.frequency)),
-                "coulomb_regime": regime(g, mu),
-            })
+            AmplitudeRow {
+                frequency: r.frequency,
+                gamma: g,
+                rolling_friction: r.mu_r,
+                dt: r.dt,
+                x_peak_to_peak: r.amplitudes.x_peak_to_peak,
+                vx_amplitude: r.amplitudes.vx_amplitude,
+                rolling_prediction: Amplitudes::rolling(amplitude, r.frequency),
+                sliding_prediction: mu.is_finite().then(|| Amplitudes::sliding(mu, GRAVITY, r.frequency)),
+                coulomb_regime: regime(g, mu),
+            }
         })
         .collect();
-
-    let mut summary = serde_json::Map::new();
-    summary.insert("amplitude".into(), json!(amplitude));
-    summary.insert("radius".into(), json!(radius));
-    summary.insert("wall_friction".into(), if mu.is_finite() { json!(mu) } else { json!("inf") });
-    summary.insert("amplitudes".into(), amplitude_summary.into());
-    if frequencies.len() == 1 {
-        summary.insert("drift".into(), trajectories(&mut dir, &runs, amplitude)?.into());
-    }
-    if args.stop_duration > 0.0 {
-        summary.insert("rolling_stop".into(), stopping_test(&mut dir, args, &scene, radius)?.into());
-    }
-    dir.finish(summary.into())
+    let drift = if frequencies.len() == 1 {
+        Some(trajectories(&mut dir, &runs, amplitude)?)
+    } else {
+        None
+    };
+    let rolling_stop = if args.stop_duration > 0.0 {
+        Some(stopping_test(&mut dir, args, &scene, radius)?)
+    } else {
+        None
+    };
+    let summary = SingleSummary {
+        amplitude,
+        radius,
+        wall_friction: mu,
+        amplitudes,
+        drift,
+        rolling_stop,
+        written: dir.written(),
+    };
+    dir.finish_typed(&summary)?;
+    Ok(summary)
 }
 
 /// `x_peak_to_peak` and `vx_amplitude` against nu, each next to the rolling and (for a
@@ -323,7 +386,7 @@ fn amplitude_plots(dir: &mut RunDir, runs: &[Shaken], amplitude: f64, mu: f64, r
 }
 
 /// Trajectories of a single-frequency run and their plots; returns the drifts.
-fn trajectories(dir: &mut RunDir, runs: &[Shaken], amplitude: f64) -> Result<serde_json::Map<String, serde_json::Value>, CliError> {
+fn trajectories(dir: &mut RunDir, runs: &[Shaken], amplitude: f64) -> Result<std::collections::BTreeMap<String, f64>, CliError> {
     let header = ["t", "x", "z", "vx", "vz", "omega_y", "floor_x", "floor_vx"];
     let f = runs[0].frequency;
     let period = 1.0 / f;
@@ -331,7 +394,7 @@ fn trajectories(dir: &mut RunDir, runs: &[Shaken], amplitude: f64) -> Result<ser
     let mut position = LinePlot::new("Position of one sphere on the shaken plate", "t (s)", "x (m)");
     let window = 3.0 * period;
     let mut velocity = LinePlot::new("Sphere velocity and floor velocity", "t (s)", "v_x (m/s)");
-    let mut drifts = serde_json::Map::new();
+    let mut drifts = std::collections::BTreeMap::new();
     for r in runs {
         let name = if r.mu_r > 0.0 {
             "with_rolling_friction"
@@ -350,10 +413,7 @@ fn trajectories(dir: &mut RunDir, runs: &[Shaken], amplitude: f64) -> Result<ser
             Mark::Line,
         );
         let end = (s.last().map_or(0.0, |l| l.t) / period).floor() * period;
-        drifts.insert(
-            format!("drift_{name}_m"),
-            json!(mean_x(s, end - period, end) - mean_x(s, 0.0, period)),
-        );
+        drifts.insert(format!("drift_{name}_m"), mean_x(s, end - period, end) - mean_x(s, 0.0, period));
     }
     velocity = velocity.series(
         "floor",
@@ -373,7 +433,7 @@ fn trajectories(dir: &mut RunDir, runs: &[Shaken], amplitude: f64) -> Result<ser
 
 /// The rolling-friction stopping test on a fixed floor with the scene's law (its rolling
 /// friction replaced by each of `--stop-mu-r`).
-fn stopping_test(dir: &mut RunDir, args: &Options, scene: &Scene, radius: f64) -> Result<Vec<serde_json::Value>, CliError> {
+fn stopping_test(dir: &mut RunDir, args: &Options, scene: &Scene, radius: f64) -> Result<Vec<Stop>, CliError> {
     let dt = match (args.dt, scene.run.dt) {
         (Some(dt), _) => dt,
         (None, TimeStep::Seconds(dt)) => dt,
@@ -407,7 +467,11 @@ fn stopping_test(dir: &mut RunDir, args: &Options, scene: &Scene, radius: f64) -
             Mark::Line,
         );
         let last = samples.last().expect("at least one sample");
-        stops.push(json!({ "mu_r": mu_r, "distance_m": last.x - samples[0].x, "final_speed": last.vx }));
+        stops.push(Stop {
+            mu_r,
+            distance_m: last.x - samples[0].x,
+            final_speed: last.vx,
+        });
     }
     let mut stop_header = vec!["t".to_string()];
     stop_header.extend(args.stop_mu_r.iter().map(|m| format!("distance_mu_r_{m:e}")));
@@ -420,6 +484,25 @@ fn stopping_test(dir: &mut RunDir, args: &Options, scene: &Scene, radius: f64) -
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Issue 42: an uncapped wall friction is written as `"inf"` (JSON has no infinity), a
+    /// finite one as its number, and the drift and the stopping test only where they ran.
+    #[test]
+    fn the_summary_writes_an_uncapped_friction_as_inf() {
+        let summary = |mu: f64| SingleSummary {
+            amplitude: 0.025,
+            radius: 5e-4,
+            wall_friction: mu,
+            amplitudes: Vec::new(),
+            drift: None,
+            rolling_stop: None,
+            written: Written::default(),
+        };
+        let inf = serde_json::to_value(summary(f64::INFINITY)).unwrap();
+        assert_eq!(inf["wall_friction"], "inf");
+        assert!(inf.get("drift").is_none() && inf.get("rolling_stop").is_none());
+        assert_eq!(serde_json::to_value(summary(0.3)).unwrap()["wall_friction"], 0.3);
+    }
 
     #[test]
     fn frequencies_are_one_value_or_a_sweep() {

@@ -24,10 +24,10 @@ use particles::scene::{DriveDirection, Scene};
 use particles::sim::Simulation;
 use particles::{time_step, tray, Vec3};
 use serde::Serialize;
-use serde_json::json;
 
 use crate::host::clock::Stopwatch;
-use crate::rundir::output::{CliError, RunDir};
+use crate::rundir::output::{CliError, RunDir, Written};
+use crate::rundir::report::{Headline, Summary};
 use crate::scene::events::{
     EventBox, EventDrive, EventGuard, EventParticles, EventRule, EventRules, EventRun, EventScene, EventSpecies, PerSpecies,
 };
@@ -432,9 +432,50 @@ fn stage(opts: &Options, what: &str) {
     }
 }
 
+/// What the three-way comparison found: `summary.json`, field for field.
+#[derive(Clone, Debug, Serialize)]
+pub struct BoxSummary {
+    scene: PathBuf,
+    kind: &'static str,
+    seeds: Vec<u64>,
+    transient_s: f64,
+    simulated_s: f64,
+    models: Vec<ModelSummary>,
+    walton_fit: WaltonFit,
+    /// The smallest and largest eps_n of the DEM's tables.
+    table_pair_eps_n: [f64; 2],
+    table_wall_eps_n: [f64; 2],
+    h_table_vs_dem: f64,
+    h_walton_vs_dem: f64,
+    h_within_10_percent: bool,
+    speedup_table: f64,
+    speedup_walton: f64,
+    speedup_at_least_100: bool,
+    wall_s: f64,
+    #[serde(flatten)]
+    written: Written,
+}
+
+/// The Walton rules fitted to the pair and the wall tables.
+#[derive(Clone, Debug, Serialize)]
+struct WaltonFit {
+    pair: Walton,
+    wall: Walton,
+}
+
+impl Summary for BoxSummary {
+    fn headline(&self) -> Headline {
+        Headline {
+            simulated_s: Some(self.simulated_s),
+            wall_s: Some(self.wall_s),
+            ..Headline::written(0, &self.written)
+        }
+    }
+}
+
 /// Runs the three-way comparison of the vibrated box `file` (already validated) into
-/// `opts.out`; returns the summary as one line of JSON.
-pub fn compare(file: &SceneFile, opts: &Options) -> Result<String, CliError> {
+/// `opts.out`.
+pub fn compare(file: &SceneFile, opts: &Options) -> Result<BoxSummary, CliError> {
     let scene = &file.dem;
     if !scene.drive.stages.is_empty() {
         return Err("scene `drive.stages`: the vibrated box's comparison runs one drive, not a schedule".into());
@@ -612,24 +653,34 @@ pub fn compare(file: &SceneFile, opts: &Options) -> Result<String, CliError> {
     );
     std::fs::write(opts.out.join("report.md"), report)?;
     dir.note_files([opts.out.join("report.md")]);
-    dir.finish(json!({
-        "scene": opts.scene,
-        "kind": "vibrated box: DEM, event-driven with the DEM's table, event-driven with the fitted Walton rule",
-        "seeds": seeds,
-        "transient_s": opts.transient,
-        "simulated_s": scene.run.duration,
-        "models": summaries,
-        "walton_fit": { "pair": pair_fit, "wall": wall_fit },
-        "table_pair_eps_n": [pair_rows.iter().map(|r| r.eps_n).fold(f64::INFINITY, f64::min), pair_rows.iter().map(|r| r.eps_n).fold(f64::NEG_INFINITY, f64::max)],
-        "table_wall_eps_n": [floor_rows.iter().map(|r| r.eps_n).fold(f64::INFINITY, f64::min), floor_rows.iter().map(|r| r.eps_n).fold(f64::NEG_INFINITY, f64::max)],
-        "h_table_vs_dem": h_diff,
-        "h_walton_vs_dem": h_diff_walton,
-        "h_within_10_percent": h_diff.abs() <= 0.1,
-        "speedup_table": speedup,
-        "speedup_walton": speedup_walton,
-        "speedup_at_least_100": speedup >= 100.0,
-        "wall_s": wall_s,
-    }))
+    let eps_range = |rows: &[Row]| {
+        let eps = rows.iter().map(|r| r.eps_n);
+        [eps.clone().fold(f64::INFINITY, f64::min), eps.fold(f64::NEG_INFINITY, f64::max)]
+    };
+    let summary = BoxSummary {
+        scene: opts.scene.clone(),
+        kind: "vibrated box: DEM, event-driven with the DEM's table, event-driven with the fitted Walton rule",
+        seeds,
+        transient_s: opts.transient,
+        simulated_s: scene.run.duration,
+        models: summaries,
+        walton_fit: WaltonFit {
+            pair: pair_fit,
+            wall: wall_fit,
+        },
+        table_pair_eps_n: eps_range(&pair_rows),
+        table_wall_eps_n: eps_range(&floor_rows),
+        h_table_vs_dem: h_diff,
+        h_walton_vs_dem: h_diff_walton,
+        h_within_10_percent: h_diff.abs() <= 0.1,
+        speedup_table: speedup,
+        speedup_walton,
+        speedup_at_least_100: speedup >= 100.0,
+        wall_s,
+        written: dir.written(),
+    };
+    dir.finish_typed(&summary)?;
+    Ok(summary)
 }
 
 /// `value +- error` with the error's leading digits.

@@ -7,10 +7,10 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use serde_json::{json, Value};
-
 use super::{Job, Model, Sweep};
 use crate::rundir::output::CliError;
+use crate::rundir::output::Written;
+use crate::rundir::report::{Headline, Summary};
 use crate::scene::edit::{AutomatonEdit, AutomatonToggle, DemEdit, DemToggle, Edit};
 use crate::scene::file::SceneFile;
 use particles::scene::TimeStep;
@@ -253,7 +253,41 @@ fn fmt(x: f64, digits: usize) -> String {
 }
 
 /// Writes the report of whatever results exist; returns the summary.
-pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
+/// What the ablation's report says: `summary.json`, field for field.
+#[derive(Debug, serde::Serialize)]
+pub struct AblateSummary {
+    pub kind: &'static str,
+    pub jobs: usize,
+    pub finished: usize,
+    pub rows: Vec<AblateRow>,
+    #[serde(flatten)]
+    pub written: Written,
+}
+
+/// One configuration of one model over its samples.
+#[derive(Debug, serde::Serialize)]
+pub struct AblateRow {
+    pub model: &'static str,
+    pub config: String,
+    pub samples: usize,
+    pub onset_s: f64,
+    pub onset_sd: f64,
+    pub stripe_count: f64,
+    pub stripe_count_sd: f64,
+    pub msd_plateau_before: f64,
+    pub msd_plateau_after: f64,
+    /// The majority phase (`tie: a / b` where samples split evenly).
+    pub phase: String,
+    pub step: String,
+}
+
+impl Summary for AblateSummary {
+    fn headline(&self) -> Headline {
+        Headline::written(0, &self.written)
+    }
+}
+
+pub fn report(root: &Path, sweep: &Sweep) -> Result<AblateSummary, CliError> {
     let (results, mut dir) = super::open_report::<super::TrayResult>(root, sweep)?;
     let packing: Vec<usize> = sweep
         .jobs
@@ -342,11 +376,19 @@ pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
                 thesis,
                 diff
             )?;
-            rows.push(json!({
-                "model": model.name(), "config": c.name, "samples": mine.len(), "onset_s": onset, "onset_sd": onset_sd,
-                "stripe_count": count, "stripe_count_sd": count_sd, "msd_plateau_before": before,
-                "msd_plateau_after": after, "phase": phase, "step": step,
-            }));
+            rows.push(AblateRow {
+                model: model.name(),
+                config: c.name.clone(),
+                samples: mine.len(),
+                onset_s: onset,
+                onset_sd,
+                stripe_count: count,
+                stripe_count_sd: count_sd,
+                msd_plateau_before: before,
+                msd_plateau_after: after,
+                phase,
+                step: step.to_string(),
+            });
             let (j, _) = mine[0];
             grid.push(format!("{}<br>![](jobs/{}/analysis/density_map.png)", c.name, j.id));
         }
@@ -360,8 +402,15 @@ pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
         writeln!(md)?;
     }
     super::write_report(root, sweep, &mut dir, md)?;
-    let line = dir.finish(json!({ "kind": "ablate", "jobs": sweep.jobs.len(), "finished": results.len(), "rows": rows }))?;
-    Ok(serde_json::from_str(&line)?)
+    let summary = AblateSummary {
+        kind: "ablate",
+        jobs: sweep.jobs.len(),
+        finished: results.len(),
+        rows,
+        written: dir.written(),
+    };
+    dir.finish_typed(&summary)?;
+    Ok(summary)
 }
 
 #[cfg(test)]

@@ -19,7 +19,7 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use serde::{Deserialize, Serialize};
-use serde_json::{json, Value};
+use serde_json::json;
 
 use crate::analyze::{self, AnalysisOptions};
 use crate::automaton::AutomatonOptions;
@@ -30,6 +30,7 @@ use crate::scene::file::SceneFile;
 pub mod ablate;
 pub mod phase_map;
 
+use crate::rundir::report::{Headline, Report, Summary};
 use crate::scene::edit::{DemEdit, Edit};
 
 /// What the engine is given besides the sweep itself: the overrides of every job, this
@@ -52,12 +53,12 @@ impl Engine {
     /// jobs, writes the report of every result present with `report` (also when some job
     /// failed, so nothing finished is lost from view), and returns the report's summary with
     /// the progress; fails, after the report, if any job failed.
-    pub fn execute(
+    pub fn execute<R: Report + Serialize>(
         &self,
         root: &Path,
         sweep: &Sweep,
-        report: impl Fn(&Path, &Sweep) -> Result<Value, CliError>,
-    ) -> Result<String, CliError> {
+        report: impl Fn(&Path, &Sweep) -> Result<R, CliError>,
+    ) -> Result<SweepReport<R>, CliError> {
         check_jobs(sweep)?;
         if self.force {
             forget(root)?;
@@ -72,11 +73,12 @@ impl Engine {
             .jobs
             .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
         let progress = run(root, sweep, self.shard, parallel, &self.sample_cache, self.quiet)?;
-        let mut summary = report(root, sweep)?;
+        let summary = report(root, sweep)?;
+        let mut sample_preparation = None;
         if sweep.kind != SweepKind::EventsSweep {
             let preparation = preparation(root, sweep)?;
             append_preparation(&root.join("report.md"), &preparation)?;
-            summary["sample_preparation"] = serde_json::to_value(&preparation)?;
+            sample_preparation = Some(preparation);
         }
         if !progress.failed.is_empty() {
             return Err(format!(
@@ -87,8 +89,28 @@ impl Engine {
             )
             .into());
         }
-        summary["progress"] = serde_json::to_value(&progress)?;
-        Ok(serde_json::to_string(&summary)?)
+        Ok(SweepReport {
+            summary,
+            sample_preparation,
+            progress,
+        })
+    }
+}
+
+/// What a sweep's command prints: the report's summary (its `summary.json`), with how the
+/// samples were prepared (tray sweeps) and what this run of the sweep did.
+#[derive(Debug, Serialize)]
+pub struct SweepReport<R> {
+    #[serde(flatten)]
+    pub summary: R,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sample_preparation: Option<Preparation>,
+    pub progress: Progress,
+}
+
+impl<R: Report + Serialize> Summary for SweepReport<R> {
+    fn headline(&self) -> Headline {
+        self.summary.headline()
     }
 }
 

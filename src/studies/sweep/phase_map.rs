@@ -13,10 +13,11 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use analysis::plot::Heatmap;
-use serde_json::{json, Value};
 
 use super::{Job, Model, Sweep};
 use crate::rundir::output::CliError;
+use crate::rundir::output::Written;
+use crate::rundir::report::{Headline, Summary};
 use crate::scene::edit::{DemEdit, Edit};
 
 /// The jobs of a phase map, model-major, then amplitude, frequency, sample.
@@ -84,7 +85,40 @@ fn mean(v: &[f64]) -> f64 {
 }
 
 /// Writes the CSV, the plots and the report of whatever results exist; returns the summary.
-pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
+/// What the phase map's report says: `summary.json`, field for field.
+#[derive(Debug, serde::Serialize)]
+pub struct PhaseMapSummary {
+    pub kind: &'static str,
+    pub jobs: usize,
+    pub finished: usize,
+    pub frequency: Vec<f64>,
+    pub amplitude: Vec<f64>,
+    /// Each model's phase per cell, amplitude by frequency.
+    pub phases: BTreeMap<String, Vec<Vec<&'static str>>>,
+    /// Where both models ran: the cells where they agree (null with one model).
+    pub agreement: Option<Agreement>,
+    pub runs_with_threshold_sensitive_phase: usize,
+    #[serde(flatten)]
+    pub written: Written,
+}
+
+/// The cells where both models have a phase, and how many of them agree.
+#[derive(Debug, serde::Serialize)]
+pub struct Agreement {
+    pub cells: usize,
+    pub agree: usize,
+    pub ties: usize,
+    /// NaN (null) without a cell.
+    pub fraction: f64,
+}
+
+impl Summary for PhaseMapSummary {
+    fn headline(&self) -> Headline {
+        Headline::written(0, &self.written)
+    }
+}
+
+pub fn report(root: &Path, sweep: &Sweep) -> Result<PhaseMapSummary, CliError> {
     let (results, mut dir) = super::open_report::<super::TrayResult>(root, sweep)?;
     let mut csv =
         String::from("model,frequency,amplitude,sample,phase,stripe_count,contrast,mobility,onset_s,structure_peak_height,phase_robust\n");
@@ -207,7 +241,7 @@ pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
     }
 
     // Agreement between the two models, cell by cell.
-    let mut agreement = Value::Null;
+    let mut agreement = None;
     let mut md = String::new();
     writeln!(md, "# Phase map (nu, A)\n")?;
     writeln!(md, "{}\n", super::scale_line(sweep, results.len(), "cell")?)?;
@@ -299,26 +333,31 @@ pub fn report(root: &Path, sweep: &Sweep) -> Result<Value, CliError> {
         for d in &differ {
             writeln!(md, "- {d}")?;
         }
-        agreement =
-            json!({ "cells": both, "agree": same, "ties": ties, "fraction": if both > 0 { same as f64 / both as f64 } else { f64::NAN } });
+        agreement = Some(Agreement {
+            cells: both,
+            agree: same,
+            ties,
+            fraction: if both > 0 { same as f64 / both as f64 } else { f64::NAN },
+        });
     }
     super::write_report(root, sweep, &mut dir, md)?;
-    let phases: BTreeMap<String, Vec<Vec<&str>>> = grids
+    let phases = grids
         .iter()
         .map(|(m, g)| (m.clone(), g.iter().map(|row| row.iter().map(|&c| names[c]).collect()).collect()))
         .collect();
-    let summary = json!({
-        "kind": "phase-map",
-        "jobs": sweep.jobs.len(),
-        "finished": results.len(),
-        "frequency": freqs,
-        "amplitude": amps,
-        "phases": phases,
-        "agreement": agreement,
-        "runs_with_threshold_sensitive_phase": fragile.len(),
-    });
-    let line = dir.finish(summary)?;
-    Ok(serde_json::from_str(&line)?)
+    let summary = PhaseMapSummary {
+        kind: "phase-map",
+        jobs: sweep.jobs.len(),
+        finished: results.len(),
+        frequency: freqs,
+        amplitude: amps,
+        phases,
+        agreement,
+        runs_with_threshold_sensitive_phase: fragile.len(),
+        written: dir.written(),
+    };
+    dir.finish_typed(&summary)?;
+    Ok(summary)
 }
 
 /// The class of a cell whose samples split evenly between phases.

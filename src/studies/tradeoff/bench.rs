@@ -17,7 +17,10 @@ use analysis::plot::{LegendCorner, LinePlot, Mark};
 use serde::Serialize;
 use serde_json::json;
 
+use crate::rundir::output::Written;
 use crate::rundir::output::{CliError, RunDir};
+use crate::rundir::report::{Headline, Summary};
+use crate::studies::tradeoff::friction::LawSpeed;
 
 /// What the study is given (the command's arguments, without the command line); serialised
 /// as the arguments into `config.json`.
@@ -55,7 +58,39 @@ fn front_line(rows: &[&Row]) -> Vec<(f64, f64)> {
     pts
 }
 
-pub fn bench(args: &Options) -> Result<String, CliError> {
+/// What `stripes bench` measured: `summary.json`, field for field.
+#[derive(Debug, Serialize)]
+pub struct BenchSummary {
+    pub quick: bool,
+    pub threads: usize,
+    pub wall_s: f64,
+    /// The defaults (`dt = auto`) and whether each is on its study's Pareto front.
+    pub defaults: Vec<OnFront>,
+    pub rows: Vec<Row>,
+    pub friction_laws: Vec<LawSpeed>,
+    pub events: EventsSpeed,
+    #[serde(flatten)]
+    pub written: Written,
+}
+
+/// A default setting and whether it is on the Pareto front.
+#[derive(Debug, Serialize)]
+pub struct OnFront {
+    pub name: String,
+    pub study: Study,
+    pub on_front: bool,
+}
+
+impl Summary for BenchSummary {
+    fn headline(&self) -> Headline {
+        Headline {
+            wall_s: Some(self.wall_s),
+            ..Headline::written(0, &self.written)
+        }
+    }
+}
+
+pub fn bench(args: &Options) -> Result<BenchSummary, CliError> {
     let mut config = if args.quick { Config::quick() } else { Config::full() };
     if let Some(n) = args.tray_count {
         config.tray_count = n;
@@ -187,25 +222,32 @@ pub fn bench(args: &Options) -> Result<String, CliError> {
     .log_y();
     dir.plot("pareto", &plot)?;
 
-    let defaults_on_front: Vec<serde_json::Value> = defaults
+    let defaults = defaults
         .iter()
-        .map(|r| json!({ "name": r.name, "study": r.study, "on_front": r.on_front }))
+        .map(|r| OnFront {
+            name: r.name.clone(),
+            study: r.study,
+            on_front: r.on_front,
+        })
         .collect();
-    dir.finish(json!({
-        "quick": args.quick,
-        "threads": args.threads,
-        "wall_s": t0.elapsed().as_secs_f64(),
-        "defaults": defaults_on_front,
-        "rows": rows,
-        "friction_laws": laws,
-        "events": events,
-    }))
+    let summary = BenchSummary {
+        quick: args.quick,
+        threads: args.threads,
+        wall_s: t0.elapsed().as_secs_f64(),
+        defaults,
+        rows,
+        friction_laws: laws,
+        events,
+        written: dir.written(),
+    };
+    dir.finish_typed(&summary)?;
+    Ok(summary)
 }
 
 /// The event-driven row: collisions per second of one core on the mixture scene
 /// (`scenes/mixture.toml`, built in), after a 1 s transient.
 #[derive(Debug, Serialize)]
-struct EventsSpeed {
+pub struct EventsSpeed {
     simulated_s: f64,
     collisions: u64,
     cpu_s: f64,
