@@ -9,14 +9,15 @@
 use std::path::Path;
 
 use crate::rundir::output::CliError;
-use crate::scene::events::EventScene;
+use events::scene::EventScene;
 
 /// The tables a scene names, as `(key, path)`.
 pub fn tables(scene: &EventScene) -> Vec<(String, std::path::PathBuf)> {
-    let r = &scene.rules;
-    [("pair", &r.pair), ("floor", &r.floor), ("side", &r.side), ("lid", &r.lid)]
+    scene
+        .rules
+        .named()
         .into_iter()
-        .filter_map(|(name, rule)| rule.table.clone().map(|p| (format!("rules.{name}.table"), p)))
+        .filter_map(|(key, rule)| rule.table.clone().map(|p| (format!("{key}.table"), p)))
         .collect()
 }
 

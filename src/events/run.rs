@@ -15,7 +15,7 @@ use serde_json::json;
 use crate::events::checkpoint;
 use crate::rundir::output::CliError as Error;
 use crate::rundir::output::{progress_bar, RunDir, Written};
-use crate::scene::events::EventScene;
+use events::scene::EventScene;
 
 /// How to run an event-driven scene and where to write it.
 #[derive(Clone, Debug, Default, Serialize)]
@@ -86,7 +86,7 @@ pub struct EventsSummary {
 /// checkpoint. Particles that do not fit, or a checkpoint of another scene, leave nothing
 /// behind.
 pub fn run_events(path: &Path, scene: &EventScene, opts: &EventsOptions) -> Result<EventsSummary, Error> {
-    let config = scene.config()?;
+    let config = crate::scene::events::config(scene)?;
     let out = opts.out.clone();
     let fingerprint = fingerprint(scene)?;
     let resumed = if opts.resume {
@@ -200,7 +200,7 @@ fn simulate(
         eprintln!("warning: {w}");
         warnings.push(w.to_string());
     }
-    for w in scene.warnings() {
+    for w in crate::scene::events::warnings(scene) {
         eprintln!("warning: {w}");
         warnings.push(w);
     }
