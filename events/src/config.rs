@@ -1,4 +1,5 @@
-//! The parameters of an event-driven run, validated once: every error names its field.
+//! The parameters of an event-driven run, validated once: every error names its field by
+//! the key of the scene that sets it ([`crate::scene`]), `box.width`, `drive.amplitude`.
 //!
 //! The box spans `0 <= x <= width` (periodic, or between side walls) and `0 <= z <= height`
 //! above the floor's mean position; the lid, if any, stands at `z = height`. Horizontal walls
@@ -42,8 +43,9 @@ impl Mass {
     }
 }
 
-/// The side walls.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// The side walls (`box.side_walls` of a scene: `fixed`, `periodic` or `with-floor`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(try_from = "String", into = "String")]
 pub enum SideWalls {
     /// No side walls: x is periodic.
     Periodic,
@@ -189,22 +191,25 @@ impl Config {
                 Err(invalid(field, format!("must be a positive number, got {x}")))
             }
         };
-        positive("width", self.width)?;
-        positive("height", self.height)?;
+        positive("box.width", self.width)?;
+        positive("box.height", self.height)?;
         if !(self.gravity.is_finite() && self.gravity >= 0.0) {
-            return Err(invalid("gravity", format!("must be >= 0, got {}", self.gravity)));
+            return Err(invalid("box.gravity", format!("must be >= 0, got {}", self.gravity)));
         }
         if !(self.q > 0.0 && self.q <= 1.0) {
             return Err(invalid(
-                "q",
+                "particles.q",
                 format!("the inertia factor I/(m R^2) must lie in (0, 1], got {}", self.q),
             ));
         }
         if self.species.is_empty() || self.species.len() > 2 {
-            return Err(invalid("species", format!("one or two species, got {}", self.species.len())));
+            return Err(invalid(
+                "particles.species",
+                format!("one or two species, got {}", self.species.len()),
+            ));
         }
         for (k, s) in self.species.iter().enumerate() {
-            let f = |name: &str| format!("species[{k}].{name}");
+            let f = |name: &str| format!("particles.species[{k}].{name}");
             if s.count == 0 {
                 return Err(invalid(&f("count"), "must be at least 1"));
             }
@@ -221,33 +226,29 @@ impl Config {
         let d = 2.0 * self.radius_max();
         if d >= self.width || d >= self.height {
             return Err(invalid(
-                "radius_max",
+                "particles.species.radius_max",
                 format!(
                     "a particle of diameter {d} m does not fit in the box {} x {} m",
                     self.width, self.height
                 ),
             ));
         }
-        for (name, m) in [("floor", self.floor), ("lid", self.lid)] {
-            if let Some(m) = m {
-                if !(m.amplitude.is_finite() && m.amplitude >= 0.0) {
-                    return Err(invalid(&format!("{name}.amplitude"), format!("must be >= 0, got {}", m.amplitude)));
-                }
-                if m.amplitude > 0.0 && !(m.frequency.is_finite() && m.frequency > 0.0) {
-                    return Err(invalid(
-                        &format!("{name}.frequency"),
-                        format!("must be positive, got {}", m.frequency),
-                    ));
-                }
-                if !m.phase.is_finite() {
-                    return Err(invalid(&format!("{name}.phase"), "must be finite"));
-                }
+        // The floor's and the lid's motions are the scene's one drive.
+        for m in [self.floor, self.lid].into_iter().flatten() {
+            if !(m.amplitude.is_finite() && m.amplitude >= 0.0) {
+                return Err(invalid("drive.amplitude", format!("must be >= 0, got {}", m.amplitude)));
+            }
+            if m.amplitude > 0.0 && !(m.frequency.is_finite() && m.frequency > 0.0) {
+                return Err(invalid("drive.frequency", format!("must be positive, got {}", m.frequency)));
+            }
+            if !m.phase.is_finite() {
+                return Err(invalid("drive.phase", "must be finite"));
             }
         }
         let swing = self.floor.map_or(0.0, |m| m.amplitude) + self.lid.map_or(0.0, |m| m.amplitude);
         if self.lid.is_some() && 2.0 * swing + d >= self.height {
             return Err(invalid(
-                "amplitude",
+                "drive.amplitude",
                 format!(
                     "floor and lid swing by {swing} m each way: they would meet a particle of diameter {d} m in a box {} m high",
                     self.height
@@ -277,18 +278,18 @@ impl Config {
             }
         }
         if self.floor.is_none() && self.gravity > 0.0 {
-            return Err(invalid("floor", "gravity needs a floor"));
+            return Err(invalid("drive.floor", "gravity needs a floor"));
         }
         if self.waveform == Waveform::Sawtooth {
             if self.base.is_some() {
                 return Err(invalid(
-                    "waveform",
+                    "drive.waveform",
                     "a sawtooth drive stands the floor still, which a sawtooth base cannot follow: use the sine",
                 ));
             }
             if self.side_walls == SideWalls::WithFloor {
                 return Err(invalid(
-                    "waveform",
+                    "drive.waveform",
                     "a sawtooth drive has no wall velocity for side walls that move with the floor: use fixed or periodic sides",
                 ));
             }
@@ -338,7 +339,10 @@ impl Config {
             return Err(invalid("guard.collapse_events", "must be at least 2"));
         }
         if !(self.initial_speed.is_finite() && self.initial_speed >= 0.0) {
-            return Err(invalid("initial_speed", format!("must be >= 0, got {}", self.initial_speed)));
+            return Err(invalid(
+                "particles.initial_speed",
+                format!("must be >= 0, got {}", self.initial_speed),
+            ));
         }
         Ok(())
     }

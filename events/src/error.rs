@@ -62,3 +62,28 @@ pub(crate) fn invalid(field: &str, message: impl Into<String>) -> EventsError {
         message: message.into(),
     }
 }
+
+/// A scene key and what is wrong with it: the error of [`crate::scene::EventScene::config`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneError {
+    /// The dotted key (`box.width`, `rules.pair[0].e`, `particles.species.0.density`).
+    pub key: String,
+    pub message: String,
+}
+
+impl SceneError {
+    pub fn new(key: &str, message: impl Into<String>) -> Self {
+        SceneError {
+            key: key.into(),
+            message: message.into(),
+        }
+    }
+}
+
+impl fmt::Display for SceneError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "scene `{}`: {}", self.key, self.message)
+    }
+}
+
+impl std::error::Error for SceneError {}

@@ -10,7 +10,9 @@
 //! coarse model, and this crate's collapse guards only keep such grains from sinking.
 //!
 //! Modules, one concept each:
-//! - [`config`]: the validated parameters (typed errors name the field);
+//! - [`scene`]: the scene as serde types, checked and mapped onto the [`config`] (errors
+//!   name the scene's key);
+//! - [`config`]: the validated parameters (typed errors name the field by its scene key);
 //! - [`collision`]: the collision rules, pure functions of velocities, spins and the normal;
 //! - [`impact`]: single wall and pair impacts from a given state, and the rule's closed forms;
 //! - [`flight`]: parabolic flights and the exact pair contact time;
@@ -24,7 +26,8 @@
 //! - [`thinned`]: a bounded, evenly thinned record of a stream (the free times);
 //! - [`sim`]: the only place that knows the order of the event loop.
 //!
-//! This crate knows no file format and no other crate of the workspace.
+//! This crate knows no file format (its scene types only derive serde) and no other crate of
+//! the workspace.
 
 pub mod cells;
 pub mod collision;
@@ -36,6 +39,7 @@ pub mod observe;
 pub mod phase_field;
 pub mod queue;
 pub mod sawtooth;
+pub mod scene;
 pub mod segregation;
 pub mod side;
 pub mod sim;
@@ -47,7 +51,7 @@ pub type Vec2 = nalgebra::Vector2<f64>;
 
 pub use collision::{Restitution, Rule, Table};
 pub use config::{Config, Guard, Mass, Rules, SideWalls, Species};
-pub use error::EventsError;
+pub use error::{EventsError, SceneError};
 pub use sawtooth::Sawtooth;
 pub use sim::{Next, Simulation, State};
 pub use wall::{Motion, Wall, WallKind, Waveform};

@@ -83,8 +83,9 @@ impl Motion {
     }
 }
 
-/// How a vibrated floor or lid moves.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+/// How a vibrated floor or lid moves (`drive.waveform` of a scene: `sine` or `sawtooth`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(try_from = "String", into = "String")]
 pub enum Waveform {
     /// `A sin(2 pi f t + phi)`: the wall's position and velocity follow the sinusoid, so a
     /// grain meets it at whatever velocity the phase of its impact gives.

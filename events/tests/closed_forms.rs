@@ -456,7 +456,7 @@ fn bad_parameters_are_refused_by_name() {
         frequency: 50.0,
         phase: 0.0,
     });
-    assert_eq!(field(c), "amplitude");
+    assert_eq!(field(c), "drive.amplitude");
     let mut c = base.clone();
     c.species[0].count = 100_000;
     assert!(matches!(Simulation::new(c), Err(EventsError::DoNotFit { .. })));
@@ -583,7 +583,7 @@ fn a_sawtooth_drive_refuses_a_base_and_sides_that_move_with_the_floor() {
     cfg.waveform = events::Waveform::Sawtooth;
     cfg.side_walls = SideWalls::WithFloor;
     match Simulation::new(cfg.clone()) {
-        Err(EventsError::Invalid { field, .. }) => assert_eq!(field, "waveform"),
+        Err(EventsError::Invalid { field, .. }) => assert_eq!(field, "drive.waveform"),
         other => panic!("{:?}", other.map(|_| ())),
     }
     cfg.side_walls = SideWalls::Periodic;
@@ -594,7 +594,7 @@ fn a_sawtooth_drive_refuses_a_base_and_sides_that_move_with_the_floor() {
         tip_radius: 1e-4,
     });
     match Simulation::new(cfg) {
-        Err(EventsError::Invalid { field, .. }) => assert_eq!(field, "waveform"),
+        Err(EventsError::Invalid { field, .. }) => assert_eq!(field, "drive.waveform"),
         other => panic!("{:?}", other.map(|_| ())),
     }
 }

@@ -2,7 +2,7 @@
 //! run's observers, and writes the run directory (`stripes run` documents its files).
 //! [`run_dem`] returns the typed [`DemSummary`]; the same summary is `summary.json`.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::time::Instant;
 
 use analysis::snapshot::Header;
@@ -18,7 +18,7 @@ use crate::dem::observers::{ContactMeans, Progress, Recorder, RecorderPlan};
 use crate::dem::thermo::Thermo;
 use crate::dem::vtk::VtkSeries;
 use crate::rundir::output::CliError as Error;
-use crate::rundir::output::{non_empty, progress_bar, RunDir, Written};
+use crate::rundir::output::{progress_bar, RunDir, Written};
 use crate::rundir::report::{Headline, Summary};
 
 /// How to run a resolved scene and where to write it (the scene itself is in [`Resolved`]).
@@ -123,7 +123,8 @@ impl Summary for DemSummary {
     }
 }
 
-/// Files a run writes into its directory (removed by `--force` before a new run).
+/// Files a run writes into its directory (removed by `--force` before a new run,
+/// [`crate::rundir::output::claim_run`]).
 const RUN_FILES: [&str; 10] = [
     "config.json",
     "scene.toml",
@@ -136,42 +137,6 @@ const RUN_FILES: [&str; 10] = [
     "thermo.svg",
     "vtk",
 ];
-
-/// Refuses an output directory that holds a run unless `--resume` or `--force`, and with
-/// `--force` removes the old run's files. Returns whether the directory is new (then a
-/// failed start removes it).
-fn claim_out_dir(out: &Path, resume: bool, force: bool) -> Result<bool, Error> {
-    if resume {
-        if !out.join("checkpoint.bin").is_file() {
-            return Err(format!("--resume: {}", crate::rundir::resume::no_checkpoint(out)).into());
-        }
-        return Ok(false);
-    }
-    if !non_empty(out) {
-        return Ok(!out.exists());
-    }
-    if !force {
-        return Err(format!(
-            "{} already holds files (a run?); use --resume to continue it, --force to replace it, or another --out",
-            out.display()
-        )
-        .into());
-    }
-    for f in RUN_FILES {
-        let p = out.join(f);
-        let gone = if p.is_dir() {
-            std::fs::remove_dir_all(&p)
-        } else {
-            std::fs::remove_file(&p)
-        };
-        if let Err(e) = gone {
-            if e.kind() != std::io::ErrorKind::NotFound {
-                return Err(format!("--force: cannot remove {}: {e}", p.display()).into());
-            }
-        }
-    }
-    Ok(false)
-}
 
 /// Runs a resolved scene into `opts.out` on its own pool of threads (`run.threads`, or
 /// chosen by [`crate::host::threads::choose`]). Everything that can be checked is checked before
@@ -190,7 +155,7 @@ fn run_in_pool(resolved: &Resolved, opts: &RunOptions, threads_why: String) -> R
     // refused, even with --force), and only then the directory's contents.
     let existed = out.exists();
     let lock = crate::rundir::lock::RunLock::acquire(out)?;
-    let fresh = match claim_out_dir(out, opts.resume, opts.force) {
+    let fresh = match crate::rundir::output::claim_run(out, opts.resume, opts.force, &RUN_FILES) {
         Ok(_) => !existed,
         Err(e) => {
             drop(lock);

@@ -490,7 +490,7 @@ mod tests {
     fn small_run() -> Checkpoint {
         let path = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/ratchet.toml"));
         let scene = crate::scene::events::load(path, &["run.duration=0.5".into(), "run.transient=0".into()]).unwrap();
-        let mut sim = events::Simulation::new(scene.config().unwrap()).unwrap();
+        let mut sim = events::Simulation::new(crate::scene::events::config(&scene).unwrap()).unwrap();
         let e0 = sim.energy();
         let base = sim.config.base.expect("the ratchet has a sawtooth base");
         let mut observer = Observer::new(1, 1e-3, 0.06, sim.config.width)

@@ -5,7 +5,7 @@ use events::observe::{ledger_error, rest_height_of, Observer};
 use events::Simulation;
 use serde::Serialize;
 
-use crate::scene::events::EventScene;
+use events::scene::EventScene;
 
 /// The measured numbers of one run. A number that is NaN is written as `null` in JSON and read
 /// back as NaN (a sweep's `result.json`).
@@ -56,7 +56,7 @@ pub fn measure(scene: &EventScene) -> Result<Measured, String> {
 
 /// The same, with the observer that sampled the run (its profiles).
 pub fn observe(scene: &EventScene) -> Result<(Measured, Observer), String> {
-    let config = scene.config().map_err(|e| e.to_string())?;
+    let config = crate::scene::events::config(scene).map_err(|e| e.to_string())?;
     let mut sim = Simulation::new(config).map_err(|e| e.to_string())?;
     let top = sim.config.height + sim.config.lid.map_or(0.0, |m| m.amplitude);
     // The measured numbers and the comparison's profiles need only the means and the

@@ -16,7 +16,7 @@ use crate::events::checkpoint;
 use crate::rundir::output::CliError as Error;
 use crate::rundir::output::{progress_bar, RunDir, Written};
 use crate::rundir::report::{Headline, Summary};
-use crate::scene::events::EventScene;
+use events::scene::EventScene;
 
 /// How to run an event-driven scene and where to write it.
 #[derive(Clone, Debug, Default, Serialize)]
@@ -97,22 +97,19 @@ impl Summary for EventsSummary {
 /// checkpoint. Particles that do not fit, or a checkpoint of another scene, leave nothing
 /// behind.
 pub fn run_events(path: &Path, scene: &EventScene, opts: &EventsOptions) -> Result<EventsSummary, Error> {
-    let config = scene.config()?;
+    let config = crate::scene::events::config(scene)?;
     let out = opts.out.clone();
     let fingerprint = fingerprint(scene)?;
+    // A directory without a checkpoint is named with what it holds (issue 43: "nothing was
+    // written" was said of a run stopped before its first checkpoint, with 48 MB written).
+    let fresh = crate::rundir::output::claim_run(&out, opts.resume, opts.force, &[])?;
     let resumed = if opts.resume {
         let path = out.join("checkpoint.bin");
-        // A directory without a checkpoint is named with what it holds (issue 43: "nothing was
-        // written" was said of a run stopped before its first checkpoint, with 48 MB written).
-        if !path.exists() {
-            return Err(format!("--resume: {}", crate::rundir::resume::no_checkpoint(&out)).into());
-        }
         let bytes = std::fs::read(&path).map_err(|e| format!("--resume: cannot read {}: {e}", path.display()))?;
         let c = checkpoint::decode(&bytes).map_err(|e| format!("--resume: {}: {e}", path.display()))?;
         crate::events::resume::check(&out, scene, c.fingerprint == fingerprint)?;
         Some(c)
     } else {
-        crate::rundir::output::claim(&out, opts.force)?;
         None
     };
     // Placed before anything is written: particles that do not fit leave nothing behind.
@@ -127,7 +124,6 @@ pub fn run_events(path: &Path, scene: &EventScene, opts: &EventsOptions) -> Resu
             resumed: None,
         },
     };
-    let fresh = !out.exists();
     let lock = crate::rundir::lock::RunLock::acquire(&out)?;
     let result = simulate(path, opts, scene, start, fingerprint, &out);
     drop(lock);
@@ -211,7 +207,7 @@ fn simulate(
         eprintln!("warning: {w}");
         warnings.push(w.to_string());
     }
-    for w in scene.warnings() {
+    for w in crate::scene::events::warnings(scene) {
         eprintln!("warning: {w}");
         warnings.push(w);
     }

@@ -36,6 +36,46 @@ pub fn claim(dir: &Path, force: bool) -> Result<(), CliError> {
     remove_previous_outputs(dir)
 }
 
+/// The claim of a run that `--resume` can continue (`stripes run`, `stripes events`): with
+/// `resume`, the directory must hold the checkpoint it continues (the scene is then checked
+/// by [`crate::rundir::resume`]); else a directory that holds files is refused unless `force`,
+/// which removes the previous output: the files its summary lists, as [`claim`] does, and
+/// `run_files`, those the model always writes (files or folders). Returns whether the
+/// directory is new (then a failed start removes it).
+pub fn claim_run(dir: &Path, resume: bool, force: bool, run_files: &[&str]) -> Result<bool, CliError> {
+    if resume {
+        if !dir.join("checkpoint.bin").is_file() {
+            return Err(format!("--resume: {}", crate::rundir::resume::no_checkpoint(dir)).into());
+        }
+        return Ok(false);
+    }
+    if !non_empty(dir) {
+        return Ok(!dir.exists());
+    }
+    if !force {
+        return Err(format!(
+            "{} already holds files (a run?); use --resume to continue it, --force to replace it, or another --out",
+            dir.display()
+        )
+        .into());
+    }
+    remove_previous_outputs(dir)?;
+    for f in run_files {
+        let p = dir.join(f);
+        let gone = if p.is_dir() {
+            std::fs::remove_dir_all(&p)
+        } else {
+            std::fs::remove_file(&p)
+        };
+        if let Err(e) = gone {
+            if e.kind() != std::io::ErrorKind::NotFound {
+                return Err(format!("--force: cannot remove {}: {e}", p.display()).into());
+            }
+        }
+    }
+    Ok(false)
+}
+
 /// Removes `dir/summary.json` and the files inside `dir` that it lists under `files`.
 fn remove_previous_outputs(dir: &Path) -> Result<(), CliError> {
     let summary = dir.join("summary.json");
@@ -319,6 +359,32 @@ mod claim_tests {
         assert!(dir.join("notes.txt").exists() && outside.exists());
         // Without a summary (a run that failed), --force still lets the new run start.
         claim(&dir, true).unwrap();
+        std::fs::remove_dir_all(root).unwrap();
+    }
+
+    /// The claim of a resumable run, one for the DEM and the event-driven model: `--resume`
+    /// needs the checkpoint; a directory holding files is refused naming `--resume` and
+    /// `--force`; `--force` removes the listed files and the model's own, not the user's.
+    #[test]
+    fn a_resumable_run_claims_its_directory_by_one_rule() {
+        let root = std::env::temp_dir().join(format!("stripes-claim-run-{}", std::process::id()));
+        let dir = root.join("out");
+        assert!(claim_run(&dir, false, false, &["vtk"]).unwrap(), "a new directory is fresh");
+        std::fs::create_dir_all(dir.join("vtk")).unwrap();
+        for f in ["snapshots.bin", "notes.txt", "vtk/frame_0.vtu"] {
+            std::fs::write(dir.join(f), "x").unwrap();
+        }
+        let e = claim_run(&dir, true, false, &["vtk"]).unwrap_err().to_string();
+        assert!(e.contains("--resume") && e.contains("no checkpoint.bin"), "{e}");
+        let e = claim_run(&dir, false, false, &["vtk"]).unwrap_err().to_string();
+        assert!(
+            e.contains("already holds files") && e.contains("--resume") && e.contains("--force"),
+            "{e}"
+        );
+        assert!(!claim_run(&dir, false, true, &["vtk", "snapshots.bin", "checkpoint.bin"]).unwrap());
+        assert!(!dir.join("vtk").exists() && !dir.join("snapshots.bin").exists() && dir.join("notes.txt").exists());
+        std::fs::write(dir.join("checkpoint.bin"), "x").unwrap();
+        assert!(!claim_run(&dir, true, false, &[]).unwrap(), "a resumed directory is not fresh");
         std::fs::remove_dir_all(root).unwrap();
     }
 }

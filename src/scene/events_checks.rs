@@ -5,7 +5,8 @@
 use std::path::Path;
 use std::time::Duration;
 
-use crate::scene::events::{load, read_table, EventScene};
+use crate::scene::events::{config, load, read_table, warnings};
+use events::scene::EventScene;
 use particles::scene::SceneError;
 use proptest::prelude::*;
 
@@ -20,9 +21,12 @@ fn scene(name: &str, set: &[&str]) -> Result<EventScene, SceneError> {
 
 /// The key a scene with these overrides is refused by (parse or config), or "accepted".
 fn refused_by(name: &str, set: &[&str]) -> (String, String) {
-    match scene(name, set).and_then(|s| s.config().map(|_| ())) {
+    match scene(name, set) {
         Err(e) => (e.key, e.message),
-        Ok(()) => ("accepted".into(), String::new()),
+        Ok(s) => match config(&s) {
+            Err(e) => (e.key, e.message),
+            Ok(_) => ("accepted".into(), String::new()),
+        },
     }
 }
 
@@ -83,14 +87,14 @@ fn sizes_are_refused_by_key_before_anything_is_allocated() {
 #[test]
 fn a_large_output_and_a_weak_drive_are_said_at_the_start() {
     let quiet = scene("vibrated-box.toml", &[]).unwrap();
-    assert!(quiet.warnings().is_empty(), "{:?}", quiet.warnings());
+    assert!(warnings(&quiet).is_empty(), "{:?}", warnings(&quiet));
     let big = scene(
         "vibrated-box.toml",
         &["run.samples_per_period=100000", "run.duration=1", "run.transient=0"],
     )
     .unwrap();
-    big.config().unwrap();
-    let w = big.warnings();
+    config(&big).unwrap();
+    let w = warnings(&big);
     // 1e7 frames of 50 grains at 8 + 48 x 50 bytes: 24.1 GB.
     assert!(w.iter().any(|w| w.contains("about 24.1 GB of snapshots")), "{w:?}");
     let (k, m) = refused_by(
@@ -106,7 +110,7 @@ fn a_large_output_and_a_weak_drive_are_said_at_the_start() {
     assert_eq!(k, "run.samples_per_period", "{m}");
     assert!(m.contains("GB of snapshots.bin"), "{m}");
     let weak = scene("vibrated-box.toml", &["drive.peak_speed=1e-12"]).unwrap();
-    let w = weak.warnings();
+    let w = warnings(&weak);
     assert!(w.iter().any(|w| w.contains("drive too weak to lift any grain")), "{w:?}");
 }
 
@@ -194,12 +198,12 @@ fn bounded_run(key: &str, value: &str, limit: Duration) -> Result<(), String> {
     let Ok(mut s) = scene("vibrated-box.toml", &[&set]) else {
         return Ok(());
     };
-    if s.config().is_err() {
+    if config(&s).is_err() {
         return Ok(());
     }
     s.run.duration = s.run.duration.min(0.01);
     s.run.transient = 0.0;
-    if s.config().is_err() {
+    if config(&s).is_err() {
         return Ok(());
     }
     let (tx, rx) = std::sync::mpsc::channel();

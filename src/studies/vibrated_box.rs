@@ -16,6 +16,11 @@ use std::path::{Path, PathBuf};
 
 use analysis::plot::{LinePlot, Mark};
 use events::observe::Observer;
+use events::scene::{
+    EventBox, EventDrive, EventGuard, EventParticles, EventRule, EventRules, EventRun, EventScene, EventSpecies, Floor, Lid, Model,
+    PerSpecies, Shape,
+};
+use events::{SideWalls, Waveform};
 use particles::constants::GRAVITY;
 use particles::experiment::collide::{Collision, Impact, StepSize, Target};
 use particles::experiment::restitution::{self, Row};
@@ -28,9 +33,6 @@ use serde::Serialize;
 use crate::host::clock::Stopwatch;
 use crate::rundir::output::{CliError, RunDir, Written};
 use crate::rundir::report::{Headline, Summary};
-use crate::scene::events::{
-    EventBox, EventDrive, EventGuard, EventParticles, EventRule, EventRules, EventRun, EventScene, EventSpecies, PerSpecies,
-};
 use crate::scene::file::SceneFile;
 
 /// Normal impact speeds of the restitution table (m/s): from a grain resting on the floor to
@@ -342,11 +344,11 @@ fn table_rule(path: &Path) -> EventRule {
 /// `wall` (floor and sides; the DEM has one wall law), seed `seed`.
 fn events_scene(scene: &Scene, (pair, wall): (EventRule, EventRule), seed: u64, transient: f64) -> EventScene {
     EventScene {
-        model: "events".into(),
+        model: Model::Events,
         tray: EventBox {
             width: scene.tray.length,
             height: TOP,
-            side_walls: "fixed".into(),
+            side_walls: SideWalls::Fixed,
             gravity: GRAVITY,
         },
         drive: EventDrive {
@@ -354,13 +356,13 @@ fn events_scene(scene: &Scene, (pair, wall): (EventRule, EventRule), seed: u64, 
             amplitude: Some(scene.drive.amplitude),
             peak_speed: None,
             phase: 0.0,
-            floor: "vibrated".into(),
-            lid: "none".into(),
-            waveform: "sine".into(),
+            floor: Floor::Vibrated,
+            lid: Lid::None,
+            waveform: Waveform::Sine,
         },
         base: None,
         particles: EventParticles {
-            shape: "sphere".into(),
+            shape: Shape::Sphere,
             q: None,
             species: vec![EventSpecies {
                 count: scene.particles.count,

@@ -537,7 +537,7 @@ fn job_scene(sweep: &Sweep, job: &Job) -> Result<SceneFile, CliError> {
 
 /// The scene of an event-driven job: the sweep's scene with the sweep's overrides, then the
 /// job's values and seed, read by the event-driven scene's loader as `--set` would be.
-pub fn events_job_scene(sweep: &Sweep, job: &Job) -> Result<crate::scene::events::EventScene, CliError> {
+pub fn events_job_scene(sweep: &Sweep, job: &Job) -> Result<events::scene::EventScene, CliError> {
     let mut set = sweep.overrides.clone();
     for e in &job.edits {
         match e {
@@ -592,7 +592,9 @@ pub fn check_jobs(sweep: &Sweep) -> Result<(), CliError> {
             return Err(blame(&format!("a {} job in a sweep of kind {}", job.model.name(), sweep.kind)).into());
         }
         if job.model == Model::Events {
-            events_job_scene(sweep, job).and_then(|s| Ok(s.config()?)).map_err(|e| blame(&e))?;
+            events_job_scene(sweep, job)
+                .and_then(|s| Ok(crate::scene::events::config(&s)?))
+                .map_err(|e| blame(&e))?;
             continue;
         }
         let file = job_scene(sweep, job).map_err(|e| blame(&e))?;

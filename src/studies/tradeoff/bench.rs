@@ -265,8 +265,8 @@ impl EventsSpeed {
 
 fn events_speed(simulated: f64) -> Result<EventsSpeed, CliError> {
     const MIXTURE: &str = include_str!("../../../scenes/mixture.toml");
-    let scene: crate::scene::events::EventScene = toml::from_str(MIXTURE)?;
-    let mut sim = events::Simulation::new(scene.config()?)?;
+    let scene: events::scene::EventScene = toml::from_str(MIXTURE)?;
+    let mut sim = events::Simulation::new(crate::scene::events::config(&scene)?)?;
     sim.run_until(1.0)?;
     let before = sim.collisions();
     let cpu = crate::host::clock::Stopwatch::start(true);
