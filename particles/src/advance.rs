@@ -57,9 +57,20 @@ impl std::error::Error for Stop {}
 /// Steps `sim` until it has completed `until` steps, calling every observer after each step.
 /// Returns the wall-clock seconds spent in the steps themselves (not in the observers).
 pub fn advance(sim: &mut Simulation, until: u64, observers: &mut [&mut dyn Observer]) -> Result<f64, Stop> {
+    advance_while(sim, |s| s.steps < until, observers)
+}
+
+/// Steps `sim` until its time reaches `until_s`: the last step is the first whose end lies at
+/// or after `until_s` less half a step. Observers and the returned seconds as [`advance`].
+/// With [`AtTimes`], this is the sample loop of a run measured in memory.
+pub fn advance_to(sim: &mut Simulation, until_s: f64, observers: &mut [&mut dyn Observer]) -> Result<f64, Stop> {
+    advance_while(sim, |s| s.time < until_s - 0.5 * s.setup.dt, observers)
+}
+
+fn advance_while(sim: &mut Simulation, more: impl Fn(&Simulation) -> bool, observers: &mut [&mut dyn Observer]) -> Result<f64, Stop> {
     let mut stepping = 0.0;
     let mut recording = false;
-    while sim.steps < until {
+    while more(sim) {
         let record = observers.iter().any(|o| o.wants_contacts(sim.steps + 1));
         if record != recording {
             sim.record_contacts(record);
@@ -76,4 +87,37 @@ pub fn advance(sim: &mut Simulation, until: u64, observers: &mut [&mut dyn Obser
         sim.record_contacts(false);
     }
     Ok(stepping)
+}
+
+/// An observer that calls `at(sim, t)` once for each of its times `t` (s, increasing), after
+/// the first step whose end lies at or after `t` less half a step: a run sampled at given
+/// times, in memory.
+pub struct AtTimes<F> {
+    times: Vec<f64>,
+    next: usize,
+    at: F,
+}
+
+impl<F: FnMut(&Simulation, f64) -> Result<(), ObserverError>> AtTimes<F> {
+    pub fn new(times: Vec<f64>, at: F) -> Self {
+        AtTimes { times, next: 0, at }
+    }
+
+    /// The last time, where a run sampled by this observer may stop ([`advance_to`]).
+    pub fn last(&self) -> Option<f64> {
+        self.times.last().copied()
+    }
+}
+
+impl<F: FnMut(&Simulation, f64) -> Result<(), ObserverError>> Observer for AtTimes<F> {
+    fn observe(&mut self, sim: &Simulation) -> Result<(), ObserverError> {
+        while let Some(&t) = self.times.get(self.next) {
+            if sim.time < t - 0.5 * sim.setup.dt {
+                break;
+            }
+            self.next += 1;
+            (self.at)(sim, t)?;
+        }
+        Ok(())
+    }
 }

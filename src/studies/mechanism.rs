@@ -17,6 +17,7 @@ use analysis::density::{area_fraction_cells, mean_area_fraction};
 use analysis::mechanism::{ByDensity, Grain, Motion, Split, Tally};
 use analysis::plot::{LinePlot, Mark};
 use analysis::stripes::{detect, StripeParams};
+use particles::advance::{advance_to, AtTimes};
 use particles::sim::Simulation;
 use particles::tray;
 use serde::Serialize;
@@ -168,7 +169,6 @@ pub fn mechanism(args: &Options) -> Result<MechanismSummary, CliError> {
     // The coarse model's parameters, from the run's own frames (issue 40).
     let coarse = crate::studies::coarse::write(&args.run, !scene.tray.x_walls, &mut dir)?;
 
-    let dt = resolved.dt();
     let (state, _) = crate::dem::samples::load_or_prepare(scene, &args.sample_cache, |_| {})?;
     let mut sim = Simulation::new(resolved.setup.clone(), state)?;
     crate::dem::checkpoint::restore(&mut sim, &bytes, resolved.fingerprint).map_err(|e| format!("{}: {e}", ckpt_path.display()))?;
@@ -189,11 +189,8 @@ pub fn mechanism(args: &Options) -> Result<MechanismSummary, CliError> {
     let mut total = Split::default();
     let mut by_density = ByDensity::default();
     let mut rows = Vec::new();
-    for k in 1..=samples {
-        let target = start + k as f64 * every;
-        while sim.time < target - 0.5 * dt {
-            sim.step()?;
-        }
+    let times = (1..=samples).map(|k| start + k as f64 * every).collect();
+    let mut sample = AtTimes::new(times, |sim: &Simulation, _| {
         let state = sim.state();
         let s = &*state;
         let grains: Vec<Grain> = (0..s.len())
@@ -225,6 +222,10 @@ pub fn mechanism(args: &Options) -> Result<MechanismSummary, CliError> {
         rows.push(row);
         total.merge(&instant);
         bar.inc(1);
+        Ok(())
+    });
+    if let Some(end) = sample.last() {
+        advance_to(&mut sim, end, &mut [&mut sample])?;
     }
     bar.finish_and_clear();
 

@@ -21,6 +21,7 @@ use events::scene::{
     PerSpecies, Shape,
 };
 use events::{SideWalls, Waveform};
+use particles::advance::{advance_to, AtTimes};
 use particles::constants::GRAVITY;
 use particles::experiment::collide::{Collision, Impact, StepSize, Target};
 use particles::experiment::restitution::{self, Row};
@@ -198,12 +199,10 @@ fn run_dem(scene: &Scene, seed: u64, opts: &Options) -> Result<Measured, CliErro
     let (mut h, mut k, mut r, mut k3, mut r3) = (0.0, 0.0, 0.0, 0.0, 0.0);
     let (mut vx2, mut vy2) = (0.0, 0.0);
     let clock = Stopwatch::start(true);
-    for t in sample_times(scene.drive.frequency, scene.run.snapshots_per_period, scene.run.duration) {
-        while sim.time < t - 0.5 * sim.setup.dt {
-            sim.step()?;
-        }
+    let times = sample_times(scene.drive.frequency, scene.run.snapshots_per_period, scene.run.duration);
+    let mut sample = AtTimes::new(times, |sim: &Simulation, t: f64| {
         if t < opts.transient {
-            continue;
+            return Ok(());
         }
         let state = sim.state();
         let s = &*state;
@@ -223,6 +222,10 @@ fn run_dem(scene: &Scene, seed: u64, opts: &Options) -> Result<Measured, CliErro
         }
         h += zsum / n as f64;
         bins.samples += 1;
+        Ok(())
+    });
+    if let Some(end) = sample.last() {
+        advance_to(&mut sim, end, &mut [&mut sample])?;
     }
     let cpu = clock.seconds();
     Ok(Measured {

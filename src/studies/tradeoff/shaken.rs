@@ -7,6 +7,7 @@ use super::lab::matched_linear;
 use super::setting::{base_scene, failed, setting_dt, with, Config, Row, Setting, Study, THESIS_DT};
 use crate::host::clock::Stopwatch;
 use crate::scene::edit::{DemEdit, DemToggle};
+use particles::advance::{advance, ObserverError, Stop};
 use particles::experiment::step_control::{self, REFERENCE_STEPS};
 use particles::integrate::Integrator;
 use particles::neighbor::NeighborSearch;
@@ -68,8 +69,7 @@ pub(super) fn run_tray(
     let (mut profiles, mut times) = (Vec::new(), Vec::new());
     let mut next = sample_every;
     let clock = Stopwatch::start(cpu_time);
-    while sim.steps < total {
-        sim.step()?;
+    let mut sample = |sim: &Simulation| -> Result<(), ObserverError> {
         if sim.time >= next - 0.5 * sim.setup.dt {
             let mut x = vec![0.0; n];
             let state = sim.state();
@@ -80,7 +80,9 @@ pub(super) fn run_tray(
             times.push(sim.time);
             next += sample_every;
         }
-    }
+        Ok(())
+    };
+    advance(&mut sim, total, &mut [&mut sample]).map_err(physics)?;
     let wall = clock.seconds();
     let de = sim.total_energy() - e0;
     let ledger = sim.ledger.injected - sim.ledger.dissipated;
@@ -262,9 +264,7 @@ pub fn dense_packing(steps: u64, cpu_time: bool) -> Result<Row, SimError> {
         let setup = tray::setup(&scene, tray::drive(&scene), time_step::for_scene(&scene)?)?;
         let mut sim = Simulation::new(setup, initial_state(&scene)?)?;
         let t0 = Stopwatch::start(cpu_time);
-        for _ in 0..steps {
-            sim.step()?;
-        }
+        advance(&mut sim, steps, &mut []).map_err(physics)?;
         Ok((steps as f64 * count as f64 / t0.seconds(), sim))
     };
     let (base_rate, _) = throughput(4000)?;
@@ -298,4 +298,12 @@ pub fn dense_packing(steps: u64, cpu_time: bool) -> Result<Row, SimError> {
             rate, base_rate, sim.contact_counts.0, sim.contact_counts.1
         ),
     })
+}
+
+/// The physics' refusal that stopped [`advance`]; the observers of this file never fail.
+fn physics(stop: Stop) -> SimError {
+    match stop {
+        Stop::Sim(e) => e,
+        Stop::Observer(e) => unreachable!("a sampler of this file failed: {e}"),
+    }
 }
