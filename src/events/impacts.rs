@@ -12,7 +12,7 @@ use analysis::plot::{LinePlot, Mark};
 use events::impact::{self, Impact, Target, Walton};
 use serde::Serialize;
 
-use crate::rundir::output::{CliError, RunDir};
+use crate::rundir::output::{CliError, RunDir, Written};
 use crate::rundir::report::{Headline, Report, Summary};
 
 /// Options of `stripes events-collide`. SI units; angles in degrees.
@@ -205,8 +205,12 @@ pub fn impacts(args: &Options) -> Result<Box<dyn Report>, CliError> {
                 sweep.iter().map(|s| (deg(s.rebound.tan_in), s.rebound.outcome.beta)).collect(),
                 Mark::LinePoints,
             );
-            switches.push(serde_json::json!({ "mu": mu, "beta0": beta0, "switch_tan_psi": w.switch_tangent(),
-                "switch_angle_deg": w.switch_tangent().atan().to_degrees() }));
+            switches.push(Switch {
+                mu,
+                beta0,
+                switch_tan_psi: w.switch_tangent(),
+                switch_angle_deg: w.switch_tangent().atan().to_degrees(),
+            });
         }
     }
     dir.csv(
@@ -226,13 +230,40 @@ pub fn impacts(args: &Options) -> Result<Box<dyn Report>, CliError> {
     )?;
     dir.plot("rebound", &rebound)?;
     dir.plot("beta", &beta.include_y(-1.0).include_y(1.0))?;
-    Ok(Box::new(dir.finish(
-        Headline::default(),
-        serde_json::json!({
-            "impacts": rows.len(),
-            "max_closed_form_error": worst,
-            "branch_codes": "0 smooth, 1 sticking, 2 coulomb",
-            "switches": switches,
-        }),
-    )?))
+    let summary = SweepSummary {
+        impacts: rows.len(),
+        max_closed_form_error: worst,
+        branch_codes: "0 smooth, 1 sticking, 2 coulomb",
+        switches,
+        written: dir.written(),
+    };
+    dir.finish_typed(&summary)?;
+    Ok(Box::new(summary))
+}
+
+/// `summary.json` of a sweep over the impact angle.
+#[derive(Debug, Serialize)]
+struct SweepSummary {
+    impacts: usize,
+    /// The largest `|tan psi' - closed form| / (1 + |closed form|)` over the sweep.
+    max_closed_form_error: f64,
+    branch_codes: &'static str,
+    switches: Vec<Switch>,
+    #[serde(flatten)]
+    written: Written,
+}
+
+/// Where a rule switches from sticking to sliding.
+#[derive(Debug, Serialize)]
+struct Switch {
+    mu: f64,
+    beta0: f64,
+    switch_tan_psi: f64,
+    switch_angle_deg: f64,
+}
+
+impl Summary for SweepSummary {
+    fn headline(&self) -> Headline {
+        Headline::written(0, &self.written)
+    }
 }

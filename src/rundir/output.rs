@@ -10,8 +10,6 @@ use std::time::{Duration, Instant};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde::Serialize;
 
-use crate::rundir::report::{Headline, Untyped};
-
 /// Error type of the CLI: a message for the user.
 pub type CliError = Box<dyn std::error::Error + Send + Sync>;
 
@@ -197,30 +195,11 @@ impl RunDir {
         }
     }
 
-    /// Writes a typed summary, which ends with [`RunDir::written`], as `summary.json`: the
-    /// same file [`RunDir::finish`] writes from a JSON value.
+    /// Writes a typed summary, which ends with [`RunDir::written`], as `summary.json` (through
+    /// a JSON value, so its keys are sorted).
     pub fn finish_typed(mut self, summary: &impl Serialize) -> Result<(), CliError> {
         let value = serde_json::to_value(summary)?;
         self.json("summary.json", &value)
-    }
-
-    /// Writes `summary.json` from a JSON object, with `out` and `files` added, and returns it
-    /// beside its headline, which the caller gives from its own values (the directory added).
-    pub fn finish(mut self, headline: Headline, summary: serde_json::Value) -> Result<Untyped, CliError> {
-        let mut summary = summary;
-        let written = self.written();
-        if let serde_json::Value::Object(map) = &mut summary {
-            map.insert("out".into(), written.out.clone().into());
-            map.insert("files".into(), written.files.clone().into());
-        }
-        self.json("summary.json", &summary)?;
-        Ok(Untyped {
-            headline: Headline {
-                out: Some((written.out, written.files.len())),
-                ..headline
-            },
-            value: summary,
-        })
     }
 }
 

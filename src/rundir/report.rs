@@ -122,30 +122,6 @@ impl<T: Summary> Report for T {
     }
 }
 
-/// A summary still built as a JSON object (issue 42: not yet a struct), beside the headline
-/// its code gave from its own typed values; nothing reads its keys back.
-#[derive(Debug)]
-pub struct Untyped {
-    pub headline: Headline,
-    pub value: serde_json::Value,
-}
-
-impl Serialize for Untyped {
-    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        self.value.serialize(s)
-    }
-}
-
-impl Report for Untyped {
-    fn headline(&self) -> Headline {
-        self.headline.clone()
-    }
-
-    fn json_line(&self) -> Result<String, serde_json::Error> {
-        serde_json::to_string(&self.value)
-    }
-}
-
 /// What a command's adapter returns.
 pub type Reported = Result<Box<dyn Report>, CliError>;
 

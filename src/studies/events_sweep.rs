@@ -13,11 +13,11 @@ use std::path::{Path, PathBuf};
 
 use analysis::plot::{LinePlot, Mark};
 use serde::Serialize;
-use serde_json::json;
 
 use crate::events::measure::Measured;
 use crate::rundir::output::CliError;
-use crate::rundir::report::{Headline, Untyped};
+use crate::rundir::output::Written;
+use crate::rundir::report::{Headline, Summary};
 use crate::scene::edit::{Edit, EventsEdit};
 use crate::studies::sweep::{self, Engine, EventsResult, Job, Model, Sweep, SweepKind, SweepReport};
 
@@ -184,7 +184,7 @@ fn stored_axes(sweep: &Sweep) -> Vec<Axis> {
     axes
 }
 
-pub fn events_sweep(args: &Options, engine: &Engine) -> Result<SweepReport<Untyped>, CliError> {
+pub fn events_sweep(args: &Options, engine: &Engine) -> Result<SweepReport<EventsSweepSummary>, CliError> {
     let axes = axes(&args.vary)?;
     let own_seed = check_keys(&axes, &engine.overrides, args.seeds)?;
     if args.log {
@@ -223,7 +223,7 @@ pub fn events_sweep(args: &Options, engine: &Engine) -> Result<SweepReport<Untyp
 }
 
 /// The report of an events sweep's results present (`stripes collect`): linear axes.
-pub fn report(root: &Path, sweep: &Sweep) -> Result<Untyped, CliError> {
+pub fn report(root: &Path, sweep: &Sweep) -> Result<EventsSweepSummary, CliError> {
     let log = std::fs::read_to_string(root.join("plots.json"))
         .ok()
         .and_then(|t| serde_json::from_str::<PlotScale>(&t).ok())
@@ -237,7 +237,7 @@ struct PlotScale {
     log: bool,
 }
 
-fn report_with(root: &Path, sweep: &Sweep, log: bool) -> Result<Untyped, CliError> {
+fn report_with(root: &Path, sweep: &Sweep, log: bool) -> Result<EventsSweepSummary, CliError> {
     let axes = stored_axes(sweep);
     let points = grid(&axes);
     let per = sweep.jobs.len() / points.len().max(1);
@@ -290,10 +290,15 @@ fn report_with(root: &Path, sweep: &Sweep, log: bool) -> Result<Untyped, CliErro
         }
         let md = format!("# events-sweep of `{}`\n\nNo run has finished yet.\n\n", sweep.scene.display());
         sweep::write_report(root, sweep, &mut dir, md)?;
-        return dir.finish(
-            Headline::default(),
-            json!({ "kind": "events-sweep", "jobs": sweep.jobs.len(), "runs": 0 }),
-        );
+        let summary = EventsSweepSummary {
+            kind: "events-sweep",
+            jobs: sweep.jobs.len(),
+            runs: 0,
+            grid: None,
+            written: dir.written(),
+        };
+        dir.finish_typed(&summary)?;
+        return Ok(summary);
     };
     let columns: Vec<&str> = measures(example).iter().map(|(n, _)| *n).collect();
     let mut header: Vec<&str> = axes.iter().map(|a| a.key.as_str()).collect();
@@ -412,30 +417,69 @@ fn report_with(root: &Path, sweep: &Sweep, log: bool) -> Result<Untyped, CliErro
         md.push_str(&format!("Warning: {w}\n\n"));
     }
     sweep::write_report(root, sweep, &mut dir, std::mem::take(&mut md))?;
-    let headline = Headline {
-        wall_s: Some(wall_s),
-        warnings: warnings.len(),
-        failed: Some(failures.len()),
-        ..Headline::default()
-    };
-    dir.finish(
-        headline,
-        json!({
-            "kind": "events-sweep",
-            "scene": sweep.scene.display().to_string(),
-            "jobs": sweep.jobs.len(),
-            "runs": finished,
-            "grid_points": points.len(),
-            "seeds": per,
-            "wall_s": wall_s,
-            "cpu_s": cpu,
-            "collisions": collisions,
-            "collisions_per_cpu_s": collisions as f64 / cpu.max(1e-9),
-            "worst_energy_ledger_error": measured.iter().flatten().map(|m| m.energy_ledger_error).fold(0.0, f64::max),
-            "failed": failures,
-            "warnings": warnings,
+    let summary = EventsSweepSummary {
+        kind: "events-sweep",
+        jobs: sweep.jobs.len(),
+        runs: finished,
+        grid: Some(GridSummary {
+            scene: sweep.scene.display().to_string(),
+            grid_points: points.len(),
+            seeds: per,
+            wall_s,
+            cpu_s: cpu,
+            collisions,
+            collisions_per_cpu_s: collisions as f64 / cpu.max(1e-9),
+            worst_energy_ledger_error: measured.iter().flatten().map(|m| m.energy_ledger_error).fold(0.0, f64::max),
+            failed: failures,
+            warnings,
         }),
-    )
+        written: dir.written(),
+    };
+    dir.finish_typed(&summary)?;
+    Ok(summary)
+}
+
+/// `summary.json` of an event-driven sweep (and its stdout line).
+#[derive(Debug, Serialize)]
+pub struct EventsSweepSummary {
+    kind: &'static str,
+    jobs: usize,
+    /// Runs finished so far.
+    runs: usize,
+    /// What the finished runs measured; none before the first run finishes.
+    #[serde(flatten, skip_serializing_if = "Option::is_none")]
+    grid: Option<GridSummary>,
+    #[serde(flatten)]
+    written: Written,
+}
+
+/// The sweep's totals once a run has finished.
+#[derive(Debug, Serialize)]
+struct GridSummary {
+    scene: String,
+    grid_points: usize,
+    seeds: usize,
+    wall_s: f64,
+    cpu_s: f64,
+    collisions: u64,
+    collisions_per_cpu_s: f64,
+    worst_energy_ledger_error: f64,
+    failed: Vec<String>,
+    warnings: Vec<String>,
+}
+
+impl Summary for EventsSweepSummary {
+    fn headline(&self) -> Headline {
+        let (warnings, wall_s, failed) = match &self.grid {
+            Some(g) => (g.warnings.len(), Some(g.wall_s), Some(g.failed.len())),
+            None => (0, None, None),
+        };
+        Headline {
+            wall_s,
+            failed,
+            ..Headline::written(warnings, &self.written)
+        }
+    }
 }
 
 #[cfg(test)]
