@@ -16,7 +16,7 @@ layout before issue 42 and the rooms after it):
 import subprocess
 import sys
 
-FORMATS = ("checkpoint", "samples", "bytes", "output", "lock", "resume", "vtk", "thermo",
+FORMATS = ("checkpoint", "samples", "bytes", "output", "run_lock", "resume", "vtk", "thermo",
            "analysis_files", "analyze/files", "analysis_dir", "analyze/read", "rundir/")
 STUDIES = ("studies/", "sweep/", "tradeoff/", "vibrated_box", "calibrate", "coarse")
 
