@@ -14,6 +14,7 @@ pub mod eccentricity;
 pub mod events;
 pub mod events_collide;
 pub mod events_sweep;
+pub mod laws;
 pub mod mechanism;
 pub mod phase_map;
 pub mod run;

@@ -22,11 +22,10 @@ use analysis::plot::Heatmap;
 use crate::rundir::output::{CliError, RunDir, Written};
 use crate::rundir::report::{Headline, Report, Summary};
 
-/// Options of `stripes collide`. SI units. Defaults: the thesis' glass beads (Table 3.1).
-/// What the study is given (the command's arguments, without the command line); serialised
-/// as the arguments into `config.json`.
+/// The contact laws of `stripes collide` and their parameters (SI units), as one piece of
+/// its options.
 #[derive(Clone, Debug, Serialize)]
-pub struct Options {
+pub struct Laws {
     /// Normal law: hertz (eq 3.8; --young, --poisson, --dissipation) or linear (eq 4.21;
     /// --kn, --gamma-n).
     pub normal: NormalKind,
@@ -36,16 +35,6 @@ pub struct Options {
     /// Rolling law: none, brilliantov-poschel (eq 3.15; --mu-r) or sds (spring-dashpot-slider;
     /// --mu-roll, --k-roll, --gamma-roll).
     pub rolling: RollingKind,
-    /// Radius of sphere 1 (m).
-    pub r1: f64,
-    /// Radius of sphere 2 (m); defaults to --r1.
-    pub r2: Option<f64>,
-    /// Density (kg/m^3), used for masses not given by --m1/--m2.
-    pub rho: f64,
-    /// Mass of sphere 1 (kg); defaults to rho 4/3 pi r1^3.
-    pub m1: Option<f64>,
-    /// Mass of sphere 2 (kg); defaults to rho 4/3 pi r2^3.
-    pub m2: Option<f64>,
     /// Young's modulus Y (Pa), Hertz only.
     pub young: f64,
     /// Poisson ratio, Hertz only.
@@ -71,6 +60,25 @@ pub struct Options {
     pub k_roll: Option<f64>,
     /// Rolling damping gamma_roll (N s/m), spring-dashpot-slider only.
     pub gamma_roll: f64,
+}
+
+/// Options of `stripes collide`. SI units. Defaults: the thesis' glass beads (Table 3.1).
+/// What the study is given (the command's arguments, without the command line); serialised
+/// as the arguments into `config.json`.
+#[derive(Clone, Debug, Serialize)]
+pub struct Options {
+    #[serde(flatten)]
+    pub laws: Laws,
+    /// Radius of sphere 1 (m).
+    pub r1: f64,
+    /// Radius of sphere 2 (m); defaults to --r1.
+    pub r2: Option<f64>,
+    /// Density (kg/m^3), used for masses not given by --m1/--m2.
+    pub rho: f64,
+    /// Mass of sphere 1 (kg); defaults to rho 4/3 pi r1^3.
+    pub m1: Option<f64>,
+    /// Mass of sphere 2 (kg); defaults to rho 4/3 pi r2^3.
+    pub m2: Option<f64>,
     /// Normal approach speed (m/s); with --eccentricity, the relative speed.
     pub v: f64,
     /// Tangential speed at impact (m/s).
@@ -112,39 +120,40 @@ impl Options {
     pub fn law(&self) -> Result<ContactLaw, CliError> {
         let m = Material {
             density: self.rho,
-            young: self.young,
-            poisson: self.poisson,
-            dissipation: self.dissipation,
+            young: self.laws.young,
+            poisson: self.laws.poisson,
+            dissipation: self.laws.dissipation,
         };
-        if self.normal == NormalKind::Hertz && !(m.young > 0.0 && m.poisson > -1.0 && m.poisson < 0.5 + 1e-12 && m.dissipation >= 0.0) {
+        if self.laws.normal == NormalKind::Hertz && !(m.young > 0.0 && m.poisson > -1.0 && m.poisson < 0.5 + 1e-12 && m.dissipation >= 0.0)
+        {
             return Err("--young must be > 0, --poisson in (-1, 0.5], --dissipation >= 0".into());
         }
-        if self.normal == NormalKind::Linear && !(self.kn.is_none_or(|kn| kn > 0.0) && self.gamma_n >= 0.0) {
+        if self.laws.normal == NormalKind::Linear && !(self.laws.kn.is_none_or(|kn| kn > 0.0) && self.laws.gamma_n >= 0.0) {
             return Err("--kn must be > 0 and --gamma-n >= 0".into());
         }
-        if self.mu < 0.0 {
+        if self.laws.mu < 0.0 {
             return Err("--mu must be >= 0".into());
         }
-        if self.mu_roll.is_some_and(|m| m < 0.0) || self.k_roll.is_some_and(|k| k <= 0.0) || self.gamma_roll < 0.0 {
+        if self.laws.mu_roll.is_some_and(|m| m < 0.0) || self.laws.k_roll.is_some_and(|k| k <= 0.0) || self.laws.gamma_roll < 0.0 {
             return Err("--mu-roll must be >= 0, --k-roll > 0 and --gamma-roll >= 0".into());
         }
         let choice = LawChoice {
-            normal: self.normal,
-            tangential: self.tangential,
-            rolling: self.rolling,
+            normal: self.laws.normal,
+            tangential: self.laws.tangential,
+            rolling: self.laws.rolling,
         };
         let parameters = LawParameters {
             reduced_modulus: m.reduced_modulus(),
             dissipation: m.dissipation,
-            kn: self.kn,
-            gamma_n: self.gamma_n,
-            mu: self.mu,
-            gamma_t: self.gamma_t,
-            kt: self.kt,
-            mu_r: self.mu_r,
-            rolling_resistance: self.mu_roll,
-            k_roll: self.k_roll,
-            gamma_roll: self.gamma_roll,
+            kn: self.laws.kn,
+            gamma_n: self.laws.gamma_n,
+            mu: self.laws.mu,
+            gamma_t: self.laws.gamma_t,
+            kt: self.laws.kt,
+            mu_r: self.laws.mu_r,
+            rolling_resistance: self.laws.mu_roll,
+            k_roll: self.laws.k_roll,
+            gamma_roll: self.laws.gamma_roll,
         };
         choice.build(&parameters).map_err(|missing| {
             match missing {
