@@ -41,9 +41,23 @@ pub fn claim(dir: &Path, force: bool) -> Result<(), CliError> {
 /// `run_files`, those the model always writes (files or folders). Returns whether the
 /// directory is new (then a failed start removes it).
 pub fn claim_run(dir: &Path, resume: bool, force: bool, run_files: &[&str]) -> Result<bool, CliError> {
+    claim_resumable(dir, dir, "a run", resume, force, run_files)
+}
+
+/// [`claim_run`] of a directory whose run keeps its checkpoint in `checkpoint_dir` (a
+/// comparison's DEM run in `dir/dem`); `what` names what an occupied directory may hold in
+/// the message (e.g. "an earlier comparison").
+pub fn claim_resumable(
+    dir: &Path,
+    checkpoint_dir: &Path,
+    what: &str,
+    resume: bool,
+    force: bool,
+    run_files: &[&str],
+) -> Result<bool, CliError> {
     if resume {
-        if !dir.join("checkpoint.bin").is_file() {
-            return Err(format!("--resume: {}", crate::rundir::resume::no_checkpoint(dir)).into());
+        if !checkpoint_dir.join("checkpoint.bin").is_file() {
+            return Err(format!("--resume: {}", crate::rundir::resume::no_checkpoint(checkpoint_dir)).into());
         }
         return Ok(false);
     }
@@ -52,7 +66,7 @@ pub fn claim_run(dir: &Path, resume: bool, force: bool, run_files: &[&str]) -> R
     }
     if !force {
         return Err(format!(
-            "{} already holds files (a run?); use --resume to continue it, --force to replace it, or another --out",
+            "{} already holds files ({what}?); use --resume to continue it, --force to replace it, or another --out",
             dir.display()
         )
         .into());
@@ -338,6 +352,37 @@ mod claim_tests {
         assert!(dir.join("notes.txt").exists() && outside.exists());
         // Without a summary (a run that failed), --force still lets the new run start.
         claim(&dir, true).unwrap();
+        std::fs::remove_dir_all(root).unwrap();
+    }
+
+    /// A comparison claims its directory by the same rule, its checkpoint in `dem/`: a resume
+    /// needs `dem/checkpoint.bin` (named), an occupied directory names "an earlier
+    /// comparison", and `--force` removes what the old summary lists.
+    #[test]
+    fn a_comparison_claims_its_directory_by_the_same_rule() {
+        let root = std::env::temp_dir().join(format!("stripes-claim-compare-{}", std::process::id()));
+        let (dir, dem) = (root.join("cmp"), root.join("cmp/dem"));
+        let claim = |resume, force| claim_resumable(&dir, &dem, "an earlier comparison", resume, force, &[]);
+        assert!(claim(false, false).unwrap(), "a new directory is fresh");
+        std::fs::create_dir_all(&dem).unwrap();
+        std::fs::write(dir.join("report.md"), "x").unwrap();
+        std::fs::write(
+            dir.join("summary.json"),
+            serde_json::json!({ "files": [dir.join("report.md")] }).to_string(),
+        )
+        .unwrap();
+        let e = claim(true, false).unwrap_err().to_string();
+        assert!(
+            e.contains("--resume") && e.contains("dem") && e.contains("no checkpoint.bin"),
+            "{e}"
+        );
+        let e = claim(false, false).unwrap_err().to_string();
+        assert!(e.contains("(an earlier comparison?)") && e.contains("--force"), "{e}");
+        std::fs::write(dem.join("checkpoint.bin"), "x").unwrap();
+        assert!(!claim(true, false).unwrap(), "a resume with its checkpoint goes on");
+        assert!(dir.join("report.md").exists(), "a resume removes nothing");
+        assert!(!claim(false, true).unwrap());
+        assert!(!dir.join("report.md").exists() && !dir.join("summary.json").exists());
         std::fs::remove_dir_all(root).unwrap();
     }
 

@@ -24,7 +24,6 @@ use crate::dem::samples::sample_key;
 use crate::dem::{resolve, run_dem, RunOptions};
 use crate::rundir::output::{CliError, RunDir, Written};
 use crate::rundir::report::{Headline, Summary};
-use crate::rundir::resume::no_checkpoint;
 use crate::studies::vibrated_box::BoxSummary;
 
 /// What a comparison is given: the scene file and its overrides, where it writes, and the
@@ -363,26 +362,22 @@ pub fn compare_scene(args: &Options) -> Result<CompareSummary, CliError> {
         )?;
         return Ok(CompareSummary::VibratedBox(Box::new(summary)));
     }
-    if crate::rundir::output::non_empty(&out) && !args.force && !args.resume {
-        return Err(format!(
-            "{} already holds files (an earlier comparison?); use --resume to continue it, --force to replace it, or another --out",
-            out.display()
-        )
-        .into());
-    }
-    if args.resume && !out.join("dem").join("checkpoint.bin").is_file() && args.dem_run.is_none() {
-        return Err(format!("--resume: {}", no_checkpoint(&out.join("dem"))).into());
-    }
-    // Everything that can be checked is checked before anything is written: a resume
+    // Everything that can be checked is checked before anything is written or removed: the
+    // lattice, a given DEM run, then the one claim of a resumable run (its checkpoint in
+    // `dem/`; a resume on a given `--dem-run` has none of its own to find), then a resume
     // continues only the comparison it finds, both models on the scene given now.
-    if args.resume && args.dem_run.is_none() {
-        crate::rundir::resume::check(&out.join("dem"), &file, &format!("--resume {}", out.display()))?;
-    }
     crate::automaton::lattice::validate_lattice(&file)?;
     if let Some(d) = &args.dem_run {
         check_dem_run(d, scene)?;
     }
-    let fresh = !out.exists();
+    let fresh = if args.resume && args.dem_run.is_some() {
+        !out.exists()
+    } else {
+        crate::rundir::output::claim_resumable(&out, &out.join("dem"), "an earlier comparison", args.resume, args.force, &[])?
+    };
+    if args.resume && args.dem_run.is_none() {
+        crate::rundir::resume::check(&out.join("dem"), &file, &format!("--resume {}", out.display()))?;
+    }
     let result = compare(args, &file, &out);
     if result.is_err() && fresh && !out.join("dem").join("checkpoint.bin").is_file() {
         // A failed start leaves nothing behind; a DEM run that got going is kept for --resume.
