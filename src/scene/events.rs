@@ -151,14 +151,14 @@ pub fn warnings(scene: &EventScene) -> Vec<String> {
     out
 }
 
-/// Bytes of the run's `snapshots.bin`: a frame (time, then position and velocity of every
-/// grain) per sample after `run.transient`.
+/// Bytes of the run's `snapshots.bin` (the snapshot format of the DEM's runs,
+/// [`crate::scene::bounds::snapshot_bytes`]): a frame per sample after `run.transient`.
 fn snapshot_bytes(scene: &EventScene) -> f64 {
     let grains: f64 = scene.particles.species.iter().map(|s| s.count as f64).sum();
     let frames = ((scene.run.duration - scene.run.transient) * scene.drive.frequency * f64::from(scene.run.samples_per_period))
         .max(0.0)
         .floor();
-    32.0 + 8.0 * grains + frames * (8.0 + 48.0 * grains)
+    crate::scene::bounds::snapshot_bytes(frames, grains)
 }
 
 #[cfg(test)]
