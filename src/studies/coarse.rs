@@ -16,19 +16,9 @@ use serde::Serialize;
 
 use crate::rundir::output::{CliError, RunDir};
 
-/// Where the parameters come from: what a scene that names the file must share with it.
-#[derive(Clone, Debug, Serialize)]
-pub struct Source {
-    pub run: String,
-    pub grains: usize,
-    pub mean_diameter_m: f64,
-    pub length_m: f64,
-    pub width_m: f64,
-    /// True when x is periodic (no end walls).
-    pub periodic: bool,
-    /// The drive's stages: (start s, frequency Hz, amplitude m).
-    pub drive: Vec<[f64; 3]>,
-}
+/// Where the parameters come from: the automaton's own reader's type (what a scene that names
+/// the file must share with it).
+pub use automaton::measured::Source;
 
 /// The lattice cell.
 #[derive(Clone, Debug, Serialize)]
