@@ -54,6 +54,38 @@ pub fn measure(scene: &EventScene) -> Result<Measured, String> {
     observe(scene).map(|(m, _)| m)
 }
 
+/// Sample times of an event-driven run: every `1 / (f samples_per_period)` s, and how many
+/// fit in `run.duration`.
+pub fn sample_times(scene: &EventScene) -> (f64, u64) {
+    let dt_sample = 1.0 / (scene.drive.frequency * scene.run.samples_per_period as f64);
+    (dt_sample, (scene.run.duration / dt_sample).floor() as u64)
+}
+
+/// The sample loop of every event-driven run (`stripes events`, and in memory for sweeps and
+/// studies): from sample `first` to the run's last, the simulation runs to each sample time,
+/// `obs` samples it from `run.transient` on, and `after` sees it (sample index, time, and
+/// whether it was sampled), e.g. to write a frame or a checkpoint. A refused event is said
+/// after `prefix` (e.g. the scene's path).
+pub fn sample_loop<E: From<String>>(
+    sim: &mut Simulation,
+    obs: &mut Observer,
+    scene: &EventScene,
+    (first, prefix): (u64, &str),
+    mut after: impl FnMut(&Simulation, &Observer, u64, (f64, bool)) -> Result<(), E>,
+) -> Result<(), E> {
+    let (dt_sample, samples) = sample_times(scene);
+    for k in first..=samples {
+        let t = k as f64 * dt_sample;
+        sim.run_until(t).map_err(|e| E::from(format!("{prefix}{e}")))?;
+        let sampled = t >= scene.run.transient;
+        if sampled {
+            obs.sample(sim);
+        }
+        after(sim, obs, k, (t, sampled))?;
+    }
+    Ok(())
+}
+
 /// The same, with the observer that sampled the run (its profiles).
 pub fn observe(scene: &EventScene) -> Result<(Measured, Observer), String> {
     let config = crate::scene::events::config(scene).map_err(|e| e.to_string())?;
@@ -65,16 +97,8 @@ pub fn observe(scene: &EventScene) -> Result<(Measured, Observer), String> {
         .means_and_heights()
         .with_phases(scene.run.samples_per_period as usize, false);
     let e0 = sim.energy();
-    let dt_sample = 1.0 / (scene.drive.frequency * scene.run.samples_per_period as f64);
-    let samples = (scene.run.duration / dt_sample).floor() as u64;
     let clock = crate::host::clock::Stopwatch::start(true);
-    for k in 1..=samples {
-        let t = k as f64 * dt_sample;
-        sim.run_until(t).map_err(|e| e.to_string())?;
-        if t >= scene.run.transient {
-            obs.sample(&sim);
-        }
-    }
+    sample_loop(&mut sim, &mut obs, scene, (1, ""), |_, _, _, _| Ok::<(), String>(()))?;
     let cpu_s = clock.seconds();
     let collisions = sim.collisions();
     let paper = PaperObservables::of(&obs, &sim, scene);

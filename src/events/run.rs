@@ -178,9 +178,7 @@ fn simulate(
         radii: sim.radius.clone(),
     };
     let snapshots_path = out.join("snapshots.bin");
-    let f = scene.drive.frequency;
-    let dt_sample = 1.0 / (f * scene.run.samples_per_period as f64);
-    let samples = (scene.run.duration / dt_sample).floor() as u64;
+    let (dt_sample, samples) = crate::events::measure::sample_times(scene);
     let top = sim.config.height + sim.config.lid.map_or(0.0, |m| m.amplitude);
     let (mut obs, e0, first, mut frames, mut snapshots) = match resumed {
         Some(c) => {
@@ -235,11 +233,9 @@ fn simulate(
     };
     // On-CPU time of the loop (events, samples and frames): the speed on an idle core.
     let clock = crate::host::clock::Stopwatch::start(true);
-    for k in first..=samples {
-        let t = k as f64 * dt_sample;
-        sim.run_until(t).map_err(|e| format!("{}: {e}", path.display()))?;
-        if t >= scene.run.transient {
-            obs.sample(&sim);
+    let prefix = format!("{}: ", path.display());
+    crate::events::measure::sample_loop(&mut sim, &mut obs, scene, (first, &prefix), |sim, obs, k, (t, sampled)| {
+        if sampled {
             let states: Vec<_> = (0..sim.len()).map(|i| sim.state(i)).collect();
             snapshots.push(
                 t,
@@ -249,13 +245,14 @@ fn simulate(
             frames += 1;
         }
         if checkpoint_due(last_checkpoint.elapsed(), checkpoints) {
-            checkpoint(&sim, &obs, k, frames, &mut snapshots)?;
+            checkpoint(sim, obs, k, frames, &mut snapshots)?;
             last_checkpoint = Instant::now();
             checkpoints += 1;
         }
         bar.set_message(format!("t = {t:.3} s of {} s, {} collisions", scene.run.duration, sim.collisions()));
         bar.set_position(k);
-    }
+        Ok::<(), Error>(())
+    })?;
     let stepping = clock.seconds();
     bar.finish_and_clear();
     // The end is a checkpoint too: `--resume` with a longer run.duration extends the run.
