@@ -4,9 +4,10 @@ periodic 0.1 m tray at the stripe scene's packing (0.46) move together each half
 out and back, each by the swing the DEM measured at its local packing (the table of
 docs/results/coarse-model/report.md after the onset, `aligned.py`), plus a 0.8 mm spread (the
 measured spread about the neighbours' mean move). No excluded volume, no collisions, no
-second dimension. `flat` gives every grain the mean swing instead (the control).
+second dimension. `flat` gives every grain the mean swing instead (the control); `before`
+uses the curve measured before the onset (what the parameter file's classes hold).
 
-    python3 scripts/coarse-model/swing_toy.py SEED [flat]
+    python3 scripts/coarse-model/swing_toy.py SEED [flat|before]
 
 Prints, every 5 s, the contrast and spread of the 1 mm area-fraction profile, the spacing of
 its structure factor's peak, and the runs of at least 4 mm above 1.5 x the mean.
@@ -16,6 +17,9 @@ rng=np.random.default_rng(int(sys.argv[1]) if len(sys.argv)>1 else 1)
 L,W,N=0.1,0.02,2000; r=np.sqrt(0.46*L*W/(N*np.pi)); d=2*r; reach=2.5*0.75e-3
 pk=np.array([0.15,0.25,0.35,0.45,0.55,0.65,0.75,0.85]); sw=np.array([11.90,11.62,10.78,9.54,8.90,8.96,8.40,7.90])*1e-3
 flat = len(sys.argv)>2 and sys.argv[2]=='flat'
+if len(sys.argv)>2 and sys.argv[2]=='before':
+    # the curve measured before the onset (the parameter file's by_packing classes)
+    sw=np.array([12.51,12.96,13.23,13.35,13.12,11.98,11.29,11.06])*1e-3
 x=rng.uniform(0,L,N)
 def phi(x):
     xs=np.sort(x); cnt=np.searchsorted(xs, x+reach)-np.searchsorted(xs, x-reach)
