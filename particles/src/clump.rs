@@ -31,6 +31,10 @@ use crate::Vec3;
 /// Cells per side of the midpoint rule of [`ClumpShape::mass_and_inertia`] for the trimer.
 pub const QUADRATURE_CELLS: usize = 1200;
 
+/// The most members a clump has (a triangle); the integrator keeps a body's member arms in
+/// an array of this length.
+pub const MAX_SPHERES: usize = 3;
+
 /// The shape of a clump: `spheres` equal spheres of radius `R` whose neighbouring centres are
 /// `spacing R` apart.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -50,9 +54,9 @@ pub struct ShapeError {
 }
 
 impl ClumpShape {
-    /// A checked shape: `spheres` 2 or 3, `spacing` in (0, 2).
+    /// A checked shape: `spheres` 2 or 3 (at most [`MAX_SPHERES`]), `spacing` in (0, 2).
     pub fn new(spheres: usize, spacing: f64) -> Result<Self, ShapeError> {
-        if !(2..=3).contains(&spheres) {
+        if !(2..=MAX_SPHERES).contains(&spheres) {
             return Err(ShapeError {
                 key: "particles.clump_spheres",
                 message: format!("must be 2 (a dimer) or 3 (a triangle), got {spheres}"),

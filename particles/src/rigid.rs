@@ -67,6 +67,9 @@ impl Bodies {
     /// size in a rigid state).
     pub fn of(shape: &ClumpShape, state: &mut State, boundary: &Boundary) -> Result<Self, String> {
         let n = shape.spheres;
+        if !(1..=crate::clump::MAX_SPHERES).contains(&n) {
+            return Err(format!("a clump of {n} spheres: at most {}", crate::clump::MAX_SPHERES));
+        }
         if !state.len().is_multiple_of(n) {
             return Err(format!("{} spheres are no whole number of clumps of {n}", state.len()));
         }
@@ -187,8 +190,9 @@ impl Bodies {
             let c = 0.5 * dt / self.mass[g];
             let half = self.v[g] + self.force[g] * c;
             self.v_half[g] = half;
-            // At most three members: the old arms on the stack, not a Vec per body and step.
-            let mut old_arms = [Vec3::zeros(); 3];
+            // The old arms on the stack (at most MAX_SPHERES members, as `ClumpShape::new`
+            // checks), not a Vec per body and step.
+            let mut old_arms = [Vec3::zeros(); crate::clump::MAX_SPHERES];
             for (k, a) in old_arms.iter_mut().enumerate().take(self.spheres) {
                 *a = self.arm(g, k);
             }
