@@ -166,7 +166,7 @@ impl Report {
 }
 
 /// How many threshold sets of the sensitivity sweep give each phase.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, serde::Deserialize)]
 pub struct PhaseVotes {
     pub nothing: usize,
     pub stripes: usize,

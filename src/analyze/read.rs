@@ -80,7 +80,7 @@ pub struct SavedSummary {
     /// `stripes`, `gas`, `nothing`, `unclassified` (a vertical box) or none.
     pub phase: Option<String>,
     pub phase_robust: Option<bool>,
-    pub phase_votes: Option<Votes>,
+    pub phase_votes: Option<analysis::report::PhaseVotes>,
     pub particles: Option<f64>,
     pub period_s: Option<f64>,
     pub mean_area_fraction: Option<f64>,
@@ -96,14 +96,6 @@ pub struct SavedSummary {
     pub in_band_fraction: Option<f64>,
     pub msd_plateau_before: Option<f64>,
     pub msd_plateau_after: Option<f64>,
-}
-
-/// How many of the classifier's threshold sets give each phase.
-#[derive(Clone, Copy, Debug, Default, serde::Deserialize)]
-pub struct Votes {
-    pub stripes: u64,
-    pub gas: u64,
-    pub nothing: u64,
 }
 
 impl SavedSummary {

@@ -323,7 +323,7 @@ impl AnalysisSummary {
         PhaseLine {
             phase,
             stripe_count_final: Some(r.stripe_count_final),
-            robust: Some(if r.phase_robust { Ok(()) } else { Err(r.phase_votes.into()) }),
+            robust: Some(if r.phase_robust { Ok(()) } else { Err(r.phase_votes) }),
         }
     }
 }

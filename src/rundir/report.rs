@@ -4,6 +4,8 @@
 
 use serde::Serialize;
 
+use analysis::report::PhaseVotes;
+
 use crate::rundir::output::{CliError, Written};
 
 /// The fields of a summary that its line for people reads (`done: ...` on stderr); a summary
@@ -29,25 +31,7 @@ pub struct PhaseLine {
     pub phase: Option<String>,
     pub stripe_count_final: Option<usize>,
     /// Whether every threshold set tried gives the same label, with their votes when not.
-    pub robust: Option<Result<(), Votes>>,
-}
-
-/// How the threshold sets around the default label a run.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct Votes {
-    pub stripes: usize,
-    pub gas: usize,
-    pub nothing: usize,
-}
-
-impl From<analysis::report::PhaseVotes> for Votes {
-    fn from(v: analysis::report::PhaseVotes) -> Self {
-        Self {
-            stripes: v.stripes,
-            gas: v.gas,
-            nothing: v.nothing,
-        }
-    }
+    pub robust: Option<Result<(), PhaseVotes>>,
 }
 
 impl Headline {
@@ -175,7 +159,7 @@ mod tests {
             h.line(),
             "done: 40 snapshots; phase stripes (the same under every threshold set tried), 7 stripes at the end; 0 warning(s)"
         );
-        h.phase.as_mut().unwrap().robust = Some(Err(Votes {
+        h.phase.as_mut().unwrap().robust = Some(Err(PhaseVotes {
             stripes: 20,
             gas: 5,
             nothing: 2,
