@@ -226,7 +226,8 @@ fn compare_runs_both_models_on_one_sample_and_writes_the_report() {
 /// `automaton.parameters` (issue 40): the tiny scene run with the measured rule from a
 /// parameter file of the stripe scene's layout, rewritten to the tiny scene's source; the
 /// same seed twice gives the same snapshots; a file of another scene is refused by key
-/// unless forced, and the forced run says so in its summary.
+/// unless forced, and the forced run says so in its summary; the `swing` rule needs the
+/// file's swing field and runs with it.
 #[test]
 fn the_measured_rule_runs_from_a_parameter_file_and_refuses_another_scenes() {
     let d = std::env::temp_dir().join(format!("stripes-cli-measured-{}", std::process::id()));
@@ -306,5 +307,24 @@ fn the_measured_rule_runs_from_a_parameter_file_and_refuses_another_scenes() {
         "--quiet",
     ]);
     assert!(!ok && stderr.contains("automaton.parameters"), "{stderr}");
+    // rule swing: refused with a file that has no swing field, naming the key; with the
+    // field (measured on the stripe scene's DEM run) it runs, grains conserved, same seed
+    // same snapshots.
+    let (ok, _, stderr, _) = run("no-field", &["--rule", "swing"]);
+    assert!(
+        !ok && stderr.contains("swing_field") && stderr.contains("automaton.toml"),
+        "{stderr}"
+    );
+    let field = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/swing-field-stripes-seed1.toml")).unwrap();
+    std::fs::write(&file, format!("{}\n{field}", std::fs::read_to_string(&file).unwrap())).unwrap();
+    let (ok, stdout, stderr, swing) = run("swing", &["--rule", "swing"]);
+    assert!(ok, "{stderr}");
+    let s = last_json(&stdout);
+    assert_eq!(s["rule"], "swing");
+    assert_eq!((s["mass_initial"].as_u64(), s["mass_final"].as_u64()), (Some(40), Some(40)));
+    let (ok, _, stderr, again) = run("swing-again", &["--rule", "swing"]);
+    assert!(ok, "{stderr}");
+    assert_eq!(bytes(&swing), bytes(&again), "same seed, same snapshots");
+    assert_ne!(bytes(&swing), bytes(&one), "another rule, other moves");
     std::fs::remove_dir_all(&d).ok();
 }

@@ -180,6 +180,44 @@ pub struct ClassMoves {
     pub sideways: Spread,
 }
 
+/// The swing at one class of window packing ([`SwingField`]), over every half period of the
+/// run (the swing field of the automaton's `swing` rule).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct SwingClass {
+    /// Packing range `[low, high)` (the last class: from `low` on) and the mean packing of
+    /// the grains in it.
+    pub low: f64,
+    pub high: f64,
+    pub packing: f64,
+    /// `|dx|` per half period (m).
+    pub swing: Spread,
+    /// The signed move less the mean move of the other grains within
+    /// [`LOCAL_RADIUS_DIAMETERS`] mean diameters (m): its `sd` is how far a grain moves apart
+    /// from its neighbourhood.
+    pub relative: Spread,
+}
+
+/// The swing against the packing of a window around the grain, over the whole run: dense
+/// packings occur only once bands have formed, so this table is taken over every half
+/// period, not only before the onset as the excursion tables are.
+///
+/// The window reaches [`LOCAL_RADIUS_DIAMETERS`] mean diameters along x and `across_m`
+/// across: as far as grains move together across the tray (the correlation of two grains'
+/// moves, each less the half period's mean move, for pairs within the same reach along x,
+/// falls below 1/e at `across_m`, at least one mean diameter; the tray's width where it
+/// never does).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct SwingField {
+    pub half_periods: usize,
+    /// The window's half-length along x and half-height across (m).
+    pub reach_m: f64,
+    pub across_m: f64,
+    /// The correlation of moves across the tray, per bin of one mean diameter of `|dy|`
+    /// (None: no pair).
+    pub correlation_across: Vec<Option<f64>>,
+    pub classes: Vec<SwingClass>,
+}
+
 /// The band measures.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Bands {
@@ -227,6 +265,7 @@ pub struct Coarse {
     pub drift_positive_fraction: f64,
     pub by_packing: Vec<ClassMoves>,
     pub by_contacts: Vec<ClassMoves>,
+    pub swing_field: SwingField,
     pub bands: Bands,
     /// Bands counted at each turning-point frame.
     pub frames: Vec<FrameBands>,
@@ -243,6 +282,9 @@ pub struct FrameBands {
     pub in_bands: f64,
 }
 
+/// A half period's tray-frame positions `x`, `y` at its start and moves along x.
+type HalfPeriod = (Vec<f64>, Vec<f64>, Vec<f64>);
+
 /// One grain's move over a half period, with its local state at the start.
 struct Move {
     packing: f64,
@@ -251,14 +293,23 @@ struct Move {
     dy: f64,
 }
 
-/// Local packing and contact number of every grain of a frame (positions `x`, `y`, tray of
-/// `length` periodic in x when `periodic`, and `width`).
-pub fn local_state(x: &[f64], y: &[f64], radii: &[f64], length: f64, width: f64, periodic: bool, mean_d: f64) -> (Vec<f64>, Vec<usize>) {
+/// Calls `visit(k, m, dx, dy)` for every grain `k` and every grain `m` (`k` itself included)
+/// whose centre lies within `reach` of `k`'s (`dx`, `dy` from `k` to `m`, the nearest image
+/// across x when `periodic`), on a tray of `length` x `width`.
+fn for_neighbours(
+    x: &[f64],
+    y: &[f64],
+    length: f64,
+    width: f64,
+    periodic: bool,
+    reach: f64,
+    mut visit: impl FnMut(usize, usize, f64, f64),
+) {
     let n = x.len();
-    let reach = LOCAL_RADIUS_DIAMETERS * mean_d;
-    let rmax = radii.iter().copied().fold(0.0, f64::max);
-    let cell = reach.max(2.0 * rmax * (1.0 + CONTACT_GAP));
-    let (cx, cy) = (((length / cell).floor() as usize).max(1), ((width / cell).floor() as usize).max(1));
+    let (cx, cy) = (
+        ((length / reach).floor() as usize).max(1),
+        ((width / reach).floor() as usize).max(1),
+    );
     let (hx, hy) = (length / cx as f64, width / cy as f64);
     let key = |xi: f64, yi: f64| {
         let i = ((xi.rem_euclid(length) / hx) as usize).min(cx - 1);
@@ -270,12 +321,8 @@ pub fn local_state(x: &[f64], y: &[f64], radii: &[f64], length: f64, width: f64,
         let (i, j) = key(x[k], y[k]);
         cells[j * cx + i].push(k);
     }
-    let disk = std::f64::consts::PI * reach * reach;
-    let mut packing = vec![0.0; n];
-    let mut contacts = vec![0; n];
     for k in 0..n {
         let (i, j) = key(x[k], y[k]);
-        let mut area = 0.0;
         for dj in -1i64..=1 {
             let jj = j as i64 + dj;
             if jj < 0 || jj >= cy as i64 {
@@ -300,20 +347,54 @@ pub fn local_state(x: &[f64], y: &[f64], radii: &[f64], length: f64, width: f64,
                         dx -= length * (dx / length).round();
                     }
                     let dy = y[m] - y[k];
-                    let d2 = dx * dx + dy * dy;
-                    if d2 <= reach * reach {
-                        area += std::f64::consts::PI * radii[m] * radii[m];
-                    }
-                    let touch = (radii[k] + radii[m]) * (1.0 + CONTACT_GAP);
-                    if m != k && d2 < touch * touch {
-                        contacts[k] += 1;
+                    if dx * dx + dy * dy <= reach * reach {
+                        visit(k, m, dx, dy);
                     }
                 }
             }
         }
-        packing[k] = area / disk;
     }
-    (packing, contacts)
+}
+
+/// Local packing and contact number of every grain of a frame (positions `x`, `y`, tray of
+/// `length` periodic in x when `periodic`, and `width`).
+pub fn local_state(x: &[f64], y: &[f64], radii: &[f64], length: f64, width: f64, periodic: bool, mean_d: f64) -> (Vec<f64>, Vec<usize>) {
+    let n = x.len();
+    let reach = LOCAL_RADIUS_DIAMETERS * mean_d;
+    let rmax = radii.iter().copied().fold(0.0, f64::max);
+    let search = reach.max(2.0 * rmax * (1.0 + CONTACT_GAP));
+    let disk = std::f64::consts::PI * reach * reach;
+    let mut area = vec![0.0; n];
+    let mut contacts = vec![0; n];
+    for_neighbours(x, y, length, width, periodic, search, |k, m, dx, dy| {
+        let d2 = dx * dx + dy * dy;
+        if d2 <= reach * reach {
+            area[k] += std::f64::consts::PI * radii[m] * radii[m];
+        }
+        let touch = (radii[k] + radii[m]) * (1.0 + CONTACT_GAP);
+        if m != k && d2 < touch * touch {
+            contacts[k] += 1;
+        }
+    });
+    (area.into_iter().map(|a| a / disk).collect(), contacts)
+}
+
+/// Each grain's signed move `moves[k]` less the mean move of the other grains within
+/// [`LOCAL_RADIUS_DIAMETERS`] mean diameters of it at the positions `x`, `y` (None for a
+/// grain with no such neighbour): how far a grain moves apart from its neighbourhood.
+pub fn relative_moves(x: &[f64], y: &[f64], moves: &[f64], length: f64, width: f64, periodic: bool, mean_d: f64) -> Vec<Option<f64>> {
+    let n = x.len();
+    let mut sum = vec![(0.0, 0usize); n];
+    for_neighbours(x, y, length, width, periodic, LOCAL_RADIUS_DIAMETERS * mean_d, |k, m, _, _| {
+        if m != k {
+            sum[k].0 += moves[m];
+            sum[k].1 += 1;
+        }
+    });
+    sum.iter()
+        .zip(moves)
+        .map(|(&(s, c), &d)| (c > 0).then(|| d - s / c as f64))
+        .collect()
 }
 
 /// The measures of a run: `frames` in time order of a tray of `header`, periodic in x when
@@ -425,6 +506,19 @@ pub fn measure(
         .collect();
     let all = class(0.0, f64::INFINITY, &|_| true);
     let (swing, drift, drift_signed) = (Spread::of(swing), Spread::of(drift), Spread::of(drift_signed));
+    let half_periods: Vec<HalfPeriod> = pairs
+        .iter()
+        .map(|(a, b)| {
+            let ((xa, ya), (xb, _)) = (tray(a), tray(b));
+            let dx = xa
+                .iter()
+                .zip(&xb)
+                .map(|(p, q)| if periodic { (q - p) - l * ((q - p) / l).round() } else { q - p })
+                .collect();
+            (xa, ya, dx)
+        })
+        .collect();
+    let swing_field = swing_field(&half_periods, radii, l, w, periodic, mean_d);
     let (bands, per_frame) = band_measures(header, frames, &turning, params, cells, mean_d);
     Ok(Coarse {
         turning_frames: turning.len(),
@@ -439,9 +533,165 @@ pub fn measure(
         drift_positive_fraction,
         by_packing,
         by_contacts,
+        swing_field,
         bands,
         frames: per_frame,
     })
+}
+
+/// Calls `visit(k, m, dy)` for every pair of grains `k != m` whose centres are at most
+/// `reach` apart along x (the nearest image when `periodic`), each pair once, with their
+/// separation across `dy = |y_m - y_k|`.
+fn strip_pairs(x: &[f64], y: &[f64], length: f64, periodic: bool, reach: f64, mut visit: impl FnMut(usize, usize, f64)) {
+    let n = x.len();
+    let mut order: Vec<usize> = (0..n).collect();
+    let xs: Vec<f64> = x.iter().map(|v| if periodic { v.rem_euclid(length) } else { *v }).collect();
+    order.sort_by(|&a, &b| xs[a].total_cmp(&xs[b]));
+    for (p, &k) in order.iter().enumerate() {
+        // Partners ahead in x order, round the seam when periodic; each pair once.
+        for q in 1..n {
+            let idx = p + q;
+            if idx >= n && !periodic {
+                break;
+            }
+            let m = order[idx % n];
+            let ahead = if idx < n { xs[m] - xs[k] } else { xs[m] + length - xs[k] };
+            if ahead > reach || (periodic && 2.0 * ahead > length) {
+                break;
+            }
+            visit(k, m, (y[m] - y[k]).abs());
+        }
+    }
+}
+
+/// The correlation of two grains' moves (each less the half period's mean move) against
+/// their separation across the tray, in bins of `bin` (m), for pairs within `reach` along x,
+/// over half periods of moves `dx` at positions `(x, y)`: running sums per bin.
+struct AcrossCorrelation {
+    bin: f64,
+    products: Vec<f64>,
+    pairs: Vec<usize>,
+    squares: f64,
+    grains: usize,
+}
+
+impl AcrossCorrelation {
+    fn new(width: f64, bin: f64) -> Self {
+        let bins = (width / bin).ceil().max(1.0) as usize;
+        Self {
+            bin,
+            products: vec![0.0; bins],
+            pairs: vec![0; bins],
+            squares: 0.0,
+            grains: 0,
+        }
+    }
+
+    fn add(&mut self, x: &[f64], y: &[f64], dx: &[f64], length: f64, periodic: bool, reach: f64) {
+        let mean = dx.iter().sum::<f64>() / dx.len().max(1) as f64;
+        let dev: Vec<f64> = dx.iter().map(|d| d - mean).collect();
+        self.squares += dev.iter().map(|d| d * d).sum::<f64>();
+        self.grains += dev.len();
+        let last = self.pairs.len() - 1;
+        strip_pairs(x, y, length, periodic, reach, |k, m, dy| {
+            let b = ((dy / self.bin) as usize).min(last);
+            self.products[b] += dev[k] * dev[m];
+            self.pairs[b] += 1;
+        });
+    }
+
+    /// The correlation per bin (None where no pair fell).
+    fn values(&self) -> Vec<Option<f64>> {
+        let var = self.squares / self.grains.max(1) as f64;
+        self.products
+            .iter()
+            .zip(&self.pairs)
+            .map(|(&s, &c)| (c > 0 && var > 0.0).then(|| s / c as f64 / var))
+            .collect()
+    }
+}
+
+/// A window around a grain: `|dx| <= reach` along x and `|dy| <= across` across (m).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Window {
+    pub reach: f64,
+    pub across: f64,
+}
+
+/// Each grain's packing in its [`Window`] (clamped to the tray's `width`): the projected
+/// area of the grains centred in it over the window's area inside the tray.
+pub fn window_packing(x: &[f64], y: &[f64], radii: &[f64], length: f64, width: f64, periodic: bool, window: Window) -> Vec<f64> {
+    let Window { reach, across } = window;
+    let mut area: Vec<f64> = radii.iter().map(|r| std::f64::consts::PI * r * r).collect();
+    let own = area.clone();
+    strip_pairs(x, y, length, periodic, reach, |k, m, dy| {
+        if dy <= across {
+            area[k] += own[m];
+            area[m] += own[k];
+        }
+    });
+    y.iter()
+        .zip(area)
+        .map(|(&yk, a)| {
+            let tall = (yk + across).min(width) - (yk - across).max(0.0);
+            a / (2.0 * reach * tall.max(f64::MIN_POSITIVE))
+        })
+        .collect()
+}
+
+/// The swing field over the moves of every half period (`(x, y, dx)` in the tray's frame at
+/// the half period's start, and the move along x). First the correlation of moves across the
+/// tray, which sets the window's height (`across_m`: where the correlation first falls
+/// below 1/e, or the tray's width); then the swing by the packing of that window.
+fn swing_field(moves: &[HalfPeriod], radii: &[f64], l: f64, w: f64, periodic: bool, mean_d: f64) -> SwingField {
+    let reach = LOCAL_RADIUS_DIAMETERS * mean_d;
+    let mut corr = AcrossCorrelation::new(w, mean_d);
+    for (x, y, dx) in moves {
+        corr.add(x, y, dx, l, periodic, reach);
+    }
+    let correlation_across = corr.values();
+    let across_m = correlation_across
+        .iter()
+        .position(|c| c.is_some_and(|c| c < (-1.0f64).exp()))
+        .map_or(w, |b| b.max(1) as f64 * mean_d);
+    let classes = PACKING_EDGES.len() + 1;
+    let mut packing = vec![Vec::new(); classes];
+    let mut swing = vec![Vec::new(); classes];
+    let mut relative = vec![Vec::new(); classes];
+    for (x, y, dx) in moves {
+        let phi = window_packing(x, y, radii, l, w, periodic, Window { reach, across: across_m });
+        let rel = relative_moves(x, y, dx, l, w, periodic, mean_d);
+        for k in 0..x.len() {
+            let c = PACKING_EDGES.iter().take_while(|&&e| phi[k] >= e).count();
+            packing[c].push(phi[k]);
+            swing[c].push(dx[k].abs());
+            if let Some(r) = rel[k] {
+                relative[c].push(r);
+            }
+        }
+    }
+    let mut low = 0.0;
+    let mut out = Vec::new();
+    for (c, ((p, s), r)) in packing.into_iter().zip(swing).zip(relative).enumerate() {
+        let high = PACKING_EDGES.get(c).copied().unwrap_or(f64::INFINITY);
+        if !p.is_empty() {
+            out.push(SwingClass {
+                low,
+                high,
+                packing: p.iter().sum::<f64>() / p.len() as f64,
+                swing: Spread::of(s),
+                relative: Spread::of(r),
+            });
+        }
+        low = high;
+    }
+    SwingField {
+        half_periods: moves.len(),
+        reach_m: reach,
+        across_m,
+        correlation_across,
+        classes: out,
+    }
 }
 
 /// Which band (index) holds tray-frame position `x`, if any.
@@ -689,6 +939,101 @@ mod tests {
         let xs: Vec<f64> = x.iter().map(|v| (v + 0.048_f64).rem_euclid(0.1)).collect();
         let (_, seam) = local_state(&xs, &y, &[r; 5], 0.1, 0.1, true, 2.0 * r);
         assert_eq!(seam, contacts);
+    }
+
+    #[test]
+    fn relative_moves_are_taken_against_the_other_neighbours() {
+        // Three grains within 2.5 diameters of each other, a fourth far off.
+        let r = 5e-4;
+        let x = [0.050, 0.051, 0.052, 0.090];
+        let y = [0.05; 4];
+        let rel = relative_moves(&x, &y, &[1.0, 2.0, 3.0, 7.0], 0.1, 0.1, true, 2.0 * r);
+        assert_eq!(rel, vec![Some(-1.5), Some(0.0), Some(1.5), None]);
+        // Across the periodic seam the first grain's neighbours are the same.
+        let xs: Vec<f64> = x.iter().map(|v| (v + 0.0495_f64).rem_euclid(0.1)).collect();
+        assert_eq!(relative_moves(&xs, &y, &[1.0, 2.0, 3.0, 7.0], 0.1, 0.1, true, 2.0 * r), rel);
+    }
+
+    #[test]
+    fn a_sheet_that_swings_as_one_has_no_relative_move() {
+        // A square patch of touching grains swinging 8 mm out and back, and lone grains
+        // swinging 14 mm: two packing classes with those swings, no move apart within the patch.
+        let (l, w, r) = (0.4, 0.1, 5e-4);
+        let patch = 100;
+        let lone = 20;
+        let (drive, f) = frames(patch + lone, 6, 8, |k, half| {
+            let on = half.rem_euclid(2) as f64;
+            if k < patch {
+                [0.1 + 2.0 * r * (k % 10) as f64 + on * 8e-3, 0.03 + 2.0 * r * (k / 10) as f64]
+            } else {
+                [0.2 + 0.01 * (k - patch) as f64 + on * 14e-3, 0.08]
+            }
+        });
+        let p = StripeParams::default_for(0.01, 2.0 * r);
+        let c = measure(&header(patch + lone, l, w, r), &f, &drive, true, None, &p, 400).unwrap();
+        let field = &c.swing_field;
+        assert_eq!(field.half_periods, 11);
+        let sparse = &field.classes[0];
+        assert!(sparse.high <= 0.1 && (sparse.swing.mean - 14e-3).abs() < 1e-12, "{sparse:?}");
+        let dense = field.classes.last().unwrap();
+        assert!(dense.low >= 0.3, "the patch's centre is dense: {dense:?}");
+        assert!((dense.swing.mean - 8e-3).abs() < 1e-12 && dense.relative.sd < 1e-12, "{dense:?}");
+        let grains: usize = field.classes.iter().map(|k| k.swing.samples).sum();
+        assert_eq!(grains, (patch + lone) * 11);
+    }
+
+    #[test]
+    fn moves_alike_across_the_tray_open_the_window_to_its_width() {
+        // A layer of 30 x 10 grains on a 0.1 m tray: in the first run every grain's move is a
+        // function of its x only (a long wave), in the second a scramble of the same values.
+        let (l, w, r) = (0.1, 0.01, 4e-4);
+        let (nx, ny) = (60usize, 10usize);
+        let n = nx * ny;
+        let wave = |k: usize| 1e-3 * (std::f64::consts::TAU * (k % nx) as f64 / nx as f64).sin();
+        // A pseudo-random index (SplitMix-like): nothing in common with the grain's column.
+        let scramble = |k: usize| wave(((k as u64 + 1).wrapping_mul(0x9e37_79b9_7f4a_7c15) >> 40) as usize % n);
+        for (moves, coherent) in [(&wave as &dyn Fn(usize) -> f64, true), (&scramble, false)] {
+            let (drive, f) = frames(n, 4, 8, |k, half| {
+                let on = half.rem_euclid(2) as f64;
+                [
+                    (k % nx) as f64 * l / nx as f64 + on * (5e-3 + moves(k)),
+                    5e-4 + (k / nx) as f64 * 1e-3,
+                ]
+            });
+            let p = StripeParams::default_for(0.1, 2.0 * r);
+            let c = measure(&header(n, l, w, r), &f, &drive, true, None, &p, 100).unwrap();
+            let field = &c.swing_field;
+            let corr: Vec<f64> = field.correlation_across.iter().flatten().copied().collect();
+            if coherent {
+                assert!(corr.iter().all(|&c| c > 0.9), "{corr:?}");
+                assert_eq!(field.across_m, w);
+            } else {
+                // (In the first bin, grains of one row, half the frames place them by their
+                // own moves, so nearness along x selects pairs that moved apart: negative.)
+                assert!(corr[0] < 0.37 && corr[1..].iter().all(|&c| c.abs() < 0.2), "{corr:?}");
+                assert!(
+                    (field.across_m - 2.0 * r).abs() < 1e-15,
+                    "at least one mean diameter: {}",
+                    field.across_m
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn window_packing_of_a_full_strip_is_its_area_fraction() {
+        // Rows of touching grains filling a 0.02 m wide tray: every grain's window over the
+        // whole width holds the layer's area fraction (pi / 4 on a square lattice).
+        let (l, w, r) = (0.05, 0.02, 5e-4);
+        let (x, y): (Vec<f64>, Vec<f64>) = (0..50 * 20)
+            .map(|k| (r + 2.0 * r * (k % 50) as f64, r + 2.0 * r * (k / 50) as f64))
+            .unzip();
+        let reach = 2.5 * 2.0 * r;
+        let phi = window_packing(&x, &y, &vec![r; x.len()], l, w, true, Window { reach, across: w });
+        // The window holds 5 columns of 1 mm each (|dx| <= 2.5 mm) over 5 mm: exact.
+        for p in phi {
+            assert!((p - std::f64::consts::PI / 4.0).abs() < 1e-9, "{p}");
+        }
     }
 
     #[test]

@@ -11,6 +11,9 @@
 //!   cell per half step (against the flight) and nothing ever forms.
 //! - [`RuleSet::Measured`]: flights, band-edge escapes and sideways steps drawn from a DEM
 //!   run's measured distributions ([`measured`], [`measured_rule`]).
+//! - [`RuleSet::Swing`]: every floor grain swings out and back each half step by the swing a
+//!   DEM run measured at its local packing, with the measured spread about its neighbours
+//!   ([`swing`]); no grain is held.
 //! - [`RuleSet::Physical`] (default): the same rules in the tray frame plus a flight cap, a
 //!   sliding threshold, stochastic flights, knock-through along lines of touching grains,
 //!   lateral contacts and optional sideways moves ([`Physical`]), each switchable.
@@ -32,6 +35,7 @@ mod rng;
 mod scalar;
 pub mod spec;
 mod step;
+pub mod swing;
 pub mod tracks;
 pub mod transport;
 

@@ -15,7 +15,34 @@ pub struct MeasuredFile {
     pub source: Source,
     pub cell: Cell,
     pub excursion: Excursions,
+    /// The swing against the local packing over the whole run (the `swing` rule's numbers;
+    /// absent in files written before it was measured).
+    pub swing_field: Option<SwingFieldFile>,
     pub bands: Bands,
+}
+
+/// `[swing_field]`: the swing at each class of window packing over every half period of the
+/// run.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+pub struct SwingFieldFile {
+    /// The packing window's half-length along x, in mean diameters.
+    pub local_radius_diameters: f64,
+    /// Its half-height across the tray (m): as far as the DEM's moves stay correlated.
+    pub across_m: f64,
+    pub classes: Vec<SwingClassFile>,
+}
+
+/// `[[swing_field.classes]]`.
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize)]
+pub struct SwingClassFile {
+    pub low: f64,
+    pub high: f64,
+    /// The class's mean packing.
+    pub packing: f64,
+    /// `|dx|` per half period (m).
+    pub swing: Spread,
+    /// A grain's signed move less its neighbours' mean move (m; its `sd` is read).
+    pub relative: Spread,
 }
 
 /// The DEM run the file was measured on: what a scene that uses the file must share.
@@ -44,6 +71,9 @@ pub struct Cell {
 pub struct Spread {
     pub samples: usize,
     pub mean: f64,
+    /// Standard deviation (0 in files written before it was).
+    #[serde(default)]
+    pub sd: f64,
     pub q10: f64,
     pub q25: f64,
     pub median: f64,
@@ -156,6 +186,40 @@ impl MeasuredFile {
             return Err(err(key, format!("quantiles q10..q90 must not decrease, got {q:?}")));
         }
         Ok(s)
+    }
+
+    /// The swing field, checked: classes of increasing packing with finite, non-negative
+    /// swings and spreads, and a positive disk radius.
+    pub fn swing_field(&self) -> Result<&SwingFieldFile, MeasuredError> {
+        let key = "swing_field";
+        let Some(f) = &self.swing_field else {
+            return Err(err(
+                key,
+                "absent: the file predates it; run `stripes mechanism RUN --coarse-only` again",
+            ));
+        };
+        for (name, v) in [("local_radius_diameters", f.local_radius_diameters), ("across_m", f.across_m)] {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(err(format!("swing_field.{name}"), format!("must be positive, got {v}")));
+            }
+        }
+        if f.classes.iter().all(|c| c.swing.samples == 0) {
+            return Err(err("swing_field.classes", "no class holds a measured swing"));
+        }
+        for (k, c) in f.classes.iter().enumerate() {
+            for (name, v) in [("packing", c.packing), ("swing.mean", c.swing.mean), ("relative.sd", c.relative.sd)] {
+                if !(v.is_finite() && v >= 0.0) {
+                    return Err(err(
+                        format!("swing_field.classes[{k}].{name}"),
+                        format!("must be finite and >= 0, got {v}"),
+                    ));
+                }
+            }
+            if k > 0 && c.packing <= f.classes[k - 1].packing {
+                return Err(err(format!("swing_field.classes[{k}].packing"), "classes must increase in packing"));
+            }
+        }
+        Ok(f)
     }
 
     /// Checks what the rule reads; errors name the dotted key.
@@ -358,6 +422,7 @@ mod tests {
         Spread {
             samples: 100,
             mean,
+            sd: 0.0,
             q10: q[0],
             q25: q[1],
             median: q[2],

@@ -50,6 +50,7 @@ use serde::{Deserialize, Serialize};
 use crate::measured::{MeasuredError, MeasuredFile, Quantiles};
 use crate::neighbours::neighbour_row;
 use crate::rng::{self, Stream};
+use crate::swing::{packing_field, SwingCurve};
 use crate::transport::landings;
 
 /// Contact numbers on the lattice: 0 to 4 orthogonal neighbours.
@@ -82,12 +83,19 @@ pub struct MeasuredRule {
     /// Probability that a grain of a band's leading edge escapes in a half step.
     pub edge_escape: f64,
     pub band: BandDetection,
+    /// The swing field ([`crate::swing`]), when the file holds one: the `swing` rule's numbers.
+    pub swing: Option<SwingCurve>,
 }
 
 impl MeasuredRule {
-    /// The rule from a checked file on cells of `cell_m` by `cell_y_m`.
-    pub fn new(file: &MeasuredFile, cell_m: f64, cell_y_m: f64, band: BandDetection) -> Result<Self, MeasuredError> {
+    /// The rule from a checked file on cells of `cell_m` by `cell_y_m`, each covered by one
+    /// grain to `grain_fraction` of its area.
+    pub fn new(file: &MeasuredFile, cell_m: f64, cell_y_m: f64, band: BandDetection, grain_fraction: f64) -> Result<Self, MeasuredError> {
         file.validate()?;
+        let swing = match file.swing_field {
+            None => None,
+            Some(_) => Some(SwingCurve::new(file.swing_field()?, file.source.mean_diameter_m, grain_fraction)),
+        };
         Ok(Self {
             cell_m,
             cell_y_m,
@@ -96,6 +104,7 @@ impl MeasuredRule {
             drift: Quantiles::signed(file.drift_signed()?),
             edge_escape: file.edge_escape()?,
             band,
+            swing,
         })
     }
 }
@@ -114,6 +123,22 @@ pub(crate) fn draw_cells(q: &Quantiles, cell: f64, key: u64, stream: Stream, w: 
     let whole = x.floor();
     let up = uniform(rng::word(key, stream, w, k + 1)) < x - whole;
     whole as usize + up as usize
+}
+
+/// The `swing` rule's flight of a grain at local packing `phi`, in cells of `cell`: the swing
+/// at `phi` plus a normal deviation of the measured spread (Box-Muller on the words 0 and 1
+/// of `(key, Jump, w)`), at least 0, rounded up with the fraction's probability (word 2).
+#[inline]
+pub(crate) fn swing_cells(curve: &SwingCurve, phi: f64, cell: f64, key: u64, w: usize) -> usize {
+    let (s, sd) = curve.at(phi);
+    let (u1, u2) = (
+        uniform(rng::word(key, Stream::Jump, w, 0)),
+        uniform(rng::word(key, Stream::Jump, w, 1)),
+    );
+    let z = (-2.0 * (1.0 - u1).ln()).sqrt() * (std::f64::consts::TAU * u2).cos();
+    let x = ((s + sd * z) / cell).max(0.0);
+    let whole = x.floor();
+    whole as usize + (uniform(rng::word(key, Stream::Jump, w, 2)) < x - whole) as usize
 }
 
 /// One grain's move in a half step, in lab-frame cells: from `(row, column)` to
@@ -141,6 +166,8 @@ pub(crate) struct MeasuredScratch {
     land: Vec<usize>,
     /// Grains that flew: (row, landing column, contact number, start column, drawn jump).
     movers: Vec<(usize, usize, usize, usize, usize)>,
+    /// The local packing of each flight-frame cell (the `swing` rule).
+    phi: Vec<f64>,
     /// Per lab-frame cell `j * nx + i`: 1 + the drawn flight (cells) of the grain that flew
     /// out to it in the last outgoing half step, 0 where none did.
     out: Vec<u32>,
@@ -181,8 +208,10 @@ fn bands(counts: &[u32], ny: usize, b: &BandDetection, band: &mut Vec<bool>, lea
 
 /// The measured rule's flights and sideways steps on the flight-frame copy `lf` into `new`
 /// (index `j * nx + i`), for half step `t` of the run seeded `seed`, whose flight frame is
-/// the lab frame mirrored when `left` (module docs). Records every grain's move in
-/// `sc.moves`, in lab-frame cells.
+/// the lab frame mirrored when `left` (module docs); with `swing`, the `swing` rule's
+/// flights instead (no band holds a grain; every floor grain flies by the swing at its
+/// local packing, [`swing_cells`]). Records every grain's move in `sc.moves`, in lab-frame
+/// cells.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn flights(
     nx: usize,
@@ -194,6 +223,7 @@ pub(crate) fn flights(
     t: u64,
     left: bool,
     periodic_y: bool,
+    swing: Option<&SwingCurve>,
     sc: &mut MeasuredScratch,
 ) {
     let lab = |i: usize| if left { nx - 1 - i } else { i };
@@ -212,6 +242,10 @@ pub(crate) fn flights(
     sc.counts
         .extend((0..nx).map(|i| (0..ny).map(|j| lf[j * nx + i] as u32).sum::<u32>()));
     bands(&sc.counts, ny, &m.band, &mut sc.band, &mut sc.lead);
+    if let Some(curve) = swing {
+        packing_field(nx, ny, lf, periodic_y, curve, (m.cell_m, m.cell_y_m), &mut sc.phi);
+        sc.band.iter_mut().for_each(|b| *b = false);
+    }
     let occupied = |j: usize, i: usize| lf[j * nx + i] > 0;
     sc.movers.clear();
     for j in 0..ny {
@@ -238,8 +272,10 @@ pub(crate) fn flights(
                     .filter(|&jn| occupied(jn, i))
                     .count();
             let n = n.min(CONTACT_CLASSES - 1);
-            let out = if outgoing { 0 } else { sc.out[j * nx + lab(i)] };
-            let jump = if out > 0 {
+            let out = if outgoing || swing.is_some() { 0 } else { sc.out[j * nx + lab(i)] };
+            let jump = if let Some(curve) = swing {
+                swing_cells(curve, sc.phi[j * nx + i], m.cell_m, key, i)
+            } else if out > 0 {
                 // Back by the drawn flight out, less the period's drift `d` (signed, + towards +x):
                 // the period's net move is `s_out (J1 - J2) = d`, with `s_out = -sign` the
                 // lab direction of the flight out.
@@ -302,6 +338,7 @@ mod tests {
         Spread {
             samples: 1000,
             mean,
+            sd: 0.0,
             q10: q[0],
             q25: q[1],
             median: q[2],

@@ -19,11 +19,20 @@ pub enum RuleSet {
     /// Flights, band-edge escapes and sideways steps drawn from the distributions measured on
     /// a DEM run ([`crate::measured_rule`]); needs [`Params::measured`].
     Measured,
+    /// Every floor grain flies each half step by the swing measured at its local packing,
+    /// with the measured spread about its neighbours ([`crate::swing`]); sideways steps as
+    /// `measured`, no grain held. Needs [`Params::measured`] with a swing field.
+    Swing,
 }
 
 impl RuleSet {
     /// Every name, as scene files and the command line write it.
-    pub const NAMES: &'static [&'static str] = &["strict", "physical", "measured"];
+    pub const NAMES: &'static [&'static str] = &["strict", "physical", "measured", "swing"];
+
+    /// Whether the rule takes its numbers from a parameter file.
+    pub fn is_measured(self) -> bool {
+        matches!(self, RuleSet::Measured | RuleSet::Swing)
+    }
 }
 
 impl std::str::FromStr for RuleSet {
@@ -33,6 +42,7 @@ impl std::str::FromStr for RuleSet {
             "strict" => Ok(RuleSet::Strict),
             "physical" => Ok(RuleSet::Physical),
             "measured" => Ok(RuleSet::Measured),
+            "swing" => Ok(RuleSet::Swing),
             _ => Err(ParamsError::UnknownRuleSet { given: s.into() }),
         }
     }
@@ -55,6 +65,8 @@ pub enum ParamsError {
     },
     /// The `measured` rule without its measured numbers (`automaton.parameters`).
     NoMeasurements,
+    /// The `swing` rule with a parameter file that holds no swing field.
+    NoSwingField,
 }
 
 impl std::fmt::Display for ParamsError {
@@ -64,6 +76,10 @@ impl std::fmt::Display for ParamsError {
                 write!(f, "unknown rule set `{given}`, expected one of {}", RuleSet::NAMES.join(", "))
             }
             ParamsError::Probability { field, value } => write!(f, "automaton.{field} must lie in [0, 1], got {value}"),
+            ParamsError::NoSwingField => write!(
+                f,
+                "rule `swing` needs a parameter file with a [swing_field]: run `stripes mechanism RUN --coarse-only` again"
+            ),
             ParamsError::NoMeasurements => {
                 write!(
                     f,
@@ -289,6 +305,8 @@ pub(crate) struct Resolved {
     pub graded: Option<Graded>,
     /// The measured rule ([`crate::measured_rule`]); `None`: another rule set.
     pub measured: Option<MeasuredRule>,
+    /// The measured rule's flights are the `swing` rule's ([`crate::swing`]).
+    pub swing: bool,
 }
 
 impl Params {
@@ -301,8 +319,11 @@ impl Params {
                 Err(ParamsError::Probability { field, value })
             }
         };
-        if self.rule == RuleSet::Measured {
+        if self.rule.is_measured() {
             let m = self.measured.ok_or(ParamsError::NoMeasurements)?;
+            if self.rule == RuleSet::Swing && m.swing.is_none() {
+                return Err(ParamsError::NoSwingField);
+            }
             prob("edge escape", m.edge_escape)?;
             for (field, value) in [("measured cell", m.cell_m), ("measured cell across", m.cell_y_m)] {
                 if !(value.is_finite() && value > 0.0) {
@@ -361,10 +382,11 @@ impl Params {
                 periodic_y,
                 graded: None,
                 measured: None,
+                swing: false,
             },
             // The measured rule draws its own flights and sideways steps; every grain of the
             // top layer is a candidate, as with `strict`.
-            RuleSet::Measured => Resolved {
+            RuleSet::Measured | RuleSet::Swing => Resolved {
                 frozen: false,
                 cap: usize::MAX,
                 activation: crate::rng::ONE,
@@ -376,6 +398,7 @@ impl Params {
                 periodic_y,
                 graded: None,
                 measured: self.measured,
+                swing: self.rule == RuleSet::Swing,
             },
             RuleSet::Physical => {
                 let p = &self.physical;
@@ -417,6 +440,7 @@ impl Params {
                         Transport::Graded(g) => Some(g),
                     },
                     measured: None,
+                    swing: false,
                 }
             }
         }
@@ -431,7 +455,7 @@ mod tests {
     fn refused_parameters_name_the_field_and_value() {
         assert_eq!(
             "loose".parse::<RuleSet>().unwrap_err().to_string(),
-            "unknown rule set `loose`, expected one of strict, physical, measured"
+            "unknown rule set `loose`, expected one of strict, physical, measured, swing"
         );
         let mut params = Params {
             rule: RuleSet::Physical,

@@ -21,7 +21,7 @@
 //! 3. *Sideways.* A top grain moves to the +y neighbour column if that is lower, with the
 //!    drawn probability; all at once; then the same towards -y.
 //!
-//! The `measured` rule replaces steps 1-3 by its own ([`crate::measured_rule`]).
+//! The `measured` and `swing` rules replace steps 1-3 by their own ([`crate::measured_rule`]).
 //! 4. *Resting (rule 2).* A top grain is at rest when both x-neighbours are at most one
 //!    grain lower; otherwise it moves to the lower side (the flight direction on a tie).
 //!    Applied in sweeps of increasing `i` until every slope is at most 1; each move lowers
@@ -146,7 +146,8 @@ pub(crate) fn half_step(nx: usize, ny: usize, h: &mut [u8], r: &Resolved, tick: 
     sc.impacts.clear();
     if !r.frozen {
         if let Some(m) = &r.measured {
-            measured_rule::flights(nx, ny, lf, &mut sc.new, m, seed, t, left, r.periodic_y, &mut sc.measured);
+            let swing = if r.swing { m.swing.as_ref() } else { None };
+            measured_rule::flights(nx, ny, lf, &mut sc.new, m, seed, t, left, r.periodic_y, swing, &mut sc.measured);
         } else if let Some(g) = &r.graded {
             graded_flights(nx, ny, lf, flies, &mut sc.new, g, cap, r.trains, &mut sc.graded);
         } else {

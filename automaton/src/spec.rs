@@ -208,9 +208,9 @@ impl Spec {
                 "rule physical takes its numbers from the tray, not from a parameter file: use rule measured or strict, or drop automaton.parameters",
             )),
             (None, RuleSet::Physical, Some(_)) => Ok(RuleSet::Measured),
-            (Some(RuleSet::Measured), _, None) | (None, RuleSet::Measured, None) => Err(err(
+            (Some(r), _, None) | (None, r, None) if r.is_measured() => Err(err(
                 "automaton.parameters",
-                "rule measured needs a parameter file: automaton.parameters = \"RUN/mechanism/automaton.toml\" (written by `stripes mechanism RUN`)",
+                "rules measured and swing need a parameter file: automaton.parameters = \"RUN/mechanism/automaton.toml\" (written by `stripes mechanism RUN`)",
             )),
             (chosen, rule, _) => Ok(chosen.unwrap_or(rule)),
         }

@@ -1,8 +1,8 @@
-//! The `measured` rule ([`automaton::measured_rule`]) on lattices built for it: a band's
-//! leading edge escapes at the measured rate, grains are conserved, and the same seed gives
-//! the same lattice.
+//! The `measured` and `swing` rules ([`automaton::measured_rule`], [`automaton::swing`]) on
+//! lattices built for them: a band's leading edge escapes at the measured rate, grains are
+//! conserved, the same seed gives the same lattice, and the swing follows the local packing.
 
-use automaton::measured::{Bands, Cell, ClassMoves, Excursions, MeasuredFile, Source, Spread};
+use automaton::measured::{Bands, Cell, ClassMoves, Excursions, MeasuredFile, Source, Spread, SwingClassFile, SwingFieldFile};
 use automaton::measured_rule::{BandDetection, MeasuredRule};
 use automaton::{Automaton, Direction, Lattice, Params, Physical, RuleSet, Tracks, YBoundary};
 
@@ -13,6 +13,7 @@ fn flat(x: f64) -> Spread {
     Spread {
         samples: 100,
         mean: x,
+        sd: 0.0,
         q10: x,
         q25: x,
         median: x,
@@ -46,6 +47,7 @@ fn file(jump: f64, sideways: f64, escape: f64) -> MeasuredFile {
             by_contacts: (0..5).map(|n| class(n as f64)).collect(),
             drift_signed: Some(flat(0.0)),
         },
+        swing_field: None,
         bands: Bands {
             core_packing: Some(0.77),
             edge_escape_per_period: Some(escape),
@@ -59,7 +61,7 @@ fn params(f: &MeasuredFile, seed: u64) -> Params {
         physical: Physical::off(),
         y: YBoundary::Walls,
         seed,
-        measured: Some(MeasuredRule::new(f, CELL, CELL, BandDetection { fill: 0.5, min_cells: 3 }).unwrap()),
+        measured: Some(MeasuredRule::new(f, CELL, CELL, BandDetection { fill: 0.5, min_cells: 3 }, 0.77).unwrap()),
     }
 }
 
@@ -137,6 +139,7 @@ fn grains_are_conserved_and_a_seed_gives_one_lattice() {
         excursion: Spread {
             samples: 16000,
             mean: 0.01325,
+            sd: 0.0,
             q10: 0.01013,
             q25: 0.01284,
             median: 0.01426,
@@ -146,6 +149,7 @@ fn grains_are_conserved_and_a_seed_gives_one_lattice() {
         sideways: Spread {
             samples: 16000,
             mean: 0.00025,
+            sd: 0.0,
             q10: 0.0,
             q25: 0.0,
             median: 7.8e-6,
@@ -159,6 +163,7 @@ fn grains_are_conserved_and_a_seed_gives_one_lattice() {
     f.excursion.drift_signed = Some(Spread {
         samples: 14000,
         mean: -0.000149,
+        sd: 0.0,
         q10: -0.00204,
         q25: -0.00015,
         median: -2.9e-5,
@@ -198,6 +203,7 @@ fn a_lone_grain_drifts_per_period_by_the_measured_drift() {
     let spread = |mean: f64, q: [f64; 5]| Spread {
         samples: 1000,
         mean: mean * CELL,
+        sd: 0.0,
         q10: q[0] * CELL,
         q25: q[1] * CELL,
         median: q[2] * CELL,
@@ -250,4 +256,161 @@ fn the_measured_rule_needs_its_numbers() {
     p.measured = None;
     let e = Automaton::new(one_band(10, 2, 2, 5), p, Direction::Plus).err().unwrap();
     assert!(e.to_string().contains("automaton.parameters"), "{e}");
+}
+
+/// A file whose swing field is `(packing, swing in cells, spread in cells)` per class.
+fn swing_file(points: &[(f64, f64, f64)]) -> MeasuredFile {
+    let mut f = file(0.0, 0.0, 0.5);
+    f.swing_field = Some(SwingFieldFile {
+        local_radius_diameters: 2.5,
+        across_m: 2.5 * CELL,
+        classes: points
+            .iter()
+            .map(|&(packing, swing, spread)| SwingClassFile {
+                low: 0.0,
+                high: 1.0,
+                packing,
+                swing: Spread {
+                    samples: 1000,
+                    ..flat(swing * CELL)
+                },
+                relative: Spread {
+                    sd: spread * CELL,
+                    ..flat(0.0)
+                },
+            })
+            .collect(),
+    });
+    f
+}
+
+fn swing_params(f: &MeasuredFile, seed: u64) -> Params {
+    Params {
+        rule: RuleSet::Swing,
+        ..params(f, seed)
+    }
+}
+
+/// A random submonolayer of `nx` x `ny` cells, a fraction `fill` occupied.
+fn random_layer(nx: usize, ny: usize, fill: u64, mut s: u64) -> Vec<u8> {
+    (0..nx * ny)
+        .map(|_| {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            (s % 100 < fill) as u8
+        })
+        .collect()
+}
+
+/// With one swing at every packing and no spread, the whole layer moves out and back by it
+/// as one sheet: no queue shortens a flight, no grain is held, and the lattice returns.
+#[test]
+fn a_flat_swing_moves_the_layer_out_and_back_as_one_sheet() {
+    let (nx, ny) = (120, 10);
+    let h = random_layer(nx, ny, 40, 99);
+    let f = swing_file(&[(0.5, 7.0, 0.0)]);
+    let mut a = Automaton::new(Lattice::from_heights(nx, ny, &h).unwrap(), swing_params(&f, 3), Direction::Plus).unwrap();
+    let mut tracks = Tracks::new(a.lattice()).unwrap();
+    let x0 = tracks.unwrapped_x().to_vec();
+    a.half_step();
+    tracks.apply(a.measured_moves().unwrap());
+    assert!(
+        tracks.unwrapped_x().iter().zip(&x0).all(|(x, x0)| x - x0 == 7),
+        "every grain flies 7 cells"
+    );
+    a.half_step();
+    tracks.apply(a.measured_moves().unwrap());
+    assert_eq!(tracks.unwrapped_x(), &x0[..]);
+    assert_eq!(a.lattice().heights(), h);
+}
+
+/// A dense block swings by the dense class's swing and a lone grain by the sparse one's; a
+/// grain behind the block queues behind its landing, and grains are conserved.
+#[test]
+fn the_swing_follows_the_local_packing() {
+    let (nx, ny) = (200, 12);
+    let mut h = vec![0u8; nx * ny];
+    for j in 0..ny {
+        for i in 60..80 {
+            h[j * nx + i] = 1;
+        }
+    }
+    h[6 * nx + 150] = 1; // a lone grain far from the block
+    h[6 * nx + 57] = 1; // a grain just behind the block
+                        // Packing 0.77 in the block's interior, 0.77 / 55 for the lone grain (one grain in a
+                        // window of 11 columns by 5 rows: 5 cells either way along x, 2 rows either way across).
+    let f = swing_file(&[(0.02, 12.0, 0.0), (0.77, 4.0, 0.0)]);
+    let mut p = swing_params(&f, 1);
+    p.measured.as_mut().unwrap().swing.as_mut().unwrap().reach_m = 5.0 * CELL;
+    let mut a = Automaton::new(Lattice::from_heights(nx, ny, &h).unwrap(), p, Direction::Plus).unwrap();
+    a.half_step();
+    let l = a.lattice();
+    assert_eq!(l.mass(), (20 * ny + 2) as u64);
+    let moved = |from: (usize, usize)| a.measured_moves().unwrap().iter().find(|m| m.from == from).map(|m| m.dx);
+    assert_eq!(moved((6, 150)), Some(12), "the lone grain swings the sparse swing");
+    // Mid-block (packing 0.77): 4 cells; its front column runs ahead of the interior only
+    // by its sparser disk, and every grain of a row lands behind the grain ahead.
+    assert_eq!(moved((6, 70)), Some(4));
+    let (behind, last) = (moved((6, 57)).unwrap(), moved((6, 60)).unwrap());
+    assert!(57 + behind < 60 + last, "the grain behind the block does not fly through it");
+    assert!((1..12).contains(&behind), "it queues behind the block's last grain: {behind}");
+}
+
+/// The spread about the swing is the measured one: over many seeds a lone grain's flights
+/// have the swing's mean and the spread's standard deviation (in cells, the stochastic
+/// rounding adding at most 1/12 to the variance).
+#[test]
+fn a_lone_grain_flies_the_swing_with_the_measured_spread() {
+    let (nx, ny) = (100, 3);
+    let f = swing_file(&[(0.5, 9.3, 1.5)]);
+    let mut flights = Vec::new();
+    for seed in 0..2000 {
+        let mut h = vec![0u8; nx * ny];
+        h[nx + 20] = 1;
+        let mut a = Automaton::new(Lattice::from_heights(nx, ny, &h).unwrap(), swing_params(&f, seed), Direction::Plus).unwrap();
+        a.half_step();
+        flights.push(a.measured_moves().unwrap().first().map_or(0, |m| m.dx) as f64);
+    }
+    let n = flights.len() as f64;
+    let mean = flights.iter().sum::<f64>() / n;
+    let var = flights.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0);
+    // sd of the mean 1.5 / sqrt(2000) = 0.034: allow 4 sd.
+    assert!((mean - 9.3).abs() < 0.14, "mean flight {mean} cells");
+    assert!(
+        var > 1.5f64.powi(2) * 0.85 && var < 1.5f64.powi(2) * 1.15 + 1.0 / 12.0,
+        "variance {var}"
+    );
+}
+
+/// Grains are conserved, followed one by one, and a seed gives one lattice under the swing rule.
+#[test]
+fn the_swing_rule_conserves_grains_and_a_seed_gives_one_lattice() {
+    let (nx, ny) = (97, 13);
+    let h = random_layer(nx, ny, 45, 777);
+    let grains = h.iter().map(|&x| x as u64).sum::<u64>();
+    let f = swing_file(&[(0.15, 15.7, 1.0), (0.45, 13.0, 1.2), (0.85, 10.4, 1.3)]);
+    let run = |seed: u64| {
+        let mut a = Automaton::new(Lattice::from_heights(nx, ny, &h).unwrap(), swing_params(&f, seed), Direction::Plus).unwrap();
+        let mut tracks = Tracks::new(a.lattice()).unwrap();
+        for _ in 0..40 {
+            a.half_step();
+            assert_eq!(a.lattice().mass(), grains);
+            assert!(a.lattice().heights().iter().all(|&x| x <= 1));
+            tracks.apply(a.measured_moves().unwrap());
+            assert!(tracks.matches(a.lattice()));
+        }
+        a.lattice().heights()
+    };
+    let once = run(5);
+    assert_eq!(once, run(5));
+    assert_ne!(once, run(6));
+}
+
+#[test]
+fn the_swing_rule_needs_a_swing_field() {
+    let e = Automaton::new(one_band(10, 2, 2, 5), swing_params(&file(1.0, 0.0, 0.5), 1), Direction::Plus)
+        .err()
+        .unwrap();
+    assert!(e.to_string().contains("[swing_field]"), "{e}");
 }

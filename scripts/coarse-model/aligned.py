@@ -124,4 +124,5 @@ def main():
         print("  coherence, sd of (signed move - neighbours' mean move) (mm): " + " | ".join(parts))
 
 
-main()
+if __name__ == "__main__":
+    main()

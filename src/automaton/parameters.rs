@@ -88,10 +88,14 @@ pub fn read(file: &mut SceneFile) -> Result<Option<Parameters>, SceneError> {
 }
 
 impl Parameters {
-    /// The measured rule on the scene's lattice: the file's distributions, and the DEM
+    /// The measured rule on the scene's lattice: the file's distributions (and its swing
+    /// field, which the `swing` rule needs: `swing` refuses a file without one), and the DEM
     /// measure's band detection ([`analysis::stripes::StripeParams::default_for`] at the
     /// scene's mean area fraction and mean diameter) in cells.
-    pub fn rule(&self, file: &SceneFile) -> Result<MeasuredRule, SceneError> {
+    pub fn rule(&self, file: &SceneFile, swing: bool) -> Result<MeasuredRule, SceneError> {
+        if swing {
+            self.file.swing_field().map_err(|e| refuse(&self.path, e))?;
+        }
         let (c, shape) = (Cells::of(file), cell_shape(file));
         let scene = &file.dem;
         let phi = scene.particles.count as f64 * shape.grain_area / (scene.tray.length * scene.tray.width);
@@ -100,7 +104,7 @@ impl Parameters {
             fill: stripes.threshold / (shape.grain_area / (c.dx * c.dy)),
             min_cells: (stripes.min_width / c.dx).ceil() as usize,
         };
-        MeasuredRule::new(&self.file, c.dx, c.dy, band).map_err(|e| refuse(&self.path, e))
+        MeasuredRule::new(&self.file, c.dx, c.dy, band, shape.grain_area / (c.dx * c.dy)).map_err(|e| refuse(&self.path, e))
     }
 }
 
@@ -144,7 +148,7 @@ seed = 1
         assert_eq!(f.automaton.parameters_cell, Some(0.0007584766454585922));
         let c = Cells::of(&f);
         assert_eq!((c.nx, c.ny), (132, 26), "cells of the file's 0.758 mm");
-        let rule = p.rule(&f).unwrap();
+        let rule = p.rule(&f, false).unwrap();
         assert_eq!(rule.edge_escape, 0.41420118343195267);
         // Grains with 2 contacts draw from the class of 2; the lattice's 4 from the class of 4.
         assert_eq!(rule.excursion[2].at(0.5), 0.014013540446437753);

@@ -123,8 +123,12 @@ pub fn run_automaton(scene: &LatticeScene, opts: &AutomatonOptions) -> Result<Au
     analysis::io::write_atomic(&out.join("scene.toml"), file.to_toml()?.as_bytes())?;
     let s = setup(file, &opts.sample_cache, opts.quiet)?;
     let mut params = lattice::params(file, rule, &s.slide_dem, &file.automaton.free_params());
-    if rule == RuleSet::Measured {
-        params.measured = scene.parameters.as_ref().map(|p| p.rule(file)).transpose()?;
+    if rule.is_measured() {
+        params.measured = scene
+            .parameters
+            .as_ref()
+            .map(|p| p.rule(file, rule == RuleSet::Swing))
+            .transpose()?;
     }
     let wall = Instant::now();
     let b = progress_bar(1, opts.quiet, "automaton");

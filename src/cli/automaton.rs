@@ -35,8 +35,10 @@ pub struct Args {
     #[serde(flatten)]
     pub set: crate::cli::args::Overrides,
     /// Rule set: strict (thesis 3.1 exactly), physical (plus what a shaken tray supplies,
-    /// the scene's [automaton] table) or measured (every number from a DEM run's parameter
-    /// file, automaton.parameters). Default: the scene's automaton.rule, itself physical.
+    /// the scene's [automaton] table), measured (every number from a DEM run's parameter
+    /// file, automaton.parameters) or swing (every grain swings each half period by the
+    /// swing the same file measured at its packing). Default: the scene's automaton.rule,
+    /// itself physical.
     #[arg(long, value_parser = rule_parser())]
     pub rule: Option<RuleSet>,
     #[command(flatten)]

@@ -49,6 +49,22 @@ pub struct Excursions {
     pub by_contacts: Vec<ClassMoves>,
 }
 
+/// The swing against the packing of a window around each grain, over every half period of
+/// the run (the automaton's `swing` rule), in metres ([`analysis::coarse::SwingField`]).
+#[derive(Clone, Debug, Serialize)]
+pub struct SwingFieldOut {
+    /// What the table is, in words.
+    pub window: &'static str,
+    /// The window's half-length along x, in mean diameters, and its half-height across (m).
+    pub local_radius_diameters: f64,
+    pub across_m: f64,
+    pub half_periods: usize,
+    /// `[|dy| (m, the bin's lower edge), correlation]` of two grains' moves within the
+    /// window's length along x.
+    pub correlation_across: Vec<[f64; 2]>,
+    pub classes: Vec<analysis::coarse::SwingClass>,
+}
+
 /// Quantities the file cannot give from one run, with the reason.
 #[derive(Clone, Debug, Serialize)]
 pub struct NotMeasured {
@@ -63,6 +79,7 @@ pub struct Parameters {
     pub source: Source,
     pub cell: Cell,
     pub excursion: Excursions,
+    pub swing_field: SwingFieldOut,
     pub bands: Bands,
     pub not_measured: Vec<NotMeasured>,
 }
@@ -119,6 +136,23 @@ pub fn write(run: &Path, periodic: bool, dir: &mut RunDir) -> Result<Parameters,
             drift_positive_fraction: coarse.drift_positive_fraction,
             by_packing: coarse.by_packing.clone(),
             by_contacts: coarse.by_contacts.clone(),
+        },
+        swing_field: SwingFieldOut {
+            window: "every half period of the run (dense packings exist only once bands have formed); packing: projected area \
+                     of the grains centred within local_radius_diameters mean diameters along x and across_m across (as far as \
+                     moves stay correlated above 1/e across the tray, or its width), over the window's area inside the tray; \
+                     relative: a grain's signed move less the mean move of its neighbours within the local disk",
+            local_radius_diameters: analysis::coarse::LOCAL_RADIUS_DIAMETERS,
+            across_m: coarse.swing_field.across_m,
+            half_periods: coarse.swing_field.half_periods,
+            correlation_across: coarse
+                .swing_field
+                .correlation_across
+                .iter()
+                .enumerate()
+                .filter_map(|(b, c)| c.map(|c| [b as f64 * coarse.mean_diameter_m, c]))
+                .collect(),
+            classes: coarse.swing_field.classes.clone(),
         },
         bands: coarse.bands.clone(),
         not_measured: vec![
