@@ -48,6 +48,7 @@ fn main() {
             transport: automaton::Transport::Uniform,
         },
         y: YBoundary::Walls,
+        x_walls: false,
         seed: 1,
         measured: None,
     };

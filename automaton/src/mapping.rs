@@ -334,6 +334,7 @@ mod tests {
                 rule: RuleSet::Physical,
                 physical: ph,
                 y: YBoundary::Walls,
+                x_walls: false,
                 seed: 1,
                 measured: None,
             }

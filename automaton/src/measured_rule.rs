@@ -174,13 +174,32 @@ pub(crate) struct MeasuredScratch {
 }
 
 /// Marks band columns and their leading edges (the last column of each run in the flight
-/// direction) from the grains per column, periodic in x.
-fn bands(counts: &[u32], ny: usize, b: &BandDetection, band: &mut Vec<bool>, lead: &mut Vec<bool>) {
+/// direction) from the grains per column, periodic in x unless `walls`.
+fn bands(counts: &[u32], ny: usize, b: &BandDetection, walls: bool, band: &mut Vec<bool>, lead: &mut Vec<bool>) {
     let nx = counts.len();
     band.clear();
     band.extend(counts.iter().map(|&c| c as f64 > b.fill * ny as f64));
     lead.clear();
     lead.resize(nx, false);
+    if walls {
+        // Runs end at the row's ends; a run against the far wall leads into it.
+        let mut run = 0;
+        for c in 0..=nx {
+            if c < nx && band[c] {
+                run += 1;
+                continue;
+            }
+            if run > 0 {
+                if run >= b.min_cells.max(1) {
+                    lead[c - 1] = true;
+                } else {
+                    band[c - run..c].iter_mut().for_each(|x| *x = false);
+                }
+            }
+            run = 0;
+        }
+        return;
+    }
     // A whole ring of band columns has no edge.
     let Some(gap) = band.iter().position(|&x| !x) else {
         return;
@@ -210,7 +229,8 @@ fn bands(counts: &[u32], ny: usize, b: &BandDetection, band: &mut Vec<bool>, lea
 /// (index `j * nx + i`), for half step `t` of the run seeded `seed`, whose flight frame is
 /// the lab frame mirrored when `left` (module docs); with `swing`, the `swing` rule's
 /// flights instead (no band holds a grain; every floor grain flies by the swing at its
-/// local packing, [`swing_cells`]). Records every grain's move in `sc.moves`, in lab-frame
+/// local packing, [`swing_cells`]). With `walls` the rows end at end walls (x = 0 and
+/// x = L) instead of wrapping round. Records every grain's move in `sc.moves`, in lab-frame
 /// cells.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn flights(
@@ -223,6 +243,7 @@ pub(crate) fn flights(
     t: u64,
     left: bool,
     periodic_y: bool,
+    walls: bool,
     swing: Option<&SwingCurve>,
     sc: &mut MeasuredScratch,
 ) {
@@ -241,12 +262,15 @@ pub(crate) fn flights(
     sc.counts.clear();
     sc.counts
         .extend((0..nx).map(|i| (0..ny).map(|j| lf[j * nx + i] as u32).sum::<u32>()));
-    bands(&sc.counts, ny, &m.band, &mut sc.band, &mut sc.lead);
+    bands(&sc.counts, ny, &m.band, walls, &mut sc.band, &mut sc.lead);
     if let Some(curve) = swing {
-        packing_field(nx, ny, lf, periodic_y, curve, (m.cell_m, m.cell_y_m), &mut sc.phi);
+        packing_field(nx, ny, lf, (!walls, periodic_y), curve, (m.cell_m, m.cell_y_m), &mut sc.phi);
         sc.band.iter_mut().for_each(|b| *b = false);
     }
     let occupied = |j: usize, i: usize| lf[j * nx + i] > 0;
+    // The x-neighbours of column i: round the ring, or none beyond an end wall.
+    let ahead = |i: usize| if walls && i + 1 == nx { None } else { Some((i + 1) % nx) };
+    let behind = |i: usize| if walls && i == 0 { None } else { Some((i + nx - 1) % nx) };
     sc.movers.clear();
     for j in 0..ny {
         let key = rng::row_key(seed, t, j);
@@ -264,8 +288,8 @@ pub(crate) fn flights(
                 sc.jumps.push(0);
                 continue;
             }
-            let n = occupied(j, (i + 1) % nx) as usize
-                + occupied(j, (i + nx - 1) % nx) as usize
+            let n = ahead(i).is_some_and(|c| occupied(j, c)) as usize
+                + behind(i).is_some_and(|c| occupied(j, c)) as usize
                 + [true, false]
                     .into_iter()
                     .filter_map(|up| neighbour_row(j, up, ny, periodic_y).filter(|&jn| jn != j))
@@ -288,7 +312,7 @@ pub(crate) fn flights(
             sc.jumps.push(jump);
             sc.movers.push((j, i, n, i, jump));
         }
-        landings(nx, &sc.cells, &sc.jumps, true, &mut sc.land);
+        landings(nx, &sc.cells, &sc.jumps, true, walls, &mut sc.land);
         let mut mover = first_mover;
         for (&c, &l) in sc.cells.iter().zip(&sc.land) {
             if mover < sc.movers.len() && sc.movers[mover].3 == c {
@@ -390,10 +414,16 @@ mod tests {
         // ny = 4: columns with 3 or 4 grains are band columns; the run 8, 9, 0, 1 wraps the
         // seam; the run 4, 5 is too short.
         let counts = [4, 3, 0, 1, 3, 4, 0, 2, 4, 4];
-        bands(&counts, 4, &b, &mut band, &mut lead);
+        bands(&counts, 4, &b, false, &mut band, &mut lead);
         assert_eq!(band, [true, true, false, false, false, false, false, false, true, true]);
         assert_eq!(lead, [false, true, false, false, false, false, false, false, false, false]);
-        bands(&[4; 6], 4, &b, &mut band, &mut lead);
+        bands(&[4; 6], 4, &b, false, &mut band, &mut lead);
         assert!(band.iter().all(|&x| x) && lead.iter().all(|&x| !x), "a full ring has no edge");
+        // Between end walls nothing wraps: the seam's run splits into two short ones, and a
+        // full row leads into the far wall.
+        bands(&counts, 4, &b, true, &mut band, &mut lead);
+        assert_eq!(band, [false; 10]);
+        bands(&[4; 6], 4, &b, true, &mut band, &mut lead);
+        assert!(band.iter().all(|&x| x) && lead == [false, false, false, false, false, true]);
     }
 }

@@ -67,6 +67,8 @@ pub enum ParamsError {
     NoMeasurements,
     /// The `swing` rule with a parameter file that holds no swing field.
     NoSwingField,
+    /// End walls in x under a rule whose rows wrap round.
+    XWalls { rule: RuleSet },
 }
 
 impl std::fmt::Display for ParamsError {
@@ -76,6 +78,11 @@ impl std::fmt::Display for ParamsError {
                 write!(f, "unknown rule set `{given}`, expected one of {}", RuleSet::NAMES.join(", "))
             }
             ParamsError::Probability { field, value } => write!(f, "automaton.{field} must lie in [0, 1], got {value}"),
+            ParamsError::XWalls { rule } => write!(
+                f,
+                "box.x_walls: the automaton's `{}` rule runs on rows that wrap round in x; end walls are modelled by the measured and swing rules only",
+                format!("{rule:?}").to_lowercase()
+            ),
             ParamsError::NoSwingField => write!(
                 f,
                 "rule `swing` needs a parameter file with a [swing_field]: run `stripes mechanism RUN --coarse-only` again"
@@ -268,6 +275,10 @@ pub struct Params {
     /// Used by `physical` only.
     pub physical: Physical,
     pub y: YBoundary,
+    /// End walls at x = 0 and x = L (`box.x_walls`): rows end there instead of wrapping
+    /// round. Only the `measured` and `swing` rules model them.
+    #[serde(default)]
+    pub x_walls: bool,
     /// Seed of the counter-based random bits.
     pub seed: u64,
     /// Used by `measured` only: the rule's numbers from a DEM run's parameter file.
@@ -307,6 +318,8 @@ pub(crate) struct Resolved {
     pub measured: Option<MeasuredRule>,
     /// The measured rule's flights are the `swing` rule's ([`crate::swing`]).
     pub swing: bool,
+    /// End walls in x ([`Params::x_walls`]).
+    pub x_walls: bool,
 }
 
 impl Params {
@@ -319,6 +332,9 @@ impl Params {
                 Err(ParamsError::Probability { field, value })
             }
         };
+        if self.x_walls && !self.rule.is_measured() {
+            return Err(ParamsError::XWalls { rule: self.rule });
+        }
         if self.rule.is_measured() {
             let m = self.measured.ok_or(ParamsError::NoMeasurements)?;
             if self.rule == RuleSet::Swing && m.swing.is_none() {
@@ -383,6 +399,7 @@ impl Params {
                 graded: None,
                 measured: None,
                 swing: false,
+                x_walls: false,
             },
             // The measured rule draws its own flights and sideways steps; every grain of the
             // top layer is a candidate, as with `strict`.
@@ -399,6 +416,7 @@ impl Params {
                 graded: None,
                 measured: self.measured,
                 swing: self.rule == RuleSet::Swing,
+                x_walls: self.x_walls,
             },
             RuleSet::Physical => {
                 let p = &self.physical;
@@ -441,6 +459,7 @@ impl Params {
                     },
                     measured: None,
                     swing: false,
+                    x_walls: false,
                 }
             }
         }
@@ -464,6 +483,7 @@ mod tests {
                 ..Physical::off()
             },
             y: YBoundary::Walls,
+            x_walls: false,
             seed: 1,
             measured: None,
         };

@@ -147,7 +147,20 @@ pub(crate) fn half_step(nx: usize, ny: usize, h: &mut [u8], r: &Resolved, tick: 
     if !r.frozen {
         if let Some(m) = &r.measured {
             let swing = if r.swing { m.swing.as_ref() } else { None };
-            measured_rule::flights(nx, ny, lf, &mut sc.new, m, seed, t, left, r.periodic_y, swing, &mut sc.measured);
+            measured_rule::flights(
+                nx,
+                ny,
+                lf,
+                &mut sc.new,
+                m,
+                seed,
+                t,
+                left,
+                r.periodic_y,
+                r.x_walls,
+                swing,
+                &mut sc.measured,
+            );
         } else if let Some(g) = &r.graded {
             graded_flights(nx, ny, lf, flies, &mut sc.new, g, cap, r.trains, &mut sc.graded);
         } else {
@@ -283,7 +296,7 @@ fn graded_flights(
             gs.cells.push(i);
             gs.row_jumps.push(if h == 1 && flies[j * nx + i] { gs.jumps[i] } else { 0 });
         }
-        landings(nx, &gs.cells, &gs.row_jumps, trains, &mut gs.land);
+        landings(nx, &gs.cells, &gs.row_jumps, trains, false, &mut gs.land);
         for (&c, &l) in gs.cells.iter().zip(&gs.land) {
             if l != c {
                 new[j * nx + c] -= 1;

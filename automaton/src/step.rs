@@ -541,6 +541,7 @@ mod tests {
                     transport: crate::params::Transport::Uniform,
                 },
                 y,
+                x_walls: false,
                 seed: 3,
                 measured: None,
             };

@@ -100,33 +100,53 @@ pub(crate) fn window(curve: &SwingCurve, dx: f64, dy: f64) -> (usize, usize) {
     )
 }
 
-/// Each cell's packing in its window ([`window`]; cells of `dx` by `dy` m) on the lattice `lf` (`nx` periodic
-/// columns, `ny` rows, index `j * nx + i`, pile heights; side walls unless `periodic_y`):
-/// the grains in the window's cells inside the tray, each covering `grain_fraction` of a
-/// cell, over those cells; into `out`.
+/// Each cell's packing in its window ([`window`]; cells of `dx` by `dy` m) on the lattice
+/// `lf` (`nx` columns, `ny` rows, index `j * nx + i`, pile heights; `periodic` in x and in y,
+/// walls where not): the grains in the window's cells inside the tray, each covering
+/// `grain_fraction` of a cell, over those cells; into `out`.
 pub(crate) fn packing_field(
     nx: usize,
     ny: usize,
     lf: &[u8],
-    periodic_y: bool,
+    (periodic_x, periodic_y): (bool, bool),
     curve: &SwingCurve,
     (dx, dy): (f64, f64),
     out: &mut Vec<f64>,
 ) {
     let (w, h) = window(curve, dx, dy);
-    // Per row, the grains of the periodic span of 2w + 1 columns centred on each column.
+    // Per row and column, the grains of the span of 2w + 1 columns centred on it (round the
+    // ring, or cut at the end walls), and per column the span's cells inside the tray.
     let len = 2 * w + 1;
     let mut spans = vec![0u32; nx * ny];
+    let width: Vec<usize> = (0..nx)
+        .map(|i| {
+            if periodic_x {
+                len
+            } else {
+                (i + w).min(nx - 1) + 1 - i.saturating_sub(w)
+            }
+        })
+        .collect();
+    let mut prefix = vec![0u32; nx + 1];
     for j in 0..ny {
         let row = &lf[j * nx..(j + 1) * nx];
-        let total: u32 = row.iter().map(|&g| g as u32).sum();
-        let (full, rem) = ((len / nx) as u32, len % nx);
-        // The first span (centre 0) from its start, then slide one column at a time.
-        let start = |i: usize| (i + nx * (w / nx + 1) - w) % nx;
-        let mut s: u32 = (0..rem).map(|k| row[(start(0) + k) % nx] as u32).sum();
         for i in 0..nx {
-            spans[j * nx + i] = full * total + s;
-            s = s + row[(start(i) + rem) % nx] as u32 - row[start(i)] as u32;
+            prefix[i + 1] = prefix[i] + row[i] as u32;
+        }
+        let total = prefix[nx];
+        for i in 0..nx {
+            spans[j * nx + i] = if periodic_x {
+                let (full, rem) = ((len / nx) as u32, len % nx);
+                let start = (i + nx * (w / nx + 1) - w) % nx;
+                let part = if start + rem <= nx {
+                    prefix[start + rem] - prefix[start]
+                } else {
+                    total - prefix[start] + prefix[start + rem - nx]
+                };
+                full * total + part
+            } else {
+                prefix[(i + w).min(nx - 1) + 1] - prefix[i.saturating_sub(w)]
+            };
         }
     }
     // Rows within h of each row: inside the walls, or round the ring (each row once).
@@ -145,9 +165,9 @@ pub(crate) fn packing_field(
     out.resize(nx * ny, 0.0);
     for j in 0..ny {
         let rows = rows(j);
-        let per_grain = curve.grain_fraction / (rows.len() * len) as f64;
         for i in 0..nx {
-            out[j * nx + i] = rows.iter().map(|&jn| spans[jn * nx + i]).sum::<u32>() as f64 * per_grain;
+            let grains: u32 = rows.iter().map(|&jn| spans[jn * nx + i]).sum();
+            out[j * nx + i] = grains as f64 * curve.grain_fraction / (rows.len() * width[i]) as f64;
         }
     }
 }
@@ -211,14 +231,14 @@ mod tests {
         assert_eq!(window(&c, 0.5e-3, 0.5e-3), (5, 5));
         let mut phi = Vec::new();
         for periodic in [true, false] {
-            packing_field(nx, ny, &vec![1; nx * ny], periodic, &c, (0.5e-3, 0.5e-3), &mut phi);
+            packing_field(nx, ny, &vec![1; nx * ny], (periodic, periodic), &c, (0.5e-3, 0.5e-3), &mut phi);
             assert!(phi.iter().all(|&p| (p - 0.77).abs() < 1e-12), "{:?}", &phi[..3]);
         }
         // One grain at (j, i) = (3, 39): seen by every cell of its window, across the seam
         // in x; beside the wall the window has 9 rows (3 below, 5 above... 0..=8).
         let mut lone = vec![0; nx * ny];
         lone[3 * nx + 39] = 1;
-        packing_field(nx, ny, &lone, false, &c, (0.5e-3, 0.5e-3), &mut phi);
+        packing_field(nx, ny, &lone, (true, false), &c, (0.5e-3, 0.5e-3), &mut phi);
         assert_eq!(phi.iter().filter(|&&p| p > 0.0).count(), 11 * 9);
         assert!(phi[3 * nx + 4] > 0.0 && phi[3 * nx + 5] == 0.0, "five columns on across the seam");
         assert!(
@@ -228,7 +248,7 @@ mod tests {
         assert!((phi[8 * nx + 39] - 0.77 / 121.0).abs() < 1e-15 && phi[9 * nx + 39] == 0.0);
         // A window across the whole width (the stripe scene's): every row sees the grain.
         c.across_m = 1.0;
-        packing_field(nx, ny, &lone, false, &c, (0.5e-3, 0.5e-3), &mut phi);
+        packing_field(nx, ny, &lone, (true, false), &c, (0.5e-3, 0.5e-3), &mut phi);
         assert_eq!(phi.iter().filter(|&&p| p > 0.0).count(), 11 * ny);
         assert!(phi
             .iter()

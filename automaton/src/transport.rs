@@ -159,12 +159,23 @@ impl Graded {
 /// one cell before where the grain ahead of it starts (thesis 3.1 rule 1: the unchanged copy
 /// L). Returns the landing cells, unwrapped (`cells[k] <= land[k] <= cells[k] + jumps[k]`,
 /// strictly increasing and less than `cells[0] + nx + land[0] - cells[0]` round the ring),
-/// so no two grains share a cell.
-pub fn landings(nx: usize, cells: &[usize], jumps: &[usize], trains: bool, land: &mut Vec<usize>) {
+/// so no two grains share a cell. With `wall` the row ends at an end wall after cell
+/// `nx - 1` instead of wrapping round: the front grain stops there.
+pub fn landings(nx: usize, cells: &[usize], jumps: &[usize], trains: bool, wall: bool, land: &mut Vec<usize>) {
     let n = cells.len();
     land.clear();
     land.extend(cells.iter().zip(jumps).map(|(&c, &j)| c + j));
     if n == 0 {
+        return;
+    }
+    if wall {
+        // The wall is a resting grain at cell nx: from the front grain back, each stops
+        // before the next one's landing (trains) or start.
+        let mut next = nx;
+        for k in (0..n).rev() {
+            land[k] = land[k].min(next - 1).max(cells[k]);
+            next = if trains { land[k] } else { cells[k] };
+        }
         return;
     }
     if !trains {
@@ -284,6 +295,20 @@ mod tests {
     /// Landings conserve the grains, keep their order round the ring, never share a cell and
     /// never move a grain backwards or beyond its own jump.
     #[test]
+    fn an_end_wall_stops_the_front_grain_and_the_row_queues_behind_it() {
+        let mut land = Vec::new();
+        // Trains: the front grain stops at the last cell, the others behind their landings.
+        landings(10, &[5, 7, 8], &[6, 6, 6], true, true, &mut land);
+        assert_eq!(land, [7, 8, 9]);
+        // Without trains each stops before the next one's start.
+        landings(10, &[5, 7, 8], &[6, 6, 6], false, true, &mut land);
+        assert_eq!(land, [6, 7, 9]);
+        // Short flights are untouched; nothing wraps round.
+        landings(10, &[0, 4], &[2, 3], true, true, &mut land);
+        assert_eq!(land, [2, 7]);
+    }
+
+    #[test]
     fn landings_conserve_order_and_cells() {
         let mut z = 7u64;
         let mut land = Vec::new();
@@ -304,7 +329,7 @@ mod tests {
                 })
                 .collect();
             for trains in [false, true] {
-                landings(nx, &cells, &jumps, trains, &mut land);
+                landings(nx, &cells, &jumps, trains, false, &mut land);
                 let n = cells.len();
                 let mut seen = vec![false; nx];
                 for k in 0..n {
@@ -327,21 +352,21 @@ mod tests {
     fn trains_queue_behind_a_slow_grain_and_rule_one_stops_at_the_start() {
         let mut land = Vec::new();
         // A slow grain at 10 (jump 1) and two fast ones behind it at 6 and 7 (jump 8).
-        landings(40, &[6, 7, 10], &[8, 8, 1], true, &mut land);
+        landings(40, &[6, 7, 10], &[8, 8, 1], true, false, &mut land);
         assert_eq!(land, [9, 10, 11]);
-        landings(40, &[6, 7, 10], &[8, 8, 1], false, &mut land);
+        landings(40, &[6, 7, 10], &[8, 8, 1], false, false, &mut land);
         assert_eq!(land, [6, 9, 11]);
         // A ring of grains that all fly turns rigidly (a full row stays full); without trains
         // a full row cannot move.
-        landings(4, &[0, 1, 2, 3], &[3, 3, 3, 3], true, &mut land);
+        landings(4, &[0, 1, 2, 3], &[3, 3, 3, 3], true, false, &mut land);
         assert_eq!(land, [3, 4, 5, 6]);
-        landings(4, &[0, 1, 2, 3], &[3, 3, 3, 3], false, &mut land);
+        landings(4, &[0, 1, 2, 3], &[3, 3, 3, 3], false, false, &mut land);
         assert_eq!(land, [0, 1, 2, 3]);
         // One resting grain stops the ring behind it.
-        landings(6, &[0, 1, 2, 3], &[3, 3, 0, 3], true, &mut land);
+        landings(6, &[0, 1, 2, 3], &[3, 3, 0, 3], true, false, &mut land);
         assert_eq!(land, [0, 1, 2, 5]);
         // Equal jumps in a touching train move the train as a whole.
-        landings(40, &[3, 4, 5], &[6, 6, 6], true, &mut land);
+        landings(40, &[3, 4, 5], &[6, 6, 6], true, false, &mut land);
         assert_eq!(land, [9, 10, 11]);
     }
 }

@@ -60,6 +60,7 @@ fn params(f: &MeasuredFile, seed: u64) -> Params {
         rule: RuleSet::Measured,
         physical: Physical::off(),
         y: YBoundary::Walls,
+        x_walls: false,
         seed,
         measured: Some(MeasuredRule::new(f, CELL, CELL, BandDetection { fill: 0.5, min_cells: 3 }, 0.77).unwrap()),
     }
@@ -413,4 +414,49 @@ fn the_swing_rule_needs_a_swing_field() {
         .err()
         .unwrap();
     assert!(e.to_string().contains("[swing_field]"), "{e}");
+}
+
+/// Between end walls no grain crosses the ends: a row's front grain stops at the last cell
+/// and the grains behind it queue, grains are conserved and followed, and the rules whose
+/// rows wrap round refuse end walls.
+#[test]
+fn end_walls_stop_the_swing_and_the_other_rules_refuse_them() {
+    let (nx, ny) = (30, 4);
+    let mut h = vec![0u8; nx * ny];
+    for i in [20, 24, 27] {
+        h[nx + i] = 1;
+    }
+    let f = swing_file(&[(0.5, 7.0, 0.0)]);
+    let mut p = swing_params(&f, 1);
+    p.x_walls = true;
+    let mut a = Automaton::new(Lattice::from_heights(nx, ny, &h).unwrap(), p, Direction::Plus).unwrap();
+    let mut tracks = Tracks::new(a.lattice()).unwrap();
+    a.half_step();
+    tracks.apply(a.measured_moves().unwrap());
+    let row: Vec<usize> = (0..nx).filter(|&i| a.lattice().height(i, 1) > 0).collect();
+    assert_eq!(row, [27, 28, 29], "the front grain at the wall, the others queued behind it");
+    assert!(tracks.matches(a.lattice()));
+    // Back towards -x: 7 cells each, nothing reaches the wall at 0.
+    a.half_step();
+    let row: Vec<usize> = (0..nx).filter(|&i| a.lattice().height(i, 1) > 0).collect();
+    assert_eq!(row, [20, 21, 22]);
+    // Many half steps towards a crowded wall: conserved, one grain a cell.
+    let h = random_layer(nx, ny, 60, 4242);
+    let mut p = swing_params(&swing_file(&[(0.2, 12.0, 1.0), (0.7, 6.0, 1.0)]), 2);
+    p.x_walls = true;
+    let mut a = Automaton::new(Lattice::from_heights(nx, ny, &h).unwrap(), p, Direction::Plus).unwrap();
+    for _ in 0..20 {
+        a.half_step();
+        assert_eq!(a.lattice().mass(), h.iter().map(|&x| x as u64).sum::<u64>());
+        assert!(a.lattice().heights().iter().all(|&x| x <= 1));
+    }
+    let strict = Params {
+        rule: RuleSet::Strict,
+        x_walls: true,
+        ..params(&f, 1)
+    };
+    let e = Automaton::new(Lattice::from_heights(nx, ny, &h).unwrap(), strict, Direction::Plus)
+        .err()
+        .unwrap();
+    assert!(e.to_string().contains("box.x_walls"), "{e}");
 }

@@ -24,6 +24,7 @@ fn all_on(cap: usize, y: YBoundary) -> Params {
             transport: automaton::Transport::Uniform,
         },
         y,
+        x_walls: false,
         seed: 11,
         measured: None,
     }
@@ -34,6 +35,7 @@ fn strict(y: YBoundary) -> Params {
         rule: RuleSet::Strict,
         physical: Physical::off(),
         y,
+        x_walls: false,
         seed: 1,
         measured: None,
     }
@@ -450,6 +452,7 @@ fn graded(cap: usize, hold: f64, trains: bool, sideways: f64) -> Params {
             ..Physical::off()
         },
         y: YBoundary::Walls,
+        x_walls: false,
         seed: 5,
         measured: None,
     }

@@ -216,6 +216,7 @@ pub fn params(file: &SceneFile, rule: RuleSet, slide: &SlideMeasure, free: &Free
         } else {
             YBoundary::Periodic
         },
+        x_walls: scene.tray.x_walls,
         seed: scene.run.seed,
         measured: None,
     }
