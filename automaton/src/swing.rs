@@ -273,7 +273,7 @@ mod tests {
                 seed ^= seed << 13;
                 seed ^= seed >> 7;
                 seed ^= seed << 17;
-                (seed % 3 == 0) as u8
+                seed.is_multiple_of(3) as u8
             })
             .collect();
         let mut phi = Vec::new();
