@@ -84,8 +84,9 @@ fn automaton_writes_snapshots_that_analyze_reads_and_prints_the_analyze_keys() {
     ]);
     assert!(!ok);
     assert!(stderr.contains("automaton.activation"), "{stderr}");
-    // A snapshot every 3rd period (and at the last): t = 0, periods 3, 6, 9 and 10, and the
-    // same final state as writing every period.
+    // A snapshot every 3rd period and the one after (pairs one period apart, for the
+    // mobility), and at the last: t = 0, periods 3, 4, 6, 7, 9 and 10, and the same final
+    // state as writing every period.
     let out = d.join("every3").display().to_string();
     let (ok, stdout, stderr) = stripes(&[
         "automaton",
@@ -102,7 +103,9 @@ fn automaton_writes_snapshots_that_analyze_reads_and_prints_the_analyze_keys() {
     assert_eq!(last_json(&stdout)["periods"], 10);
     let (ok, stdout, stderr) = stripes(&["analyze", &out, "--out", &format!("{out}/again")]);
     assert!(ok, "{stderr}");
-    assert_eq!(last_json(&stdout)["frames"], 5, "t = 0, periods 3, 6, 9 and the last");
+    let analysed = last_json(&stdout);
+    assert_eq!(analysed["frames"], 7, "t = 0, periods 3, 4, 6, 7, 9 and the last");
+    assert!(analysed["mobility"].is_number(), "pairs one period apart give a mobility: {analysed}");
     let last = |dir: &str| {
         let b = std::fs::read(Path::new(dir).join("snapshots.bin")).unwrap();
         let n = u64::from_le_bytes(b[8..16].try_into().unwrap()) as usize;

@@ -463,7 +463,8 @@ pub struct Outcome {
 
 /// Runs the automaton from `lattice` for the scene's duration, writing `snapshots.bin` into
 /// `out` if given; calls `frame` with the first state and then with every
-/// `automaton.snapshot_every`-th period's (and the last), the states it writes.
+/// `automaton.snapshot_every`-th period's, the period's after it, and the last: the states
+/// it writes.
 pub fn evolve(
     file: &SceneFile,
     lattice: automaton::Lattice,
@@ -558,8 +559,9 @@ pub fn evolve(
             tr.period(a.lattice());
         }
         let t = 0.25 / nu + (k - 1) as f64 / nu;
-        // Every `automaton.snapshot_every`-th period, and the last.
-        if k % every == 0 || k == periods {
+        // Every `automaton.snapshot_every`-th period and the one after it (a pair one period
+        // apart, from which the analysis takes its mobility and phase), and the last.
+        if k % every == 0 || (every > 1 && k % every == 1 && k > 1) || k == periods {
             if let Some(w) = writer.as_mut() {
                 push(w, t, scene.drive.amplitude, &a, &tracer)?;
             }
