@@ -105,7 +105,10 @@ fn automaton_writes_snapshots_that_analyze_reads_and_prints_the_analyze_keys() {
     assert!(ok, "{stderr}");
     let analysed = last_json(&stdout);
     assert_eq!(analysed["frames"], 7, "t = 0, periods 3, 4, 6, 7, 9 and the last");
-    assert!(analysed["mobility"].is_number(), "pairs one period apart give a mobility: {analysed}");
+    assert!(
+        analysed["mobility"].is_number(),
+        "pairs one period apart give a mobility: {analysed}"
+    );
     let last = |dir: &str| {
         let b = std::fs::read(Path::new(dir).join("snapshots.bin")).unwrap();
         let n = u64::from_le_bytes(b[8..16].try_into().unwrap()) as usize;
@@ -178,6 +181,11 @@ fn compare_runs_both_models_on_one_sample_and_writes_the_report() {
     ] {
         assert!(report.contains(needle), "report lacks {needle}");
     }
+    // The automaton derived from the DEM run: this 0.2 s run holds no band, so there is no
+    // cell to derive, and the summary and the report say why.
+    let note = s["derived_note"].as_str().expect("a derived automaton or a note why there is none");
+    assert!(s["derived"].is_null() && note.contains("cell.size_m"), "{s}");
+    assert!(report.contains("No automaton derived from this DEM run"), "{report}");
     // The top views the report shows are there.
     for view in ["dem-analysis/top_view.png", "automaton/analysis/top_view.png"] {
         assert!(Path::new(&out).join(view).is_file(), "{view} missing");

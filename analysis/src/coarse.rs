@@ -208,6 +208,8 @@ pub struct SwingClass {
 /// never does).
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct SwingField {
+    /// The window's end (s): half periods starting before it; None: the whole run.
+    pub until_s: Option<f64>,
     pub half_periods: usize,
     /// The window's half-length along x and half-height across (m).
     pub reach_m: f64,
@@ -397,18 +399,28 @@ pub fn relative_moves(x: &[f64], y: &[f64], moves: &[f64], length: f64, width: f
         .collect()
 }
 
+/// Where the measures are taken (s; None: the whole run): the excursion tables over the half
+/// periods that start before `before` (the stripe onset), the swing field over those that
+/// start before `swing_until`.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Windows {
+    pub before: Option<f64>,
+    pub swing_until: Option<f64>,
+}
+
 /// The measures of a run: `frames` in time order of a tray of `header`, periodic in x when
-/// `periodic`, shaken by `drive`; excursions before `before` (s; None: the whole run); bands
-/// counted with `params` on `cells` cells.
+/// `periodic`, shaken by `drive`, in the `windows`; bands counted with `params` on `cells`
+/// cells.
 pub fn measure(
     header: &Header,
     frames: &[Frame],
     drive: &TrayDrive,
     periodic: bool,
-    before: Option<f64>,
+    windows: Windows,
     params: &StripeParams,
     cells: usize,
 ) -> Result<Coarse, CoarseError> {
+    let before = windows.before;
     if drive.shortest_period().is_none() {
         return Err(CoarseError::NoDrive);
     }
@@ -508,6 +520,7 @@ pub fn measure(
     let (swing, drift, drift_signed) = (Spread::of(swing), Spread::of(drift), Spread::of(drift_signed));
     let half_periods: Vec<HalfPeriod> = pairs
         .iter()
+        .filter(|(a, _)| windows.swing_until.is_none_or(|t| a.time < t))
         .map(|(a, b)| {
             let ((xa, ya), (xb, _)) = (tray(a), tray(b));
             let dx = xa
@@ -518,7 +531,16 @@ pub fn measure(
             (xa, ya, dx)
         })
         .collect();
-    let swing_field = swing_field(&half_periods, radii, l, w, periodic, mean_d);
+    if half_periods.is_empty() {
+        return Err(CoarseError::TooShort {
+            quantity: "swing field (half periods before the swing field's window end)",
+            half_periods: 0,
+        });
+    }
+    let swing_field = SwingField {
+        until_s: windows.swing_until,
+        ..swing_field(&half_periods, radii, l, w, periodic, mean_d)
+    };
     let (bands, per_frame) = band_measures(header, frames, &turning, params, cells, mean_d);
     Ok(Coarse {
         turning_frames: turning.len(),
@@ -686,6 +708,7 @@ fn swing_field(moves: &[HalfPeriod], radii: &[f64], l: f64, w: f64, periodic: bo
         low = high;
     }
     SwingField {
+        until_s: None,
         half_periods: moves.len(),
         reach_m: reach,
         across_m,
@@ -874,7 +897,7 @@ mod tests {
             [base[0] + on * 1e-4 * k as f64, base[1] + on * 5e-5]
         });
         let p = StripeParams::default_for(0.01, 2.0 * r);
-        let c = measure(&header(n, l, w, r), &f, &drive, true, None, &p, 400).unwrap();
+        let c = measure(&header(n, l, w, r), &f, &drive, true, Windows::default(), &p, 400).unwrap();
         assert_eq!(c.half_periods, 11);
         let expected: Vec<f64> = (0..n).map(|k| 1e-4 * k as f64).collect();
         let mean = expected.iter().sum::<f64>() / n as f64;
@@ -914,14 +937,53 @@ mod tests {
         let (drive, f) = frames(3, 6, 4, |k, _| [0.01 * (k + 1) as f64, 0.05]);
         let p = StripeParams::default_for(0.01, 1e-3);
         let h = header(3, 0.1, 0.1, 5e-4);
-        let all = measure(&h, &f, &drive, true, None, &p, 100).unwrap();
-        let early = measure(&h, &f, &drive, true, Some(1.0 / NU), &p, 100).unwrap();
+        let all = measure(&h, &f, &drive, true, Windows::default(), &p, 100).unwrap();
+        let early = measure(
+            &h,
+            &f,
+            &drive,
+            true,
+            Windows {
+                before: Some(1.0 / NU),
+                swing_until: None,
+            },
+            &p,
+            100,
+        )
+        .unwrap();
         assert_eq!(all.half_periods, 11);
         // Turning points at T/4 and 3T/4 lie before T: two pairs start there.
         assert_eq!(early.half_periods, 2);
         assert!(all.all.excursion.mean < 1e-15, "{}", all.all.excursion.mean);
-        let e = measure(&h, &f, &drive, true, Some(0.0), &p, 100).unwrap_err();
+        let e = measure(
+            &h,
+            &f,
+            &drive,
+            true,
+            Windows {
+                before: Some(0.0),
+                swing_until: None,
+            },
+            &p,
+            100,
+        )
+        .unwrap_err();
         assert!(e.to_string().contains("excursion per half period"), "{e}");
+        // The swing field's own window end.
+        assert_eq!((all.swing_field.half_periods, all.swing_field.until_s), (11, None));
+        let w = Windows {
+            before: None,
+            swing_until: Some(1.0 / NU),
+        };
+        let early = measure(&h, &f, &drive, true, w, &p, 100).unwrap();
+        assert_eq!((early.swing_field.half_periods, early.swing_field.until_s), (2, Some(1.0 / NU)));
+        assert_eq!(early.half_periods, 11, "the excursions keep their own window");
+        let w = Windows {
+            before: None,
+            swing_until: Some(0.0),
+        };
+        let e = measure(&h, &f, &drive, true, w, &p, 100).unwrap_err();
+        assert!(e.to_string().contains("swing field"), "{e}");
     }
 
     #[test]
@@ -970,7 +1032,7 @@ mod tests {
             }
         });
         let p = StripeParams::default_for(0.01, 2.0 * r);
-        let c = measure(&header(patch + lone, l, w, r), &f, &drive, true, None, &p, 400).unwrap();
+        let c = measure(&header(patch + lone, l, w, r), &f, &drive, true, Windows::default(), &p, 400).unwrap();
         let field = &c.swing_field;
         assert_eq!(field.half_periods, 11);
         let sparse = &field.classes[0];
@@ -1001,7 +1063,7 @@ mod tests {
                 ]
             });
             let p = StripeParams::default_for(0.1, 2.0 * r);
-            let c = measure(&header(n, l, w, r), &f, &drive, true, None, &p, 100).unwrap();
+            let c = measure(&header(n, l, w, r), &f, &drive, true, Windows::default(), &p, 100).unwrap();
             let field = &c.swing_field;
             let corr: Vec<f64> = field.correlation_across.iter().flatten().copied().collect();
             if coherent {
@@ -1050,7 +1112,7 @@ mod tests {
         let n = place.len();
         let p = StripeParams::default_for(mean_area_fraction(&vec![r; n], l, w), 2.0 * r);
         let (drive, f) = frames(n, 5, 4, |k, _| place[k]);
-        let c = measure(&header(n, l, w, r), &f, &drive, true, None, &p, 400).unwrap();
+        let c = measure(&header(n, l, w, r), &f, &drive, true, Windows::default(), &p, 400).unwrap();
         assert_eq!(c.bands.frames_with_bands, c.turning_frames);
         assert_eq!(c.bands.escape_per_period, Some(0.0));
         assert_eq!(c.bands.residence_periods.samples, 0);
@@ -1066,7 +1128,7 @@ mod tests {
             }
             q
         });
-        let c = measure(&header(n, l, w, r), &f, &drive, true, None, &p, 400).unwrap();
+        let c = measure(&header(n, l, w, r), &f, &drive, true, Windows::default(), &p, 400).unwrap();
         // Turning frames at halves 0..9: the column is in the band at halves 0 and 1 and
         // leaves at 2 (+A side) and 3 (-A side). Samples are band grains one period before a
         // frame: on each side, the first comparison has all n, the later ones n - 10.

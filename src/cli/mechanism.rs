@@ -30,6 +30,10 @@ pub struct Args {
     /// no continuation, no checkpoint read, no DEM step.
     #[arg(long)]
     pub coarse_only: bool,
+    /// The swing field (the automaton's `swing` rule) over the half periods that start
+    /// before this simulated time (s), e.g. the bands' formation; default: the whole run.
+    #[arg(long)]
+    pub swing_until: Option<f64>,
 }
 
 impl Args {
@@ -43,6 +47,7 @@ impl Args {
             force: self.writing.force,
             quiet: self.writing.quiet,
             coarse_only: self.coarse_only,
+            swing_until: self.swing_until,
         }
     }
 }

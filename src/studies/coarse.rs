@@ -9,7 +9,7 @@
 
 use std::path::Path;
 
-use analysis::coarse::{measure, Bands, ClassMoves, Coarse};
+use analysis::coarse::{measure, Bands, ClassMoves, Coarse, Windows};
 use analysis::density::mean_area_fraction;
 use analysis::stripes::StripeParams;
 use serde::Serialize;
@@ -58,6 +58,10 @@ pub struct SwingFieldOut {
     /// The window's half-length along x, in mean diameters, and its half-height across (m).
     pub local_radius_diameters: f64,
     pub across_m: f64,
+    /// The half periods measured start before this time (s; absent: the whole run,
+    /// `stripes mechanism --swing-until`): the field measured over a run's formation and
+    /// over its steady state differ (docs/results/coarse-model/report.md).
+    pub until_s: Option<f64>,
     pub half_periods: usize,
     /// `[|dy| (m, the bin's lower edge), correlation]` of two grains' moves within the
     /// window's length along x.
@@ -85,8 +89,9 @@ pub struct Parameters {
 }
 
 /// The measures of the run at `run` (a `stripes run` directory), written into `dir` as
-/// `automaton.toml` and `coarse.json`; `periodic` is the scene's x boundary.
-pub fn write(run: &Path, periodic: bool, dir: &mut RunDir) -> Result<Parameters, CliError> {
+/// `automaton.toml` and `coarse.json`; `periodic` is the scene's x boundary; the swing field
+/// over the half periods that start before `swing_until` (s; None: the whole run).
+pub fn write(run: &Path, periodic: bool, swing_until: Option<f64>, dir: &mut RunDir) -> Result<Parameters, CliError> {
     let input = analysis::input::load(run, 0.0).map_err(|e| CliError::from(e.to_string()))?;
     for w in &input.warnings {
         eprintln!("warning: {w}");
@@ -103,7 +108,11 @@ pub fn write(run: &Path, periodic: bool, dir: &mut RunDir) -> Result<Parameters,
     let params = StripeParams::default_for(mean_area_fraction(&h.radii, h.length, h.width), 2.0 * mean_r);
     let cells = (h.length / 1e-3).round().max(1.0) as usize;
     let camera = analysis::camera::measure(h, &input.frames, Some(drive), &params, cells);
-    let coarse: Coarse = measure(h, &input.frames, drive, periodic, camera.stripe_onset, &params, cells)
+    let windows = Windows {
+        before: camera.stripe_onset,
+        swing_until,
+    };
+    let coarse: Coarse = measure(h, &input.frames, drive, periodic, windows, &params, cells)
         .map_err(|e| CliError::from(format!("{}: {e}", run.display())))?;
     let params = Parameters {
         note: "measured by `stripes mechanism` on the DEM run named in [source], from its frames at the tray's turning points; \
@@ -144,6 +153,7 @@ pub fn write(run: &Path, periodic: bool, dir: &mut RunDir) -> Result<Parameters,
                      relative: a grain's signed move less the mean move of its neighbours within the local disk",
             local_radius_diameters: analysis::coarse::LOCAL_RADIUS_DIAMETERS,
             across_m: coarse.swing_field.across_m,
+            until_s: coarse.swing_field.until_s,
             half_periods: coarse.swing_field.half_periods,
             correlation_across: coarse
                 .swing_field
