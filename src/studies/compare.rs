@@ -641,11 +641,18 @@ fn compare(args: &Options, file: &crate::scene::file::SceneFile, out: &Path) -> 
          Top views (x-y) at the first, middle and last frames, to see whether the bands span the tray's width:\n\n\
          ![DEM, top view](dem-analysis/top_view.png)\n\n![automaton, top view](automaton/analysis/top_view.png)\n\n",
     );
+    let no_warnings = Vec::new();
+    let (derived_run, derived_analysis) = match &derived {
+        Ok(d) => (&d.run.warnings, &d.keys.warnings),
+        Err(_) => (&no_warnings, &no_warnings),
+    };
     let warnings = run_warnings(&[
         ("DEM run", &dem_run.warnings),
         ("DEM analysis", &dem_keys.warnings),
         ("automaton run", &automaton.warnings),
         ("automaton analysis", &auto_keys.warnings),
+        ("derived automaton run", derived_run),
+        ("derived automaton analysis", derived_analysis),
     ]);
     if !warnings.is_empty() {
         md.push_str("## Warnings of the runs\n\n");

@@ -42,6 +42,8 @@ pub fn derive(scene_path: &Path, file: &SceneFile, dem: &Path, out: &Path, sampl
     let mut derived = file.clone();
     derived.automaton.parameters = Some(parameters.clone());
     derived.automaton.parameters_force = false;
+    // The file gives the cell: a scene's own `automaton.cell` is for its own rule.
+    derived.automaton.cell = None;
     let run_dir = out.join("derived").join("automaton");
     let run = run_automaton(
         &resolve_lattice(scene_path, derived)?,
