@@ -43,5 +43,6 @@ pub mod snapshot;
 pub mod stats;
 pub mod stripes;
 pub mod structure;
+pub mod thresholds;
 pub mod tracer;
 pub mod vtk;

@@ -34,6 +34,10 @@ pub struct Args {
     /// before this simulated time (s), e.g. the bands' formation; default: the whole run.
     #[arg(long)]
     pub swing_until: Option<f64>,
+    /// A DEM phase map's phase_map.csv (`stripes phase-map --model dem`): the lift-off and
+    /// melting thresholds of the drive, written into automaton.toml's [thresholds].
+    #[arg(long)]
+    pub phase_map: Option<PathBuf>,
 }
 
 impl Args {
@@ -48,6 +52,7 @@ impl Args {
             quiet: self.writing.quiet,
             coarse_only: self.coarse_only,
             swing_until: self.swing_until,
+            phase_map: self.phase_map.clone(),
         }
     }
 }

@@ -69,6 +69,73 @@ pub struct SwingFieldOut {
     pub classes: Vec<analysis::coarse::SwingClass>,
 }
 
+/// The lift-off and melting thresholds, from a DEM phase map ([`analysis::thresholds`]).
+#[derive(Clone, Debug, Serialize)]
+pub struct ThresholdsOut {
+    /// The phase map's `phase_map.csv` (its `dem` rows).
+    pub phase_map: String,
+    pub rule: &'static str,
+    pub by_frequency: Vec<analysis::thresholds::FrequencyThresholds>,
+}
+
+/// The `dem` cells of a phase map's `phase_map.csv` (`model,frequency,amplitude,sample,phase,...`);
+/// a cell whose run gave no phase is left out. Errors name the file and the line.
+pub fn read_phase_map(path: &Path) -> Result<Vec<analysis::thresholds::MapCell>, CliError> {
+    use analysis::classify::Phase;
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: cannot read ({e})", path.display()))?;
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap_or("").split(',').map(str::trim).collect();
+    let col = |name: &str| {
+        header.iter().position(|h| *h == name).ok_or_else(|| {
+            format!(
+                "{}: no `{name}` column in its first line (a `stripes phase-map` phase_map.csv)",
+                path.display()
+            )
+        })
+    };
+    let (model, freq, amp, phase) = (col("model")?, col("frequency")?, col("amplitude")?, col("phase")?);
+    let mut cells = Vec::new();
+    for (n, line) in lines.enumerate().filter(|(_, l)| !l.trim().is_empty()) {
+        let f: Vec<&str> = line.split(',').map(str::trim).collect();
+        let field = |k: usize| {
+            f.get(k).copied().ok_or_else(|| {
+                format!(
+                    "{}: line {} has {} fields, the header {}",
+                    path.display(),
+                    n + 2,
+                    f.len(),
+                    header.len()
+                )
+            })
+        };
+        if field(model)? != "dem" {
+            continue;
+        }
+        let number = |k: usize, name: &str| -> Result<f64, CliError> {
+            field(k)?
+                .parse::<f64>()
+                .ok()
+                .filter(|v| v.is_finite() && *v > 0.0)
+                .ok_or_else(|| format!("{}: line {}: `{name}` must be a positive number", path.display(), n + 2).into())
+        };
+        let p = match field(phase)? {
+            "nothing" => Phase::Nothing,
+            "stripes" => Phase::Stripes,
+            "gas" => Phase::Gas,
+            _ => continue,
+        };
+        cells.push(analysis::thresholds::MapCell {
+            frequency: number(freq, "frequency")?,
+            amplitude: number(amp, "amplitude")?,
+            phase: p,
+        });
+    }
+    if cells.is_empty() {
+        return Err(format!("{}: no `dem` row with a phase: the thresholds need a DEM phase map", path.display()).into());
+    }
+    Ok(cells)
+}
+
 /// Quantities the file cannot give from one run, with the reason.
 #[derive(Clone, Debug, Serialize)]
 pub struct NotMeasured {
@@ -85,13 +152,32 @@ pub struct Parameters {
     pub excursion: Excursions,
     pub swing_field: SwingFieldOut,
     pub bands: Bands,
+    /// From a DEM phase map (`stripes mechanism --phase-map`), else listed in `not_measured`.
+    pub thresholds: Option<ThresholdsOut>,
     pub not_measured: Vec<NotMeasured>,
 }
 
 /// The measures of the run at `run` (a `stripes run` directory), written into `dir` as
 /// `automaton.toml` and `coarse.json`; `periodic` is the scene's x boundary; the swing field
-/// over the half periods that start before `swing_until` (s; None: the whole run).
-pub fn write(run: &Path, periodic: bool, swing_until: Option<f64>, dir: &mut RunDir) -> Result<Parameters, CliError> {
+/// over the half periods that start before `swing_until` (s; None: the whole run); the
+/// thresholds from the DEM phase map `phase_map` (its `phase_map.csv`), if given.
+pub fn write(
+    run: &Path,
+    periodic: bool,
+    swing_until: Option<f64>,
+    phase_map: Option<&Path>,
+    dir: &mut RunDir,
+) -> Result<Parameters, CliError> {
+    let thresholds = phase_map
+        .map(|p| {
+            read_phase_map(p).map(|cells| ThresholdsOut {
+                phase_map: p.display().to_string(),
+                rule: "per frequency, each amplitude's majority phase over its samples; lift-off: the first amplitude not \
+                       `nothing`, melting: after the first `stripes`, the first `gas`, each with the amplitude below it",
+                by_frequency: analysis::thresholds::thresholds(&cells, particles::constants::GRAVITY),
+            })
+        })
+        .transpose()?;
     let input = analysis::input::load(run, 0.0).map_err(|e| CliError::from(e.to_string()))?;
     for w in &input.warnings {
         eprintln!("warning: {w}");
@@ -165,19 +251,54 @@ pub fn write(run: &Path, periodic: bool, swing_until: Option<f64>, dir: &mut Run
             classes: coarse.swing_field.classes.clone(),
         },
         bands: coarse.bands.clone(),
-        not_measured: vec![
-            NotMeasured {
-                quantity: "lift-off threshold (the drive from which grains move on the tray)",
-                why: "one run has one drive: measure it over the runs of a phase map",
-            },
-            NotMeasured {
-                quantity: "melting threshold (the drive above which bands dissolve)",
-                why: "one run has one drive: measure it over the runs of a phase map",
-            },
-        ],
+        not_measured: if thresholds.is_some() {
+            vec![]
+        } else {
+            vec![
+                NotMeasured {
+                    quantity: "lift-off threshold (the drive from which grains move on the tray)",
+                    why: "one run has one drive: give a DEM phase map (stripes mechanism --phase-map)",
+                },
+                NotMeasured {
+                    quantity: "melting threshold (the drive above which bands dissolve)",
+                    why: "one run has one drive: give a DEM phase map (stripes mechanism --phase-map)",
+                },
+            ]
+        },
+        thresholds,
     };
     let text = toml::to_string(&params).map_err(|e| CliError::from(format!("automaton.toml: {e}")))?;
     dir.text("automaton.toml", &text)?;
     dir.json("coarse.json", &coarse)?;
     Ok(params)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_phase_map_is_read_by_its_columns_and_refused_by_line() {
+        let d = std::env::temp_dir().join(format!("stripes-phase-map-{}", std::process::id()));
+        std::fs::create_dir_all(&d).unwrap();
+        let p = d.join("phase_map.csv");
+        let write = |text: &str| std::fs::write(&p, text).unwrap();
+        write("model,frequency,amplitude,sample,phase\ndem,3,0.002,0,nothing\nautomaton,3,0.002,0,gas\ndem,3,0.008,0,stripes\ndem,3,0.010,0,none\n");
+        let cells = read_phase_map(&p).unwrap();
+        assert_eq!(cells.len(), 2, "the automaton's row and the run without a phase are left out");
+        assert_eq!((cells[1].frequency, cells[1].amplitude), (3.0, 0.008));
+        write("model,frequency,amplitude,sample,phase\ndem,3,-1,0,gas\n");
+        let e = read_phase_map(&p).unwrap_err().to_string();
+        assert!(e.contains("line 2") && e.contains("amplitude"), "{e}");
+        write("model,frequency,amplitude,sample,phase\ndem,3\n");
+        let e = read_phase_map(&p).unwrap_err().to_string();
+        assert!(e.contains("line 2 has 2 fields"), "{e}");
+        write("model,frequency,amplitude,sample,phase\nautomaton,3,0.002,0,gas\n");
+        let e = read_phase_map(&p).unwrap_err().to_string();
+        assert!(e.contains("no `dem` row"), "{e}");
+        write("model,freq\n");
+        let e = read_phase_map(&p).unwrap_err().to_string();
+        assert!(e.contains("`frequency`"), "{e}");
+        std::fs::remove_dir_all(&d).ok();
+    }
 }

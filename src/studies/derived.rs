@@ -35,7 +35,7 @@ pub struct Derived {
 pub fn derive(scene_path: &Path, file: &SceneFile, dem: &Path, out: &Path, samples: &Path, quiet: bool) -> Result<Derived, CliError> {
     let pdir = out.join("derived").join("parameters");
     let mut dir = RunDir::create(&pdir, &json!({ "run": dem, "scene": &file.dem }))?;
-    crate::studies::coarse::write(dem, !file.dem.tray.x_walls, None, &mut dir)?;
+    crate::studies::coarse::write(dem, !file.dem.tray.x_walls, None, None, &mut dir)?;
     let written = dir.written();
     dir.finish_typed(&json!({ "run": dem, "file": "automaton.toml", "written": written }))?;
     let parameters = pdir.join("automaton.toml");

@@ -48,6 +48,8 @@ pub struct Options {
     /// The swing field over the half periods that start before this time (s); None: the
     /// whole run.
     pub swing_until: Option<f64>,
+    /// A DEM phase map's `phase_map.csv`, for the lift-off and melting thresholds.
+    pub phase_map: Option<PathBuf>,
 }
 
 /// What `stripes mechanism` found: `summary.json`, field for field.
@@ -149,7 +151,13 @@ pub fn mechanism(args: &Options) -> Result<MechanismSummary, CliError> {
         let out = args.out.clone().unwrap_or_else(|| args.run.join("mechanism"));
         crate::rundir::output::claim(&out, args.force)?;
         let mut dir = RunDir::create(&out, &json!({ "args": &args, "scene": scene }))?;
-        let coarse = crate::studies::coarse::write(&args.run, !scene.tray.x_walls, args.swing_until, &mut dir)?;
+        let coarse = crate::studies::coarse::write(
+            &args.run,
+            !scene.tray.x_walls,
+            args.swing_until,
+            args.phase_map.as_deref(),
+            &mut dir,
+        )?;
         let summary = CoarseOnly {
             run: args.run.display().to_string(),
             coarse_only: true,
@@ -170,7 +178,13 @@ pub fn mechanism(args: &Options) -> Result<MechanismSummary, CliError> {
     crate::rundir::output::claim(&out, args.force)?;
     let mut dir = RunDir::create(&out, &json!({ "args": &args, "scene": scene }))?;
     // The coarse model's parameters, from the run's own frames (issue 40).
-    let coarse = crate::studies::coarse::write(&args.run, !scene.tray.x_walls, args.swing_until, &mut dir)?;
+    let coarse = crate::studies::coarse::write(
+        &args.run,
+        !scene.tray.x_walls,
+        args.swing_until,
+        args.phase_map.as_deref(),
+        &mut dir,
+    )?;
 
     let (state, _) = crate::dem::samples::load_or_prepare(scene, &args.sample_cache, |_| {})?;
     let mut sim = Simulation::new(resolved.setup.clone(), state)?;
