@@ -662,40 +662,36 @@ fn compare(args: &Options, file: &crate::scene::file::SceneFile, out: &Path) -> 
         md.push('\n');
     }
     md.push_str("| model | stripes at the end | spacing (mm) | mean width (mm) | onset (s) | phase | wall time (s) | simulated s per wall s | speed |\n|---|---|---|---|---|---|---|---|---|\n");
-    md.push_str(&format!(
-        "| DEM | {} | {} | {} | {} | {} | {} | {} | {} particle-steps/s |\n",
-        dem_keys.stripe_count_final,
-        mm(dem_keys.stripe_spacing()),
-        mm(dem_keys.stripe_mean_width_final_m),
-        fmt_opt(dem_keys.stripe_onset_s),
-        dem_keys.phase.map_or("none", Phase::name),
-        dem_wall.map_or("unknown".into(), |w| format!("{w:.1}")),
-        speed(dem_wall),
-        dem_speed.map_or("unknown".into(), |s| format!("{s:.3e}")),
-    ));
-    md.push_str(&format!(
-        "| automaton | {} | {} | {} | {} | {} | {} | {} | {} cell updates/s |\n",
-        auto_keys.stripe_count_final,
-        mm(auto_keys.stripe_spacing()),
-        mm(auto_keys.stripe_mean_width_final_m),
-        fmt_opt(auto_keys.stripe_onset_s),
-        auto_keys.phase.map_or("none", Phase::name),
-        auto_wall.map_or("unknown".into(), |w| format!("{w:.2}")),
-        speed(auto_wall),
-        auto_speed.map_or("unknown".into(), |s| format!("{s:.3e}")),
-    ));
-    if let Ok(d) = &derived {
-        let k = &d.keys;
-        md.push_str(&format!(
-            "| derived automaton (swing) | {} | {} | {} | {} | {} | {:.2} | {} | {:.3e} cell updates/s |\n",
+    // One row of the models' table: counts, structure and phase from the analysis, then wall
+    // time, simulated seconds per wall second and speed.
+    let model_row = |name: &str, k: &Outcome, wall: Option<f64>, decimals: usize, rate: String| {
+        format!(
+            "| {name} | {} | {} | {} | {} | {} | {} | {} | {rate} |\n",
             k.stripe_count_final,
             mm(k.stripe_spacing()),
             mm(k.stripe_mean_width_final_m),
             fmt_opt(k.stripe_onset_s),
             k.phase.map_or("none", Phase::name),
-            d.run.wall_s,
-            speed(Some(d.run.wall_s)),
-            d.run.cell_updates_per_s,
+            wall.map_or("unknown".into(), |w| format!("{w:.decimals$}")),
+            speed(wall),
+        )
+    };
+    let rate = |v: Option<f64>, unit: &str| v.map_or("unknown".into(), |s| format!("{s:.3e} {unit}"));
+    md.push_str(&model_row("DEM", &dem_keys, dem_wall, 1, rate(dem_speed, "particle-steps/s")));
+    md.push_str(&model_row(
+        "automaton",
+        &auto_keys,
+        auto_wall,
+        2,
+        rate(auto_speed, "cell updates/s"),
+    ));
+    if let Ok(d) = &derived {
+        md.push_str(&model_row(
+            "derived automaton (swing)",
+            &d.keys,
+            Some(d.run.wall_s),
+            2,
+            rate(Some(d.run.cell_updates_per_s), "cell updates/s"),
         ));
     }
     md.push_str("| thesis' simulation (N = 4000, 0.4 m, 20 Hz, 25 mm, 20 s) | 4 +- 0.875 | 100 | | 3 to 5 | stripes | | | |\n");

@@ -147,17 +147,25 @@ pub fn mechanism(args: &Options) -> Result<MechanismSummary, CliError> {
     let scene_path = args.run.join("scene.toml");
     let resolved = crate::dem::resolve(&scene_path, crate::scene::file::load(&scene_path, &[])?)?;
     let scene = resolved.scene();
+    // The checkpoint first (a full run continues from it), so that a missing one writes nothing.
+    let ckpt_path = args.run.join("checkpoint.bin");
+    let bytes = if args.coarse_only {
+        Vec::new()
+    } else {
+        std::fs::read(&ckpt_path).map_err(|e| format!("{}: cannot read ({e}); run `stripes run` to the end first", ckpt_path.display()))?
+    };
+    let out = args.out.clone().unwrap_or_else(|| args.run.join("mechanism"));
+    crate::rundir::output::claim(&out, args.force)?;
+    let mut dir = RunDir::create(&out, &json!({ "args": &args, "scene": scene }))?;
+    // The coarse model's parameters, from the run's own frames (issue 40).
+    let coarse = crate::studies::coarse::write(
+        &args.run,
+        !scene.tray.x_walls,
+        args.swing_until,
+        args.phase_map.as_deref(),
+        &mut dir,
+    )?;
     if args.coarse_only {
-        let out = args.out.clone().unwrap_or_else(|| args.run.join("mechanism"));
-        crate::rundir::output::claim(&out, args.force)?;
-        let mut dir = RunDir::create(&out, &json!({ "args": &args, "scene": scene }))?;
-        let coarse = crate::studies::coarse::write(
-            &args.run,
-            !scene.tray.x_walls,
-            args.swing_until,
-            args.phase_map.as_deref(),
-            &mut dir,
-        )?;
         let summary = CoarseOnly {
             run: args.run.display().to_string(),
             coarse_only: true,
@@ -171,20 +179,6 @@ pub fn mechanism(args: &Options) -> Result<MechanismSummary, CliError> {
         dir.finish_typed(&summary)?;
         return Ok(MechanismSummary::CoarseOnly(summary));
     }
-    let ckpt_path = args.run.join("checkpoint.bin");
-    let bytes =
-        std::fs::read(&ckpt_path).map_err(|e| format!("{}: cannot read ({e}); run `stripes run` to the end first", ckpt_path.display()))?;
-    let out = args.out.clone().unwrap_or_else(|| args.run.join("mechanism"));
-    crate::rundir::output::claim(&out, args.force)?;
-    let mut dir = RunDir::create(&out, &json!({ "args": &args, "scene": scene }))?;
-    // The coarse model's parameters, from the run's own frames (issue 40).
-    let coarse = crate::studies::coarse::write(
-        &args.run,
-        !scene.tray.x_walls,
-        args.swing_until,
-        args.phase_map.as_deref(),
-        &mut dir,
-    )?;
 
     let (state, _) = crate::dem::samples::load_or_prepare(scene, &args.sample_cache, |_| {})?;
     let mut sim = Simulation::new(resolved.setup.clone(), state)?;
