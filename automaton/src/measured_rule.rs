@@ -50,7 +50,7 @@ use serde::{Deserialize, Serialize};
 use crate::measured::{MeasuredError, MeasuredFile, Quantiles};
 use crate::neighbours::neighbour_row;
 use crate::rng::{self, Stream};
-use crate::swing::{packing_field, SwingCurve};
+use crate::swing::{packing_field, PackingScratch, SwingCurve};
 use crate::transport::landings;
 
 /// Contact numbers on the lattice: 0 to 4 orthogonal neighbours.
@@ -166,8 +166,8 @@ pub(crate) struct MeasuredScratch {
     land: Vec<usize>,
     /// Grains that flew: (row, landing column, contact number, start column, drawn jump).
     movers: Vec<(usize, usize, usize, usize, usize)>,
-    /// The local packing of each flight-frame cell (the `swing` rule).
-    phi: Vec<f64>,
+    /// The window packing of each flight-frame cell (the `swing` rule).
+    packing: PackingScratch,
     /// Per lab-frame cell `j * nx + i`: 1 + the drawn flight (cells) of the grain that flew
     /// out to it in the last outgoing half step, 0 where none did.
     out: Vec<u32>,
@@ -262,10 +262,15 @@ pub(crate) fn flights(
     sc.counts.clear();
     sc.counts
         .extend((0..nx).map(|i| (0..ny).map(|j| lf[j * nx + i] as u32).sum::<u32>()));
-    bands(&sc.counts, ny, &m.band, walls, &mut sc.band, &mut sc.lead);
     if let Some(curve) = swing {
-        packing_field(nx, ny, lf, (!walls, periodic_y), curve, (m.cell_m, m.cell_y_m), &mut sc.phi);
-        sc.band.iter_mut().for_each(|b| *b = false);
+        // No band holds a grain: no band detection, the window packing instead.
+        packing_field(nx, ny, lf, (!walls, periodic_y), curve, (m.cell_m, m.cell_y_m), &mut sc.packing);
+        sc.band.clear();
+        sc.band.resize(nx, false);
+        sc.lead.clear();
+        sc.lead.resize(nx, false);
+    } else {
+        bands(&sc.counts, ny, &m.band, walls, &mut sc.band, &mut sc.lead);
     }
     let occupied = |j: usize, i: usize| lf[j * nx + i] > 0;
     // The x-neighbours of column i: round the ring, or none beyond an end wall.
@@ -298,7 +303,7 @@ pub(crate) fn flights(
             let n = n.min(CONTACT_CLASSES - 1);
             let out = if outgoing || swing.is_some() { 0 } else { sc.out[j * nx + lab(i)] };
             let jump = if let Some(curve) = swing {
-                swing_cells(curve, sc.phi[j * nx + i], m.cell_m, key, i)
+                swing_cells(curve, sc.packing.phi[j * nx + i], m.cell_m, key, i)
             } else if out > 0 {
                 // Back by the drawn flight out, less the period's drift `d` (signed, + towards +x):
                 // the period's net move is `s_out (J1 - J2) = d`, with `s_out = -sign` the

@@ -100,10 +100,19 @@ pub(crate) fn window(curve: &SwingCurve, dx: f64, dy: f64) -> (usize, usize) {
     )
 }
 
+/// Buffers of [`packing_field`], kept between half steps; `phi` is its result.
+#[derive(Default)]
+pub(crate) struct PackingScratch {
+    pub(crate) phi: Vec<f64>,
+    spans: Vec<u32>,
+    prefix: Vec<u32>,
+    down: Vec<u32>,
+}
+
 /// Each cell's packing in its window ([`window`]; cells of `dx` by `dy` m) on the lattice
 /// `lf` (`nx` columns, `ny` rows, index `j * nx + i`, pile heights; `periodic` in x and in y,
 /// walls where not): the grains in the window's cells inside the tray, each covering
-/// `grain_fraction` of a cell, over those cells; into `out`.
+/// `grain_fraction` of a cell, over those cells; into `sc.phi`.
 pub(crate) fn packing_field(
     nx: usize,
     ny: usize,
@@ -111,13 +120,20 @@ pub(crate) fn packing_field(
     (periodic_x, periodic_y): (bool, bool),
     curve: &SwingCurve,
     (dx, dy): (f64, f64),
-    out: &mut Vec<f64>,
+    sc: &mut PackingScratch,
 ) {
+    let PackingScratch {
+        phi: out,
+        spans,
+        prefix,
+        down,
+    } = sc;
     let (w, h) = window(curve, dx, dy);
     // Per row and column, the grains of the span of 2w + 1 columns centred on it (round the
     // ring, or cut at the end walls), and per column the span's cells inside the tray.
     let len = 2 * w + 1;
-    let mut spans = vec![0u32; nx * ny];
+    spans.clear();
+    spans.resize(nx * ny, 0);
     let width: Vec<usize> = (0..nx)
         .map(|i| {
             if periodic_x {
@@ -127,7 +143,8 @@ pub(crate) fn packing_field(
             }
         })
         .collect();
-    let mut prefix = vec![0u32; nx + 1];
+    prefix.clear();
+    prefix.resize(nx + 1, 0);
     for j in 0..ny {
         let row = &lf[j * nx..(j + 1) * nx];
         for i in 0..nx {
@@ -151,7 +168,8 @@ pub(crate) fn packing_field(
     }
     // Per column, prefix sums of the spans down the rows, so that a window's rows sum in
     // O(1): rows within h of each row, inside the walls, or round the ring (each row once).
-    let mut down = vec![0u32; (ny + 1) * nx];
+    down.clear();
+    down.resize((ny + 1) * nx, 0);
     for j in 0..ny {
         for i in 0..nx {
             down[(j + 1) * nx + i] = down[j * nx + i] + spans[j * nx + i];
@@ -235,16 +253,18 @@ mod tests {
         let (nx, ny) = (40, 30);
         // 5 columns either way, 5 rows either way: 11 x 11 cells.
         assert_eq!(window(&c, 0.5e-3, 0.5e-3), (5, 5));
-        let mut phi = Vec::new();
+        let mut sc = PackingScratch::default();
         for periodic in [true, false] {
-            packing_field(nx, ny, &vec![1; nx * ny], (periodic, periodic), &c, (0.5e-3, 0.5e-3), &mut phi);
+            packing_field(nx, ny, &vec![1; nx * ny], (periodic, periodic), &c, (0.5e-3, 0.5e-3), &mut sc);
+            let phi = &sc.phi;
             assert!(phi.iter().all(|&p| (p - 0.77).abs() < 1e-12), "{:?}", &phi[..3]);
         }
         // One grain at (j, i) = (3, 39): seen by every cell of its window, across the seam
         // in x; beside the wall the window has 9 rows (3 below, 5 above... 0..=8).
         let mut lone = vec![0; nx * ny];
         lone[3 * nx + 39] = 1;
-        packing_field(nx, ny, &lone, (true, false), &c, (0.5e-3, 0.5e-3), &mut phi);
+        packing_field(nx, ny, &lone, (true, false), &c, (0.5e-3, 0.5e-3), &mut sc);
+        let phi = &sc.phi;
         assert_eq!(phi.iter().filter(|&&p| p > 0.0).count(), 11 * 9);
         assert!(phi[3 * nx + 4] > 0.0 && phi[3 * nx + 5] == 0.0, "five columns on across the seam");
         assert!(
@@ -254,7 +274,8 @@ mod tests {
         assert!((phi[8 * nx + 39] - 0.77 / 121.0).abs() < 1e-15 && phi[9 * nx + 39] == 0.0);
         // A window across the whole width (the stripe scene's): every row sees the grain.
         c.across_m = 1.0;
-        packing_field(nx, ny, &lone, (true, false), &c, (0.5e-3, 0.5e-3), &mut phi);
+        packing_field(nx, ny, &lone, (true, false), &c, (0.5e-3, 0.5e-3), &mut sc);
+        let phi = &sc.phi;
         assert_eq!(phi.iter().filter(|&&p| p > 0.0).count(), 11 * ny);
         assert!(phi
             .iter()
@@ -276,13 +297,14 @@ mod tests {
                 seed.is_multiple_of(3) as u8
             })
             .collect();
-        let mut phi = Vec::new();
+        let mut sc = PackingScratch::default();
         for (reach, across) in [(2e-3, 1e-3), (3e-3, 4e-3), (10e-3, 10e-3)] {
             let mut c = SwingCurve::new(&file(&[(0.5, 0.01, 0.0, 500)]), 1e-3, 0.8);
             (c.reach_m, c.across_m) = (reach, across);
             let (w, h) = window(&c, 1e-3, 1e-3);
             for (px, py) in [(true, true), (true, false), (false, true), (false, false)] {
-                packing_field(nx, ny, &lf, (px, py), &c, (1e-3, 1e-3), &mut phi);
+                packing_field(nx, ny, &lf, (px, py), &c, (1e-3, 1e-3), &mut sc);
+                let phi = &sc.phi;
                 for j in 0..ny {
                     for i in 0..nx {
                         // Periodic: the window's cells round the ring, a cell as often as the
