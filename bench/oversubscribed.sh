@@ -7,6 +7,7 @@
 #   LOAD=none     nothing added (the machine as it is)
 #   LOAD=pinned   one `yes > /dev/null` pinned to the last core (`taskset`): one core busy
 #   LOAD=nice     BUSY (default: the number of cores) `nice -n 10 yes` processes, unpinned
+#   LOAD=busy     BUSY `yes` processes at normal priority, unpinned (BUSY=1: one core busy)
 #
 #   LOAD=pinned bench/oversubscribed.sh OLD NEW            # thesis scene, N = 4000
 #   LOAD=nice BUSY=3 N=2000 ROUNDS=5 bench/oversubscribed.sh BIN
@@ -33,7 +34,8 @@ case "$LOAD" in
   none) ;;
   pinned) $PREFIX taskset -c "$last" yes > /dev/null & busy+=($!) ;;
   nice) for _ in $(seq "$BUSY"); do nice -n 10 yes > /dev/null & busy+=($!); done ;;
-  *) echo "LOAD must be none, pinned or nice, got $LOAD" >&2; exit 2 ;;
+  busy) for _ in $(seq "$BUSY"); do yes > /dev/null & busy+=($!); done ;;
+  *) echo "LOAD must be none, pinned, nice or busy, got $LOAD" >&2; exit 2 ;;
 esac
 
 rate() { # BIN THREADS -> particle-steps/s of the stepping loop (thesis scene, N grains)

@@ -14,6 +14,9 @@
 #   THREADS="1 2 4 8 16 32" ROUNDS=3 bench/scaling.sh run   # median of 3 per cell
 # `bench/scaling.sh run` in a checkout uses target/release/stripes (BIN=... for another).
 set -euo pipefail
+# Every step on the threads asked for: a run's pace (particles/src/pace.rs) would otherwise
+# step on fewer threads where fewer are faster, and the table would not show the team's rate.
+export STRIPES_FIXED_TEAM=1
 cd "$(dirname "$0")/.."
 mode=${1:-run}
 if [ "$mode" = pack ]; then

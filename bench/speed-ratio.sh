@@ -14,6 +14,9 @@
 # STEPS steps at dt = 8e-6 s. SCENE=stripes: scenes/stripes.toml from the lattice, STEPS steps
 # at its dt = "auto". With THREADS="1 2" and OLD = NEW it compares thread counts instead.
 set -euo pipefail
+# Every step on the threads asked for: a run's pace (particles/src/pace.rs) would otherwise
+# step on fewer threads where fewer are faster, and the table would not show the team's rate.
+export STRIPES_FIXED_TEAM=1
 cd "$(dirname "$0")/.."
 source bench/lib.sh
 OLD=$1

@@ -16,6 +16,9 @@
 # colliding grains; stripes prepares it once in out/bench-gas (about 5 minutes on 2 cores) and
 # both codes continue from it. See bench/README.md for the model mapping.
 set -euo pipefail
+# Every step on the threads asked for: a run's pace (particles/src/pace.rs) would otherwise
+# step on fewer threads where fewer are faster, and the table would not show the team's rate.
+export STRIPES_FIXED_TEAM=1
 cd "$(dirname "$0")/.."
 STATE=${STATE:-lattice}
 N=${N:-4000}

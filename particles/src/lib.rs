@@ -37,6 +37,7 @@ pub mod integrate;
 pub mod material;
 pub mod measure;
 pub mod neighbor;
+pub mod pace;
 mod parallel;
 pub mod prepare;
 pub mod rigid;

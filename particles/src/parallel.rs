@@ -22,7 +22,7 @@
 
 use rayon::prelude::*;
 use std::any::Any;
-use std::cell::UnsafeCell;
+use std::cell::{Cell, UnsafeCell};
 use std::collections::HashMap;
 use std::panic::{catch_unwind, resume_unwind, AssertUnwindSafe};
 use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
@@ -30,13 +30,13 @@ use std::sync::{Arc, Condvar, Mutex, OnceLock, TryLockError};
 use std::time::{Duration, Instant};
 
 /// `f` applied to every block, in block order, on `T = rayon::current_num_threads()`
-/// threads: serially when `T` is 1, otherwise on the [`Team`] of `T` threads (or on the
+/// threads (at most the limit of [`with_threads`]): serially when `T` is 1, otherwise on the [`Team`] of `T` threads (or on the
 /// rayon pool, when that team is busy with another simulation or `T` exceeds the cores).
 /// The blocks are split into `T` contiguous runs, one per thread: the blocks are of equal
 /// size, so finer tasks would only add hand-overs to every stage. The per-block work and the order of the results are the
 /// same either way, so the results do not depend on the number of threads.
 pub(crate) fn on_blocks<B: Send, T: Send>(blocks: Vec<B>, f: impl Fn(B) -> T + Sync + Send) -> Vec<T> {
-    let threads = rayon::current_num_threads();
+    let threads = team_size();
     if threads == 1 || blocks.len() < 2 {
         return blocks.into_iter().map(f).collect();
     }
@@ -53,6 +53,31 @@ pub(crate) fn on_blocks<B: Send, T: Send>(blocks: Vec<B>, f: impl Fn(B) -> T + S
         Err(TryLockError::WouldBlock) => return on_rayon(blocks, threads, f),
     };
     team.run(blocks, f)
+}
+
+thread_local! {
+    /// The most threads that [`on_blocks`] and [`region`] use when called on this thread
+    /// (see [`with_threads`]).
+    static LIMIT: Cell<usize> = const { Cell::new(usize::MAX) };
+}
+
+/// The threads of the calls made on this thread: `rayon::current_num_threads()`, at most
+/// the limit of [`with_threads`].
+fn team_size() -> usize {
+    rayon::current_num_threads().min(LIMIT.get()).max(1)
+}
+
+/// Runs `f` with [`on_blocks`] and [`region`] using at most `threads` threads (a step of
+/// [`crate::pace::Pace`]'s size). The results are the same for any limit.
+pub(crate) fn with_threads<R>(threads: usize, f: impl FnOnce() -> R) -> R {
+    struct Restore(usize);
+    impl Drop for Restore {
+        fn drop(&mut self) {
+            LIMIT.set(self.0);
+        }
+    }
+    let _restore = Restore(LIMIT.replace(threads));
+    f()
 }
 
 /// [`on_blocks`] on the current rayon pool.
@@ -267,8 +292,8 @@ pub(crate) fn run_of(n: usize, threads: usize, t: usize) -> std::ops::Range<usiz
     (t * per).min(n)..((t + 1) * per).min(n)
 }
 
-/// A parallel region: `f(crew)` on each of `T = rayon::current_num_threads()` threads at
-/// once, where `crew.each(stage, op)` runs `op(b)` on the blocks `0..blocks` shared out
+/// A parallel region: `f(crew)` on each of `T = rayon::current_num_threads()` threads (at
+/// most the limit of [`with_threads`]) at once, where `crew.each(stage, op)` runs `op(b)` on the blocks `0..blocks` shared out
 /// among the threads (each block of a stage once, on one thread) and `crew.wait()` returns
 /// once every thread has reached it; `stages` bounds the stage numbers. So a step's stages
 /// run in one hand-over instead of one per stage, with no block lists built by the caller.
@@ -277,7 +302,7 @@ pub(crate) fn run_of(n: usize, threads: usize, t: usize) -> std::ops::Range<usiz
 /// [`on_blocks`]. Work of fewer than two `blocks` runs on the calling thread alone, as in
 /// [`on_blocks`].
 pub(crate) fn region(blocks: usize, stages: usize, f: impl Fn(&Crew) + Sync) -> bool {
-    let threads = rayon::current_num_threads();
+    let threads = team_size();
     if threads == 1 || blocks < 2 {
         let claims = Claims::new(stages);
         f(&Crew {

@@ -30,7 +30,8 @@ use crate::error::StateMismatch;
 use crate::forces;
 use crate::integrate;
 use crate::neighbor::NeighborList;
-use crate::parallel::{on_blocks, region};
+use crate::pace::Pace;
+use crate::parallel::{on_blocks, region, with_threads};
 use crate::rigid::Bodies;
 use crate::scene::SortInterval;
 use crate::setup::{ContactRecord, Partner, Setup, Vertical, MAX_OVERLAP_FRACTION};
@@ -128,6 +129,8 @@ pub struct Simulation {
     /// The rigid bodies when the grains are clumps (`Setup::clump`): each run of
     /// `spheres` particles is one body, which owns their motion ([`crate::rigid`]).
     bodies: Option<Bodies>,
+    /// How many of the run's threads the next step uses ([`crate::pace`]).
+    pace: Pace,
 }
 
 impl Simulation {
@@ -211,6 +214,7 @@ impl Simulation {
             pair_history: Vec::new(),
             reactions: Vec::new(),
             drag: vec![Vec3::zeros(); n],
+            pace: Pace::default(),
             wall_history: vec![Vec3::zeros(); n * n_walls.max(1)],
             wall_touched: vec![0; n * n_walls.max(1)],
             record: false,
@@ -327,7 +331,36 @@ impl Simulation {
     /// through [`on_blocks`], stage 3 and then stage 4 (as does everything when the thread
     /// team is busy with another simulation): the same work per block, so the same bits for
     /// any number of threads.
+    ///
+    /// With more than one thread in the run's pool, the step runs on the team size that
+    /// [`Pace`] has measured to be fastest (the same bits on any size).
     pub fn step(&mut self) -> Result<(), SimError> {
+        let asked = rayon::current_num_threads();
+        if asked == 1 {
+            return self.step_on_team();
+        }
+        let threads = self.pace.threads(asked);
+        let start = std::time::Instant::now();
+        let done = with_threads(threads, || self.step_on_team());
+        self.pace.record(start.elapsed());
+        done
+    }
+
+    /// Every later step on all the threads of the run's pool, whatever their rate (for
+    /// measurements of scaling and for tests of the parallel paths; the results are the
+    /// same either way). The environment variable `STRIPES_FIXED_TEAM` does this for every
+    /// simulation of the process.
+    pub fn fix_team(&mut self) {
+        self.pace = Pace::new(true);
+    }
+
+    /// The team size the run steps at now (1 on one thread; see [`Pace`]).
+    pub fn team_size(&self) -> usize {
+        self.pace.current()
+    }
+
+    /// [`Self::step`] on the threads of the calling context.
+    fn step_on_team(&mut self) -> Result<(), SimError> {
         if self.bodies.is_some() {
             return self.step_bodies();
         }
@@ -1465,6 +1498,30 @@ mod tests {
     }
 
     #[test]
+    fn steps_on_teams_of_changing_size_give_the_bits_of_one_thread() {
+        // The pace may move a run between team sizes at any step: two threads asked, and
+        // the steps alternate between one and two in an irregular pattern, through sorts.
+        let one = {
+            let mut sim = sorted_tray(every(250));
+            for _ in 0..1200 {
+                sim.step().unwrap();
+            }
+            sim
+        };
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap();
+        let mixed = pool.install(|| {
+            let mut sim = sorted_tray(every(250));
+            for k in 0..1200u64 {
+                let size = 1 + ((k * k + 3 * k) / 7 % 2) as usize;
+                with_threads(size, || sim.step_on_team()).unwrap();
+            }
+            sim
+        });
+        let bits = |s: &Simulation| format!("{:?} {:?}", s.export_state(), s.ledger);
+        assert!(bits(&one) == bits(&mixed), "a run on changing team sizes differs");
+    }
+
+    #[test]
     fn a_sorted_run_gives_the_same_bits_on_one_and_two_threads_and_after_a_resume() {
         // Sorted every 250 steps: twelve sorts in 3000 steps, on one thread and on two; then
         // a run resumed between two sorts from the saved state continues with the same bits.
@@ -1472,6 +1529,7 @@ mod tests {
             let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
             pool.install(|| {
                 let mut sim = sorted_tray(every(250));
+                sim.fix_team();
                 for _ in 0..3100 {
                     sim.step().unwrap();
                 }

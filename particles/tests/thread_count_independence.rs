@@ -24,6 +24,8 @@ fn run(threads: usize, edit: Edit) -> (Vec<u64>, String) {
             initial_state(&scene).unwrap(),
         )
         .unwrap();
+        // Every step on the threads asked for, so that two threads test the parallel paths.
+        sim.fix_team();
         for _ in 0..1500 {
             sim.step().unwrap();
         }

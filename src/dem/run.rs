@@ -91,6 +91,9 @@ pub struct DemSummary {
     pub particle_steps_per_s: f64,
     pub threads: usize,
     pub threads_chosen_by: String,
+    /// The team size the steps ran on at the end: `threads`, or fewer where fewer stepped
+    /// faster on this machine's load (`particles::pace`).
+    pub team_at_end: usize,
     pub steps_per_contact: f64,
     pub snapshots: u64,
     /// Whether the sample came from the cache (false for a resume, which needs no sample), and
@@ -426,6 +429,7 @@ fn step(resolved: &Resolved, opts: &RunOptions, started: Started, threads_why: S
         particle_steps_per_s: (stepped as f64 * s.len() as f64) / stepping.max(1e-12),
         threads: rayon::current_num_threads(),
         threads_chosen_by: threads_why,
+        team_at_end: sim.team_size(),
         steps_per_contact: timescale::shortest_contact_time(scene)? / dt,
         snapshots: frames,
         sample_cached: cached,
