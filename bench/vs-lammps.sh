@@ -9,6 +9,7 @@
 #   N=16000 STEPS=5000 bench/vs-lammps.sh
 #   STATE=gas bench/vs-lammps.sh             # from the thesis scene's gas (t = 10 s, N = 4000)
 #   ROUNDS=5 bench/vs-lammps.sh              # rounds per thread count (default 3), median ratio
+#   STRIPES=/path/to/old/stripes bench/vs-lammps.sh   # another build of stripes
 #
 # STATE=lattice (default): one layer on a lattice at rest on the floor, random vx, vy in
 # +-5 mm/s, no relaxation (prepare.duration = 0). STATE=gas: the state of the thesis scene
@@ -20,6 +21,8 @@ set -euo pipefail
 # step on fewer threads where fewer are faster, and the table would not show the team's rate.
 export STRIPES_FIXED_TEAM=1
 cd "$(dirname "$0")/.."
+# The stripes binary (default: this checkout's release build), e.g. an older build to compare.
+STRIPES=${STRIPES:-target/release/stripes}
 STATE=${STATE:-lattice}
 N=${N:-4000}
 STEPS=${STEPS:-10000}
@@ -50,13 +53,13 @@ case "$STATE" in
     # A checkpoint of an older sample revision (or scene) does not resume: prepare it again.
     if [ -f "$GAS/checkpoint.bin" ]; then
       cp -a "$GAS" "$work/probe"
-      target/release/stripes run "$work/probe/scene.toml" --resume --quiet --out "$work/probe" \
+      "$STRIPES" run "$work/probe/scene.toml" --resume --quiet --out "$work/probe" \
         --set run.duration=10 > /dev/null 2>&1 || rm -rf "$GAS"
       rm -rf "$work/probe"
     fi
     if [ ! -f "$GAS/checkpoint.bin" ]; then
       echo "preparing the gas state: the thesis scene for 10 s in $GAS" >&2
-      target/release/stripes run scenes/thesis-reference.toml --quiet --out "$GAS" \
+      "$STRIPES" run scenes/thesis-reference.toml --quiet --out "$GAS" \
         --set run.duration=10 --set run.checkpoint_interval=10 > /dev/null
     fi
     DURATION=$(python3 -c "print(10 + $STEPS * $DT)")
@@ -69,10 +72,10 @@ ours() {
   local T=$1 dir="$work/stripes$1"
   if [ "$STATE" = gas ]; then
     cp -a "$GAS" "$dir"
-    target/release/stripes run "$dir/scene.toml" --resume --quiet --out "$dir" --lammps-data "$work/tray.data" \
+    "$STRIPES" run "$dir/scene.toml" --resume --quiet --out "$dir" --lammps-data "$work/tray.data" \
       --set run.duration="$DURATION" --set run.threads="$T" --set run.checkpoint_interval=0 2>> "$work/stripes.err" | tail -1
   else
-    target/release/stripes run scenes/thesis-reference.toml --quiet --out "$dir" --lammps-data "$work/tray.data" \
+    "$STRIPES" run scenes/thesis-reference.toml --quiet --out "$dir" --lammps-data "$work/tray.data" \
       --set particles.count="$N" --set box.length="$LENGTH" --set prepare.duration=0 \
       --set run.duration="$DURATION" --set run.threads="$T" --set run.checkpoint_interval=0 2>> "$work/stripes.err" | tail -1
   fi
