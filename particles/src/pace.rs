@@ -101,6 +101,7 @@ impl Pace {
     pub fn threads(&mut self, asked: usize) -> usize {
         let asked = asked.max(1);
         if self.fixed {
+            self.asked = asked;
             return asked;
         }
         if asked != self.asked {
@@ -138,8 +139,12 @@ impl Pace {
         }
     }
 
-    /// The size the run steps at now (for reports and tests).
+    /// The size the run steps at now (for reports and tests): every thread asked for when
+    /// fixed.
     pub fn current(&self) -> usize {
+        if self.fixed {
+            return self.asked.max(1);
+        }
         self.sizes[self.current]
     }
 
@@ -233,6 +238,7 @@ mod tests {
         let mut fixed = Pace::new(true);
         let (used, _) = drive(&mut fixed, 2, 10_000, |s, _| us(if s == 2 { 1000.0 } else { 100.0 }));
         assert!(used.iter().all(|&s| s == 2));
+        assert_eq!(fixed.current(), 2);
     }
 
     #[test]

@@ -30,11 +30,12 @@ use std::sync::{Arc, Condvar, Mutex, OnceLock, TryLockError};
 use std::time::{Duration, Instant};
 
 /// `f` applied to every block, in block order, on `T = rayon::current_num_threads()`
-/// threads (at most the limit of [`with_threads`]): serially when `T` is 1, otherwise on the [`Team`] of `T` threads (or on the
-/// rayon pool, when that team is busy with another simulation or `T` exceeds the cores).
-/// The blocks are split into `T` contiguous runs, one per thread: the blocks are of equal
-/// size, so finer tasks would only add hand-overs to every stage. The per-block work and the order of the results are the
-/// same either way, so the results do not depend on the number of threads.
+/// threads (at most the limit of [`with_threads`]): serially when `T` is 1, otherwise on
+/// the [`Team`] of `T` threads (or on the rayon pool, when that team is busy with another
+/// simulation or `T` exceeds the cores). The blocks are split into `T` contiguous runs, one
+/// per thread: the blocks are of equal size, so finer tasks would only add hand-overs to
+/// every stage. The per-block work and the order of the results are the same either way, so
+/// the results do not depend on the number of threads.
 pub(crate) fn on_blocks<B: Send, T: Send>(blocks: Vec<B>, f: impl Fn(B) -> T + Sync + Send) -> Vec<T> {
     let threads = team_size();
     if threads == 1 || blocks.len() < 2 {
@@ -293,10 +294,11 @@ pub(crate) fn run_of(n: usize, threads: usize, t: usize) -> std::ops::Range<usiz
 }
 
 /// A parallel region: `f(crew)` on each of `T = rayon::current_num_threads()` threads (at
-/// most the limit of [`with_threads`]) at once, where `crew.each(stage, op)` runs `op(b)` on the blocks `0..blocks` shared out
-/// among the threads (each block of a stage once, on one thread) and `crew.wait()` returns
-/// once every thread has reached it; `stages` bounds the stage numbers. So a step's stages
-/// run in one hand-over instead of one per stage, with no block lists built by the caller.
+/// most the limit of [`with_threads`]) at once, where `crew.each(stage, op)` runs `op(b)`
+/// on the blocks `0..blocks` shared out among the threads (each block of a stage once, on
+/// one thread) and `crew.wait()` returns once every thread has reached it; `stages` bounds
+/// the stage numbers. So a step's stages run in one hand-over instead of one per stage, with
+/// no block lists built by the caller.
 /// Returns false, having run nothing, when the team is not available (busy with another
 /// simulation, or more threads than cores): the caller then runs its stages through
 /// [`on_blocks`]. Work of fewer than two `blocks` runs on the calling thread alone, as in
