@@ -262,6 +262,17 @@ impl LinePlot {
     /// Writes `<stem>.png` and `<stem>.svg`; returns the paths written.
     pub fn save(&self, stem: &Path) -> Result<Vec<PathBuf>, PlotError> {
         register_font();
+        let (x, y) = self.ranges();
+        let png = with_extension(stem, "png");
+        let svg = with_extension(stem, "svg");
+        write_png(&png, SIZE, |root| self.render_axes(root, x.clone(), y.clone()))?;
+        write_svg(&svg, SIZE, |root| self.render_axes(root, x.clone(), y.clone()))?;
+        Ok(vec![png, svg])
+    }
+
+    /// The axes' ranges: every drawable point and error bar, the values `include_y` asks
+    /// for, padded, and room for the legend.
+    fn ranges(&self) -> (Range<f64>, Range<f64>) {
         let mut all: Vec<(f64, f64)> = (0..self.series.len()).flat_map(|k| self.drawable(k)).collect();
         all.extend(
             (0..self.series.len())
@@ -275,12 +286,7 @@ impl LinePlot {
             .copied()
             .filter(|&y| y.is_finite() && (!self.log_y || y > 0.0));
         let y = padded(all.iter().map(|p| p.1).chain(extra), self.log_y).unwrap_or(if self.log_y { 0.1..10.0 } else { 0.0..1.0 });
-        let y = self.legend_room(y);
-        let png = with_extension(stem, "png");
-        let svg = with_extension(stem, "svg");
-        write_png(&png, SIZE, |root| self.render_axes(root, x.clone(), y.clone()))?;
-        write_svg(&svg, SIZE, |root| self.render_axes(root, x.clone(), y.clone()))?;
-        Ok(vec![png, svg])
+        (x, self.legend_room(y))
     }
 
     /// The y range widened so that the legend's corner holds no data: the legend takes
@@ -373,7 +379,19 @@ impl LinePlot {
             let style = color.stroke_width(2);
             let legend = |c: RGBColor| move |(x, y): (i32, i32)| PathElement::new(vec![(x, y), (x + 24, y)], c.stroke_width(3));
             let anno = match s.mark {
-                Mark::Line | Mark::LinePoints => chart.draw_series(LineSeries::new(pts.clone(), style)).map_err(perr)?,
+                Mark::Line | Mark::LinePoints => {
+                    // Two pixels wide as three lines of one, the second and third one pixel
+                    // to the right and one down: the bitmap backend fills a wider line as a
+                    // polygon, and a thin, steep one spikes far past its ends (a long run's
+                    // stripe count drew spikes over the x labels).
+                    let thin = color.stroke_width(1);
+                    let px: Vec<(i32, i32)> = pts.iter().map(|p| chart.backend_coord(p)).collect();
+                    for (dx, dy) in [(1, 0), (0, 1)] {
+                        let shifted: Vec<(i32, i32)> = px.iter().map(|&(x, y)| (x + dx, y + dy)).collect();
+                        root.draw(&PathElement::new(shifted, thin)).map_err(perr)?;
+                    }
+                    chart.draw_series(LineSeries::new(pts.clone(), thin)).map_err(perr)?
+                }
                 Mark::Dashed => chart.draw_series(DashedLineSeries::new(pts.clone(), 10, 6, style)).map_err(perr)?,
                 Mark::Points => chart
                     .draw_series(pts.iter().map(|&p| Circle::new(p, 4, color.filled())))
@@ -895,6 +913,49 @@ fn write_svg(
 
 #[cfg(test)]
 mod tests {
+
+    #[test]
+    fn a_dense_series_draws_nothing_outside_the_plot_area() {
+        // 5000 points between counts 0 and 3 on a log time axis (a long run's stripe count):
+        // the bitmap's thick lines once drew spikes below the x axis, over the labels, for
+        // the nearly vertical segments. No pixel of the series' colour may lie below the
+        // plot area.
+        register_font();
+        for n in [100, 5000] {
+            let pts: Vec<(f64, f64)> = (0..n)
+                .map(|k| (400.0 + 0.34 * k as f64, ((k * 7919 + k / 13) % 4) as f64))
+                .collect();
+            let plot = LinePlot::new("dense", "t (s)", "S")
+                .integer_y()
+                .include_y(0.0)
+                .log_x()
+                .series("S", pts, Mark::LinePoints);
+            let (x, y) = plot.ranges();
+            let (w, h) = SIZE;
+            let mut buf = vec![255u8; (w * h * 3) as usize];
+            {
+                let root = BitMapBackend::with_buffer(&mut buf, SIZE).into_drawing_area();
+                plot.render_axes(root, x, y).unwrap();
+            }
+            let blue = PALETTE[0];
+            let is_blue = |row: u32, col: u32| {
+                let i = ((row * w + col) * 3) as usize;
+                (buf[i], buf[i + 1], buf[i + 2]) == (blue.0, blue.1, blue.2)
+            };
+            // The plot area ends above the x label area (55 px) and the margin (20 px).
+            let bottom = h - 20 - 55 + 3;
+            let stray = (bottom..h)
+                .flat_map(|row| (0..w).map(move |col| (row, col)))
+                .filter(|&(r, c)| is_blue(r, c))
+                .count();
+            assert_eq!(stray, 0, "{n} points: {stray} pixels of the series below the plot area");
+            let drawn = (0..bottom)
+                .flat_map(|row| (0..w).map(move |col| (row, col)))
+                .filter(|&(r, c)| is_blue(r, c))
+                .count();
+            assert!(drawn > 1000, "{n} points: the series drew {drawn} pixels");
+        }
+    }
 
     /// Error bars: drawn where the error is a positive number, left out where a bar would
     /// reach below zero on a log axis, and taken into the axis range.
