@@ -134,15 +134,13 @@ pub(crate) fn packing_field(
     let len = 2 * w + 1;
     spans.clear();
     spans.resize(nx * ny, 0);
-    let width: Vec<usize> = (0..nx)
-        .map(|i| {
-            if periodic_x {
-                len
-            } else {
-                (i + w).min(nx - 1) + 1 - i.saturating_sub(w)
-            }
-        })
-        .collect();
+    let width = |i: usize| {
+        if periodic_x {
+            len
+        } else {
+            (i + w).min(nx - 1) + 1 - i.saturating_sub(w)
+        }
+    };
     prefix.clear();
     prefix.resize(nx + 1, 0);
     for j in 0..ny {
@@ -191,7 +189,7 @@ pub(crate) fn packing_field(
                 let (a, b) = (j.saturating_sub(h), (j + h + 1).min(ny));
                 (sum(a, b, i), b - a)
             };
-            out[j * nx + i] = grains as f64 * curve.grain_fraction / (rows * width[i]) as f64;
+            out[j * nx + i] = grains as f64 * curve.grain_fraction / (rows * width(i)) as f64;
         }
     }
 }
