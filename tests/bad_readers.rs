@@ -74,6 +74,10 @@ fn random_checkpoints_never_panic_nor_allocate_beyond_their_size() {
     let mut restored = simulation(&scene);
     assert_eq!(dem_checkpoint::restore(&mut restored, &good, 7), Ok(3));
     assert_eq!(dem_checkpoint::encode(&restored, 7, 3), good, "a restored run saves the same bytes");
+    // The fingerprint a refused checkpoint was written with is read without its checksum.
+    assert_eq!(dem_checkpoint::fingerprint_of(&good), Some(7));
+    assert_eq!(dem_checkpoint::fingerprint_of(&good[..12]), None, "cut before the fingerprint");
+    assert_eq!(dem_checkpoint::fingerprint_of(b"NOTACKPT and more bytes"), None);
     // Offsets of the two record counts: after the particles, and after the pair records.
     let n = sim.len();
     let pairs_at = 8 + 8 + 8 + 8 + 3 * 8 + 8 + n * 7 * 24;

@@ -9,6 +9,10 @@
 #
 # T may not be below the run's own run.duration (its scene.toml): a resume only extends.
 #
+# STRIPES names the binary. The committed checkpoints are of sample revision 7 (builds from
+# 58a8f67 up to 40dfd42's parent, e.g. 9196c57); a build of another revision refuses them
+# and says so (long-runs/README.md, "To continue").
+#
 # A seed whose OUT/seedN/checkpoint.bin exists goes on from it; otherwise its folder is made
 # from the committed files: scene.toml, checkpoint.bin, thermo.csv's column line, and a sparse
 # snapshots.bin (the committed header, then zeros up to 2 GB). The frames before the committed

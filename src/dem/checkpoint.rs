@@ -117,6 +117,16 @@ fn read_springs(r: &mut Reader<'_>, what: &str) -> Result<(PairSprings, Vec<Vec3
     Ok((pairs, walls))
 }
 
+/// The scene fingerprint a checkpoint was written with (`None`: not a stripes checkpoint, or
+/// cut short before it). Read before the checksum, to say whose checkpoint a refused one is.
+pub fn fingerprint_of(bytes: &[u8]) -> Option<u64> {
+    let known = [MAGIC, MAGIC_WITH_BODIES, MAGIC_UNSEALED, MAGIC_WITHOUT_ROLLS, MAGIC_WITHOUT_PLACES];
+    if bytes.len() < 16 || !known.iter().any(|m| bytes.starts_with(*m)) {
+        return None;
+    }
+    Some(u64::from_le_bytes(bytes[8..16].try_into().ok()?))
+}
+
 /// Restores a checkpoint written by [`encode`] into `sim`, built from the same scene and
 /// sample; returns the caller data. An error says what does not match.
 pub fn restore(sim: &mut Simulation, bytes: &[u8], fingerprint: u64) -> Result<u64, String> {

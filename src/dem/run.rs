@@ -237,8 +237,13 @@ fn start(resolved: &Resolved, opts: &RunOptions, checkpoint: Option<Vec<u8>>) ->
     let mut frames = 0;
     if let Some(bytes) = &checkpoint {
         frames = crate::dem::checkpoint::restore(&mut sim, bytes, fingerprint).map_err(|e| {
+            let why = crate::dem::checkpoint::fingerprint_of(bytes)
+                .filter(|&found| found != fingerprint)
+                .and_then(|found| crate::dem::resolve::refusal_reason(scene, found))
+                .map(|r| format!(": {r}"))
+                .unwrap_or_default();
             format!(
-                "--resume: {}: {e} (nothing was changed; --force starts the run again)",
+                "--resume: {}: {e}{why} (nothing was changed; --force starts the run again)",
                 ckpt_path.display()
             )
         })?;

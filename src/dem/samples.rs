@@ -13,8 +13,13 @@ use crate::rundir::bytes::{seal, unseal, Reader, Writer};
 /// [`SAMPLE_REVISION`] and the canonical TOML of the scene's
 /// [`particles::prepare::reference`], which holds the seed.
 pub fn sample_key(scene: &Scene) -> u64 {
+    sample_key_at(scene, SAMPLE_REVISION)
+}
+
+/// [`sample_key`] as a version of sample revision `revision` named the scene's sample.
+pub fn sample_key_at(scene: &Scene, revision: u64) -> u64 {
     let text = toml::to_string(&reference(scene)).expect("a scene serialises");
-    particles::measure::fnv1a(format!("sample revision {SAMPLE_REVISION}\n{text}").as_bytes())
+    particles::measure::fnv1a(format!("sample revision {revision}\n{text}").as_bytes())
 }
 
 /// The grains' fixed properties (radii, masses, inertias) for a run that continues from a
