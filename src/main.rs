@@ -59,6 +59,9 @@ enum Command {
     /// Several analysed runs of one scene side by side: pooled structure with errors,
     /// pattern distances between runs, spacing and band count over time.
     Seeds(cli::seeds::Args),
+    /// One long run analysed in windows, joined over time: the count on log axes, the
+    /// coarsening law on the joined count, each window's stripe lifetimes.
+    Windows(cli::windows::Args),
     /// Held, rolling and sliding grains inside and outside the dense bands of a finished run,
     /// continued from its checkpoint (thesis 3.4, 3.5).
     Mechanism(cli::mechanism::Args),
@@ -92,6 +95,7 @@ fn main() -> ExitCode {
         Command::Automaton(a) => cli::automaton::run(a),
         Command::Compare(a) => cli::compare::run(a),
         Command::Seeds(a) => cli::seeds::run(a),
+        Command::Windows(a) => cli::windows::run(a),
         Command::Bench(a) => cli::bench::run(a),
         Command::Events(a) => cli::events::run(a),
         Command::EventsSweep(a) => cli::events_sweep::run(a),

@@ -159,16 +159,8 @@ pub fn measure(header: &Header, frames: &[Frame], drive: Option<&TrayDrive>, par
     let t: Vec<f64> = chosen.iter().map(|s| s.time).collect();
     let counts: Vec<usize> = stripes.iter().map(Vec::len).collect();
     let clustered: Vec<usize> = contrast.iter().map(|c| usize::from(*c >= CLUSTER_CONTRAST)).collect();
-    let (cluster_onset, stripe_onset) = if t.is_empty() {
-        (None, None)
-    } else {
-        (onset(&t, &clustered), onset(&t, &counts))
-    };
-    // Coarsening is the count's decay: fitted from the first frame holding the most stripes
-    // (after the onset of stripes) to the end.
-    let onset_at = stripe_onset.map_or(t.len(), |on| t.partition_point(|&x| x < on));
-    let most = counts[onset_at..].iter().copied().max().unwrap_or(0);
-    let from = onset_at + counts[onset_at..].iter().position(|&c| c == most).unwrap_or(0);
+    let cluster_onset = if t.is_empty() { None } else { onset(&t, &clustered) };
+    let (stripe_onset, from) = coarsening_start(&t, &counts);
     let law = compare(&t[from..], &counts[from..].iter().map(|&c| c as f64).collect::<Vec<_>>());
     let tracks = track(&t, &stripes, l);
     let lifetimes = lifetimes(&tracks, &t);
@@ -196,6 +188,18 @@ pub fn measure(header: &Header, frames: &[Frame], drive: Option<&TrayDrive>, par
         correlation,
         correlation_time,
     }
+}
+
+/// The onset of stripes of a count series (the first frame from which on every frame holds
+/// one; `None` if none does) and the index the coarsening law is fitted from: coarsening is
+/// the count's decay, fitted from the first frame after the onset holding the most stripes
+/// to the end (`t.len()`, an empty fit, without an onset).
+pub fn coarsening_start(t: &[f64], counts: &[usize]) -> (Option<f64>, usize) {
+    let stripe_onset = if t.is_empty() { None } else { onset(t, counts) };
+    let onset_at = stripe_onset.map_or(t.len(), |on| t.partition_point(|&x| x < on));
+    let most = counts[onset_at..].iter().copied().max().unwrap_or(0);
+    let from = onset_at + counts[onset_at..].iter().position(|&c| c == most).unwrap_or(0);
+    (stripe_onset, from)
 }
 
 /// The camera's scalars, as written under `camera` in `summary.json`.

@@ -21,3 +21,4 @@ pub mod run;
 pub mod seeds;
 pub mod single;
 pub mod values;
+pub mod windows;

@@ -41,6 +41,16 @@ pub fn window(s: &str) -> Result<(f64, f64), String> {
     }
 }
 
+/// A reference point `T:S`: a positive time in seconds and a count of at least zero.
+pub fn time_count(s: &str) -> Result<(f64, f64), String> {
+    let bad = || format!("expected T:S, a time in seconds above 0 and a count of at least 0 (e.g. 100:9), got `{s}`");
+    let (t, c) = s.split_once(':').ok_or_else(bad)?;
+    match (t.trim().parse::<f64>(), c.trim().parse::<f64>()) {
+        (Ok(t), Ok(c)) if t > 0.0 && t.is_finite() && c >= 0.0 && c.is_finite() => Ok((t, c)),
+        _ => Err(bad()),
+    }
+}
+
 /// A count of at least one.
 pub fn at_least_one(s: &str) -> Result<usize, String> {
     at_least(s, 1)

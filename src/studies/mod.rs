@@ -14,3 +14,4 @@ pub mod single;
 pub mod sweep;
 pub mod tradeoff;
 pub mod vibrated_box;
+pub mod windows;
