@@ -37,7 +37,9 @@ pub enum RollingLaw {
     ///   dissipated.
     /// - **Dashpot.** While the spring is below its limit a viscous torque
     ///   `M_d = -gamma_roll R_eff^2 omega_roll` acts as well (`gamma_roll` in N s/m, LAMMPS'
-    ///   `gamma_roll`); at the limit it is off (Ai et al.'s `f = 0`).
+    ///   `gamma_roll`); at the limit it is off (Ai et al.'s `f = 0`), and so it is without a limit
+    ///   (`mu_r R_eff F_n = 0`). It is not itself capped: below the limit it may exceed
+    ///   `mu_r R_eff F_n` (LAMMPS caps spring and dashpot together).
     /// - **Stiffness.** `k_r = k_roll R_eff^2` (N m/rad) with `k_roll` in N/m (LAMMPS'
     ///   `k_roll`), or by default `k_roll = 2.25 mu_r^2 k_n`, i.e. `k_r = 2.25 k_n mu_r^2
     ///   R_eff^2` (Ai et al. eq 21, after Iwashita & Oda), with `k_n` the normal law's tangent
@@ -198,7 +200,12 @@ impl RollingLaw {
                 }
                 // The first half of the trapezoid over the next step.
                 *theta = th + half;
-                let damping = L::select(sliding, zero, L::splat(gamma_roll) * r2);
+                // Without a limit (`mu_r` = 0, or no normal force) nothing holds the contact:
+                // the dashpot is off as at the limit. (With `mu_r` = 0 the default stiffness is
+                // 0 too, so the spring never exceeded the zero limit, and the dashpot acted
+                // alone, uncapped.)
+                let held = L::lt(zero, limit);
+                let damping = L::select(sliding, zero, L::select(held, L::splat(gamma_roll) * r2, zero));
                 let torque = th.scale(-kr) - roll.scale(damping);
                 let th2 = th.norm_squared();
                 RollingTorque {
@@ -275,6 +282,32 @@ mod tests {
                     prop_assert!(m.norm() <= cap * (1.0 + 1e-12) + round, "|M| {} > cap {cap}", m.norm());
                     prop_assert!(m.dot(&g.n).abs() <= round, "torque along the normal");
                 }
+            }
+        }
+    }
+
+    #[test]
+    fn without_a_limit_the_law_gives_no_rolling_torque() {
+        // mu_r = 0, with the default stiffness (0) or a given one, and a dashpot: a sphere
+        // rolling on a wall feels only the friction's lever, whatever the dashpot.
+        let r = 5e-4;
+        let g = ContactGeometry::wall(
+            Vec3::new(0.0, 0.0, r - 1e-5),
+            Vec3::zeros(),
+            Vec3::new(0.0, 30.0, 0.0),
+            r,
+            Vec3::zeros(),
+            Vec3::z(),
+            Vec3::zeros(),
+        )
+        .unwrap();
+        for k_roll in [None, Some(10.0)] {
+            let law = sds(0.0, k_roll, 0.05);
+            let mut h = History::default();
+            for _ in 0..5 {
+                let c = evaluate_with(&law, &g, None, &mut h, 0.0, 1e-6);
+                let m = c.torque_i + g.n.cross(&c.tangential) * g.arm_i;
+                assert!(m.norm() <= 1e-15 * (g.n.cross(&c.tangential) * g.arm_i).norm(), "{k_roll:?}: {m}");
             }
         }
     }
