@@ -50,6 +50,7 @@ fn windows_join_in_time_order_with_their_gap_and_the_reference_beside() {
         s["coarsening_law"]["power"]["rate"].as_f64().unwrap() > 0.0,
         "a decaying count: {s}"
     );
+    assert_eq!(s["count_grows"], false);
     // Reference at 1.5 s after t3: frames at 3.0-4.333 s (t - t3 = 1.0-2.333, within 1 s of 1.5).
     assert_eq!(s["reference"][0]["run_counts"], serde_json::json!([0, 1, 2, 3, 4]));
     assert_eq!(s["reference"][1]["run_counts"], serde_json::json!([]));
@@ -59,6 +60,19 @@ fn windows_join_in_time_order_with_their_gap_and_the_reference_beside() {
     let report = std::fs::read_to_string(d.join("out/report.md")).unwrap();
     assert!(report.contains("No frames in 6.0-32.0 s"), "{report}");
     assert!(d.join("out/count_log.png").is_file());
+}
+
+#[test]
+fn a_count_that_grows_after_its_peak_is_not_called_a_coarsening() {
+    let d = scratch("grows");
+    // One stripe from the start, the peak (3) early, then a dip and a slow rise to 3 again.
+    let a = window(&d, "a", 3.0, &[1, 3, 1, 1, 1, 2, 2, 2, 2, 3, 3, 3, 3, 3]);
+    let out = d.join("out").display().to_string();
+    let (ok, stdout, stderr) = stripes(&["windows", &a, "--out", &out, "--quiet"]);
+    assert!(ok, "{stderr}");
+    let s: serde_json::Value = serde_json::from_str(stdout.lines().last().unwrap()).unwrap();
+    assert_eq!(s["count_grows"], true, "{s}");
+    assert!(s["warnings"][0].as_str().unwrap().contains("grows rather than decays"), "{s}");
 }
 
 #[test]

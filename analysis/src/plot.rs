@@ -259,6 +259,21 @@ impl LinePlot {
             .collect()
     }
 
+    /// Series `k`'s drawable points in runs: a point with a non-finite y ends a run (a line
+    /// does not bridge it); empty runs are dropped.
+    fn line_runs(&self, k: usize) -> Vec<Vec<(f64, f64)>> {
+        let mut runs = vec![Vec::new()];
+        for &(x, y) in &self.series[k].points {
+            if !y.is_finite() {
+                runs.push(Vec::new());
+            } else if x.is_finite() && (!self.log_x || x > 0.0) && (!self.log_y || y > 0.0) {
+                runs.last_mut().unwrap().push((x, y));
+            }
+        }
+        runs.retain(|r| !r.is_empty());
+        runs
+    }
+
     /// Writes `<stem>.png` and `<stem>.svg`; returns the paths written.
     pub fn save(&self, stem: &Path) -> Result<Vec<PathBuf>, PlotError> {
         register_font();
@@ -383,14 +398,22 @@ impl LinePlot {
                     // Two pixels wide as three lines of one, the second and third one pixel
                     // to the right and one down: the bitmap backend fills a wider line as a
                     // polygon, and a thin, steep one spikes far past its ends (a long run's
-                    // stripe count drew spikes over the x labels).
+                    // stripe count drew spikes over the x labels). A point with a non-finite
+                    // y breaks the line (a stretch without data is not bridged).
                     let thin = color.stroke_width(1);
-                    let px: Vec<(i32, i32)> = pts.iter().map(|p| chart.backend_coord(p)).collect();
-                    for (dx, dy) in [(1, 0), (0, 1)] {
-                        let shifted: Vec<(i32, i32)> = px.iter().map(|&(x, y)| (x + dx, y + dy)).collect();
-                        root.draw(&PathElement::new(shifted, thin)).map_err(perr)?;
+                    let runs = self.line_runs(k);
+                    let (last, rest) = runs.split_last().map_or((&[][..], &[][..]), |(l, r)| (&l[..], r));
+                    for (n, run) in rest.iter().map(Vec::as_slice).chain([last]).enumerate() {
+                        let px: Vec<(i32, i32)> = run.iter().map(|p| chart.backend_coord(p)).collect();
+                        for (dx, dy) in [(1, 0), (0, 1)] {
+                            let shifted: Vec<(i32, i32)> = px.iter().map(|&(x, y)| (x + dx, y + dy)).collect();
+                            root.draw(&PathElement::new(shifted, thin)).map_err(perr)?;
+                        }
+                        if n < rest.len() {
+                            chart.draw_series(LineSeries::new(run.to_vec(), thin)).map_err(perr)?;
+                        }
                     }
-                    chart.draw_series(LineSeries::new(pts.clone(), thin)).map_err(perr)?
+                    chart.draw_series(LineSeries::new(last.to_vec(), thin)).map_err(perr)?
                 }
                 Mark::Dashed => chart.draw_series(DashedLineSeries::new(pts.clone(), 10, 6, style)).map_err(perr)?,
                 Mark::Points => chart
@@ -913,6 +936,16 @@ fn write_svg(
 
 #[cfg(test)]
 mod tests {
+
+    #[test]
+    fn a_non_finite_y_breaks_a_line_into_runs() {
+        let pts = vec![(1.0, 1.0), (2.0, 2.0), (3.0, f64::NAN), (4.0, 1.0), (-1.0, 3.0), (5.0, f64::NAN)];
+        let plot = LinePlot::new("gaps", "t", "S").series("S", pts.clone(), Mark::Line);
+        assert_eq!(plot.line_runs(0), vec![vec![(1.0, 1.0), (2.0, 2.0)], vec![(4.0, 1.0), (-1.0, 3.0)]]);
+        // On a log x axis the point at x = -1 is not drawable; it does not break the run.
+        let plot = LinePlot::new("gaps", "t", "S").log_x().series("S", pts, Mark::Line);
+        assert_eq!(plot.line_runs(0), vec![vec![(1.0, 1.0), (2.0, 2.0)], vec![(4.0, 1.0)]]);
+    }
 
     #[test]
     fn a_dense_series_draws_nothing_outside_the_plot_area() {

@@ -165,6 +165,22 @@ fn log_binned(points: &[(f64, f64)]) -> Vec<(f64, f64)> {
         .collect()
 }
 
+/// [`log_binned`] on each stretch of `points` (time since t3, count) between the gaps (run
+/// time), the stretches separated by a point with a NaN count, so that the plot's line does
+/// not bridge a gap.
+fn binned_between_gaps(points: &[(f64, f64)], gaps: &[(f64, f64)], t3: f64) -> Vec<(f64, f64)> {
+    let mut out = Vec::new();
+    let mut rest = points;
+    for &(from, _) in gaps {
+        let cut = rest.partition_point(|p| p.0 + t3 <= from);
+        out.extend(log_binned(&rest[..cut]));
+        out.push((from - t3, f64::NAN));
+        rest = &rest[cut..];
+    }
+    out.extend(log_binned(rest));
+    out
+}
+
 #[derive(Debug, Serialize)]
 pub struct WindowsSummary {
     pub windows: Vec<WindowSummary>,
@@ -179,6 +195,8 @@ pub struct WindowsSummary {
     /// Where the coarsening fits start (time since t3, s).
     pub coarsening_from_s: Option<f64>,
     pub coarsening_law: LawComparison,
+    /// A fitted rate is negative: the count grows over the fitted stretch (no coarsening).
+    pub count_grows: bool,
     pub reference: Vec<ReferencePoint>,
     pub warnings: Vec<String>,
     #[serde(flatten)]
@@ -257,6 +275,13 @@ pub fn windows(args: &Options) -> Result<WindowsSummary, CliError> {
     if t.is_empty() {
         warnings.push(format!("no frame after the last stage's start ({t3} s): nothing to fit or draw"));
     }
+    let grows = [law.power, law.logarithmic].iter().flatten().any(|f| f.rate < 0.0);
+    if grows {
+        warnings.push(format!(
+            "a fitted rate is negative: from its peak at {:.1} s the count grows rather than decays, so neither law describes a coarsening here",
+            t.get(from).copied().unwrap_or(f64::NAN)
+        ));
+    }
 
     let pts: Vec<(f64, f64)> = t.iter().zip(&count).map(|(x, c)| (*x, *c as f64)).collect();
     let mut plot = LinePlot::new(
@@ -271,7 +296,7 @@ pub fn windows(args: &Options) -> Result<WindowsSummary, CliError> {
     .series("S, every frame", pts.clone(), Mark::Points)
     .series(
         &format!("S, mean over 1/{BINS_PER_DECADE} decade"),
-        log_binned(&pts),
+        binned_between_gaps(&pts, &gaps, t3),
         Mark::LinePoints,
     );
     let fit_t = &t[from..];
@@ -385,6 +410,7 @@ pub fn windows(args: &Options) -> Result<WindowsSummary, CliError> {
         stripe_onset_s: onset,
         coarsening_from_s: t.get(from).copied(),
         coarsening_law: law,
+        count_grows: grows,
         reference,
         warnings,
         written: dir.written(),
@@ -430,6 +456,14 @@ mod tests {
         other.t3 = 0.0;
         let e = order(vec![window("a", &[3.0], &[1]), other]).err().unwrap().to_string();
         assert!(e.contains("different drives"), "{e}");
+    }
+
+    #[test]
+    fn the_binned_mean_is_broken_at_each_gap() {
+        // t3 = 2: run times 12 and 13 before the gap (13, 90), 92 after it.
+        let m = binned_between_gaps(&[(10.0, 1.0), (11.0, 3.0), (90.0, 5.0)], &[(13.0, 92.0)], 2.0);
+        assert_eq!(m.len(), 3, "{m:?}");
+        assert!(m[0].1 == 2.0 && m[1].1.is_nan() && m[2].1 == 5.0, "{m:?}");
     }
 
     #[test]
