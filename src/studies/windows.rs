@@ -278,7 +278,7 @@ pub fn windows(args: &Options) -> Result<WindowsSummary, CliError> {
     let grows = [law.power, law.logarithmic].iter().flatten().any(|f| f.rate < 0.0);
     if grows {
         warnings.push(format!(
-            "a fitted rate is negative: from its peak at {:.1} s the count grows rather than decays, so neither law describes a coarsening here",
+            "a fitted rate is negative: from its peak, {:.1} s after the last stage began, the count grows rather than decays, so neither law describes a coarsening here",
             t.get(from).copied().unwrap_or(f64::NAN)
         ));
     }
