@@ -251,12 +251,7 @@ impl LinePlot {
 
     /// The points of series `k` that can be drawn on these axes.
     fn drawable(&self, k: usize) -> Vec<(f64, f64)> {
-        self.series[k]
-            .points
-            .iter()
-            .copied()
-            .filter(|&(x, y)| x.is_finite() && y.is_finite() && (!self.log_x || x > 0.0) && (!self.log_y || y > 0.0))
-            .collect()
+        self.line_runs(k).concat()
     }
 
     /// Series `k`'s drawable points in runs: a point with a non-finite y ends a run (a line
